@@ -1,0 +1,119 @@
+//! The crate's single error type.
+//!
+//! Every constructor and [`Integrator::run`](crate::Integrator::run) reports bad input as a
+//! value of [`Error`] whose message names what was wrong and what is allowed, so that callers
+//! (and the example binaries) can print it as one line.
+
+use std::fmt;
+
+/// What went wrong, with enough detail to fix it.
+///
+/// ```
+/// use mcint::sampler::Jittered;
+/// let err = Jittered::with_points(2, 10, 0).unwrap_err();
+/// assert!(err.to_string().contains("nearest valid"));
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Error {
+    /// A parameter has a value outside its allowed range.
+    InvalidParameter {
+        /// The parameter's name, as the API spells it.
+        name: &'static str,
+        /// The value that was given, formatted.
+        value: String,
+        /// What would have been accepted.
+        allowed: String,
+    },
+    /// A buffer or point has the wrong number of dimensions.
+    DimensionMismatch {
+        /// What was being matched (for example `"point buffer"`).
+        what: &'static str,
+        /// The number of dimensions required.
+        expected: usize,
+        /// The number of dimensions given.
+        found: usize,
+    },
+    /// An index or count does not fit the sampler or the integer type that holds it.
+    IndexOutOfRange {
+        /// What overflowed (for example `"sample index"`).
+        what: &'static str,
+        /// The largest allowed value.
+        limit: u64,
+    },
+    /// Some contributions `Y_i` were NaN or infinite: the integrand returned such a value, or a
+    /// pdf was zero where the integrand was not.
+    NonFiniteContribution {
+        /// How many contributions were not finite.
+        count: u64,
+        /// The sample index of the first one (within its replicate).
+        first_index: u64,
+        /// The replicate it belonged to.
+        first_replicate: u64,
+        /// Its value (NaN or an infinity).
+        first_value: f64,
+        /// The canonical point `u` in `[0,1)^k` that produced it.
+        first_point: Vec<f64>,
+    },
+}
+
+impl Error {
+    /// Shorthand for [`Error::InvalidParameter`].
+    ///
+    /// ```
+    /// let e = mcint::Error::invalid("dims", 0, "at least 1");
+    /// assert_eq!(e.to_string(), "invalid dims = 0: expected at least 1");
+    /// ```
+    pub fn invalid(
+        name: &'static str,
+        value: impl fmt::Display,
+        allowed: impl Into<String>,
+    ) -> Self {
+        Error::InvalidParameter {
+            name,
+            value: value.to_string(),
+            allowed: allowed.into(),
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::InvalidParameter {
+                name,
+                value,
+                allowed,
+            } => {
+                write!(f, "invalid {name} = {value}: expected {allowed}")
+            }
+            Error::DimensionMismatch {
+                what,
+                expected,
+                found,
+            } => {
+                write!(f, "{what} has {found} dimensions, expected {expected}")
+            }
+            Error::IndexOutOfRange { what, limit } => {
+                write!(f, "{what} out of range: at most {limit} allowed")
+            }
+            Error::NonFiniteContribution {
+                count,
+                first_index,
+                first_replicate,
+                first_value,
+                first_point,
+            } => write!(
+                f,
+                "{count} non-finite contribution(s); the first, {first_value}, at sample \
+                 {first_index} of replicate {first_replicate}, canonical point {first_point:?} \
+                 (the integrand is not finite there, or the pdf is zero where the integrand is not)"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// Result alias used throughout the crate.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
