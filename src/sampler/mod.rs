@@ -1,0 +1,173 @@
+//! Samplers: points in the unit cube `[0,1)^k`, knowing nothing of integrands.
+//!
+//! Every point is a pure function of `(seed, pass, index, dim)`, so a sampler is random-access,
+//! deterministic and trivially parallel. A sampler with a fixed-size point set (jittered, Latin
+//! hypercube) numbers its points `p * N + i` for point `i` of pass `p`, and each pass is an
+//! independent re-randomization: every sampler is an endless stream of independent passes,
+//! which is what honest error bars need (see [`PassKind`]).
+//!
+//! The seed's section A.3.3 motivates the stratified placements: stratified (jittered)
+//! sampling (equation A.30), and N-rooks / Latin hypercube sampling (Shirley 1990; McKay,
+//! Beckman & Conover 1979).
+
+mod independent;
+mod jittered;
+mod latin_hypercube;
+mod named;
+pub(crate) mod permutation;
+
+pub use independent::Independent;
+pub use jittered::Jittered;
+pub use latin_hypercube::LatinHypercube;
+pub use named::{SamplerKind, build_sampler};
+
+use crate::{Error, Points, Result};
+
+/// How a sampler's points relate to each other, which decides how error bars are computed.
+///
+/// ```
+/// use mcint::sampler::{Jittered, PassKind, Sampler};
+/// let s = Jittered::new(2, 4, 0).unwrap();
+/// assert_eq!(s.passes(), PassKind::Fixed { size: 16 });
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PassKind {
+    /// Every point is independent of every other: the per-sample variance gives an honest
+    /// standard error, and any number of points may be used.
+    Independent,
+    /// Points come in independent passes of exactly `size` points. Only whole passes keep
+    /// the construction's stratification (and, for some, unbiasedness), so error bars come
+    /// from the spread between passes.
+    Fixed {
+        /// Points per pass.
+        size: u64,
+    },
+    /// Points come in independent passes of up to `max` points, and any prefix of a pass is
+    /// a valid point set (extensible quasi-Monte Carlo sequences). Error bars come from the
+    /// spread between passes.
+    Extensible {
+        /// The most points one pass can hold.
+        max: u64,
+    },
+}
+
+/// A source of points in the unit cube.
+///
+/// Implementors guarantee that every coordinate lies in `[0, 1)`, that [`point`](Self::point)
+/// and [`fill`](Self::fill) give bit-identical values, and that the same seed always gives the
+/// same points.
+///
+/// ```
+/// use mcint::{Points, sampler::{Independent, Sampler}};
+/// let sampler = Independent::new(3, 42).unwrap();
+/// let mut block = Points::new(3, 8).unwrap();
+/// sampler.fill(100, &mut block).unwrap();
+/// let mut p = [0.0; 3];
+/// sampler.point(105, &mut p).unwrap();
+/// assert_eq!(p[2], block.get(5, 2));
+/// ```
+pub trait Sampler: Send + Sync {
+    /// A short lower-case name (`"independent"`, `"jittered"`, ...).
+    fn name(&self) -> &'static str;
+
+    /// Number of dimensions `k` of each point.
+    fn dims(&self) -> usize;
+
+    /// How points are grouped into independent passes.
+    fn passes(&self) -> PassKind;
+
+    /// The seed that selects this sampler's randomization.
+    fn seed(&self) -> u64;
+
+    /// Selects a different randomization; the structure (dimension, pass size) is unchanged.
+    fn reseed(&mut self, seed: u64);
+
+    /// Writes point `index` into `out` (`out.len()` must equal [`dims`](Self::dims)).
+    fn point(&self, index: u64, out: &mut [f64]) -> Result<()>;
+
+    /// Writes points `start .. start + points.len()` into `points` (which must have
+    /// [`dims`](Self::dims) columns). The default calls [`point`](Self::point) for each index;
+    /// samplers override it with block kernels that give identical bits.
+    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
+        check_block(self.dims(), start, points)?;
+        let mut buffer = vec![0.0; self.dims()];
+        let len = points.len();
+        let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
+        for i in 0..len {
+            self.point(start + i as u64, &mut buffer)?;
+            for (column, &x) in columns.iter_mut().zip(&buffer) {
+                column[i] = x;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Checks that a point buffer has the sampler's dimension.
+pub(crate) fn check_point(dims: usize, out: &[f64]) -> Result<()> {
+    if out.len() != dims {
+        return Err(Error::DimensionMismatch {
+            what: "point buffer",
+            expected: dims,
+            found: out.len(),
+        });
+    }
+    Ok(())
+}
+
+/// Checks that a block has the sampler's dimension and that its indices do not overflow.
+pub(crate) fn check_block(dims: usize, start: u64, points: &Points) -> Result<()> {
+    if points.dims() != dims {
+        return Err(Error::DimensionMismatch {
+            what: "point block",
+            expected: dims,
+            found: points.dims(),
+        });
+    }
+    // The last index, start + len - 1, must fit (an empty block always does).
+    if points.len() > 1 && start.checked_add(points.len() as u64 - 1).is_none() {
+        return Err(Error::IndexOutOfRange {
+            what: "last sample index of the block",
+            limit: u64::MAX,
+        });
+    }
+    Ok(())
+}
+
+/// Validates a dimension count given to a constructor.
+pub(crate) fn check_dims(dims: usize) -> Result<()> {
+    if dims == 0 {
+        return Err(Error::invalid("dims", dims, "at least 1"));
+    }
+    Ok(())
+}
+
+impl<S: Sampler + ?Sized> Sampler for Box<S> {
+    fn name(&self) -> &'static str {
+        (**self).name()
+    }
+
+    fn dims(&self) -> usize {
+        (**self).dims()
+    }
+
+    fn passes(&self) -> PassKind {
+        (**self).passes()
+    }
+
+    fn seed(&self) -> u64 {
+        (**self).seed()
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        (**self).reseed(seed)
+    }
+
+    fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
+        (**self).point(index, out)
+    }
+
+    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
+        (**self).fill(start, points)
+    }
+}
