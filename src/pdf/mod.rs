@@ -1,0 +1,145 @@
+//! Pdfs (warps): maps from canonical points `u` in `[0,1)^k` to points `x` of a domain, with
+//! the density of the result.
+//!
+//! This is the seed's warping step (equation A.13, `X_i = a + xi_i (b - a)`) generalised to
+//! inverse-cdf sampling of any density, which the `f/pdf` estimator (A.19) needs. As in pbrt and
+//! Mitsuba, each pdf keeps `sample`, `pdf` and (where it exists) `invert` side by side. The
+//! one-dimensional densities implement [`Pdf1d`] and get [`Pdf`] for free; they sample by the
+//! exact inverse cdf, so they are monotone and keep stratified or low-discrepancy `u`
+//! stratified.
+
+mod exponential;
+mod linear;
+mod product;
+mod truncated_normal;
+mod uniform;
+mod uniform_box;
+
+pub use exponential::Exponential;
+pub use linear::Linear;
+pub use product::ProductPdf;
+pub use truncated_normal::TruncatedNormal;
+pub use uniform::UniformInterval;
+pub use uniform_box::UniformBox;
+
+use crate::{Error, Result};
+
+/// A probability density on a domain, with a way to sample it from canonical points.
+///
+/// `sample` maps `u` (length [`canonical_dims`](Self::canonical_dims)) to `x` (length
+/// [`dims`](Self::dims)); `pdf(x)` is the density of `sample`'s output with respect to the
+/// domain's measure (Lebesgue measure for boxes). Slices of the wrong length panic, like slice
+/// indexing: these are hot-path methods.
+///
+/// ```
+/// use mcint::pdf::{Exponential, Pdf};
+/// let p = Exponential::new(2.0, 0.0, f64::INFINITY).unwrap();
+/// let mut x = [0.0];
+/// p.sample(&[0.5], &mut x);
+/// assert!((x[0] - 2f64.ln() / 2.0).abs() < 1e-15);
+/// assert!((p.pdf(&x) - 1.0).abs() < 1e-15); // 2 exp(-2 x) at the median
+/// ```
+pub trait Pdf: Send + Sync {
+    /// Number of canonical coordinates one sample consumes.
+    fn canonical_dims(&self) -> usize;
+
+    /// Number of coordinates of a sampled point `x`.
+    fn dims(&self) -> usize;
+
+    /// Maps a canonical point `u` to a point `x` of the domain.
+    fn sample(&self, u: &[f64], x: &mut [f64]);
+
+    /// The density at `x` (zero outside the support).
+    fn pdf(&self, x: &[f64]) -> f64;
+
+    /// Maps `x` back to the canonical point `u` with `sample(u) == x`, where the warp has an
+    /// inverse; the default reports that it does not.
+    fn invert(&self, _x: &[f64], _u: &mut [f64]) -> Result<()> {
+        Err(Error::invalid(
+            "invert",
+            "called",
+            "a pdf whose warp has an inverse",
+        ))
+    }
+}
+
+/// A one-dimensional density sampled by its exact inverse cdf.
+///
+/// ```
+/// use mcint::pdf::{Linear, Pdf1d};
+/// let p = Linear::new(0.0, 1.0, 0.0, 2.0).unwrap(); // density 2x on [0,1]
+/// let x = p.sample_1d(0.25);
+/// assert!((x - 0.5).abs() < 1e-15);
+/// assert!((p.invert_1d(x) - 0.25).abs() < 1e-15);
+/// assert_eq!(p.support(), (0.0, 1.0));
+/// ```
+pub trait Pdf1d: Send + Sync {
+    /// Maps `u` in `[0,1)` to `x` by the inverse cdf.
+    fn sample_1d(&self, u: f64) -> f64;
+    /// The density at `x` (zero outside the support).
+    fn pdf_1d(&self, x: f64) -> f64;
+    /// The cdf at `x`, which inverts [`sample_1d`](Self::sample_1d).
+    fn invert_1d(&self, x: f64) -> f64;
+    /// The interval `(lo, hi)` that holds all the probability (`hi` may be infinite).
+    fn support(&self) -> (f64, f64);
+}
+
+impl<P: Pdf1d + ?Sized> Pdf1d for Box<P> {
+    fn sample_1d(&self, u: f64) -> f64 {
+        (**self).sample_1d(u)
+    }
+
+    fn pdf_1d(&self, x: f64) -> f64 {
+        (**self).pdf_1d(x)
+    }
+
+    fn invert_1d(&self, x: f64) -> f64 {
+        (**self).invert_1d(x)
+    }
+
+    fn support(&self) -> (f64, f64) {
+        (**self).support()
+    }
+}
+
+impl<T: Pdf1d> Pdf for T {
+    fn canonical_dims(&self) -> usize {
+        1
+    }
+
+    fn dims(&self) -> usize {
+        1
+    }
+
+    fn sample(&self, u: &[f64], x: &mut [f64]) {
+        x[0] = self.sample_1d(u[0]);
+    }
+
+    fn pdf(&self, x: &[f64]) -> f64 {
+        self.pdf_1d(x[0])
+    }
+
+    fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
+        u[0] = self.invert_1d(x[0]);
+        Ok(())
+    }
+}
+
+/// Validates an interval `lo < hi` with a finite width (`hi` may be `+inf` when
+/// `hi_may_be_infinite`).
+pub(crate) fn check_interval(lo: f64, hi: f64, hi_may_be_infinite: bool) -> Result<()> {
+    if !lo.is_finite() {
+        return Err(Error::invalid("a", lo, "a finite lower bound"));
+    }
+    let hi_ok =
+        (hi.is_finite() && (hi - lo).is_finite()) || (hi_may_be_infinite && hi == f64::INFINITY);
+    if !hi_ok || hi.is_nan() || hi <= lo {
+        let allowed = if hi_may_be_infinite {
+            format!("an upper bound above a = {lo}, +inf or with b - a finite")
+        } else {
+            format!("a finite upper bound above a = {lo} with b - a finite")
+        };
+        return Err(Error::invalid("b", hi, allowed));
+    }
+    Ok(())
+}

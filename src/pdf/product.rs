@@ -1,0 +1,80 @@
+//! Products of independent one-dimensional densities: a density on a box.
+
+use super::{Pdf, Pdf1d};
+use crate::{Error, Result};
+
+/// The density `p_1(x_1) p_2(x_2) ... p_d(x_d)` of independent coordinates, each sampled by
+/// its own [`Pdf1d`] from one canonical coordinate.
+///
+/// ```
+/// use mcint::pdf::{Linear, Pdf, ProductPdf, UniformInterval};
+/// let p = ProductPdf::new(vec![
+///     Box::new(UniformInterval::new(0.0, 2.0).unwrap()),
+///     Box::new(Linear::new(0.0, 1.0, 0.0, 1.0).unwrap()),
+/// ])
+/// .unwrap();
+/// let mut x = [0.0; 2];
+/// p.sample(&[0.5, 0.25], &mut x);
+/// assert_eq!(x, [1.0, 0.5]);
+/// assert!((p.pdf(&x) - 0.5 * 1.0).abs() < 1e-15);
+/// ```
+pub struct ProductPdf {
+    factors: Vec<Box<dyn Pdf1d>>,
+}
+
+impl ProductPdf {
+    /// The product of `factors` (at least one).
+    ///
+    /// ```
+    /// assert!(mcint::pdf::ProductPdf::new(vec![]).is_err());
+    /// ```
+    pub fn new(factors: Vec<Box<dyn Pdf1d>>) -> Result<Self> {
+        if factors.is_empty() {
+            return Err(Error::invalid(
+                "factors",
+                "[]",
+                "at least one one-dimensional pdf",
+            ));
+        }
+        Ok(ProductPdf { factors })
+    }
+}
+
+impl std::fmt::Debug for ProductPdf {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let supports: Vec<(f64, f64)> = self.factors.iter().map(|p| p.support()).collect();
+        f.debug_struct("ProductPdf")
+            .field("supports", &supports)
+            .finish()
+    }
+}
+
+impl Pdf for ProductPdf {
+    fn canonical_dims(&self) -> usize {
+        self.factors.len()
+    }
+
+    fn dims(&self) -> usize {
+        self.factors.len()
+    }
+
+    fn sample(&self, u: &[f64], x: &mut [f64]) {
+        for ((x, &u), p) in x.iter_mut().zip(u).zip(&self.factors) {
+            *x = p.sample_1d(u);
+        }
+    }
+
+    fn pdf(&self, x: &[f64]) -> f64 {
+        x.iter()
+            .zip(&self.factors)
+            .map(|(&x, p)| p.pdf_1d(x))
+            .product()
+    }
+
+    fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
+        for ((u, &x), p) in u.iter_mut().zip(x).zip(&self.factors) {
+            *u = p.invert_1d(x);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,130 @@
+//! The normal density truncated to an interval, sampled by its exact inverse cdf.
+
+use super::Pdf1d;
+use crate::quadrature::gauss_kronrod;
+use crate::stats::{normal_cdf, normal_quantile, normal_sf};
+use crate::{Error, Result};
+
+/// The normal density with `mean` and `sd`, restricted to `[a, b]` and renormalised.
+///
+/// Sampling inverts the cdf, so stratified or quasi-random `u` stay stratified. When the whole
+/// interval lies above the mean the computation runs on upper-tail probabilities instead, so
+/// intervals far in either tail (down to probabilities near 1e-300) keep full precision, and
+/// the mass of intervals narrow compared with the normal's scale is integrated directly. (In
+/// such narrow intervals sampling resolves positions to about `1e-16 / mass` of the cdf.)
+///
+/// ```
+/// use mcint::pdf::{Pdf1d, TruncatedNormal};
+/// let p = TruncatedNormal::new(0.0, 1.0, 0.0, f64::INFINITY).unwrap(); // half-normal
+/// assert!((p.sample_1d(0.5) - 0.674489750196082).abs() < 1e-13);
+/// assert!((p.pdf_1d(0.0) - (2.0 / std::f64::consts::PI).sqrt()).abs() < 1e-15);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TruncatedNormal {
+    mean: f64,
+    sd: f64,
+    a: f64,
+    b: f64,
+    /// True when `a >= mean`: work with upper-tail probabilities.
+    upper: bool,
+    /// Tail probability at `a` (lower: `Phi(alpha)`; upper: `1 - Phi(alpha)`).
+    at_a: f64,
+    /// Normal probability of `[a, b]`.
+    mass: f64,
+}
+
+impl TruncatedNormal {
+    /// Requires finite `mean`, finite `sd > 0`, and `a < b` (either may be infinite) with a
+    /// normal probability of the interval above 1e-300.
+    ///
+    /// ```
+    /// use mcint::pdf::TruncatedNormal;
+    /// assert!(TruncatedNormal::new(0.0, 0.0, -1.0, 1.0).is_err());
+    /// assert!(TruncatedNormal::new(0.0, 1.0, 60.0, 61.0).is_err()); // no mass in f64
+    /// ```
+    pub fn new(mean: f64, sd: f64, a: f64, b: f64) -> Result<Self> {
+        if !mean.is_finite() {
+            return Err(Error::invalid("mean", mean, "a finite value"));
+        }
+        if !sd.is_finite() || sd <= 0.0 {
+            return Err(Error::invalid("sd", sd, "a finite value > 0"));
+        }
+        if a.is_nan() || b.is_nan() || a >= b {
+            return Err(Error::invalid(
+                "[a, b]",
+                format!("[{a}, {b}]"),
+                "a < b (either may be infinite)",
+            ));
+        }
+        let (alpha, beta) = ((a - mean) / sd, (b - mean) / sd);
+        let upper = alpha >= 0.0;
+        let (at_a, at_b) = if upper {
+            (normal_sf(alpha), normal_sf(beta))
+        } else {
+            (normal_cdf(alpha), normal_cdf(beta))
+        };
+        let mut mass = (at_a - at_b).abs();
+        if mass < 1e-3 * at_a {
+            // The difference of tail probabilities has cancelled (an interval narrow
+            // compared with the normal's scale there): integrate the density directly.
+            mass = standard_normal_mass(alpha, beta);
+        }
+        if mass.is_nan() || mass <= 1e-300 {
+            return Err(Error::invalid(
+                "[a, b]",
+                format!("[{a}, {b}]"),
+                format!("an interval with normal probability above 1e-300 (it has {mass:e})"),
+            ));
+        }
+        Ok(TruncatedNormal {
+            mean,
+            sd,
+            a,
+            b,
+            upper,
+            at_a,
+            mass,
+        })
+    }
+}
+
+/// `Phi(beta) - Phi(alpha)` for a finite interval, by adaptive Gauss-Kronrod quadrature of the
+/// density (which is smooth, so this reaches full relative precision).
+fn standard_normal_mass(alpha: f64, beta: f64) -> f64 {
+    let density = |z: f64| (-0.5 * z * z).exp() / (2.0 * std::f64::consts::PI).sqrt();
+    gauss_kronrod(density, &[alpha, beta], 1e-15, 0.0, 64).value
+}
+
+impl Pdf1d for TruncatedNormal {
+    fn sample_1d(&self, u: f64) -> f64 {
+        let z = if self.upper {
+            -normal_quantile(self.at_a - u * self.mass)
+        } else {
+            // Keep p above zero so u = 0 with a = -inf gives a finite point.
+            normal_quantile((self.at_a + u * self.mass).max(f64::MIN_POSITIVE))
+        };
+        (self.mean + self.sd * z).clamp(self.a, self.b)
+    }
+
+    fn pdf_1d(&self, x: f64) -> f64 {
+        if !(x >= self.a && x <= self.b) {
+            return 0.0;
+        }
+        let z = (x - self.mean) / self.sd;
+        (-0.5 * z * z).exp() / ((2.0 * std::f64::consts::PI).sqrt() * self.sd * self.mass)
+    }
+
+    fn invert_1d(&self, x: f64) -> f64 {
+        let z = (x.clamp(self.a, self.b) - self.mean) / self.sd;
+        let u = if self.upper {
+            (self.at_a - normal_sf(z)) / self.mass
+        } else {
+            (normal_cdf(z) - self.at_a) / self.mass
+        };
+        u.clamp(0.0, 1.0)
+    }
+
+    fn support(&self) -> (f64, f64) {
+        (self.a, self.b)
+    }
+}

@@ -1,0 +1,132 @@
+//! The uniform density on an axis-aligned box: A.13 in every coordinate.
+
+use super::Pdf;
+use crate::{Error, Result};
+
+/// Uniform density `1/volume` on the box `[lo_1, hi_1) x ... x [lo_d, hi_d)`.
+///
+/// ```
+/// use mcint::pdf::{Pdf, UniformBox};
+/// let b = UniformBox::new(vec![0.0, -1.0], vec![2.0, 1.0]).unwrap();
+/// let mut x = [0.0; 2];
+/// b.sample(&[0.5, 0.25], &mut x);
+/// assert_eq!(x, [1.0, -0.5]);
+/// assert_eq!(b.volume(), 4.0);
+/// assert_eq!(b.pdf(&x), 0.25);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct UniformBox {
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    volume: f64,
+}
+
+impl UniformBox {
+    /// The box with corners `lo` and `hi`: same non-zero length, finite, `lo_i < hi_i`, and
+    /// a finite, non-zero volume.
+    ///
+    /// ```
+    /// use mcint::pdf::UniformBox;
+    /// assert!(UniformBox::new(vec![0.0], vec![0.0]).is_err());
+    /// assert!(UniformBox::new(vec![], vec![]).is_err());
+    /// ```
+    pub fn new(lo: Vec<f64>, hi: Vec<f64>) -> Result<Self> {
+        if lo.is_empty() {
+            return Err(Error::invalid("lo", "[]", "at least one dimension"));
+        }
+        if hi.len() != lo.len() {
+            return Err(Error::DimensionMismatch {
+                what: "hi",
+                expected: lo.len(),
+                found: hi.len(),
+            });
+        }
+        for (i, (&l, &h)) in lo.iter().zip(&hi).enumerate() {
+            if !l.is_finite() || !h.is_finite() || l >= h {
+                return Err(Error::invalid(
+                    "lo/hi",
+                    format!("[{l}, {h}) in dimension {i}"),
+                    "finite bounds with lo < hi",
+                ));
+            }
+        }
+        let volume: f64 = lo.iter().zip(&hi).map(|(l, h)| h - l).product();
+        if !volume.is_finite() || volume <= 0.0 {
+            return Err(Error::invalid(
+                "box volume",
+                volume,
+                "a finite positive volume",
+            ));
+        }
+        Ok(UniformBox { lo, hi, volume })
+    }
+
+    /// The unit cube `[0,1)^dims`.
+    ///
+    /// ```
+    /// assert_eq!(mcint::pdf::UniformBox::unit(3).unwrap().volume(), 1.0);
+    /// ```
+    pub fn unit(dims: usize) -> Result<Self> {
+        UniformBox::new(vec![0.0; dims], vec![1.0; dims])
+    }
+
+    /// The product of the side lengths.
+    ///
+    /// ```
+    /// assert_eq!(mcint::pdf::UniformBox::new(vec![0.0], vec![3.0]).unwrap().volume(), 3.0);
+    /// ```
+    pub fn volume(&self) -> f64 {
+        self.volume
+    }
+
+    /// Lower corner.
+    ///
+    /// ```
+    /// assert_eq!(mcint::pdf::UniformBox::unit(2).unwrap().lo(), &[0.0, 0.0]);
+    /// ```
+    pub fn lo(&self) -> &[f64] {
+        &self.lo
+    }
+
+    /// Upper corner.
+    ///
+    /// ```
+    /// assert_eq!(mcint::pdf::UniformBox::unit(2).unwrap().hi(), &[1.0, 1.0]);
+    /// ```
+    pub fn hi(&self) -> &[f64] {
+        &self.hi
+    }
+}
+
+impl Pdf for UniformBox {
+    fn canonical_dims(&self) -> usize {
+        self.lo.len()
+    }
+
+    fn dims(&self) -> usize {
+        self.lo.len()
+    }
+
+    fn sample(&self, u: &[f64], x: &mut [f64]) {
+        for (((x, &u), &lo), &hi) in x.iter_mut().zip(u).zip(&self.lo).zip(&self.hi) {
+            let v = lo + u * (hi - lo);
+            *x = if v < hi { v } else { hi.next_down() };
+        }
+    }
+
+    fn pdf(&self, x: &[f64]) -> f64 {
+        let inside = x
+            .iter()
+            .zip(&self.lo)
+            .zip(&self.hi)
+            .all(|((x, lo), hi)| (*lo..*hi).contains(x));
+        if inside { 1.0 / self.volume } else { 0.0 }
+    }
+
+    fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
+        for (((u, &x), &lo), &hi) in u.iter_mut().zip(x).zip(&self.lo).zip(&self.hi) {
+            *u = ((x - lo) / (hi - lo)).clamp(0.0, 1.0);
+        }
+        Ok(())
+    }
+}
