@@ -1,0 +1,90 @@
+//! Estimators: one contribution `Y_i` from one canonical point.
+//!
+//! An estimator owns the integrand and whatever maps canonical points into its domain. The
+//! integral estimate is the mean of the contributions, `<F^N> = (1/N) sum Y_i`, whose
+//! variance is `sigma^2[Y] / N` for independent samples (the seed's A.21). The uniform
+//! estimator is the seed's A.14, the importance-sampling estimator A.19; the biased but
+//! consistent estimator of A.35 is kept as a teaching example ([`ConsistentBiased`]).
+
+mod consistent_biased;
+mod importance;
+mod uniform;
+
+pub use consistent_biased::ConsistentBiased;
+pub use importance::ImportanceEstimator;
+pub use uniform::UniformEstimator;
+
+use crate::Points;
+
+/// Turns canonical points into contributions `Y_i` whose mean estimates an integral.
+///
+/// Implementations are pure: the same `u` always gives the same `Y`, so blocks can be
+/// evaluated on any thread. `contribution`'s `x` argument is scratch space of length
+/// [`domain_dims`](Self::domain_dims) for the mapped point, so that the per-point path does not
+/// allocate.
+///
+/// ```
+/// use mcint::estimator::{Estimator, UniformEstimator};
+/// use mcint::pdf::UniformBox;
+/// let e = UniformEstimator::new(|x: &[f64]| x[0] * x[0], UniformBox::new(vec![0.0], vec![3.0]).unwrap());
+/// let mut x = [0.0];
+/// assert_eq!(e.contribution(&[0.5], &mut x), 3.0 * 1.5 * 1.5);
+/// ```
+pub trait Estimator: Send + Sync {
+    /// Number of canonical coordinates each contribution consumes.
+    fn canonical_dims(&self) -> usize;
+
+    /// Number of coordinates of the domain point (length of the scratch buffer).
+    fn domain_dims(&self) -> usize;
+
+    /// The contribution `Y` of the canonical point `u`; `x` is scratch of length
+    /// [`domain_dims`](Self::domain_dims).
+    fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64;
+
+    /// Contributions of every point of a block (`out.len() == points.len()`). The default
+    /// calls [`contribution`](Self::contribution) per point with one scratch allocation.
+    fn contributions(&self, points: &Points, out: &mut [f64]) {
+        let mut u = vec![0.0; points.dims()];
+        let mut x = vec![0.0; self.domain_dims()];
+        for (i, y) in out.iter_mut().enumerate().take(points.len()) {
+            points.copy_point(i, &mut u);
+            *y = self.contribution(&u, &mut x);
+        }
+    }
+}
+
+impl<E: Estimator + ?Sized> Estimator for &E {
+    fn canonical_dims(&self) -> usize {
+        (**self).canonical_dims()
+    }
+
+    fn domain_dims(&self) -> usize {
+        (**self).domain_dims()
+    }
+
+    fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
+        (**self).contribution(u, x)
+    }
+
+    fn contributions(&self, points: &Points, out: &mut [f64]) {
+        (**self).contributions(points, out)
+    }
+}
+
+impl<E: Estimator + ?Sized> Estimator for Box<E> {
+    fn canonical_dims(&self) -> usize {
+        (**self).canonical_dims()
+    }
+
+    fn domain_dims(&self) -> usize {
+        (**self).domain_dims()
+    }
+
+    fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
+        (**self).contribution(u, x)
+    }
+
+    fn contributions(&self, points: &Points, out: &mut [f64]) {
+        (**self).contributions(points, out)
+    }
+}

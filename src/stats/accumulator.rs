@@ -1,0 +1,224 @@
+//! Streaming mean and variance with exact merging (Welford 1962; Chan, Golub & LeVeque 1979).
+
+use super::estimate::{ErrorBasis, Estimate};
+
+/// Count, mean and sum of squared deviations (`M2`) of a stream of values, plus min, max and
+/// a count of non-finite values (which are kept out of the moments).
+///
+/// Welford's update keeps the variance accurate where the naive `E[Y^2] - E[Y]^2` (A.9)
+/// cancels; Chan's pairwise formula merges two accumulators, so threads, processes and
+/// machines can each accumulate a part of the stream and combine the parts.
+///
+/// ```
+/// use mcint::stats::Accumulator;
+/// let mut left = Accumulator::new();
+/// let mut right = Accumulator::new();
+/// for y in [1.0, 2.0] { left.push(y); }
+/// for y in [3.0, 4.0, f64::NAN] { right.push(y); }
+/// left.merge(&right);
+/// assert_eq!((left.count(), left.mean(), left.non_finite()), (4, 2.5, 1));
+/// assert!((left.variance() - 5.0 / 3.0).abs() < 1e-15);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Accumulator {
+    count: u64,
+    mean: f64,
+    m2: f64,
+    min: f64,
+    max: f64,
+    non_finite: u64,
+}
+
+impl Default for Accumulator {
+    fn default() -> Self {
+        Accumulator::new()
+    }
+}
+
+impl Accumulator {
+    /// An empty accumulator.
+    ///
+    /// ```
+    /// assert_eq!(mcint::stats::Accumulator::new().count(), 0);
+    /// ```
+    pub fn new() -> Self {
+        Accumulator {
+            count: 0,
+            mean: 0.0,
+            m2: 0.0,
+            min: f64::INFINITY,
+            max: f64::NEG_INFINITY,
+            non_finite: 0,
+        }
+    }
+
+    /// Adds one value; NaN and infinities are counted in [`non_finite`](Self::non_finite)
+    /// and otherwise ignored.
+    ///
+    /// ```
+    /// let mut acc = mcint::stats::Accumulator::new();
+    /// acc.push(f64::INFINITY);
+    /// assert_eq!((acc.count(), acc.non_finite()), (0, 1));
+    /// ```
+    #[inline]
+    pub fn push(&mut self, y: f64) {
+        if !y.is_finite() {
+            self.non_finite += 1;
+            return;
+        }
+        self.count += 1;
+        let delta = y - self.mean;
+        self.mean += delta / self.count as f64;
+        self.m2 += delta * (y - self.mean);
+        self.min = self.min.min(y);
+        self.max = self.max.max(y);
+    }
+
+    /// Adds every value of a slice.
+    ///
+    /// ```
+    /// let mut acc = mcint::stats::Accumulator::new();
+    /// acc.extend(&[1.0, 3.0]);
+    /// assert_eq!(acc.mean(), 2.0);
+    /// ```
+    pub fn extend(&mut self, values: &[f64]) {
+        for &y in values {
+            self.push(y);
+        }
+    }
+
+    /// Combines another accumulator into this one, as if its values had been pushed here.
+    ///
+    /// ```
+    /// use mcint::stats::Accumulator;
+    /// let mut a = Accumulator::new();
+    /// a.push(1.0);
+    /// let mut b = Accumulator::new();
+    /// b.push(5.0);
+    /// a.merge(&b);
+    /// assert_eq!((a.mean(), a.min(), a.max()), (3.0, 1.0, 5.0));
+    /// ```
+    pub fn merge(&mut self, other: &Accumulator) {
+        self.non_finite += other.non_finite;
+        if other.count == 0 {
+            return;
+        }
+        if self.count == 0 {
+            let non_finite = self.non_finite;
+            *self = *other;
+            self.non_finite = non_finite;
+            return;
+        }
+        let (na, nb) = (self.count as f64, other.count as f64);
+        let n = na + nb;
+        let delta = other.mean - self.mean;
+        self.mean += delta * (nb / n);
+        self.m2 += other.m2 + delta * delta * (na * nb / n);
+        self.count += other.count;
+        self.min = self.min.min(other.min);
+        self.max = self.max.max(other.max);
+    }
+
+    /// Number of finite values pushed.
+    ///
+    /// ```
+    /// assert_eq!(mcint::stats::Accumulator::new().count(), 0);
+    /// ```
+    pub fn count(&self) -> u64 {
+        self.count
+    }
+
+    /// Mean of the finite values (0 when there are none).
+    ///
+    /// ```
+    /// let mut acc = mcint::stats::Accumulator::new();
+    /// acc.extend(&[2.0, 4.0]);
+    /// assert_eq!(acc.mean(), 3.0);
+    /// ```
+    pub fn mean(&self) -> f64 {
+        self.mean
+    }
+
+    /// Sum of squared deviations from the mean, `M2`.
+    ///
+    /// ```
+    /// let mut acc = mcint::stats::Accumulator::new();
+    /// acc.extend(&[2.0, 4.0]);
+    /// assert_eq!(acc.m2(), 2.0);
+    /// ```
+    pub fn m2(&self) -> f64 {
+        self.m2
+    }
+
+    /// Unbiased sample variance `M2 / (n - 1)` (NaN with fewer than two values).
+    ///
+    /// ```
+    /// let mut acc = mcint::stats::Accumulator::new();
+    /// acc.extend(&[2.0, 4.0]);
+    /// assert_eq!(acc.variance(), 2.0);
+    /// ```
+    pub fn variance(&self) -> f64 {
+        if self.count < 2 {
+            f64::NAN
+        } else {
+            self.m2 / (self.count - 1) as f64
+        }
+    }
+
+    /// Smallest finite value (`+inf` when empty).
+    ///
+    /// ```
+    /// assert_eq!(mcint::stats::Accumulator::new().min(), f64::INFINITY);
+    /// ```
+    pub fn min(&self) -> f64 {
+        self.min
+    }
+
+    /// Largest finite value (`-inf` when empty).
+    ///
+    /// ```
+    /// assert_eq!(mcint::stats::Accumulator::new().max(), f64::NEG_INFINITY);
+    /// ```
+    pub fn max(&self) -> f64 {
+        self.max
+    }
+
+    /// Number of NaN or infinite values pushed.
+    ///
+    /// ```
+    /// let mut acc = mcint::stats::Accumulator::new();
+    /// acc.push(f64::NAN);
+    /// assert_eq!(acc.non_finite(), 1);
+    /// ```
+    pub fn non_finite(&self) -> u64 {
+        self.non_finite
+    }
+
+    /// The estimate of the mean of independent values: standard error `sqrt(s^2 / n)` with
+    /// `n - 1` degrees of freedom (the seed's A.22 with the sample variance for `sigma^2`).
+    /// With fewer than two values no standard error is given.
+    ///
+    /// ```
+    /// let mut acc = mcint::stats::Accumulator::new();
+    /// acc.extend(&[1.0, 2.0, 3.0, 4.0]);
+    /// let e = acc.estimate();
+    /// assert_eq!(e.mean, 2.5);
+    /// assert!((e.std_error.unwrap() - (5.0f64 / 3.0 / 4.0).sqrt()).abs() < 1e-15);
+    /// ```
+    pub fn estimate(&self) -> Estimate {
+        let honest = self.count >= 2;
+        Estimate {
+            mean: self.mean,
+            std_error: honest.then(|| (self.variance() / self.count as f64).sqrt()),
+            dof: honest.then(|| (self.count - 1) as f64),
+            basis: if honest {
+                ErrorBasis::PerSample
+            } else {
+                ErrorBasis::None
+            },
+            n: self.count,
+            replicates: 1,
+            non_finite: self.non_finite,
+        }
+    }
+}

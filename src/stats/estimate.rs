@@ -1,0 +1,155 @@
+//! [`Estimate`]: an integral estimate with an honest error bar.
+
+use super::student_t::student_t_quantile;
+use crate::{Error, Result};
+
+/// Where a standard error comes from.
+///
+/// ```
+/// use mcint::stats::{Accumulator, ErrorBasis};
+/// let mut acc = Accumulator::new();
+/// acc.extend(&[1.0, 2.0]);
+/// assert_eq!(acc.estimate().basis, ErrorBasis::PerSample);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorBasis {
+    /// The per-sample variance of independent contributions, `s / sqrt(n)`.
+    PerSample,
+    /// The spread of independent replicate means, `s_R / sqrt(R)` with `R - 1` degrees of
+    /// freedom: the only honest choice for stratified and quasi-Monte Carlo points, whose
+    /// samples are not independent.
+    Replicates,
+    /// No honest standard error exists (for example a single replicate of stratified points).
+    None,
+}
+
+/// An estimate of an integral with its standard error and degrees of freedom.
+///
+/// ```
+/// use mcint::stats::{Estimate, ErrorBasis};
+/// let e = Estimate::from_replicates(&[1.0, 1.2, 0.8, 1.0], 1000).unwrap();
+/// assert_eq!(e.basis, ErrorBasis::Replicates);
+/// let (lo, hi) = e.confidence_interval(0.95).unwrap().unwrap();
+/// assert!(lo < 1.0 && 1.0 < hi);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct Estimate {
+    /// The estimate of the integral.
+    pub mean: f64,
+    /// Standard error of `mean`; `None` where none can be given honestly.
+    pub std_error: Option<f64>,
+    /// Degrees of freedom of the Student-t interval (`n - 1` or `R - 1`).
+    pub dof: Option<f64>,
+    /// Where the standard error comes from.
+    pub basis: ErrorBasis,
+    /// Total number of contributions (integrand evaluations) behind the estimate.
+    pub n: u64,
+    /// Number of independent replicates.
+    pub replicates: u64,
+    /// Contributions that were NaN or infinite and were left out.
+    pub non_finite: u64,
+}
+
+impl Estimate {
+    /// The estimate from independent replicate means, each of `n_per_replicate` samples: the
+    /// mean of the means, with standard error `s_R / sqrt(R)` and `R - 1` degrees of freedom
+    /// (as scipy's `qmc_quad` and QMCPy's `CubQMCRep` do). With one replicate there is no
+    /// standard error.
+    ///
+    /// ```
+    /// use mcint::stats::Estimate;
+    /// let e = Estimate::from_replicates(&[2.0], 64).unwrap();
+    /// assert_eq!((e.mean, e.std_error, e.n), (2.0, None, 64));
+    /// assert!(Estimate::from_replicates(&[], 1).is_err());
+    /// assert!(Estimate::from_replicates(&[f64::NAN, 1.0], 1).is_err());
+    /// ```
+    pub fn from_replicates(means: &[f64], n_per_replicate: u64) -> Result<Self> {
+        if means.is_empty() {
+            return Err(Error::invalid(
+                "replicate means",
+                "[]",
+                "at least one replicate",
+            ));
+        }
+        if let Some(bad) = means.iter().find(|m| !m.is_finite()) {
+            return Err(Error::invalid("replicate mean", bad, "finite values"));
+        }
+        let r = means.len() as u64;
+        let mean = means.iter().sum::<f64>() / r as f64;
+        let honest = r >= 2;
+        let std_error = honest.then(|| {
+            let ss: f64 = means.iter().map(|m| (m - mean) * (m - mean)).sum();
+            (ss / ((r - 1) * r) as f64).sqrt()
+        });
+        Ok(Estimate {
+            mean,
+            std_error,
+            dof: honest.then(|| (r - 1) as f64),
+            basis: if honest {
+                ErrorBasis::Replicates
+            } else {
+                ErrorBasis::None
+            },
+            n: r.saturating_mul(n_per_replicate),
+            replicates: r,
+            non_finite: 0,
+        })
+    }
+
+    /// Variance of the estimate, `std_error^2`.
+    ///
+    /// ```
+    /// let e = mcint::stats::Estimate::from_replicates(&[1.0, 3.0], 1).unwrap();
+    /// assert_eq!(e.variance(), Some(1.0));
+    /// ```
+    pub fn variance(&self) -> Option<f64> {
+        self.std_error.map(|s| s * s)
+    }
+
+    /// Relative standard error `std_error / |mean|` (`None` without a standard error; infinite
+    /// for a zero mean).
+    ///
+    /// ```
+    /// let e = mcint::stats::Estimate::from_replicates(&[1.0, 3.0], 1).unwrap();
+    /// assert_eq!(e.relative_error(), Some(0.5));
+    /// ```
+    pub fn relative_error(&self) -> Option<f64> {
+        self.std_error.map(|s| s / self.mean.abs())
+    }
+
+    /// Two-sided Student-t confidence interval at `level` in `(0, 1)`:
+    /// `mean ± t_{(1+level)/2, dof} std_error`. `Ok(None)` when there is no standard error.
+    ///
+    /// ```
+    /// let e = mcint::stats::Estimate::from_replicates(&[1.0, 3.0], 1).unwrap();
+    /// let (lo, hi) = e.confidence_interval(0.95).unwrap().unwrap();
+    /// assert!((hi - 2.0 - 12.706204736174706).abs() < 1e-9); // t_{0.975, 1} * 1
+    /// assert!(e.confidence_interval(1.0).is_err());
+    /// ```
+    pub fn confidence_interval(&self, level: f64) -> Result<Option<(f64, f64)>> {
+        let half = self.half_width(level)?;
+        Ok(half.map(|h| (self.mean - h, self.mean + h)))
+    }
+
+    /// Half-width of the confidence interval at `level` (see
+    /// [`confidence_interval`](Self::confidence_interval)).
+    ///
+    /// ```
+    /// let e = mcint::stats::Estimate::from_replicates(&[1.0, 3.0], 1).unwrap();
+    /// assert!(e.half_width(0.5).unwrap().unwrap() > 0.0);
+    /// ```
+    pub fn half_width(&self, level: f64) -> Result<Option<f64>> {
+        if !(level > 0.0 && level < 1.0) {
+            return Err(Error::invalid(
+                "level",
+                level,
+                "a confidence level strictly between 0 and 1",
+            ));
+        }
+        Ok(match (self.std_error, self.dof) {
+            (Some(se), Some(dof)) => Some(student_t_quantile(0.5 + level / 2.0, dof) * se),
+            _ => None,
+        })
+    }
+}
