@@ -1,0 +1,35 @@
+//! Test integrands on the unit cube `[0,1)^d` with known integrals.
+//!
+//! These are the functions numerical-integration papers use to compare methods: the six
+//! Genz (1984) families, polynomials, the Roos-Arnold product and the Sobol' g-function. Each
+//! implements [`TestFunction`], which pairs the integrand with its exact integral over the
+//! unit cube, so that examples, tests and benches can report true errors.
+
+mod genz;
+mod polynomial;
+mod roos_arnold;
+mod sobol_g;
+
+pub use genz::{Genz, GenzFamily};
+pub use polynomial::Polynomial;
+pub use roos_arnold::RoosArnold;
+pub use sobol_g::SobolG;
+
+/// An integrand on the unit cube with a known integral.
+///
+/// ```
+/// use mcint::testfns::{Genz, GenzFamily, TestFunction};
+/// let f = Genz::with_defaults(GenzFamily::Gaussian, 3).unwrap();
+/// assert_eq!(f.dims(), 3);
+/// assert!(f.exact() > 0.0 && f.eval(&[0.5, 0.5, 0.5]) > 0.0);
+/// ```
+pub trait TestFunction: Send + Sync {
+    /// Number of dimensions `d` of the domain `[0,1)^d`.
+    fn dims(&self) -> usize;
+    /// The integrand at `x` (`x.len() == self.dims()`).
+    fn eval(&self, x: &[f64]) -> f64;
+    /// The exact integral over `[0,1)^d`.
+    fn exact(&self) -> f64;
+    /// A short name for tables (for example `"gaussian"`).
+    fn name(&self) -> String;
+}

@@ -1,0 +1,130 @@
+//! The Sobol' g-function `Π (|4x_i - 2| + a_i)/(1 + a_i)` on `[0,1]^d`.
+//!
+//! I. M. Sobol', "On quasi-Monte Carlo integrations", *Mathematics and Computers in
+//! Simulation* 47 (1998), and A. Saltelli and I. M. Sobol', "About the use of rank
+//! transformation in sensitivity analysis of model output", *Reliability Engineering &
+//! System Safety* 50 (1995): each factor has mean 1 and a kink at `x_i = 1/2`, and `a_i`
+//! controls how much axis `i` matters (`a_i = 0`: most, large `a_i`: hardly at all). With
+//! all `a_i = 0` it is the Roos-Arnold product; like it, it complements the smooth Genz
+//! (1984) families.
+
+use super::TestFunction;
+use crate::{Error, Result};
+
+/// `g(x) = Π_i (|4 x_i - 2| + a_i) / (1 + a_i)`, with integral 1 over `[0,1]^d`.
+///
+/// ```
+/// use mcint::testfns::{SobolG, TestFunction};
+/// let g = SobolG::new(vec![0.0, 1.0]).unwrap();
+/// assert_eq!(g.eval(&[0.0, 0.5]), 2.0 * 0.5);
+/// assert_eq!(g.exact(), 1.0);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct SobolG {
+    a: Vec<f64>,
+    /// `1/(1 + a_i)`, so that `eval` multiplies instead of dividing.
+    scale: Vec<f64>,
+}
+
+impl SobolG {
+    /// The g-function with weights `a` (one per dimension, each finite and `>= 0`).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] naming `a` if it is empty or a value is negative or not
+    /// finite.
+    ///
+    /// ```
+    /// use mcint::testfns::{SobolG, TestFunction};
+    /// assert_eq!(SobolG::new(vec![0.0, 9.0, 99.0]).unwrap().dims(), 3);
+    /// assert!(SobolG::new(vec![-0.5]).is_err());
+    /// assert!(SobolG::new(vec![]).is_err());
+    /// ```
+    pub fn new(a: Vec<f64>) -> Result<Self> {
+        if a.is_empty() {
+            return Err(Error::invalid(
+                "a",
+                "an empty vector",
+                "at least one value (d >= 1)",
+            ));
+        }
+        if let Some((i, v)) = a
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
+        {
+            return Err(Error::invalid(
+                "a",
+                format!("{v} at index {i}"),
+                "finite values >= 0",
+            ));
+        }
+        let scale = a.iter().map(|ai| (1.0 + ai).recip()).collect();
+        Ok(SobolG { a, scale })
+    }
+
+    /// Saltelli's common choice `a_i = (i - 2)/2` for `i = 1..=d`, clipped below at 0 because
+    /// negative weights are not allowed: `a = [0, 0, 0.5, 1, 1.5, ...]`. The first two axes
+    /// are the most important and importance then decays slowly.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] naming `d` when `d == 0`.
+    ///
+    /// ```
+    /// use mcint::testfns::SobolG;
+    /// assert_eq!(SobolG::with_defaults(4).unwrap().a(), &[0.0, 0.0, 0.5, 1.0]);
+    /// assert!(SobolG::with_defaults(0).is_err());
+    /// ```
+    pub fn with_defaults(d: usize) -> Result<Self> {
+        if d == 0 {
+            return Err(Error::invalid("d", d, "at least 1"));
+        }
+        SobolG::new((1..=d).map(|i| (0.5 * (i as f64 - 2.0)).max(0.0)).collect())
+    }
+
+    /// The weights `a_i`.
+    ///
+    /// ```
+    /// use mcint::testfns::SobolG;
+    /// assert_eq!(SobolG::new(vec![2.0]).unwrap().a(), &[2.0]);
+    /// ```
+    pub fn a(&self) -> &[f64] {
+        &self.a
+    }
+
+    /// The exact `∫ g² = Π (1 + 1/(3 (1 + a_i)²))`, so the variance of `g(X)` for uniform `X`
+    /// is this minus 1.
+    ///
+    /// ```
+    /// use mcint::testfns::SobolG;
+    /// let g = SobolG::new(vec![0.0]).unwrap();
+    /// assert!((g.integral_of_square() - 4.0 / 3.0).abs() < 1e-15);
+    /// ```
+    pub fn integral_of_square(&self) -> f64 {
+        // Per axis: mean 1 and variance ∫(|4x-2| - 1)² / (1+a)² = 1/(3 (1+a)²).
+        self.scale.iter().map(|s| 1.0 + s * s / 3.0).product()
+    }
+}
+
+impl TestFunction for SobolG {
+    fn dims(&self) -> usize {
+        self.a.len()
+    }
+
+    fn eval(&self, x: &[f64]) -> f64 {
+        x.iter()
+            .zip(&self.a)
+            .zip(&self.scale)
+            .map(|((xi, ai), si)| ((4.0 * xi - 2.0).abs() + ai) * si)
+            .product()
+    }
+
+    fn exact(&self) -> f64 {
+        1.0
+    }
+
+    fn name(&self) -> String {
+        "sobol-g".to_string()
+    }
+}
