@@ -1,0 +1,511 @@
+//! [`Integrator`]: the front door that drives sampler, estimator and accumulator.
+//!
+//! The index range of every replicate is cut into fixed chunks, independent of the thread
+//! count; threads take chunks in any order, and the chunk accumulators are merged in chunk
+//! order afterwards. Every point is a pure function of its index, so the result is
+//! bit-identical for any number of threads.
+
+use crate::estimator::{Estimator, ImportanceEstimator, UniformEstimator};
+use crate::pdf::{Pdf, UniformBox};
+use crate::sampler::{Independent, PassKind, Sampler};
+use crate::stats::{Accumulator, Estimate};
+use crate::{Error, Points, Result};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+/// Points generated and evaluated together: small enough to stay in L1/L2 cache.
+const BLOCK: u64 = 1024;
+/// Points per unit of work handed to a thread (and per partial accumulator).
+const CHUNK: u64 = 16 * BLOCK;
+/// Points per replicate when neither the caller nor the sampler's pass size says otherwise.
+const DEFAULT_SAMPLES: u64 = 1 << 16;
+
+/// Integrates with a given estimator, sampler, budget, seed and thread count.
+///
+/// `samples` is the number of points per replicate and `replicates` the number of
+/// independent replicates (passes of the sampler with independent randomization). For
+/// independent points the standard error comes from the per-sample variance; for stratified
+/// and quasi-random points it comes from the spread of replicate means (Student-t with `R - 1`
+/// degrees of freedom), and with a single replicate no standard error is reported.
+///
+/// ```
+/// use mcint::{Integrator, pdf::UniformBox, sampler::Jittered};
+/// let estimate = Integrator::over_box(|x: &[f64]| x[0] * x[1], UniformBox::unit(2).unwrap())
+///     .sampler(Jittered::new(2, 32, 0).unwrap())
+///     .samples(1024)
+///     .replicates(8)
+///     .seed(7)
+///     .threads(2)
+///     .run()
+///     .unwrap();
+/// assert!((estimate.mean - 0.25).abs() < 5.0 * estimate.std_error.unwrap());
+/// ```
+pub struct Integrator<E> {
+    estimator: E,
+    sampler: Option<Box<dyn Sampler>>,
+    samples: Option<u64>,
+    replicates: u64,
+    seed: Option<u64>,
+    threads: Option<usize>,
+}
+
+impl<F: Fn(&[f64]) -> f64 + Send + Sync> Integrator<UniformEstimator<F>> {
+    /// Integrates `f` over a box with the uniform estimator (A.14).
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::UniformBox};
+    /// let e = Integrator::over_box(|x: &[f64]| x[0], UniformBox::new(vec![0.0], vec![2.0]).unwrap())
+    ///     .samples(10_000)
+    ///     .run()
+    ///     .unwrap();
+    /// assert!((e.mean - 2.0).abs() < 5.0 * e.std_error.unwrap());
+    /// ```
+    pub fn over_box(f: F, domain: UniformBox) -> Self {
+        Integrator::new(UniformEstimator::new(f, domain))
+    }
+}
+
+impl<F: Fn(&[f64]) -> f64 + Send + Sync, P: Pdf> Integrator<ImportanceEstimator<F, P>> {
+    /// Integrates `f` over the domain of `pdf`, sampling from `pdf` (A.19).
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::Exponential};
+    /// // The integral of x e^{-x} over [0, inf) is 1.
+    /// let pdf = Exponential::new(1.0, 0.0, f64::INFINITY).unwrap();
+    /// let e = Integrator::with_pdf(|x: &[f64]| x[0] * (-x[0]).exp(), pdf).samples(20_000).run().unwrap();
+    /// assert!((e.mean - 1.0).abs() < 5.0 * e.std_error.unwrap());
+    /// ```
+    pub fn with_pdf(f: F, pdf: P) -> Self {
+        Integrator::new(ImportanceEstimator::new(f, pdf))
+    }
+}
+
+impl<E: Estimator> Integrator<E> {
+    /// An integrator for any estimator, with independent points, one replicate, `2^16`
+    /// samples and all available threads until told otherwise.
+    ///
+    /// ```
+    /// use mcint::{Integrator, estimator::UniformEstimator, pdf::UniformBox};
+    /// let est = UniformEstimator::new(|_: &[f64]| 3.0, UniformBox::unit(1).unwrap());
+    /// assert_eq!(Integrator::new(est).run().unwrap().mean, 3.0);
+    /// ```
+    pub fn new(estimator: E) -> Self {
+        Integrator {
+            estimator,
+            sampler: None,
+            samples: None,
+            replicates: 1,
+            seed: None,
+            threads: None,
+        }
+    }
+
+    /// The sampler that provides canonical points; its dimension must equal the estimator's
+    /// canonical dimension. A seed set with [`seed`](Self::seed) overrides the sampler's.
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::UniformBox, sampler::LatinHypercube};
+    /// let e = Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap())
+    ///     .sampler(LatinHypercube::new(1, 100, 0).unwrap())
+    ///     .samples(100)
+    ///     .run()
+    ///     .unwrap();
+    /// assert_eq!(e.std_error, None); // one replicate of stratified points: no honest error bar
+    /// ```
+    pub fn sampler(mut self, sampler: impl Sampler + 'static) -> Self {
+        let mut boxed: Box<dyn Sampler> = Box::new(sampler);
+        if let Some(seed) = self.seed {
+            boxed.reseed(seed);
+        }
+        self.sampler = Some(boxed);
+        self
+    }
+
+    /// Points per replicate (at least 1; a multiple of the pass size for samplers with
+    /// fixed passes, at most the pass size for extensible sequences). Defaults to the pass
+    /// size for fixed passes and `2^16` otherwise.
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::UniformBox};
+    /// let e = Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).samples(10).run().unwrap();
+    /// assert_eq!(e.n, 10);
+    /// ```
+    pub fn samples(mut self, samples: u64) -> Self {
+        self.samples = Some(samples);
+        self
+    }
+
+    /// Number of independent replicates (at least 1; default 1).
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::UniformBox};
+    /// let e = Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap())
+    ///     .samples(10).replicates(3).run().unwrap();
+    /// assert_eq!((e.n, e.replicates), (30, 3));
+    /// ```
+    pub fn replicates(mut self, replicates: u64) -> Self {
+        self.replicates = replicates;
+        self
+    }
+
+    /// The seed of the sampler's randomization (the same seed gives the same result).
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::UniformBox};
+    /// let run = |seed| Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap())
+    ///     .samples(100).seed(seed).run().unwrap().mean;
+    /// assert_eq!(run(1), run(1));
+    /// assert_ne!(run(1), run(2));
+    /// ```
+    pub fn seed(mut self, seed: u64) -> Self {
+        self.seed = Some(seed);
+        if let Some(sampler) = self.sampler.as_mut() {
+            sampler.reseed(seed);
+        }
+        self
+    }
+
+    /// Number of worker threads (at least 1; default: all available). The result does not
+    /// depend on it.
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::UniformBox};
+    /// let run = |t| Integrator::over_box(|x: &[f64]| x[0].sin(), UniformBox::unit(1).unwrap())
+    ///     .samples(100_000).threads(t).run().unwrap();
+    /// assert_eq!(run(1), run(3));
+    /// ```
+    pub fn threads(mut self, threads: usize) -> Self {
+        self.threads = Some(threads);
+        self
+    }
+
+    /// Runs the integration.
+    ///
+    /// Errors when a setting is out of range, when the sampler's dimension differs from the
+    /// estimator's, and when any contribution is NaN or infinite (the error gives their count
+    /// and the first offending point): such a mean would be silently wrong.
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::UniformBox};
+    /// let bad = Integrator::over_box(|x: &[f64]| 1.0 / (x[0] - x[0]), UniformBox::unit(1).unwrap())
+    ///     .samples(10)
+    ///     .run();
+    /// assert!(bad.unwrap_err().to_string().contains("10 non-finite"));
+    /// ```
+    pub fn run(&self) -> Result<Estimate> {
+        let default_sampler;
+        let sampler: &dyn Sampler = match &self.sampler {
+            Some(s) => s.as_ref(),
+            None => {
+                default_sampler =
+                    Independent::new(self.estimator.canonical_dims(), self.seed.unwrap_or(0))?;
+                &default_sampler
+            }
+        };
+        let plan = Plan::new(self, sampler)?;
+        let threads = match self.threads {
+            Some(0) => return Err(Error::invalid("threads", 0, "at least 1")),
+            Some(t) => t,
+            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        };
+        let chunks = run_chunks(&plan, sampler, &self.estimator, threads)?;
+        let replicate_accumulators = plan.merge_replicates(&chunks);
+        plan.check_finite(sampler, &chunks, &replicate_accumulators)?;
+        plan.estimate(sampler.passes(), &replicate_accumulators)
+    }
+}
+
+/// The index layout of one run: which sample indices each replicate uses.
+struct Plan {
+    samples: u64,
+    replicates: u64,
+    /// Distance between the first indices of consecutive replicates.
+    stride: u64,
+    chunks_per_replicate: u64,
+}
+
+impl Plan {
+    fn new<E: Estimator>(integrator: &Integrator<E>, sampler: &dyn Sampler) -> Result<Plan> {
+        let dims = integrator.estimator.canonical_dims();
+        if sampler.dims() != dims {
+            return Err(Error::DimensionMismatch {
+                what: "sampler (the estimator's canonical points)",
+                expected: dims,
+                found: sampler.dims(),
+            });
+        }
+        let replicates = integrator.replicates;
+        if replicates == 0 {
+            return Err(Error::invalid("replicates", 0, "at least 1"));
+        }
+        let passes = sampler.passes();
+        let samples = integrator.samples.unwrap_or(match passes {
+            PassKind::Fixed { size } => size,
+            _ => DEFAULT_SAMPLES,
+        });
+        if samples == 0 {
+            return Err(Error::invalid(
+                "samples",
+                0,
+                "at least 1 point per replicate",
+            ));
+        }
+        let stride = match passes {
+            PassKind::Independent => samples,
+            PassKind::Fixed { size } => {
+                if !samples.is_multiple_of(size) {
+                    let below = samples / size * size;
+                    let nearest = if below == 0 {
+                        format!("{size}")
+                    } else {
+                        format!("{below} or {}", below.saturating_add(size))
+                    };
+                    return Err(Error::invalid(
+                        "samples",
+                        samples,
+                        format!(
+                            "a multiple of the {} sampler's pass size {size} (nearest: {nearest})",
+                            sampler.name()
+                        ),
+                    ));
+                }
+                samples
+            }
+            PassKind::Extensible { max } => {
+                if samples > max {
+                    return Err(Error::invalid(
+                        "samples",
+                        samples,
+                        format!(
+                            "at most {max} points per replicate for the {} sampler",
+                            sampler.name()
+                        ),
+                    ));
+                }
+                max
+            }
+        };
+        let overflow = Error::IndexOutOfRange {
+            what: "sample index of the last replicate",
+            limit: u64::MAX,
+        };
+        (replicates - 1)
+            .checked_mul(stride)
+            .and_then(|s| s.checked_add(samples))
+            .ok_or(overflow)?;
+        Ok(Plan {
+            samples,
+            replicates,
+            stride,
+            chunks_per_replicate: samples.div_ceil(CHUNK),
+        })
+    }
+
+    fn total_chunks(&self) -> Result<u64> {
+        self.replicates
+            .checked_mul(self.chunks_per_replicate)
+            .ok_or(Error::IndexOutOfRange {
+                what: "number of work chunks",
+                limit: u64::MAX,
+            })
+    }
+
+    /// Replicate number and the range of local indices (within the replicate) of a chunk.
+    fn chunk_range(&self, chunk: u64) -> (u64, u64, u64) {
+        let replicate = chunk / self.chunks_per_replicate;
+        let first = (chunk % self.chunks_per_replicate) * CHUNK;
+        (replicate, first, (first + CHUNK).min(self.samples))
+    }
+
+    /// One accumulator per replicate, merging chunks in index order.
+    fn merge_replicates(&self, chunks: &[ChunkResult]) -> Vec<Accumulator> {
+        chunks
+            .chunks(self.chunks_per_replicate as usize)
+            .map(|parts| {
+                let mut acc = Accumulator::new();
+                for part in parts {
+                    acc.merge(&part.accumulator);
+                }
+                acc
+            })
+            .collect()
+    }
+
+    /// Fails with the first offending point when any contribution was not finite.
+    fn check_finite(
+        &self,
+        sampler: &dyn Sampler,
+        chunks: &[ChunkResult],
+        reps: &[Accumulator],
+    ) -> Result<()> {
+        let count: u64 = reps.iter().map(|r| r.non_finite()).sum();
+        let Some(first) = chunks.iter().find_map(|c| c.first_non_finite) else {
+            return Ok(());
+        };
+        let mut point = vec![0.0; sampler.dims()];
+        sampler.point(first.replicate * self.stride + first.index, &mut point)?;
+        Err(Error::NonFiniteContribution {
+            count,
+            first_index: first.index,
+            first_replicate: first.replicate,
+            first_value: first.value,
+            first_point: point,
+        })
+    }
+
+    fn estimate(&self, passes: PassKind, reps: &[Accumulator]) -> Result<Estimate> {
+        if passes == PassKind::Independent {
+            // Independent points: all samples are iid, so the per-sample variance is honest.
+            let mut all = Accumulator::new();
+            for r in reps {
+                all.merge(r);
+            }
+            let mut estimate = all.estimate();
+            estimate.replicates = self.replicates;
+            return Ok(estimate);
+        }
+        let means: Vec<f64> = reps.iter().map(|r| r.mean()).collect();
+        Estimate::from_replicates(&means, self.samples)
+    }
+}
+
+/// Where the first non-finite contribution of a chunk occurred.
+#[derive(Debug, Clone, Copy)]
+struct NonFinite {
+    replicate: u64,
+    index: u64,
+    value: f64,
+}
+
+/// What one chunk of work produced.
+#[derive(Debug, Clone, Copy)]
+struct ChunkResult {
+    accumulator: Accumulator,
+    first_non_finite: Option<NonFinite>,
+}
+
+/// Evaluates every chunk on `threads` workers and returns the results in chunk order.
+fn run_chunks<E: Estimator>(
+    plan: &Plan,
+    sampler: &dyn Sampler,
+    estimator: &E,
+    threads: usize,
+) -> Result<Vec<ChunkResult>> {
+    let total = plan.total_chunks()?;
+    let slots = usize::try_from(total).map_err(|_| Error::IndexOutOfRange {
+        what: "number of work chunks",
+        limit: usize::MAX as u64,
+    })?;
+    let next = AtomicU64::new(0);
+    let failed = AtomicBool::new(false);
+    let first_error: Mutex<Option<Error>> = Mutex::new(None);
+    let workers = threads.min(slots.max(1));
+    let mut results: Vec<Option<ChunkResult>> = vec![None; slots];
+
+    let per_worker: Vec<Vec<(u64, ChunkResult)>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..workers)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut done = Vec::new();
+                    let mut work = match Workspace::new(sampler.dims()) {
+                        Ok(work) => work,
+                        Err(e) => {
+                            failed.store(true, Ordering::Relaxed);
+                            if let Ok(mut slot) = first_error.lock() {
+                                slot.get_or_insert(e);
+                            }
+                            return done;
+                        }
+                    };
+                    loop {
+                        let chunk = next.fetch_add(1, Ordering::Relaxed);
+                        if chunk >= total || failed.load(Ordering::Relaxed) {
+                            break;
+                        }
+                        match work.run_chunk(plan, sampler, estimator, chunk) {
+                            Ok(result) => done.push((chunk, result)),
+                            Err(e) => {
+                                failed.store(true, Ordering::Relaxed);
+                                if let Ok(mut slot) = first_error.lock() {
+                                    slot.get_or_insert(e);
+                                }
+                                break;
+                            }
+                        }
+                    }
+                    done
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or_default())
+            .collect()
+    });
+
+    if let Some(e) = first_error.into_inner().ok().flatten() {
+        return Err(e);
+    }
+    for (chunk, result) in per_worker.into_iter().flatten() {
+        results[chunk as usize] = Some(result);
+    }
+    results
+        .into_iter()
+        .collect::<Option<Vec<_>>>()
+        .ok_or(Error::invalid(
+            "worker thread",
+            "panicked",
+            "an integrand that does not panic",
+        ))
+}
+
+/// Per-thread buffers, allocated once.
+struct Workspace {
+    points: Points,
+    values: Vec<f64>,
+}
+
+impl Workspace {
+    fn new(dims: usize) -> Result<Workspace> {
+        Ok(Workspace {
+            points: Points::new(dims, BLOCK as usize)?,
+            values: vec![0.0; BLOCK as usize],
+        })
+    }
+
+    fn run_chunk<E: Estimator>(
+        &mut self,
+        plan: &Plan,
+        sampler: &dyn Sampler,
+        estimator: &E,
+        chunk: u64,
+    ) -> Result<ChunkResult> {
+        let (replicate, first, end) = plan.chunk_range(chunk);
+        let base = replicate * plan.stride;
+        let mut accumulator = Accumulator::new();
+        let mut first_non_finite = None;
+        let mut start = first;
+        while start < end {
+            let len = (end - start).min(BLOCK) as usize;
+            self.points.set_len(len);
+            sampler.fill(base + start, &mut self.points)?;
+            let values = &mut self.values[..len];
+            estimator.contributions(&self.points, values);
+            for (offset, &y) in values.iter().enumerate() {
+                accumulator.push(y);
+                if !y.is_finite() && first_non_finite.is_none() {
+                    first_non_finite = Some(NonFinite {
+                        replicate,
+                        index: start + offset as u64,
+                        value: y,
+                    });
+                }
+            }
+            start += len as u64;
+        }
+        Ok(ChunkResult {
+            accumulator,
+            first_non_finite,
+        })
+    }
+}
