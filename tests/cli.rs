@@ -1,0 +1,306 @@
+//! The example binaries, run as a user would: output formats, and one-line errors with a
+//! non-zero exit on bad input. `cargo test` builds the examples before running this file.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+/// Path of a built example next to this test binary (`target/<profile>/examples/<name>`).
+fn example(name: &str) -> PathBuf {
+    let mut dir = std::env::current_exe().expect("test binary path");
+    dir.pop(); // the test binary
+    if dir.ends_with("deps") {
+        dir.pop();
+    }
+    dir.join("examples")
+        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX))
+}
+
+fn run(name: &str, args: &[&str]) -> Output {
+    let path = example(name);
+    Command::new(&path).args(args).output().unwrap_or_else(|e| {
+        panic!(
+            "cannot run {}: {e} (build it with cargo test or cargo build --examples)",
+            path.display()
+        )
+    })
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// A failed run: non-zero exit and exactly one line on stderr that contains `needle`.
+fn assert_one_line_error(output: &Output, needle: &str) {
+    assert!(
+        !output.status.success(),
+        "expected failure, got success: {}",
+        stdout(output)
+    );
+    let err = stderr(output);
+    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err:?}");
+    assert!(err.contains(needle), "{err:?} does not mention {needle:?}");
+}
+
+#[test]
+fn points_csv_round_trips_and_matches_the_library() {
+    use mcint::sampler::{LatinHypercube, Sampler};
+    let out = run(
+        "points",
+        &[
+            "--sampler",
+            "latin",
+            "--dims",
+            "3",
+            "--n",
+            "50",
+            "--seed",
+            "9",
+            "--pass",
+            "2",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .map(|l| l.split(',').map(|v| v.parse().expect("number")).collect())
+        .collect();
+    assert_eq!(rows.len(), 50);
+    let sampler = LatinHypercube::new(3, 50, 9).unwrap();
+    let mut p = [0.0; 3];
+    for (i, row) in rows.iter().enumerate() {
+        sampler.point(100 + i as u64, &mut p).unwrap();
+        assert_eq!(row.as_slice(), &p, "row {i} differs from point {}", 100 + i);
+    }
+}
+
+#[test]
+fn points_bin_is_little_endian_row_major() {
+    let dir = std::env::temp_dir().join(format!("mcint-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("points.bin");
+    let file_arg = file.to_str().unwrap();
+    let out = run(
+        "points",
+        &[
+            "--sampler",
+            "jittered",
+            "--dims",
+            "2",
+            "--n",
+            "16",
+            "--format",
+            "bin",
+            "--out",
+            file_arg,
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let bytes = std::fs::read(&file).unwrap();
+    assert_eq!(bytes.len(), 16 * 2 * 8);
+    let values: Vec<f64> = bytes
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    // Point i of a 4x4 jittered pass lies in cell (i % 4, i / 4).
+    for (i, xy) in values.chunks_exact(2).enumerate() {
+        assert_eq!(
+            ((xy[0] * 4.0) as usize, (xy[1] * 4.0) as usize),
+            (i % 4, i / 4)
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn points_rejects_bad_input_with_one_line() {
+    assert_one_line_error(
+        &run("points", &["--sampler", "sobel", "--dims", "2", "--n", "4"]),
+        "independent, jittered, latin",
+    );
+    assert_one_line_error(
+        &run(
+            "points",
+            &["--sampler", "jittered", "--dims", "2", "--n", "10"],
+        ),
+        "nearest valid: 9 or 16",
+    );
+    assert_one_line_error(
+        &run("points", &["--sampler", "latin", "--dims", "0", "--n", "4"]),
+        "dims",
+    );
+    assert_one_line_error(
+        &run("points", &["--sampler", "latin", "--dims", "2", "--n", "0"]),
+        "--n",
+    );
+    assert_one_line_error(
+        &run("points", &["--sampler", "latin", "--dims", "x", "--n", "4"]),
+        "--dims",
+    );
+    assert_one_line_error(
+        &run("points", &["--sampler", "latin", "--dims", "2"]),
+        "missing --n",
+    );
+    assert_one_line_error(
+        &run(
+            "points",
+            &[
+                "--sampler",
+                "latin",
+                "--dims",
+                "2",
+                "--n",
+                "4",
+                "--format",
+                "xml",
+            ],
+        ),
+        "csv or bin",
+    );
+    assert_one_line_error(
+        &run(
+            "points",
+            &[
+                "--sampler",
+                "latin",
+                "--dims",
+                "2",
+                "--n",
+                "4",
+                "--bogus",
+                "1",
+            ],
+        ),
+        "unknown flag",
+    );
+    assert_one_line_error(&run("points", &["--sampler"]), "needs a value");
+}
+
+/// Minimal extraction of a field from the one-line JSON object `integrate --json` prints.
+fn json_field<'a>(json: &'a str, key: &str) -> &'a str {
+    let start = json
+        .find(&format!("\"{key}\": "))
+        .unwrap_or_else(|| panic!("no {key} in {json}"))
+        + key.len()
+        + 4;
+    let rest = &json[start..];
+    let end = rest.find([',', '}']).unwrap();
+    rest[..end].trim().trim_matches('"')
+}
+
+#[test]
+fn integrate_json_reports_honest_error_bars() {
+    let out = run(
+        "integrate",
+        &[
+            "--genz",
+            "gaussian",
+            "--dims",
+            "3",
+            "--sampler",
+            "latin",
+            "--n",
+            "4096",
+            "--replicates",
+            "8",
+            "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json = stdout(&out);
+    let estimate: f64 = json_field(&json, "estimate").parse().unwrap();
+    let exact: f64 = json_field(&json, "exact").parse().unwrap();
+    let se: f64 = json_field(&json, "std_error").parse().unwrap();
+    // 8 replicates: the t_{0.99999, 7} quantile is about 9.9; |error| beyond 10 se is a bug.
+    assert!((estimate - exact).abs() < 10.0 * se, "{json}");
+    assert_eq!(json_field(&json, "n"), "32768");
+    assert_eq!(json_field(&json, "replicates"), "8");
+    assert_eq!(json_field(&json, "sampler"), "latin");
+    assert_eq!(json_field(&json, "family"), "gaussian");
+
+    // One replicate of jittered points: no honest standard error, so null.
+    let single = run(
+        "integrate",
+        &[
+            "--genz",
+            "oscillatory",
+            "--dims",
+            "2",
+            "--sampler",
+            "jittered",
+            "--n",
+            "1024",
+            "--replicates",
+            "1",
+            "--json",
+        ],
+    );
+    assert!(single.status.success(), "{}", stderr(&single));
+    assert_eq!(json_field(&stdout(&single), "std_error"), "null");
+}
+
+#[test]
+fn integrate_rejects_bad_input_with_one_line() {
+    assert_one_line_error(
+        &run("integrate", &["--genz", "gauss", "--dims", "2"]),
+        "oscillatory",
+    );
+    assert_one_line_error(
+        &run(
+            "integrate",
+            &["--genz", "gaussian", "--dims", "2", "--a", "1,x"],
+        ),
+        "--a",
+    );
+    assert_one_line_error(
+        &run(
+            "integrate",
+            &["--genz", "gaussian", "--dims", "2", "--u", "0.5"],
+        ),
+        "u",
+    );
+    assert_one_line_error(
+        &run(
+            "integrate",
+            &["--genz", "gaussian", "--dims", "2", "--threads", "0"],
+        ),
+        "threads",
+    );
+    assert_one_line_error(
+        &run(
+            "integrate",
+            &[
+                "--genz",
+                "gaussian",
+                "--dims",
+                "2",
+                "--sampler",
+                "jittered",
+                "--n",
+                "1000",
+            ],
+        ),
+        "nearest valid",
+    );
+    assert_one_line_error(&run("integrate", &["--dims", "2"]), "missing --genz");
+}
+
+#[test]
+fn quickstart_prints_its_table() {
+    let out = run("quickstart", &[]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    for needle in [
+        "uniform, independent",
+        "importance",
+        "jittered",
+        "latin hypercube",
+        "genz gaussian",
+    ] {
+        assert!(text.contains(needle), "missing {needle:?} in\n{text}");
+    }
+}
