@@ -238,6 +238,17 @@ impl Plan {
         if replicates == 0 {
             return Err(Error::invalid("replicates", 0, "at least 1"));
         }
+        if replicates > 1 && !sampler.is_randomized() {
+            return Err(Error::invalid(
+                "replicates",
+                replicates,
+                format!(
+                    "1 for the unrandomized {} sampler (its passes repeat each other; choose a \
+                     scramble to get independent replicates and an error bar)",
+                    sampler.name()
+                ),
+            ));
+        }
         let passes = sampler.passes();
         let samples = integrator.samples.unwrap_or(match passes {
             PassKind::Fixed { size } => size,

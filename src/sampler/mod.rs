@@ -10,16 +10,27 @@
 //! sampling (equation A.30), and N-rooks / Latin hypercube sampling (Shirley 1990; McKay,
 //! Beckman & Conover 1979).
 
+mod halton;
+mod hammersley;
 mod independent;
 mod jittered;
 mod latin_hypercube;
+mod lattice;
 mod named;
+pub(crate) mod owen;
 pub(crate) mod permutation;
+mod scramble;
+mod sobol;
 
+pub use halton::Halton;
+pub use hammersley::Hammersley;
 pub use independent::Independent;
 pub use jittered::Jittered;
 pub use latin_hypercube::LatinHypercube;
+pub use lattice::Lattice;
 pub use named::{SamplerKind, build_sampler};
+pub use scramble::Scramble;
+pub use sobol::Sobol;
 
 use crate::{Error, Points, Result};
 
@@ -81,6 +92,13 @@ pub trait Sampler: Send + Sync {
 
     /// Selects a different randomization; the structure (dimension, pass size) is unchanged.
     fn reseed(&mut self, seed: u64);
+
+    /// Whether passes are independent randomizations. A deterministic point set (an
+    /// unscrambled quasi-Monte Carlo sequence) returns false: its passes repeat each other, so
+    /// no standard error can be computed from them.
+    fn is_randomized(&self) -> bool {
+        true
+    }
 
     /// Writes point `index` into `out` (`out.len()` must equal [`dims`](Self::dims)).
     fn point(&self, index: u64, out: &mut [f64]) -> Result<()>;
@@ -161,6 +179,10 @@ impl<S: Sampler + ?Sized> Sampler for Box<S> {
 
     fn reseed(&mut self, seed: u64) {
         (**self).reseed(seed)
+    }
+
+    fn is_randomized(&self) -> bool {
+        (**self).is_randomized()
     }
 
     fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
