@@ -3,18 +3,20 @@
 //!
 //! ```text
 //! cargo run --release --example integrate -- --genz FAMILY --dims D [--a a1,a2,..] [--u u1,u2,..]
-//!     [--sampler NAME] [--n N] [--replicates R] [--seed S] [--threads T] [--json]
+//!     [--sampler NAME] [--scramble NAME] [--n N] [--replicates R] [--seed S] [--threads T] [--json]
 //! ```
 //! FAMILY is one of oscillatory, product-peak, corner-peak, gaussian, continuous,
 //! discontinuous. Defaults: `a_i = 1 + 0.5 (i-1)`, `u_i = 0.2 + 0.6 (i-1)/(d-1)`, sampler
 //! `independent`, `--n` (points per replicate) 65536 (for `jittered` the largest `k^d` not
-//! above it), `--replicates` 1 for independent points and 16 otherwise.
+//! above it), `--replicates` 1 for independent points or unscrambled sequences and 16
+//! otherwise, `--scramble` the sampler's default (owen for sobol, permute for halton and
+//! hammersley, shift for lattice). With `--scramble none` no standard error is reported.
 
 #[path = "support/mod.rs"]
 mod support;
 
 use mcint::pdf::UniformBox;
-use mcint::sampler::{PassKind, SamplerKind};
+use mcint::sampler::{PassKind, SamplerKind, Scramble};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
 use mcint::{Estimate, Integrator};
 use std::time::Instant;
@@ -26,6 +28,7 @@ const SPEC: support::Spec = &[
     ("a", true),
     ("u", true),
     ("sampler", true),
+    ("scramble", true),
     ("n", true),
     ("replicates", true),
     ("seed", true),
@@ -71,8 +74,15 @@ fn run() -> Result<(), String> {
         None => DEFAULT_POINTS,
     };
     let seed: u64 = args.get("seed", "a whole number")?.unwrap_or(0);
-    let sampler = kind.build(dims, n, seed).map_err(|e| e.to_string())?;
-    let default_replicates = if sampler.passes() == PassKind::Independent {
+    let scramble = match args.get::<String>("scramble", "a scramble name")? {
+        Some(text) => text.parse::<Scramble>().map_err(|e| e.to_string())?,
+        None => kind.default_scramble(),
+    };
+    let sampler = kind
+        .build_scrambled(dims, n, scramble, seed)
+        .map_err(|e| e.to_string())?;
+    let independent = sampler.passes() == PassKind::Independent;
+    let default_replicates = if independent || !sampler.is_randomized() {
         1
     } else {
         16
@@ -99,6 +109,7 @@ fn run() -> Result<(), String> {
         family,
         dims,
         kind,
+        scramble,
         estimate,
         exact: f.exact(),
         seconds,
@@ -125,6 +136,7 @@ struct Report {
     family: GenzFamily,
     dims: usize,
     kind: SamplerKind,
+    scramble: Scramble,
     estimate: Estimate,
     exact: f64,
     seconds: f64,
@@ -134,11 +146,12 @@ impl Report {
     fn print_json(&self) {
         let e = &self.estimate;
         println!(
-            "{{\"family\": \"{}\", \"dims\": {}, \"sampler\": \"{}\", \"estimate\": {}, \"std_error\": {}, \
+            "{{\"family\": \"{}\", \"dims\": {}, \"sampler\": \"{}\", \"scramble\": \"{}\", \"estimate\": {}, \"std_error\": {}, \
              \"exact\": {}, \"n\": {}, \"replicates\": {}, \"seconds\": {}}}",
             self.family.name(),
             self.dims,
             self.kind.name(),
+            self.scramble.name(),
             json_number(Some(e.mean)),
             json_number(e.std_error),
             json_number(Some(self.exact)),
@@ -157,8 +170,9 @@ impl Report {
             self.dims
         );
         println!(
-            "sampler     {} ({} replicates x {} points)",
+            "sampler     {}, scramble {} ({} replicates x {} points)",
             self.kind,
+            self.scramble,
             e.replicates,
             e.n / e.replicates
         );

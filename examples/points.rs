@@ -2,15 +2,18 @@
 //!
 //! ```text
 //! cargo run --release --example points -- --sampler latin --dims 2 --n 16 [--seed S] [--pass P]
-//!     [--format csv|bin] [--out FILE]
+//!     [--scramble none|xor|lms|owen|permute|shift] [--format csv|bin] [--out FILE]
 //! ```
 //! `--n` is the number of points written; for samplers with fixed passes it is also the pass
-//! size (jittered needs `k^dims`). `--pass P` writes pass `P`, the points `P*n .. P*n + n`.
+//! size (jittered needs `k^dims`, hammersley uses it as the set size). `--pass P` writes the
+//! first `n` points of pass `P`, an independent randomization. `--scramble` applies to sobol
+//! (default owen), halton and hammersley (default permute) and lattice (default shift).
 
 #[path = "support/mod.rs"]
 mod support;
 
-use mcint::{Points, sampler::build_sampler};
+use mcint::Points;
+use mcint::sampler::{PassKind, SamplerKind, Scramble};
 use std::io::{BufWriter, Write};
 use support::{Args, fail};
 
@@ -20,6 +23,7 @@ const SPEC: support::Spec = &[
     ("n", true),
     ("seed", true),
     ("pass", true),
+    ("scramble", true),
     ("format", true),
     ("out", true),
 ];
@@ -49,10 +53,29 @@ fn run() -> Result<(), String> {
     if n == 0 {
         return Err("invalid --n 0: expected at least 1 point".into());
     }
-    let sampler = build_sampler(&name, dims, n, seed).map_err(|e| e.to_string())?;
+    let kind: SamplerKind = name.parse().map_err(|e: mcint::Error| e.to_string())?;
+    let scramble = match args.get::<String>("scramble", "a scramble name")? {
+        Some(text) => text.parse::<Scramble>().map_err(|e| e.to_string())?,
+        None => kind.default_scramble(),
+    };
+    let sampler = kind
+        .build_scrambled(dims, n, scramble, seed)
+        .map_err(|e| e.to_string())?;
+    let pass_length = match sampler.passes() {
+        PassKind::Independent => n,
+        PassKind::Fixed { size } => size,
+        PassKind::Extensible { max } => {
+            if n > max {
+                return Err(format!(
+                    "invalid --n {n}: at most {max} points per pass for {name}"
+                ));
+            }
+            max
+        }
+    };
     let start = pass
-        .checked_mul(n)
-        .ok_or("--pass * --n overflows 64 bits")?;
+        .checked_mul(pass_length)
+        .ok_or("--pass is too large: the first index overflows 64 bits")?;
     let out: Box<dyn Write> = match args.get::<String>("out", "a file path")? {
         Some(path) => Box::new(
             std::fs::File::create(&path).map_err(|e| format!("cannot create '{path}': {e}"))?,

@@ -120,7 +120,7 @@ fn points_bin_is_little_endian_row_major() {
 fn points_rejects_bad_input_with_one_line() {
     assert_one_line_error(
         &run("points", &["--sampler", "sobel", "--dims", "2", "--n", "4"]),
-        "independent, jittered, latin",
+        "independent, jittered, latin, sobol",
     );
     assert_one_line_error(
         &run(
@@ -303,4 +303,159 @@ fn quickstart_prints_its_table() {
     ] {
         assert!(text.contains(needle), "missing {needle:?} in\n{text}");
     }
+}
+
+#[test]
+fn qmc_samplers_and_scrambles_from_the_command_line() {
+    // Unscrambled Sobol' starts at the origin and has no honest error bar.
+    let out = run(
+        "points",
+        &[
+            "--sampler",
+            "sobol",
+            "--scramble",
+            "none",
+            "--dims",
+            "3",
+            "--n",
+            "4",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(stdout(&out).lines().next(), Some("0.0,0.0,0.0"));
+    let single = run(
+        "integrate",
+        &[
+            "--genz",
+            "gaussian",
+            "--dims",
+            "2",
+            "--sampler",
+            "sobol",
+            "--scramble",
+            "none",
+            "--n",
+            "1024",
+            "--json",
+        ],
+    );
+    assert!(single.status.success(), "{}", stderr(&single));
+    assert_eq!(json_field(&stdout(&single), "std_error"), "null");
+    assert_eq!(json_field(&stdout(&single), "scramble"), "none");
+    // Randomized sequences give replicate error bars that cover the truth.
+    for (sampler, scramble) in [
+        ("sobol", "owen"),
+        ("sobol", "lms"),
+        ("sobol", "xor"),
+        ("halton", "permute"),
+        ("halton", "owen"),
+        ("hammersley", "permute"),
+        ("lattice", "shift"),
+    ] {
+        let out = run(
+            "integrate",
+            &[
+                "--genz",
+                "oscillatory",
+                "--dims",
+                "3",
+                "--sampler",
+                sampler,
+                "--scramble",
+                scramble,
+                "--n",
+                "1024",
+                "--replicates",
+                "8",
+                "--json",
+            ],
+        );
+        assert!(
+            out.status.success(),
+            "{sampler}/{scramble}: {}",
+            stderr(&out)
+        );
+        let json = stdout(&out);
+        let estimate: f64 = json_field(&json, "estimate").parse().unwrap();
+        let exact: f64 = json_field(&json, "exact").parse().unwrap();
+        let se: f64 = json_field(&json, "std_error").parse().unwrap();
+        // 8 replicates: t_{0.99999, 7} is about 9.9, so 10 standard errors is a safe bound.
+        assert!(
+            (estimate - exact).abs() < 10.0 * se,
+            "{sampler}/{scramble}: {json}"
+        );
+    }
+    assert_one_line_error(
+        &run(
+            "integrate",
+            &[
+                "--genz",
+                "gaussian",
+                "--dims",
+                "2",
+                "--sampler",
+                "sobol",
+                "--scramble",
+                "none",
+                "--replicates",
+                "4",
+            ],
+        ),
+        "replicates",
+    );
+    assert_one_line_error(
+        &run(
+            "integrate",
+            &[
+                "--genz",
+                "gaussian",
+                "--dims",
+                "2",
+                "--sampler",
+                "latin",
+                "--scramble",
+                "owen",
+            ],
+        ),
+        "built in",
+    );
+    assert_one_line_error(
+        &run(
+            "points",
+            &[
+                "--sampler",
+                "lattice",
+                "--scramble",
+                "xor",
+                "--dims",
+                "2",
+                "--n",
+                "4",
+            ],
+        ),
+        "none, shift",
+    );
+    assert_one_line_error(
+        &run(
+            "points",
+            &[
+                "--sampler",
+                "sobol",
+                "--scramble",
+                "twist",
+                "--dims",
+                "2",
+                "--n",
+                "4",
+            ],
+        ),
+        "owen",
+    );
+    assert_one_line_error(
+        &run(
+            "points",
+            &["--sampler", "sobol", "--dims", "21202", "--n", "4"],
+        ),
+        "21201",
+    );
 }

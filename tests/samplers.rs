@@ -330,7 +330,15 @@ proptest! {
 fn every_named_kind_builds_a_sampler_honouring_the_contract() {
     assert_eq!(
         SamplerKind::ALL.map(SamplerKind::name),
-        ["independent", "jittered", "latin"]
+        [
+            "independent",
+            "jittered",
+            "latin",
+            "sobol",
+            "halton",
+            "hammersley",
+            "lattice"
+        ]
     );
     for kind in SamplerKind::ALL {
         assert_eq!(kind.to_string().parse::<SamplerKind>().unwrap(), kind);
@@ -342,6 +350,9 @@ fn every_named_kind_builds_a_sampler_honouring_the_contract() {
             assert_eq!(sampler.seed(), 99);
             let expected = match kind {
                 SamplerKind::Independent => PassKind::Independent,
+                SamplerKind::Sobol => PassKind::Extensible { max: 1 << 32 },
+                SamplerKind::Halton => PassKind::Extensible { max: 1 << 40 },
+                SamplerKind::Lattice => PassKind::Extensible { max: 1 << 20 },
                 _ => PassKind::Fixed { size: 64 },
             };
             assert_eq!(sampler.passes(), expected);
@@ -473,12 +484,15 @@ fn constructors_reject_zero_dims_and_empty_passes() {
 
 #[test]
 fn unknown_sampler_name_lists_the_valid_names() {
-    for name in ["sobol", "", "Latin", "independent "] {
+    for name in ["sobel", "", "Latin", "independent "] {
         let err = build_sampler(name, 2, 16, 0).err().unwrap();
         assert_eq!(invalid_name(&err), "sampler");
         assert_eq!(
             err.to_string(),
-            format!("invalid sampler = {name}: expected one of independent, jittered, latin")
+            format!(
+                "invalid sampler = {name}: expected one of independent, jittered, latin, sobol, \
+                 halton, hammersley, lattice"
+            )
         );
         assert!(name.parse::<SamplerKind>().is_err());
     }

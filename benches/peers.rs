@@ -1,0 +1,95 @@
+//! The same work done by `mcint` and by peer crates, in one run: Owen-scrambled Sobol' points
+//! against `sobol_burley` 0.5 (`sample` and `sample_4d`, which return f32; converting to f64
+//! is part of the work), and independent uniforms against a raw `rand_pcg` fill.
+//!
+//! `cargo bench --bench peers`; throughput is in values (coordinates) per second.
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use mcint::Points;
+use mcint::sampler::{Independent, Sampler, Scramble, Sobol};
+use rand::Rng;
+use rand_pcg::Pcg64;
+use std::hint::black_box;
+
+const DIMS: usize = 4;
+/// 4096 points x 4 dimensions of f64 = 128 KiB: an in-cache block.
+const POINTS: usize = 4096;
+
+fn owen_sobol(c: &mut Criterion) {
+    let mut group = c.benchmark_group("owen_sobol_4d_4096");
+    group.throughput(Throughput::Elements((DIMS * POINTS) as u64));
+    let mut block = Points::new(DIMS, POINTS).unwrap();
+
+    let sobol = Sobol::new(DIMS, Scramble::Owen, 7).unwrap();
+    group.bench_function("mcint_fill", |b| {
+        let mut start = 0u64;
+        b.iter(|| {
+            sobol.fill(start, &mut block).unwrap();
+            start = (start + POINTS as u64) % (1 << 32);
+            black_box(block.get(0, 0))
+        })
+    });
+
+    group.bench_function("sobol_burley_sample_4d", |b| {
+        let mut start = 0u32;
+        b.iter(|| {
+            let mut columns: Vec<&mut [f64]> = block.columns_mut().collect();
+            for i in 0..POINTS {
+                let p = sobol_burley::sample_4d(start.wrapping_add(i as u32), 0, 7);
+                for (column, v) in columns.iter_mut().zip(p) {
+                    column[i] = f64::from(v);
+                }
+            }
+            start = start.wrapping_add(POINTS as u32);
+            black_box(block.get(0, 0))
+        })
+    });
+
+    group.bench_function("sobol_burley_sample", |b| {
+        let mut start = 0u32;
+        b.iter(|| {
+            for (dim, column) in block.columns_mut().enumerate() {
+                for (i, x) in column.iter_mut().enumerate() {
+                    *x = f64::from(sobol_burley::sample(
+                        start.wrapping_add(i as u32),
+                        dim as u32,
+                        7,
+                    ));
+                }
+            }
+            start = start.wrapping_add(POINTS as u32);
+            black_box(block.get(0, 0))
+        })
+    });
+    group.finish();
+}
+
+fn independent(c: &mut Criterion) {
+    let mut group = c.benchmark_group("independent_4d_4096");
+    group.throughput(Throughput::Elements((DIMS * POINTS) as u64));
+    let mut block = Points::new(DIMS, POINTS).unwrap();
+    let sampler = Independent::new(DIMS, 1).unwrap();
+    group.bench_function("mcint_fill", |b| {
+        let mut start = 0u64;
+        b.iter(|| {
+            sampler.fill(start, &mut block).unwrap();
+            start += POINTS as u64;
+            black_box(block.get(0, 0))
+        })
+    });
+    let mut rng = Pcg64::new(0xcafe_f00d_d15e_a5e5, 0x0a02_bdbf_7bb3_c0a7);
+    group.bench_function("rand_pcg_raw", |b| {
+        b.iter(|| {
+            for column in block.columns_mut() {
+                for x in column.iter_mut() {
+                    *x = (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+                }
+            }
+            black_box(block.get(0, 0))
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, owen_sobol, independent);
+criterion_main!(benches);
