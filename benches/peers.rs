@@ -30,6 +30,19 @@ fn owen_sobol(c: &mut Criterion) {
         })
     });
 
+    // sobol_burley always shuffles the index (Burley 2020); this is the like-for-like variant.
+    let shuffled = Sobol::new(DIMS, Scramble::Owen, 7)
+        .unwrap()
+        .with_index_shuffle(true);
+    group.bench_function("mcint_fill_index_shuffle", |b| {
+        let mut start = 0u64;
+        b.iter(|| {
+            shuffled.fill(start, &mut block).unwrap();
+            start = (start + POINTS as u64) % (1 << 32);
+            black_box(block.get(0, 0))
+        })
+    });
+
     group.bench_function("sobol_burley_sample_4d", |b| {
         let mut start = 0u32;
         b.iter(|| {

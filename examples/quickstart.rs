@@ -7,7 +7,7 @@
 
 use mcint::estimator::{ImportanceEstimator, UniformEstimator};
 use mcint::pdf::{Exponential, Pdf1d, ProductPdf, TruncatedNormal, UniformBox};
-use mcint::sampler::{Independent, Jittered, LatinHypercube, Sampler};
+use mcint::sampler::{Independent, Jittered, LatinHypercube, Lattice, Sampler, Scramble, Sobol};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
 use mcint::{Estimate, Estimator, Integrator, Result};
 use std::time::Instant;
@@ -101,6 +101,20 @@ fn run() -> Result<()> {
         &uniform,
         LatinHypercube::new(4, POINTS, 2)?,
     )?;
+    row(
+        name,
+        "uniform, sobol owen-scrambled",
+        gaussian.exact(),
+        &uniform,
+        Sobol::new(4, Scramble::Owen, 2)?,
+    )?;
+    row(
+        name,
+        "uniform, lattice shifted",
+        gaussian.exact(),
+        &uniform,
+        Lattice::new(4, Scramble::Shift, 2)?,
+    )?;
     // Each factor exp(-a^2 (x-u)^2) is a normal density with sd 1/(a sqrt 2); a proposal
     // 25% wider than that is close to, but not exactly, the integrand's shape.
     let proposal: Vec<Box<dyn Pdf1d>> = gaussian
@@ -146,6 +160,20 @@ fn run() -> Result<()> {
         oscillatory.exact(),
         &uniform,
         LatinHypercube::new(8, POINTS, 3)?,
+    )?;
+    row(
+        name,
+        "uniform, sobol owen-scrambled",
+        oscillatory.exact(),
+        &uniform,
+        Sobol::new(8, Scramble::Owen, 3)?,
+    )?;
+    row(
+        name,
+        "uniform, lattice shifted",
+        oscillatory.exact(),
+        &uniform,
+        Lattice::new(8, Scramble::Shift, 3)?,
     )?;
 
     println!(

@@ -196,3 +196,45 @@ fn zero_pdf_where_the_integrand_is_not_is_an_error() {
     .unwrap();
     assert!((fine.mean - 0.5).abs() < 5.0 * fine.std_error.unwrap());
 }
+
+/// An unscrambled sequence has no randomness to measure: no standard error, and several
+/// replicates (identical copies) are refused. Scrambled, it gets replicate error bars.
+#[test]
+fn unrandomized_sequences_report_no_error_bar() {
+    use mcint::sampler::{Scramble, Sobol};
+    let base = || Integrator::over_box(smooth, UniformBox::unit(2).unwrap()).samples(1024);
+    let plain = base()
+        .sampler(Sobol::new(2, Scramble::None, 0).unwrap())
+        .run()
+        .unwrap();
+    assert_eq!(
+        (plain.std_error, plain.basis),
+        (None, mcint::stats::ErrorBasis::None)
+    );
+    let refused = base()
+        .sampler(Sobol::new(2, Scramble::None, 0).unwrap())
+        .replicates(4)
+        .run();
+    assert!(
+        refused
+            .unwrap_err()
+            .to_string()
+            .contains("unrandomized sobol")
+    );
+    let scrambled = base()
+        .sampler(Sobol::new(2, Scramble::Owen, 0).unwrap())
+        .replicates(4)
+        .run()
+        .unwrap();
+    assert_eq!(scrambled.basis, mcint::stats::ErrorBasis::Replicates);
+    let too_many = base()
+        .sampler(Sobol::new(2, Scramble::Owen, 0).unwrap())
+        .samples((1 << 32) + 1)
+        .run();
+    assert!(
+        too_many
+            .unwrap_err()
+            .to_string()
+            .contains("at most 4294967296")
+    );
+}
