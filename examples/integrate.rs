@@ -16,7 +16,7 @@
 mod support;
 
 use mcint::pdf::UniformBox;
-use mcint::sampler::{PassKind, SamplerKind, Scramble};
+use mcint::sampler::{PassKind, SamplerKind};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
 use mcint::{Estimate, Integrator};
 use std::time::Instant;
@@ -74,10 +74,7 @@ fn run() -> Result<(), String> {
         None => DEFAULT_POINTS,
     };
     let seed: u64 = args.get("seed", "a whole number")?.unwrap_or(0);
-    let scramble = match args.get::<String>("scramble", "a scramble name")? {
-        Some(text) => text.parse::<Scramble>().map_err(|e| e.to_string())?,
-        None => kind.default_scramble(),
-    };
+    let scramble = args.scramble_for(kind)?;
     let sampler = kind
         .build_scrambled(dims, n, scramble, seed)
         .map_err(|e| e.to_string())?;
@@ -136,7 +133,7 @@ struct Report {
     family: GenzFamily,
     dims: usize,
     kind: SamplerKind,
-    scramble: Scramble,
+    scramble: mcint::sampler::Scramble,
     estimate: Estimate,
     exact: f64,
     seconds: f64,

@@ -13,7 +13,7 @@
 mod support;
 
 use mcint::Points;
-use mcint::sampler::{PassKind, SamplerKind, Scramble};
+use mcint::sampler::{PassKind, SamplerKind};
 use std::io::{BufWriter, Write};
 use support::{Args, fail};
 
@@ -54,10 +54,7 @@ fn run() -> Result<(), String> {
         return Err("invalid --n 0: expected at least 1 point".into());
     }
     let kind: SamplerKind = name.parse().map_err(|e: mcint::Error| e.to_string())?;
-    let scramble = match args.get::<String>("scramble", "a scramble name")? {
-        Some(text) => text.parse::<Scramble>().map_err(|e| e.to_string())?,
-        None => kind.default_scramble(),
-    };
+    let scramble = args.scramble_for(kind)?;
     let sampler = kind
         .build_scrambled(dims, n, scramble, seed)
         .map_err(|e| e.to_string())?;

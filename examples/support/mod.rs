@@ -2,6 +2,7 @@
 #![allow(dead_code)] // each example binary uses a different subset of these helpers
 //! errors that say what is allowed.
 
+use mcint::sampler::{SamplerKind, Scramble};
 use std::collections::HashMap;
 use std::str::FromStr;
 
@@ -86,6 +87,14 @@ impl Args {
             })
             .collect::<Result<Vec<_>, _>>()
             .map(Some)
+    }
+
+    /// The `--scramble` choice, or the sampler kind's default randomization.
+    pub fn scramble_for(&self, kind: SamplerKind) -> Result<Scramble, String> {
+        match self.values.get("scramble") {
+            Some(text) => text.parse::<Scramble>().map_err(|e| e.to_string()),
+            None => Ok(kind.default_scramble()),
+        }
     }
 
     /// Whether `--name` (a switch) was given.
