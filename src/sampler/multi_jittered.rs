@@ -1,0 +1,431 @@
+//! Multi-jittered sampling (Chiu, Shirley & Wang 1994, "Multi-Jittered Sampling", Graphics
+//! Gems IV), evaluated point by point as Kensler (2013, "Correlated Multi-Jittered Sampling",
+//! Pixar Technical Memo 13-01, section 3) describes.
+//!
+//! A pass of `N = m * n` points in the unit square is at once *jittered* on an `m x n` grid
+//! (one point in each of the `m` columns times `n` rows of cells) and *N-rooks* (one point in
+//! each of the `N` vertical slabs of width `1/N` and each of the `N` horizontal ones). Cell
+//! `(i, j)` (column `i`, row `j`) is cut into `n` sub-columns and `m` sub-rows; in the
+//! canonical arrangement its point lies in sub-column `j` and sub-row `i`, which makes the
+//! global `x` slab `i * n + j` and the global `y` slab `j * m + i`. Shuffling the sub-column
+//! indices within each column (a permutation of `0..n` per column) and the sub-row indices
+//! within each row (a permutation of `0..m` per row) keeps both properties; Chiu et al. do it
+//! with random swaps, and Kensler replaces the stored shuffle with hashed random-access
+//! permutations, so every point is a pure function of `(seed, pass, index)`. Here every column
+//! and every row gets its own independent permutation (the "uncorrelated" case);
+//! [`CorrelatedMultiJittered`](super::CorrelatedMultiJittered) uses one for all.
+//!
+//! More than two dimensions are taken in pairs `(0, 1), (2, 3), ...`: each pair is its own
+//! multi-jittered pattern with independent seeds and its own random assignment of point
+//! numbers to cells (a hashed permutation of `0..N`), so pairs are not correlated with each
+//! other. An odd last dimension is a one-dimensional N-rooks (Latin) stratification.
+//!
+//! The shared machinery for both variants lives here.
+
+use super::permutation::Permutation;
+use super::{PassKind, Sampler, check_block, check_dims, check_point};
+use crate::hash::{ONE_BELOW, hash_words, unit_f64};
+use crate::{Error, Points, Result};
+
+/// Most points a pass may hold: `2^53`, beyond which the `1/N` slabs are no longer distinct
+/// doubles in `[0, 1)` and the N-rooks property could not hold.
+pub(super) const MAX_POINTS: u64 = 1 << 53;
+
+/// Role tags hashed into permutation seeds, so that no two permutations share a seed.
+const ROLE_CELL: u64 = 0x6365_6c6c; // point number -> cell
+const ROLE_COLUMN: u64 = 0x636f_6c73; // sub-columns within a column
+const ROLE_ROW: u64 = 0x726f_7773; // sub-rows within a row
+const ROLE_LATIN: u64 = 0x6c61_7469; // the odd last dimension
+
+/// The permutations one pair of dimensions uses in one pass. For the correlated variant the
+/// column and row permutations are the same for every column (row) and are stored here; for
+/// the uncorrelated one they depend on the column (row) and are built per point.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct PairPermutations {
+    /// Point number within the pass -> cell number (or slab, for the odd last dimension).
+    cell: Permutation,
+    /// Shared sub-column permutation of `0..n` (correlated variant only).
+    column: Option<Permutation>,
+    /// Shared sub-row permutation of `0..m` (correlated variant only).
+    row: Option<Permutation>,
+}
+
+/// The pass structure and randomization shared by [`MultiJittered`] and
+/// [`CorrelatedMultiJittered`](super::CorrelatedMultiJittered).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) struct MjCore {
+    dims: usize,
+    m: u64,
+    n: u64,
+    pass_size: u64,
+    seed: u64,
+    correlated: bool,
+}
+
+impl MjCore {
+    /// Validates `dims >= 1`, `m, n >= 1` and `m * n <= 2^53`.
+    pub(super) fn new(dims: usize, m: u64, n: u64, seed: u64, correlated: bool) -> Result<Self> {
+        check_dims(dims)?;
+        if m == 0 {
+            return Err(Error::invalid("m", 0, "at least 1 column of cells"));
+        }
+        if n == 0 {
+            return Err(Error::invalid("n", 0, "at least 1 row of cells"));
+        }
+        let pass_size = m
+            .checked_mul(n)
+            .filter(|&size| size <= MAX_POINTS)
+            .ok_or_else(|| {
+                Error::invalid(
+                    "m * n",
+                    format!("{m} * {n}"),
+                    format!(
+                        "at most 2^53 = {MAX_POINTS} points per pass (slabs of width 1/N must \
+                         be distinct doubles)"
+                    ),
+                )
+            })?;
+        Ok(MjCore {
+            dims,
+            m,
+            n,
+            pass_size,
+            seed,
+            correlated,
+        })
+    }
+
+    /// Chooses `m <= n` with `m * n = points` and `m` as close to `sqrt(points)` as possible.
+    pub(super) fn with_points(
+        dims: usize,
+        points: u64,
+        seed: u64,
+        correlated: bool,
+    ) -> Result<Self> {
+        check_dims(dims)?;
+        if points == 0 {
+            return Err(Error::invalid(
+                "points",
+                0,
+                format!("between 1 and 2^53 = {MAX_POINTS} points per pass (any count works)"),
+            ));
+        }
+        if points > MAX_POINTS {
+            return Err(Error::invalid(
+                "points",
+                points,
+                format!(
+                    "at most 2^53 = {MAX_POINTS} points per pass (slabs of width 1/N must be \
+                     distinct doubles)"
+                ),
+            ));
+        }
+        let m = squarest_divisor(points);
+        MjCore::new(dims, m, points / m, seed, correlated)
+    }
+
+    pub(super) fn m(&self) -> u64 {
+        self.m
+    }
+
+    pub(super) fn n(&self) -> u64 {
+        self.n
+    }
+
+    pub(super) fn dims(&self) -> usize {
+        self.dims
+    }
+
+    pub(super) fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.pass_size,
+        }
+    }
+
+    pub(super) fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    pub(super) fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
+
+    /// Seed of the permutation with `role` for pair `pair` of `pass` (`which` selects the
+    /// column or row for the uncorrelated variant, and is 0 otherwise).
+    #[inline]
+    fn permutation_seed(&self, pass: u64, pair: usize, role: u64, which: u64) -> u64 {
+        let salt = if self.correlated {
+            0x0063_6d6a
+        } else {
+            0x0000_6d6a
+        };
+        hash_words(self.seed, &[salt, pass, pair as u64, role, which])
+    }
+
+    /// The permutations pair `pair` (dimensions `2 pair` and `2 pair + 1`, or the odd last
+    /// dimension when `2 pair + 1 == dims`) uses in `pass`.
+    #[inline]
+    fn pair_permutations(&self, pass: u64, pair: usize) -> PairPermutations {
+        let single = 2 * pair + 1 == self.dims;
+        let cell_role = if single { ROLE_LATIN } else { ROLE_CELL };
+        let cell = Permutation::new(
+            self.pass_size,
+            self.permutation_seed(pass, pair, cell_role, 0),
+        );
+        let (column, row) = if self.correlated && !single {
+            (
+                Some(Permutation::new(
+                    self.n,
+                    self.permutation_seed(pass, pair, ROLE_COLUMN, 0),
+                )),
+                Some(Permutation::new(
+                    self.m,
+                    self.permutation_seed(pass, pair, ROLE_ROW, 0),
+                )),
+            )
+        } else {
+            (None, None)
+        };
+        PairPermutations { cell, column, row }
+    }
+
+    /// Coordinate `dim` from its slab in `0..N` and the point's hashed jitter.
+    #[inline]
+    fn coordinate(&self, slab: u64, pass: u64, index: u64, dim: usize) -> f64 {
+        let jitter = unit_f64(hash_words(self.seed, &[pass, index, dim as u64]));
+        ((slab as f64 + jitter) / self.pass_size as f64).min(ONE_BELOW)
+    }
+
+    /// Writes the coordinates of pair `pair` of point `index` into `out` (`out[2 pair]`, and
+    /// `out[2 pair + 1]` unless it is the odd last dimension).
+    #[inline]
+    fn write_pair(
+        &self,
+        perms: &PairPermutations,
+        pass: u64,
+        index: u64,
+        pair: usize,
+        out: &mut [f64],
+    ) {
+        let local = index % self.pass_size;
+        let cell = perms.cell.apply(local);
+        let dx = 2 * pair;
+        if dx + 1 == self.dims {
+            out[dx] = self.coordinate(cell, pass, index, dx);
+            return;
+        }
+        let (column, row) = (cell % self.m, cell / self.m);
+        // Sub-column of the point within its column, sub-row within its row.
+        let sub_column = match &perms.column {
+            Some(p) => p.apply(row),
+            None => Permutation::new(
+                self.n,
+                self.permutation_seed(pass, pair, ROLE_COLUMN, column),
+            )
+            .apply(row),
+        };
+        let sub_row = match &perms.row {
+            Some(p) => p.apply(column),
+            None => Permutation::new(self.m, self.permutation_seed(pass, pair, ROLE_ROW, row))
+                .apply(column),
+        };
+        // column * n + sub_column <= (m - 1) n + n - 1 = N - 1: no overflow.
+        out[dx] = self.coordinate(column * self.n + sub_column, pass, index, dx);
+        out[dx + 1] = self.coordinate(row * self.m + sub_row, pass, index, dx + 1);
+    }
+
+    /// Number of pairs, counting an odd last dimension as one.
+    fn pairs(&self) -> usize {
+        self.dims.div_ceil(2)
+    }
+
+    pub(super) fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
+        check_point(self.dims, out)?;
+        let pass = index / self.pass_size;
+        for pair in 0..self.pairs() {
+            let perms = self.pair_permutations(pass, pair);
+            self.write_pair(&perms, pass, index, pair, out);
+        }
+        Ok(())
+    }
+
+    pub(super) fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
+        check_block(self.dims, start, points)?;
+        let len = points.len();
+        let mut buffer = vec![0.0; self.dims];
+        // The per-pass permutations of every pair, rebuilt in place (no allocation) when the
+        // block crosses into a new pass; the coordinates come from the same `write_pair` as
+        // `point` uses, so the bits agree.
+        let mut perms: Vec<PairPermutations> = Vec::with_capacity(self.pairs());
+        let mut cached_pass = None;
+        let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
+        for i in 0..len {
+            let index = start + i as u64;
+            let pass = index / self.pass_size;
+            if cached_pass != Some(pass) {
+                perms.clear();
+                perms.extend((0..self.pairs()).map(|pair| self.pair_permutations(pass, pair)));
+                cached_pass = Some(pass);
+            }
+            for (pair, p) in perms.iter().enumerate() {
+                self.write_pair(p, pass, index, pair, &mut buffer);
+            }
+            for (column, &x) in columns.iter_mut().zip(&buffer) {
+                column[i] = x;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The largest divisor `m` of `points >= 1` with `m * m <= points` (1 for a prime).
+///
+/// Walks down from `floor(sqrt(points))`: at most `2^26.5` steps for `points <= 2^53`.
+fn squarest_divisor(points: u64) -> u64 {
+    let mut m = (points as f64).sqrt() as u64;
+    // Correct the floating-point root in either direction.
+    while m > 1 && m.checked_mul(m).is_none_or(|sq| sq > points) {
+        m -= 1;
+    }
+    while (m + 1).checked_mul(m + 1).is_some_and(|sq| sq <= points) {
+        m += 1;
+    }
+    let mut m = m.max(1);
+    while !points.is_multiple_of(m) {
+        m -= 1;
+    }
+    m
+}
+
+/// Multi-jittered sampling: `N = m * n` points per pass, jittered on the `m x n` grid and
+/// N-rooks in both coordinates of every pair of dimensions.
+///
+/// Every column and row of cells has its own random sub-cell shuffle (Chiu, Shirley & Wang
+/// 1994), evaluated by hashed permutations (Kensler 2013) so any point is computed directly.
+/// Only whole passes are stratified: integrators use passes of `N` points as replicates.
+///
+/// ```
+/// use mcint::sampler::{MultiJittered, Sampler};
+/// let s = MultiJittered::new(2, 3, 4, 7).unwrap(); // 12 points per pass
+/// let (mut cells, mut x_slabs, mut y_slabs) = (vec![0; 12], vec![0; 12], vec![0; 12]);
+/// let mut p = [0.0; 2];
+/// for i in 0..12 {
+///     s.point(i, &mut p).unwrap();
+///     cells[(p[0] * 3.0) as usize + 3 * (p[1] * 4.0) as usize] += 1;
+///     x_slabs[(p[0] * 12.0) as usize] += 1;
+///     y_slabs[(p[1] * 12.0) as usize] += 1;
+/// }
+/// assert!(cells.iter().chain(&x_slabs).chain(&y_slabs).all(|&c| c == 1));
+/// ```
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MultiJittered {
+    core: MjCore,
+}
+
+impl MultiJittered {
+    /// `m >= 1` columns by `n >= 1` rows of cells, `N = m * n <= 2^53` points per pass, in
+    /// `dims >= 1` dimensions.
+    ///
+    /// ```
+    /// use mcint::sampler::{MultiJittered, PassKind, Sampler};
+    /// let s = MultiJittered::new(3, 4, 8, 0).unwrap();
+    /// assert_eq!(s.passes(), PassKind::Fixed { size: 32 });
+    /// assert!(MultiJittered::new(2, 0, 8, 0).is_err());
+    /// assert!(MultiJittered::new(2, u64::MAX, 2, 0).is_err());
+    /// ```
+    pub fn new(dims: usize, m: u64, n: u64, seed: u64) -> Result<Self> {
+        Ok(MultiJittered {
+            core: MjCore::new(dims, m, n, seed, false)?,
+        })
+    }
+
+    /// `points` per pass (`1 <= points <= 2^53`), with `m <= n`, `m * n = points` and `m` as
+    /// close to `sqrt(points)` as possible. A prime count gives a `1 x N` grid, which is
+    /// still N-rooks but only one-dimensionally jittered.
+    /// Finding the grid takes at most `sqrt(points)` trial divisions.
+    ///
+    /// ```
+    /// use mcint::sampler::MultiJittered;
+    /// let s = MultiJittered::with_points(2, 24, 0).unwrap();
+    /// assert_eq!((s.m(), s.n()), (4, 6));
+    /// let prime = MultiJittered::with_points(2, 13, 0).unwrap();
+    /// assert_eq!((prime.m(), prime.n()), (1, 13));
+    /// assert!(MultiJittered::with_points(2, 0, 0).is_err());
+    /// ```
+    pub fn with_points(dims: usize, points: u64, seed: u64) -> Result<Self> {
+        Ok(MultiJittered {
+            core: MjCore::with_points(dims, points, seed, false)?,
+        })
+    }
+
+    /// Columns of cells, `m`.
+    ///
+    /// ```
+    /// assert_eq!(mcint::sampler::MultiJittered::new(2, 3, 5, 0).unwrap().m(), 3);
+    /// ```
+    pub fn m(&self) -> u64 {
+        self.core.m()
+    }
+
+    /// Rows of cells, `n`.
+    ///
+    /// ```
+    /// assert_eq!(mcint::sampler::MultiJittered::new(2, 3, 5, 0).unwrap().n(), 5);
+    /// ```
+    pub fn n(&self) -> u64 {
+        self.core.n()
+    }
+}
+
+impl Sampler for MultiJittered {
+    fn name(&self) -> &'static str {
+        "multijitter"
+    }
+
+    fn dims(&self) -> usize {
+        self.core.dims()
+    }
+
+    fn passes(&self) -> PassKind {
+        self.core.passes()
+    }
+
+    fn seed(&self) -> u64 {
+        self.core.seed()
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.core.reseed(seed);
+    }
+
+    fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
+        self.core.point(index, out)
+    }
+
+    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
+        self.core.fill(start, points)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn multi_jittered_squarest_divisor_is_closest_to_the_root() {
+        for (points, m) in [
+            (1, 1),
+            (2, 1),
+            (4, 2),
+            (12, 3),
+            (13, 1),
+            (36, 6),
+            (48, 6),
+            (1 << 53, 1 << 26),
+        ] {
+            assert_eq!(squarest_divisor(points), m, "points = {points}");
+        }
+        // A large prime walks all the way down.
+        assert_eq!(squarest_divisor(1_000_003), 1);
+    }
+}
