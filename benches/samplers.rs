@@ -1,5 +1,5 @@
-//! Sampler throughput, in values (coordinates) per second, against a plain `rand_pcg` fill of
-//! the same number of values measured in the same run.
+//! Sampler throughput, in values (coordinates) per second, for every named sampler against
+//! `Independent` and a plain `rand_pcg` fill, measured in the same run.
 //!
 //! `cargo bench --bench samplers`
 
@@ -7,7 +7,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use mcint::Integrator;
 use mcint::Points;
 use mcint::pdf::UniformBox;
-use mcint::sampler::{Independent, Jittered, LatinHypercube, Sampler};
+use mcint::sampler::SamplerKind;
 use rand::Rng;
 use rand_pcg::Pcg64;
 use std::hint::black_box;
@@ -34,17 +34,22 @@ fn fill_benches(c: &mut Criterion) {
         })
     });
 
-    let samplers: Vec<Box<dyn Sampler>> = vec![
-        Box::new(Independent::new(DIMS, 1).unwrap()),
-        Box::new(Jittered::new(DIMS, 8, 1).unwrap()),
-        Box::new(LatinHypercube::new(DIMS, POINTS as u64, 1).unwrap()),
-    ];
-    for sampler in &samplers {
+    // Every named sampler, one pass (or 4096 points) per iteration; orthogonal arrays need a
+    // prime power, so they fill 61^2 (Bose) and 13^3 (Bush) points.
+    for kind in SamplerKind::ALL {
+        let points = match kind {
+            SamplerKind::OaBose => 61 * 61,
+            SamplerKind::OaBush => 13 * 13 * 13,
+            _ => POINTS as u64,
+        };
+        let sampler = kind.build(DIMS, points, 1).unwrap();
+        let mut block = Points::new(DIMS, points as usize).unwrap();
+        group.throughput(Throughput::Elements(DIMS as u64 * points));
         let mut start = 0u64;
-        group.bench_function(sampler.name(), |b| {
+        group.bench_function(kind.name(), |b| {
             b.iter(|| {
                 sampler.fill(start, &mut block).unwrap();
-                start += POINTS as u64;
+                start += points;
                 black_box(block.get(0, 0))
             })
         });

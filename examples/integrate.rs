@@ -3,7 +3,8 @@
 //!
 //! ```text
 //! cargo run --release --example integrate -- --genz FAMILY --dims D [--a a1,a2,..] [--u u1,u2,..]
-//!     [--sampler NAME] [--scramble NAME] [--n N] [--replicates R] [--seed S] [--threads T] [--json]
+//!     [--sampler NAME] [--scramble NAME] [--strength T] [--n N] [--replicates R] [--seed S]
+//!     [--threads T] [--json]
 //! ```
 //! FAMILY is one of oscillatory, product-peak, corner-peak, gaussian, continuous,
 //! discontinuous. Defaults: `a_i = 1 + 0.5 (i-1)`, `u_i = 0.2 + 0.6 (i-1)/(d-1)`, sampler
@@ -29,6 +30,7 @@ const SPEC: support::Spec = &[
     ("u", true),
     ("sampler", true),
     ("scramble", true),
+    ("strength", true),
     ("n", true),
     ("replicates", true),
     ("seed", true),
@@ -75,8 +77,9 @@ fn run() -> Result<(), String> {
     };
     let seed: u64 = args.get("seed", "a whole number")?.unwrap_or(0);
     let scramble = args.scramble_for(kind)?;
+    let strength: Option<u32> = args.get("strength", "a whole number >= 1 (oa-bush)")?;
     let sampler = kind
-        .build_scrambled(dims, n, scramble, seed)
+        .build_with(dims, n, scramble, strength, seed)
         .map_err(|e| e.to_string())?;
     let independent = sampler.passes() == PassKind::Independent;
     let default_replicates = if independent || !sampler.is_randomized() {

@@ -2,12 +2,15 @@
 //!
 //! ```text
 //! cargo run --release --example points -- --sampler latin --dims 2 --n 16 [--seed S] [--pass P]
-//!     [--scramble none|xor|lms|owen|permute|shift] [--format csv|bin] [--out FILE]
+//!     [--scramble none|xor|lms|owen|permute|shift] [--strength T] [--format csv|bin] [--out FILE]
 //! ```
 //! `--n` is the number of points written; for samplers with fixed passes it is also the pass
 //! size (jittered needs `k^dims`, hammersley uses it as the set size). `--pass P` writes the
 //! first `n` points of pass `P`, an independent randomization. `--scramble` applies to sobol
-//! (default owen), halton and hammersley (default permute) and lattice (default shift).
+//! (default owen), halton and hammersley (default permute) and lattice (default shift);
+//! `--strength` to oa-bush (default 3). Samplers: independent, jittered, latin, sobol, halton,
+//! hammersley, lattice, multijitter, cmj, oa-bose, oa-bush, nrooks-multistage, poisson,
+//! best-candidate, pmj02.
 
 #[path = "support/mod.rs"]
 mod support;
@@ -24,6 +27,7 @@ const SPEC: support::Spec = &[
     ("seed", true),
     ("pass", true),
     ("scramble", true),
+    ("strength", true),
     ("format", true),
     ("out", true),
 ];
@@ -55,8 +59,9 @@ fn run() -> Result<(), String> {
     }
     let kind: SamplerKind = name.parse().map_err(|e: mcint::Error| e.to_string())?;
     let scramble = args.scramble_for(kind)?;
+    let strength: Option<u32> = args.get("strength", "a whole number >= 1 (oa-bush)")?;
     let sampler = kind
-        .build_scrambled(dims, n, scramble, seed)
+        .build_with(dims, n, scramble, strength, seed)
         .map_err(|e| e.to_string())?;
     let pass_length = match sampler.passes() {
         PassKind::Independent => n,

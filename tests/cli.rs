@@ -459,3 +459,121 @@ fn qmc_samplers_and_scrambles_from_the_command_line() {
         "21201",
     );
 }
+
+#[test]
+fn stratified_family_from_the_command_line() {
+    // One point per cell of the p^t grid in every t-dimensional projection: Bush, t = 3, p = 5.
+    let out = run(
+        "points",
+        &[
+            "--sampler",
+            "oa-bush",
+            "--strength",
+            "3",
+            "--dims",
+            "3",
+            "--n",
+            "125",
+            "--seed",
+            "4",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let mut cells = std::collections::HashSet::new();
+    for line in stdout(&out).lines() {
+        let cell: Vec<usize> = line
+            .split(',')
+            .map(|v| (v.parse::<f64>().unwrap() * 5.0) as usize)
+            .collect();
+        assert!(cells.insert(cell), "two points in one cell");
+    }
+    assert_eq!(cells.len(), 125);
+    for (sampler, n) in [
+        ("multijitter", "64"),
+        ("cmj", "64"),
+        ("oa-bose", "49"),
+        ("nrooks-multistage", "64"),
+        ("poisson", "64"),
+        ("best-candidate", "64"),
+        ("pmj02", "64"),
+    ] {
+        let out = run(
+            "integrate",
+            &[
+                "--genz",
+                "gaussian",
+                "--dims",
+                "2",
+                "--sampler",
+                sampler,
+                "--n",
+                n,
+                "--replicates",
+                "8",
+                "--json",
+            ],
+        );
+        assert!(out.status.success(), "{sampler}: {}", stderr(&out));
+        let json = stdout(&out);
+        let estimate: f64 = json_field(&json, "estimate").parse().unwrap();
+        let exact: f64 = json_field(&json, "exact").parse().unwrap();
+        let se: f64 = json_field(&json, "std_error").parse().unwrap();
+        // 8 replicates: t_{0.99999, 7} is about 9.9.
+        assert!((estimate - exact).abs() < 10.0 * se, "{sampler}: {json}");
+    }
+    assert_one_line_error(
+        &run(
+            "points",
+            &["--sampler", "oa-bose", "--dims", "2", "--n", "50"],
+        ),
+        "nearest valid: 49 or 121",
+    );
+    assert_one_line_error(
+        &run(
+            "points",
+            &[
+                "--sampler",
+                "oa-bush",
+                "--strength",
+                "3",
+                "--dims",
+                "2",
+                "--n",
+                "100",
+            ],
+        ),
+        "nearest valid",
+    );
+    assert_one_line_error(
+        &run(
+            "points",
+            &[
+                "--sampler",
+                "latin",
+                "--strength",
+                "3",
+                "--dims",
+                "2",
+                "--n",
+                "100",
+            ],
+        ),
+        "strength",
+    );
+    assert_one_line_error(
+        &run(
+            "points",
+            &[
+                "--sampler",
+                "oa-bose",
+                "--strength",
+                "3",
+                "--dims",
+                "2",
+                "--n",
+                "49",
+            ],
+        ),
+        "oa-bush",
+    );
+}

@@ -337,14 +337,28 @@ fn every_named_kind_builds_a_sampler_honouring_the_contract() {
             "sobol",
             "halton",
             "hammersley",
-            "lattice"
+            "lattice",
+            "multijitter",
+            "cmj",
+            "oa-bose",
+            "oa-bush",
+            "nrooks-multistage",
+            "poisson",
+            "best-candidate",
+            "pmj02"
         ]
     );
     for kind in SamplerKind::ALL {
         assert_eq!(kind.to_string().parse::<SamplerKind>().unwrap(), kind);
+        // 64 is a perfect square, cube, power of two and product, so most kinds accept it;
+        // orthogonal arrays need a prime power: 7^2 for Bose, 5^3 for Bush (strength 3).
+        let points = match kind {
+            SamplerKind::OaBose => 49,
+            SamplerKind::OaBush => 125,
+            _ => 64,
+        };
         for dims in 1..=3 {
-            // 64 is a perfect square, cube and first power, so every kind accepts it.
-            let sampler = build_sampler(kind.name(), dims, 64, 99).unwrap();
+            let sampler = build_sampler(kind.name(), dims, points, 99).unwrap();
             assert_eq!(sampler.name(), kind.name());
             assert_eq!(sampler.dims(), dims);
             assert_eq!(sampler.seed(), 99);
@@ -353,10 +367,11 @@ fn every_named_kind_builds_a_sampler_honouring_the_contract() {
                 SamplerKind::Sobol => PassKind::Extensible { max: 1 << 32 },
                 SamplerKind::Halton => PassKind::Extensible { max: 1 << 40 },
                 SamplerKind::Lattice => PassKind::Extensible { max: 1 << 20 },
-                _ => PassKind::Fixed { size: 64 },
+                SamplerKind::Pmj02 => PassKind::Extensible { max: 1 << 16 },
+                _ => PassKind::Fixed { size: points },
             };
             assert_eq!(sampler.passes(), expected);
-            assert_eq!(kind.build(dims, 64, 99).unwrap().passes(), expected);
+            assert_eq!(kind.build(dims, points, 99).unwrap().passes(), expected);
             for start in [0, 60, u64::MAX / 2 - 3, u64::MAX - 200] {
                 let points = block(sampler.as_ref(), start, 100);
                 for i in 0..100 {
@@ -491,17 +506,28 @@ fn unknown_sampler_name_lists_the_valid_names() {
             err.to_string(),
             format!(
                 "invalid sampler = {name}: expected one of independent, jittered, latin, sobol, \
-                 halton, hammersley, lattice"
+                 halton, hammersley, lattice, multijitter, cmj, oa-bose, oa-bush, \
+                 nrooks-multistage, poisson, best-candidate, pmj02"
             )
         );
         assert!(name.parse::<SamplerKind>().is_err());
     }
 }
 
+/// `preferred` points per pass, except for orthogonal arrays, which need a prime power:
+/// 5^2 for Bose, 3^3 for Bush (strength 3).
+fn prime_power_for(kind: SamplerKind, preferred: u64) -> u64 {
+    match kind {
+        SamplerKind::OaBose => 25,
+        SamplerKind::OaBush => 27,
+        _ => preferred,
+    }
+}
+
 #[test]
 fn mismatched_buffers_are_errors_not_panics() {
     for kind in SamplerKind::ALL {
-        let sampler = kind.build(3, 27, 4).unwrap();
+        let sampler = kind.build(3, prime_power_for(kind, 27), 4).unwrap();
         for wrong in [0usize, 2, 4] {
             let mut out = vec![0.5; wrong];
             let err = sampler.point(5, &mut out).unwrap_err();
@@ -543,7 +569,7 @@ fn mismatched_buffers_are_errors_not_panics() {
 #[test]
 fn a_block_may_end_at_the_last_index() {
     for kind in SamplerKind::ALL {
-        let sampler = kind.build(2, 16, 4).unwrap();
+        let sampler = kind.build(2, prime_power_for(kind, 16), 4).unwrap();
         let mut points = Points::new(2, 4).unwrap();
         sampler.fill(u64::MAX - 3, &mut points).unwrap();
         let mut p = [0.0; 2];

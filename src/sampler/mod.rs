@@ -10,25 +10,39 @@
 //! sampling (equation A.30), and N-rooks / Latin hypercube sampling (Shirley 1990; McKay,
 //! Beckman & Conover 1979).
 
+mod best_candidate;
+mod correlated_multi_jittered;
 mod halton;
 mod hammersley;
 mod independent;
 mod jittered;
 mod latin_hypercube;
 mod lattice;
+mod multi_jittered;
+mod multi_stage_n_rooks;
 mod named;
+mod orthogonal_array;
 pub(crate) mod owen;
 pub(crate) mod permutation;
+mod pmj02;
+mod poisson_disk;
 mod scramble;
 mod sobol;
 
+pub use best_candidate::BestCandidate;
+pub use correlated_multi_jittered::CorrelatedMultiJittered;
 pub use halton::Halton;
 pub use hammersley::Hammersley;
 pub use independent::Independent;
 pub use jittered::Jittered;
 pub use latin_hypercube::LatinHypercube;
 pub use lattice::Lattice;
+pub use multi_jittered::MultiJittered;
+pub use multi_stage_n_rooks::MultiStageNRooks;
 pub use named::{SamplerKind, build_sampler};
+pub use orthogonal_array::{OaOffset, OrthogonalArray};
+pub use pmj02::Pmj02;
+pub use poisson_disk::PoissonDisk;
 pub use scramble::Scramble;
 pub use sobol::Sobol;
 

@@ -1,7 +1,9 @@
 //! Choosing a sampler by name, as configuration files and the example binaries do.
 
 use super::{
-    Halton, Hammersley, Independent, Jittered, LatinHypercube, Lattice, Sampler, Scramble, Sobol,
+    BestCandidate, CorrelatedMultiJittered, Halton, Hammersley, Independent, Jittered,
+    LatinHypercube, Lattice, MultiJittered, MultiStageNRooks, OaOffset, OrthogonalArray, Pmj02,
+    PoissonDisk, Sampler, Scramble, Sobol,
 };
 use crate::{Error, Result};
 use std::fmt;
@@ -34,11 +36,29 @@ pub enum SamplerKind {
     Hammersley,
     /// The rank-1 [`Lattice`] rule.
     Lattice,
+    /// [`MultiJittered`] points (`N = m n`).
+    MultiJitter,
+    /// [`CorrelatedMultiJittered`] points (`N = m n`).
+    Cmj,
+    /// An [`OrthogonalArray`] of strength 2 by Bose's construction (`N = p^2`, `p` prime), with
+    /// multi-jittered offsets.
+    OaBose,
+    /// An [`OrthogonalArray`] of strength `t` by Bush's construction (`N = p^t`, `p` prime),
+    /// with multi-jittered offsets.
+    OaBush,
+    /// [`MultiStageNRooks`] points (`N = n^k`).
+    NRooksMultistage,
+    /// [`PoissonDisk`] blue noise.
+    Poisson,
+    /// Mitchell's [`BestCandidate`] blue noise.
+    BestCandidate,
+    /// The progressive multi-jittered (0,2) sequence [`Pmj02`].
+    Pmj02,
 }
 
 impl SamplerKind {
     /// Every kind, in the order listed in messages.
-    pub const ALL: [SamplerKind; 7] = [
+    pub const ALL: [SamplerKind; 15] = [
         SamplerKind::Independent,
         SamplerKind::Jittered,
         SamplerKind::Latin,
@@ -46,7 +66,18 @@ impl SamplerKind {
         SamplerKind::Halton,
         SamplerKind::Hammersley,
         SamplerKind::Lattice,
+        SamplerKind::MultiJitter,
+        SamplerKind::Cmj,
+        SamplerKind::OaBose,
+        SamplerKind::OaBush,
+        SamplerKind::NRooksMultistage,
+        SamplerKind::Poisson,
+        SamplerKind::BestCandidate,
+        SamplerKind::Pmj02,
     ];
+
+    /// The strength used by `oa-bush` when none is given.
+    pub const DEFAULT_STRENGTH: u32 = 3;
 
     /// The name accepted by [`FromStr`].
     ///
@@ -62,12 +93,20 @@ impl SamplerKind {
             SamplerKind::Halton => "halton",
             SamplerKind::Hammersley => "hammersley",
             SamplerKind::Lattice => "lattice",
+            SamplerKind::MultiJitter => "multijitter",
+            SamplerKind::Cmj => "cmj",
+            SamplerKind::OaBose => "oa-bose",
+            SamplerKind::OaBush => "oa-bush",
+            SamplerKind::NRooksMultistage => "nrooks-multistage",
+            SamplerKind::Poisson => "poisson",
+            SamplerKind::BestCandidate => "best-candidate",
+            SamplerKind::Pmj02 => "pmj02",
         }
     }
 
     /// The randomization used when none is named: Owen scrambling for Sobol', random digit
     /// permutations for Halton and Hammersley, a random shift for lattices, and `None` for the
-    /// samplers whose randomization is built in (independent, jittered, latin).
+    /// samplers whose randomization is built in (all the others).
     ///
     /// ```
     /// use mcint::sampler::{SamplerKind, Scramble};
@@ -78,7 +117,7 @@ impl SamplerKind {
             SamplerKind::Sobol => Scramble::Owen,
             SamplerKind::Halton | SamplerKind::Hammersley => Scramble::Permute,
             SamplerKind::Lattice => Scramble::Shift,
-            SamplerKind::Independent | SamplerKind::Jittered | SamplerKind::Latin => Scramble::None,
+            _ => Scramble::None,
         }
     }
 
@@ -109,6 +148,46 @@ impl SamplerKind {
         scramble: Scramble,
         seed: u64,
     ) -> Result<Box<dyn Sampler>> {
+        self.build_with(dims, points, scramble, None, seed)
+    }
+
+    /// The most general form: also takes the strength of `oa-bush` (default
+    /// [`DEFAULT_STRENGTH`](Self::DEFAULT_STRENGTH); `oa-bose` accepts only 2, and other kinds
+    /// none).
+    ///
+    /// ```
+    /// use mcint::sampler::{SamplerKind, Scramble};
+    /// let oa = SamplerKind::OaBush.build_with(3, 125, Scramble::None, Some(3), 1).unwrap();
+    /// assert_eq!(oa.name(), "oa-bush");
+    /// assert!(SamplerKind::OaBush.build_with(3, 100, Scramble::None, Some(3), 1).is_err());
+    /// assert!(SamplerKind::Latin.build_with(3, 100, Scramble::None, Some(3), 1).is_err());
+    /// ```
+    pub fn build_with(
+        self,
+        dims: usize,
+        points: u64,
+        scramble: Scramble,
+        strength: Option<u32>,
+        seed: u64,
+    ) -> Result<Box<dyn Sampler>> {
+        let takes_strength = matches!(self, SamplerKind::OaBose | SamplerKind::OaBush);
+        if let Some(t) = strength.filter(|_| !takes_strength) {
+            return Err(Error::invalid(
+                "strength",
+                t,
+                format!(
+                    "no strength for the {} sampler (only oa-bose and oa-bush have one)",
+                    self.name()
+                ),
+            ));
+        }
+        if self == SamplerKind::OaBose && strength.is_some_and(|t| t != 2) {
+            return Err(Error::invalid(
+                "strength",
+                strength.unwrap_or(2),
+                "2 for oa-bose (use oa-bush for other strengths)",
+            ));
+        }
         if self.default_scramble() == Scramble::None && scramble != Scramble::None {
             return Err(Error::invalid(
                 "scramble",
@@ -128,8 +207,42 @@ impl SamplerKind {
             SamplerKind::Halton => Box::new(Halton::new(dims, scramble, seed)?),
             SamplerKind::Hammersley => Box::new(Hammersley::new(dims, points, scramble, seed)?),
             SamplerKind::Lattice => Box::new(Lattice::new(dims, scramble, seed)?),
+            SamplerKind::MultiJitter => Box::new(MultiJittered::with_points(dims, points, seed)?),
+            SamplerKind::Cmj => Box::new(CorrelatedMultiJittered::with_points(dims, points, seed)?),
+            SamplerKind::OaBose => Box::new(OrthogonalArray::with_points(
+                dims,
+                points,
+                2,
+                OaOffset::MultiJittered,
+                seed,
+            )?),
+            SamplerKind::OaBush => Box::new(bush_with_points(
+                dims,
+                points,
+                strength.unwrap_or(Self::DEFAULT_STRENGTH),
+                seed,
+            )?),
+            SamplerKind::NRooksMultistage => Box::new(MultiStageNRooks::new(dims, points, seed)?),
+            SamplerKind::Poisson => Box::new(PoissonDisk::new(dims, points, seed)?),
+            SamplerKind::BestCandidate => Box::new(BestCandidate::new(dims, points, seed)?),
+            SamplerKind::Pmj02 => Box::new(Pmj02::new(dims, seed)?),
         })
     }
+}
+
+/// A Bush array of `points = p^t` (always Bush's construction, also for `t = 2`), or the error
+/// of [`OrthogonalArray::with_points`] naming the nearest valid sizes.
+fn bush_with_points(dims: usize, points: u64, strength: u32, seed: u64) -> Result<OrthogonalArray> {
+    let offset = OaOffset::MultiJittered;
+    if strength > 0 && strength <= 64 {
+        let root = (points as f64).powf(1.0 / f64::from(strength)).round() as u64;
+        for p in root.saturating_sub(1)..=root.saturating_add(1) {
+            if p >= 2 && p.checked_pow(strength) == Some(points) {
+                return OrthogonalArray::bush(dims, p, strength, offset, seed);
+            }
+        }
+    }
+    OrthogonalArray::with_points(dims, points, strength, offset, seed)
 }
 
 impl fmt::Display for SamplerKind {
