@@ -107,19 +107,15 @@ impl Sampler for LatinHypercube {
         for dim in 0..self.dims {
             // A block usually lies within one pass: build each permutation once per run of
             // indices that share a pass.
-            let mut cached: Option<(u64, Permutation)> = None;
+            let mut pass = start / self.pass_size;
+            let mut permutation = self.permutation(pass, dim);
             let column = points.column_mut(dim);
             for (i, x) in column.iter_mut().enumerate() {
                 let index = start + i as u64;
-                let pass = index / self.pass_size;
-                let permutation = match cached {
-                    Some((p, perm)) if p == pass => perm,
-                    _ => {
-                        let perm = self.permutation(pass, dim);
-                        cached = Some((pass, perm));
-                        perm
-                    }
-                };
+                if index / self.pass_size != pass {
+                    pass = index / self.pass_size;
+                    permutation = self.permutation(pass, dim);
+                }
                 *x = self.coordinate(&permutation, index, dim);
             }
         }

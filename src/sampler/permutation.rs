@@ -35,6 +35,9 @@ pub(crate) struct Permutation {
     half_mask: u64,
     /// One hashed key per round (Feistel uses the first `FEISTEL_ROUNDS`).
     keys: [u64; SWAP_ROUNDS],
+    /// Swap-or-not pairing offsets, `(key >> 32) % n` per round, precomputed so that rounds
+    /// need no division.
+    offsets: [u64; SWAP_ROUNDS],
 }
 
 impl Permutation {
@@ -56,6 +59,7 @@ impl Permutation {
             half_bits,
             half_mask,
             keys,
+            offsets: keys.map(|key| if n == 0 { 0 } else { (key >> 32) % n }),
         }
     }
 
@@ -74,13 +78,16 @@ impl Permutation {
     /// Swap-or-not: each round pairs `x` with `k - x (mod n)` and swaps the pair or not by a
     /// hashed bit of the pair; every round is an involution, so the whole is a bijection.
     fn swap_or_not(&self, mut x: u64) -> u64 {
-        for &key in &self.keys {
-            // The key's high half picks the pairing offset, the whole key salts the swap bit.
-            let partner = ((key >> 32) % self.n + self.n - x) % self.n;
+        for (&key, &offset) in self.keys.iter().zip(&self.offsets) {
+            // The key's high half picks the pairing offset, the whole key salts the swap bit;
+            // partner = (offset - x) mod n, with offset and x both below n.
+            // Branch-free: the swap bit is a coin flip, which a branch would mispredict half the
+            // time.
+            let wrap = u64::from(offset < x).wrapping_neg() & self.n;
+            let partner = offset.wrapping_sub(x).wrapping_add(wrap);
             let pair = x.max(partner);
-            if mix64(pair ^ key) >> 63 == 1 {
-                x = partner;
-            }
+            let swap = (mix64(pair ^ key) >> 63).wrapping_neg();
+            x ^= (x ^ partner) & swap;
         }
         x
     }
