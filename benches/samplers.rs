@@ -34,17 +34,21 @@ fn fill_benches(c: &mut Criterion) {
         })
     });
 
-    // Every named sampler, one pass (or 4096 points) per iteration; orthogonal arrays need a
-    // prime power, so they fill 61^2 (Bose) and 13^3 (Bush) points.
+    // Every named sampler, one pass (or 4096 points) per iteration. Orthogonal arrays need a
+    // prime power, so they fill 61^2 (Bose) and 13^3 (Bush) points; the blue-noise sets are
+    // built per pass (best candidate in O(N^2)), so they use 1024 points, and Poisson disk
+    // supports at most 3 dimensions.
     for kind in SamplerKind::ALL {
-        let points = match kind {
-            SamplerKind::OaBose => 61 * 61,
-            SamplerKind::OaBush => 13 * 13 * 13,
-            _ => POINTS as u64,
+        let (dims, points) = match kind {
+            SamplerKind::OaBose => (DIMS, 61 * 61),
+            SamplerKind::OaBush => (DIMS, 13 * 13 * 13),
+            SamplerKind::Poisson => (3, 1024),
+            SamplerKind::BestCandidate => (DIMS, 1024),
+            _ => (DIMS, POINTS as u64),
         };
-        let sampler = kind.build(DIMS, points, 1).unwrap();
-        let mut block = Points::new(DIMS, points as usize).unwrap();
-        group.throughput(Throughput::Elements(DIMS as u64 * points));
+        let sampler = kind.build(dims, points, 1).unwrap();
+        let mut block = Points::new(dims, points as usize).unwrap();
+        group.throughput(Throughput::Elements(dims as u64 * points));
         let mut start = 0u64;
         group.bench_function(kind.name(), |b| {
             b.iter(|| {
