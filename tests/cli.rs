@@ -192,6 +192,16 @@ fn json_field<'a>(json: &'a str, key: &str) -> &'a str {
     rest[..end].trim().trim_matches('"')
 }
 
+/// The reported estimate of an `integrate --json` run with 8 replicates is within 10 of its
+/// standard errors of the exact value: the Student-t quantile t_{0.99999, 7} is about 9.9, so
+/// a larger error means a wrong estimate or a false error bar.
+fn assert_within_ten_standard_errors(json: &str, context: &str) {
+    let estimate: f64 = json_field(json, "estimate").parse().unwrap();
+    let exact: f64 = json_field(json, "exact").parse().unwrap();
+    let se: f64 = json_field(json, "std_error").parse().unwrap();
+    assert!((estimate - exact).abs() < 10.0 * se, "{context}: {json}");
+}
+
 #[test]
 fn integrate_json_reports_honest_error_bars() {
     let out = run(
@@ -212,11 +222,7 @@ fn integrate_json_reports_honest_error_bars() {
     );
     assert!(out.status.success(), "{}", stderr(&out));
     let json = stdout(&out);
-    let estimate: f64 = json_field(&json, "estimate").parse().unwrap();
-    let exact: f64 = json_field(&json, "exact").parse().unwrap();
-    let se: f64 = json_field(&json, "std_error").parse().unwrap();
-    // 8 replicates: the t_{0.99999, 7} quantile is about 9.9; |error| beyond 10 se is a bug.
-    assert!((estimate - exact).abs() < 10.0 * se, "{json}");
+    assert_within_ten_standard_errors(&json, "latin");
     assert_eq!(json_field(&json, "n"), "32768");
     assert_eq!(json_field(&json, "replicates"), "8");
     assert_eq!(json_field(&json, "sampler"), "latin");
@@ -376,14 +382,7 @@ fn qmc_samplers_and_scrambles_from_the_command_line() {
             stderr(&out)
         );
         let json = stdout(&out);
-        let estimate: f64 = json_field(&json, "estimate").parse().unwrap();
-        let exact: f64 = json_field(&json, "exact").parse().unwrap();
-        let se: f64 = json_field(&json, "std_error").parse().unwrap();
-        // 8 replicates: t_{0.99999, 7} is about 9.9, so 10 standard errors is a safe bound.
-        assert!(
-            (estimate - exact).abs() < 10.0 * se,
-            "{sampler}/{scramble}: {json}"
-        );
+        assert_within_ten_standard_errors(&json, &format!("{sampler}/{scramble}"));
     }
     assert_one_line_error(
         &run(
@@ -515,11 +514,7 @@ fn stratified_family_from_the_command_line() {
         );
         assert!(out.status.success(), "{sampler}: {}", stderr(&out));
         let json = stdout(&out);
-        let estimate: f64 = json_field(&json, "estimate").parse().unwrap();
-        let exact: f64 = json_field(&json, "exact").parse().unwrap();
-        let se: f64 = json_field(&json, "std_error").parse().unwrap();
-        // 8 replicates: t_{0.99999, 7} is about 9.9.
-        assert!((estimate - exact).abs() < 10.0 * se, "{sampler}: {json}");
+        assert_within_ten_standard_errors(&json, sampler);
     }
     assert_one_line_error(
         &run(
