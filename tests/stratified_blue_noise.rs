@@ -69,7 +69,7 @@ fn min_distance(points: &[Vec<f64>]) -> f64 {
 fn poisson_disk_sets_are_separated_and_maximal() {
     let mut rng = rand_pcg::Pcg64::new(0x1234_5678_9abc, 0xdef);
     let probes = 200_000;
-    for (dims, n) in [(1usize, 300u64), (2, 400), (3, 400)] {
+    for (dims, n) in [(1usize, 300u64), (2, 400), (3, 400), (4, 300)] {
         let sampler = PoissonDisk::new(dims, n, 11).unwrap();
         let r = sampler.radius();
         let set = sampler.maximal_set(2);
@@ -312,9 +312,9 @@ fn pass_means_are_unbiased() {
 fn errors_name_the_parameter_and_the_range() {
     let message = |e: mcint::Error| e.to_string();
     let e = message(PoissonDisk::new(0, 10, 0).unwrap_err());
-    assert!(e.contains("dims") && e.contains("1 ..= 3"), "{e}");
-    let e = message(PoissonDisk::new(4, 10, 0).unwrap_err());
-    assert!(e.contains("dims") && e.contains("1 ..= 3"), "{e}");
+    assert!(e.contains("dims") && e.contains("1 ..= 4"), "{e}");
+    let e = message(PoissonDisk::new(5, 10, 0).unwrap_err());
+    assert!(e.contains("dims") && e.contains("1 ..= 4"), "{e}");
     let e = message(PoissonDisk::new(2, 0, 0).unwrap_err());
     assert!(e.contains("points") && e.contains("1048576"), "{e}");
     let e = message(PoissonDisk::new(2, (1 << 20) + 1, 0).unwrap_err());

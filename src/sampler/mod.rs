@@ -28,6 +28,7 @@ mod pmj02;
 mod poisson_disk;
 mod scramble;
 mod sobol;
+mod torus_grid;
 
 pub use best_candidate::BestCandidate;
 pub use correlated_multi_jittered::CorrelatedMultiJittered;

@@ -8,15 +8,16 @@
 //! "active" points, and for a random active point tries `k = 30` random candidates in the
 //! annulus `r <= |x - p| <= 2r`; the first candidate at least `r` from every point is accepted
 //! and becomes active, and an active point whose `k` candidates all fail retires. A background
-//! grid of cell size at most `r / sqrt(d)` holds at most one point per cell, so each distance
-//! check looks at a fixed number of cells.
+//! grid with cells at least `r` wide (`TorusGrid`) lists the points of each cell, so each
+//! distance check looks at the few cells within `r`.
 //!
 //! Bridson's finite `k` leaves small holes, so the set it returns is only nearly maximal. To
 //! make it truly maximal we finish with the cell-refinement dart throwing of Ebeida et al.
 //! (2012, "A simple algorithm for maximal Poisson-disk sampling in high dimensions"): grid
 //! cells not covered by the ball of a single point are kept as "active" cells, darts are
 //! thrown uniformly into them, and then every active cell is split into `2^d` children of
-//! which only the uncovered ones are kept. A cell inside one ball is certainly covered (a box
+//! which only the uncovered ones are kept (each cell checks only the points whose balls reach
+//! into it). A cell inside one ball is certainly covered (a box
 //! lies inside a ball when its farthest corner does), so the only thing lost is after
 //! `MAX_REFINEMENTS` (30) halvings, when the cells left are smaller than `r * 2^-30` per side: a
 //! volume far below anything a Monte Carlo estimate can see.
@@ -41,38 +42,41 @@ use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 use rand_core::Rng;
 use rand_pcg::Pcg64;
 
+use super::torus_grid::TorusGrid;
 use super::{PassKind, Sampler, check_block, check_point};
 use crate::hash::{ONE_BELOW, hash_words, unit_f64};
 use crate::{Error, Points, Result};
 
-/// Largest supported dimension. The background grid has `(sqrt(d) / r)^d` cells and a
-/// distance check visits a neighbourhood of cells that grows as `(2 sqrt(d) + 1)^d`; in 4-D
-/// a pass of 4000 points took about 8 s to build (most of it filling Bridson's holes, which
-/// grow with the dimension), against 0.4 s in 3-D, so 4-D is not offered.
-const MAX_DIMS: usize = 3;
+/// Largest supported dimension. Making the set maximal is what limits it: a gap-filling cell
+/// is dropped only once it lies inside a single ball, and the cells covered by the union of
+/// balls but by no single one multiply by up to `2^d` per halving. Measured on one core: 4096
+/// points take 0.07 s in 2-D, 0.36 s in 3-D and 4.9 s in 4-D, while in 5-D even 256 points
+/// took 9 s and 1024 points 36 s, so 5-D and above are not offered.
+const MAX_DIMS: usize = 4;
 /// Room for coordinates in fixed-size arrays (shared with the best-candidate sampler).
 pub(super) const MAX_ARRAY_DIMS: usize = 4;
 /// Largest number of points per pass.
 const MAX_POINTS: u64 = 1 << 20;
-/// Largest number of background-grid cells (4 bytes each).
-const MAX_CELLS: u64 = 1 << 22;
+/// Largest expected size of a maximal set (which `with_radius` may ask for).
+const MAX_SET_POINTS: f64 = (1u64 << 21) as f64;
 /// Bridson's number of candidates per active point.
 const BRIDSON_K: usize = 30;
 /// Halvings of the gap-filling cells before the residual holes are ignored.
 const MAX_REFINEMENTS: u32 = 30;
 /// Saturation (jamming) densities of random sequential adsorption of equal balls in 1 to 4
 /// dimensions: the fraction of space covered by the disjoint balls of radius `r / 2` around
-/// the points of a maximal set. Rényi's parking constant in 1-D; 2-D to 4-D from Torquato,
+/// the points of a maximal set. Rényi's parking constant in 1-D; 2-D and 3-D from Torquato,
 /// Uche & Stillinger (2006, "Random sequential addition of hard spheres in high Euclidean
-/// dimensions"). Bridson's front-growing order gives sets of very nearly the same density
+/// dimensions"), 4-D from the fit `(c1 + c2 d) / 2^d` given in the same paper's abstract. Bridson's front-growing order gives sets of very nearly the same density
 /// (the unit tests check the point counts).
-const PACKING_DENSITY: [f64; MAX_DIMS] = [0.747_598, 0.547_07, 0.384_13];
+const PACKING_DENSITY: [f64; MAX_DIMS] = [0.747_598, 0.547_07, 0.384_13, 0.2561];
 /// Measured ratio of the size of our maximal sets to the packing estimate. Bridson's
 /// algorithm grows the set from a front instead of adding points anywhere at random, which
 /// packs worse in 1-D (each gap is drawn uniformly from `[r, 2r]`, and refilling the rare
-/// gaps wider than `2r` does not make up for it) and almost identically in 2-D and 3-D; the
+/// gaps wider than `2r` does not make up for it), almost identically in 2-D and 3-D, and a
+/// little denser in 4-D, where gap filling places about a third of the points; the
 /// unit test `maximal_set_sizes_match_the_density_constants` checks these within 4%.
-const BRIDSON_RATIO: [f64; MAX_DIMS] = [0.88, 0.985, 1.0];
+const BRIDSON_RATIO: [f64; MAX_DIMS] = [0.88, 0.985, 1.0, 1.025];
 /// Relative margin on the expected size of the maximal set.
 const MARGIN_RELATIVE: f64 = 0.06;
 /// Margin in units of `sqrt(N)`; the count of a saturated packing fluctuates much less than
@@ -82,8 +86,6 @@ const MARGIN_SQRT: f64 = 6.0;
 const MAX_AUTO_RADIUS: f64 = 0.4;
 /// Rebuilds at the same radius before the radius is shrunk (never seen to be needed).
 const RETRIES_AT_RADIUS: u64 = 8;
-/// Marks an empty grid cell.
-const EMPTY: u32 = u32::MAX;
 /// Salt of the generator of a Poisson-disk pass.
 const TAG_POISSON: u64 = 0x706f_6973;
 
@@ -119,14 +121,14 @@ pub struct PoissonDisk {
 }
 
 impl PoissonDisk {
-    /// `points` per pass (`1 ..= 2^20`) in `dims` dimensions (`1 ..= 3`).
+    /// `points` per pass (`1 ..= 2^20`) in `dims` dimensions (`1 ..= 4`).
     ///
     /// The radius is chosen so that a maximal set is expected to hold
     /// `1.06 N + 6 sqrt(N)` points: a maximal set of radius `r` holds about
     /// `phi_d / V_d(r / 2)` points, where `V_d` is the volume of a `d`-ball and `phi_d` the
-    /// random-sequential-adsorption saturation density (0.748, 0.547, 0.384 in 1 to 3
-    /// dimensions), times a measured correction for Bridson's growth order (0.88 in 1-D,
-    /// 0.985 in 2-D, 1 in 3-D). The count of a saturated packing fluctuates far less than `sqrt(N)`, so
+    /// random-sequential-adsorption saturation density (0.748, 0.547, 0.384, 0.256 in 1 to 4
+    /// dimensions), times a measured correction for Bridson's growth order and the gap
+    /// filling (0.88 in 1-D, 0.985 in 2-D, 1 in 3-D, 1.025 in 4-D). The count of a saturated packing fluctuates far less than `sqrt(N)`, so
     /// the margin is many standard deviations; should a set still come out short it is
     /// rebuilt with a fresh generator (and, after 8 tries, a slightly smaller radius).
     ///
@@ -135,7 +137,7 @@ impl PoissonDisk {
     /// let s = PoissonDisk::new(2, 1000, 1).unwrap();
     /// assert_eq!(s.passes(), PassKind::Fixed { size: 1000 });
     /// assert!(PoissonDisk::new(2, 0, 1).is_err());
-    /// assert!(PoissonDisk::new(4, 10, 1).is_err());
+    /// assert!(PoissonDisk::new(5, 10, 1).is_err());
     /// ```
     pub fn new(dims: usize, points: u64, seed: u64) -> Result<Self> {
         check_supported_dims(dims, MAX_DIMS)?;
@@ -148,17 +150,6 @@ impl PoissonDisk {
         }
         let wanted = expected_needed(points as f64);
         let radius = radius_for_count(dims, wanted).min(MAX_AUTO_RADIUS);
-        if grid_cells(dims, radius) > MAX_CELLS {
-            return Err(Error::invalid(
-                "points",
-                points,
-                format!(
-                    "at most {} points per pass in {dims} dimensions (a background grid of at \
-                     most {MAX_CELLS} cells)",
-                    max_points_for(dims)
-                ),
-            ));
-        }
         Ok(PoissonDisk {
             dims,
             pass_size: points,
@@ -187,18 +178,18 @@ impl PoissonDisk {
         if !(radius > 0.0 && radius < 0.5) {
             return Err(Error::invalid("radius", radius, "a value in (0, 0.5)"));
         }
-        if grid_cells(dims, radius) > MAX_CELLS {
-            let smallest = dims_sqrt(dims) / ((MAX_CELLS as f64).powf(1.0 / dims as f64) - 1.0);
+        let expected = density(dims) / ball_volume(dims, radius / 2.0);
+        if expected > MAX_SET_POINTS {
+            let smallest = radius_for_count(dims, MAX_SET_POINTS);
             return Err(Error::invalid(
                 "radius",
                 radius,
                 format!(
-                    "a value in ({smallest:.3e}, 0.5) in {dims} dimensions (a background grid \
-                     of at most {MAX_CELLS} cells)"
+                    "a value in ({smallest:.3e}, 0.5) in {dims} dimensions (maximal sets of at \
+                     most about {MAX_SET_POINTS} points)"
                 ),
             ));
         }
-        let expected = density(dims) / ball_volume(dims, radius / 2.0);
         let points = count_for_expected(expected).clamp(1, MAX_POINTS);
         Ok(PoissonDisk {
             dims,
@@ -377,42 +368,6 @@ fn radius_for_count(dims: usize, expected: f64) -> f64 {
     2.0 * half
 }
 
-fn dims_sqrt(dims: usize) -> f64 {
-    (dims as f64).sqrt()
-}
-
-/// Cells per axis of the background grid: side `1/m < r / sqrt(d)`, so a cell's diagonal is
-/// shorter than `r` and two points of the set never share a cell.
-fn cells_per_axis(dims: usize, radius: f64) -> f64 {
-    (dims_sqrt(dims) / radius).floor() + 1.0
-}
-
-/// Number of background-grid cells (saturating).
-fn grid_cells(dims: usize, radius: f64) -> u64 {
-    let m = cells_per_axis(dims, radius);
-    let total = m.powi(dims as i32);
-    if total >= u64::MAX as f64 {
-        u64::MAX
-    } else {
-        total as u64
-    }
-}
-
-/// Largest `points` that `new` accepts in `dims` dimensions.
-fn max_points_for(dims: usize) -> u64 {
-    let (mut lo, mut hi) = (1u64, MAX_POINTS);
-    while lo < hi {
-        let mid = lo + (hi - lo).div_ceil(2);
-        let r = radius_for_count(dims, expected_needed(mid as f64)).min(MAX_AUTO_RADIUS);
-        if grid_cells(dims, r) <= MAX_CELLS {
-            lo = mid;
-        } else {
-            hi = mid - 1;
-        }
-    }
-    lo
-}
-
 /// The generator of pass `pass` for purpose `tag`: PCG-64 with hashed state and stream.
 pub(super) fn pass_rng(seed: u64, pass: u64, tag: u64) -> Pcg64 {
     let word = |w: u64| u128::from(hash_words(seed, &[pass, tag, w]));
@@ -467,181 +422,28 @@ pub(super) fn random_shift(dims: usize, points: &mut [f64], rng: &mut Pcg64) {
     }
 }
 
-/// The background grid: at most one point per cell, periodic neighbourhoods.
-struct Grid {
-    dims: usize,
-    m: usize,
-    radius2: f64,
-    cells: Vec<u32>,
-    /// Cell offsets whose cells can hold a point within `r` of a point of the centre cell.
-    offsets: Vec<[i64; MAX_ARRAY_DIMS]>,
-    /// The points, point-major.
-    points: Vec<f64>,
-}
-
-impl Grid {
-    fn new(dims: usize, radius: f64) -> Grid {
-        let m = cells_per_axis(dims, radius) as usize;
-        let side = 1.0 / m as f64;
-        let reach = (radius * m as f64).ceil() as i64;
-        let width = (2 * reach + 1) as usize;
-        let mut offsets = Vec::new();
-        for k in 0..width.pow(dims as u32) {
-            let mut o = [0i64; MAX_ARRAY_DIMS];
-            let mut rest = k;
-            let mut gap2 = 0.0;
-            for slot in o.iter_mut().take(dims) {
-                *slot = (rest % width) as i64 - reach;
-                rest /= width;
-                let gap = (slot.abs() - 1).max(0) as f64 * side;
-                gap2 += gap * gap;
-            }
-            // Two points in cells this far apart are at least sqrt(gap2) apart.
-            if gap2 <= radius * radius {
-                offsets.push(o);
-            }
-        }
-        Grid {
-            dims,
-            m,
-            radius2: radius * radius,
-            cells: vec![EMPTY; m.pow(dims as u32)],
-            offsets,
-            points: Vec::new(),
-        }
-    }
-
-    fn len(&self) -> usize {
-        self.points.len() / self.dims
-    }
-
-    fn point(&self, i: usize) -> &[f64] {
-        &self.points[i * self.dims..(i + 1) * self.dims]
-    }
-
-    fn cell_coords(&self, x: &[f64]) -> [i64; MAX_ARRAY_DIMS] {
-        let mut c = [0i64; MAX_ARRAY_DIMS];
-        for (slot, &v) in c.iter_mut().zip(x) {
-            *slot = ((v * self.m as f64) as i64).clamp(0, self.m as i64 - 1);
-        }
-        c
-    }
-
-    fn cell_index(&self, c: &[i64; MAX_ARRAY_DIMS]) -> usize {
-        let m = self.m as i64;
-        c[..self.dims]
-            .iter()
-            .rev()
-            .fold(0usize, |acc, &v| acc * self.m + v.rem_euclid(m) as usize)
-    }
-
-    /// Whether some point near `x` (within the offset neighbourhood) satisfies `pred`.
-    fn any_near(&self, x: &[f64], mut pred: impl FnMut(&[f64]) -> bool) -> bool {
-        let base = self.cell_coords(x);
-        for o in &self.offsets {
-            let mut c = base;
-            for (v, d) in c.iter_mut().zip(o) {
-                *v += d;
-            }
-            let slot = self.cells[self.cell_index(&c)];
-            if slot != EMPTY && pred(self.point(slot as usize)) {
-                return true;
-            }
-        }
-        false
-    }
-
-    /// Adds `x` if it is at least `r` from every point (and its cell is free).
-    fn try_insert(&mut self, x: &[f64]) -> bool {
-        let r2 = self.radius2;
-        if self.any_near(x, |p| torus_dist2(p, x) < r2) {
-            return false;
-        }
-        self.insert_unchecked(x)
-    }
-
-    /// Indices of the points that can lie within `r` of a point of base cell `base`.
-    fn gather(&self, base: &[i64; MAX_ARRAY_DIMS], out: &mut Vec<u32>) {
-        out.clear();
-        for o in &self.offsets {
-            let mut c = *base;
-            for (v, d) in c.iter_mut().zip(o) {
-                *v += d;
-            }
-            let slot = self.cells[self.cell_index(&c)];
-            if slot != EMPTY {
-                out.push(slot);
-            }
-        }
-    }
-
-    /// Adds `x` if it is at least `r` from every point of `near` (which must hold every point
-    /// that can be within `r` of `x`); returns its index.
-    fn insert_if_clear(&mut self, x: &[f64], near: &[u32]) -> Option<u32> {
-        let r2 = self.radius2;
-        if near
-            .iter()
-            .any(|&i| torus_dist2(self.point(i as usize), x) < r2)
-        {
-            return None;
-        }
-        let index = self.len() as u32;
-        self.insert_unchecked(x).then_some(index)
-    }
-
-    /// Adds `x` without a distance check, unless its cell is taken.
-    fn insert_unchecked(&mut self, x: &[f64]) -> bool {
-        let cell = self.cell_index(&self.cell_coords(x));
-        if self.cells[cell] != EMPTY {
-            // Only possible through rounding at distance exactly r; keep one point per cell.
-            return false;
-        }
-        self.cells[cell] = self.len() as u32;
-        self.points.extend_from_slice(x);
-        true
-    }
-
-    /// Whether the box with centre `centre` and half side `half` lies inside the ball of one
-    /// point of `near`.
-    fn box_covered(&self, centre: &[f64], half: f64, near: &[u32]) -> bool {
-        let r2 = self.radius2;
-        near.iter().any(|&i| {
-            let p = self.point(i as usize);
-            let far2: f64 = p
-                .iter()
-                .zip(centre)
-                .map(|(&a, &b)| {
-                    let g = torus_gap(a, b) + half;
-                    g * g
-                })
-                .sum();
-            far2 <= r2
-        })
-    }
-}
-
-/// The centre of the cell with integer coordinates `c` and side `side`.
-fn centre_of(c: &[u64; MAX_ARRAY_DIMS], side: f64, centre: &mut [f64; MAX_ARRAY_DIMS]) {
-    for (x, &v) in centre.iter_mut().zip(c) {
-        *x = (v as f64 + 0.5) * side;
-    }
-}
-
 /// One maximal set: Bridson's algorithm, then gap filling; point-major, not yet shuffled.
 fn maximal_set(dims: usize, radius: f64, rng: &mut Pcg64) -> Vec<f64> {
-    let mut grid = Grid::new(dims, radius);
+    let mut grid = TorusGrid::new(dims, radius);
+    let r2 = radius * radius;
+    let mut near: Vec<u32> = Vec::new();
     let mut x = [0.0; MAX_ARRAY_DIMS];
     let x = &mut x[..dims];
+    // Whether `x` is at least `r` from every point (gathering its neighbours into `near`).
+    let clear = |grid: &TorusGrid, x: &[f64], near: &mut Vec<u32>| {
+        grid.gather(x, x, radius, near);
+        near.iter().all(|&i| torus_dist2(grid.point(i), x) >= r2)
+    };
 
     // Bridson (2007): grow from one uniform seed point.
     for v in x.iter_mut() {
         *v = uniform(rng);
     }
-    grid.try_insert(x);
+    grid.insert(x);
     let mut active: Vec<u32> = vec![0];
     while !active.is_empty() {
         let slot = below(rng, active.len());
-        let centre = grid.point(active[slot] as usize).to_vec();
+        let centre = grid.point(active[slot]).to_vec();
         let mut placed = false;
         for _ in 0..BRIDSON_K {
             // Uniform in the annulus r <= |v| <= 2r: rejection from the cube [-2r, 2r]^d.
@@ -651,7 +453,6 @@ fn maximal_set(dims: usize, radius: f64, rng: &mut Pcg64) -> Vec<f64> {
                     *v = (2.0 * uniform(rng) - 1.0) * 2.0 * radius;
                     norm2 += *v * *v;
                 }
-                let r2 = radius * radius;
                 if (r2..=4.0 * r2).contains(&norm2) {
                     break;
                 }
@@ -659,8 +460,8 @@ fn maximal_set(dims: usize, radius: f64, rng: &mut Pcg64) -> Vec<f64> {
             for (v, c) in x.iter_mut().zip(&centre) {
                 *v = wrap(*v + c);
             }
-            if grid.try_insert(x) {
-                active.push(grid.len() as u32 - 1);
+            if clear(&grid, x, &mut near) {
+                active.push(grid.insert(x));
                 placed = true;
                 break;
             }
@@ -670,11 +471,11 @@ fn maximal_set(dims: usize, radius: f64, rng: &mut Pcg64) -> Vec<f64> {
         }
     }
 
-    // Gap filling (Ebeida et al. 2012). A cell is integer coordinates at a level whose side
-    // is 1 / (m 2^level); cells stay sorted by the base-grid cell that contains them, so the
-    // points that matter to a cell (those within r of its base cell) are gathered once per
-    // base cell and shared by all its sub-cells.
-    let m = grid.m as u64;
+    // Gap filling (Ebeida et al. 2012), starting from the background grid's cells. Each
+    // round drops the cells inside one ball, throws one dart into each remaining cell (kept
+    // when it is at least r from every point), and splits the cell into 2^d children, of
+    // which those not inside one ball go on to the next round.
+    let m = grid.cells_per_axis() as u64;
     let mut cells: Vec<[u64; MAX_ARRAY_DIMS]> = (0..m.pow(dims as u32))
         .map(|k| {
             let mut c = [0u64; MAX_ARRAY_DIMS];
@@ -687,65 +488,90 @@ fn maximal_set(dims: usize, radius: f64, rng: &mut Pcg64) -> Vec<f64> {
         })
         .collect();
     let mut side = 1.0 / m as f64;
-    let mut level = 0;
-    let mut near: Vec<u32> = Vec::new();
     let mut centre = [0.0; MAX_ARRAY_DIMS];
-    // Level 0 has no darts: Bridson's set is already nearly maximal, so only uncovered
-    // base cells are kept before the first round of darts.
-    let mut darts = false;
-    while !cells.is_empty() && level <= MAX_REFINEMENTS {
-        let child_side = side / 2.0;
+    for level in 0..=MAX_REFINEMENTS {
+        if cells.is_empty() {
+            break;
+        }
         let mut children = Vec::new();
-        let mut last_base = usize::MAX;
         for c in &cells {
-            let mut base = [0i64; MAX_ARRAY_DIMS];
-            for (b, &v) in base.iter_mut().zip(c) {
-                *b = (v >> level) as i64;
+            cell_near(&grid, c, side, radius, &mut centre, &mut near);
+            if box_covered(&grid, &centre[..dims], side / 2.0, r2, &near) {
+                continue;
             }
-            let base_index = grid.cell_index(&base);
-            if base_index != last_base {
-                grid.gather(&base, &mut near);
-                last_base = base_index;
+            for (v, &k) in x.iter_mut().zip(c) {
+                *v = ((k as f64 + uniform(rng)) * side).min(ONE_BELOW);
             }
-            if darts {
-                for (v, &k) in x.iter_mut().zip(c) {
-                    *v = ((k as f64 + uniform(rng)) * side).min(ONE_BELOW);
-                }
-                if let Some(added) = grid.insert_if_clear(x, &near) {
-                    near.push(added);
-                }
+            if near.iter().all(|&i| torus_dist2(grid.point(i), x) >= r2) {
+                near.push(grid.insert(x));
             }
             if level == MAX_REFINEMENTS {
                 continue;
             }
-            centre_of(c, side, &mut centre);
-            if grid.box_covered(&centre[..dims], side / 2.0, &near) {
-                continue;
-            }
-            if !darts {
-                // Level 0 without darts: keep the uncovered base cell itself.
-                children.push(*c);
-                continue;
-            }
             for k in 0..1u64 << dims {
                 let mut child = [0u64; MAX_ARRAY_DIMS];
-                for (j, v) in child.iter_mut().enumerate().take(dims) {
-                    *v = 2 * c[j] + ((k >> j) & 1);
+                for j in 0..dims {
+                    child[j] = 2 * c[j] + ((k >> j) & 1);
+                    centre[j] = (child[j] as f64 + 0.5) * side / 2.0;
                 }
-                centre_of(&child, child_side, &mut centre);
-                if !grid.box_covered(&centre[..dims], child_side / 2.0, &near) {
+                if !box_covered(&grid, &centre[..dims], side / 4.0, r2, &near) {
                     children.push(child);
                 }
             }
         }
         cells = children;
-        if darts {
-            side = child_side;
-            level += 1;
-        }
-        darts = true;
+        side /= 2.0;
     }
-    grid.points
+    grid.into_points()
+}
+
+/// Gathers into `near` the points whose balls reach into cell `c` of side `side` (and leaves
+/// the cell's centre in `centre`).
+fn cell_near(
+    grid: &TorusGrid,
+    c: &[u64; MAX_ARRAY_DIMS],
+    side: f64,
+    radius: f64,
+    centre: &mut [f64; MAX_ARRAY_DIMS],
+    near: &mut Vec<u32>,
+) {
+    let dims = grid.dims();
+    let (mut lo, mut hi) = ([0.0; MAX_ARRAY_DIMS], [0.0; MAX_ARRAY_DIMS]);
+    for j in 0..dims {
+        lo[j] = c[j] as f64 * side;
+        hi[j] = lo[j] + side;
+        centre[j] = lo[j] + side / 2.0;
+    }
+    grid.gather(&lo[..dims], &hi[..dims], radius, near);
+    near.retain(|&i| box_dist2(grid.point(i), &centre[..dims], side / 2.0) < radius * radius);
+}
+
+/// Squared toroidal distance from `p` to the box with centre `centre` and half side `half`.
+fn box_dist2(p: &[f64], centre: &[f64], half: f64) -> f64 {
+    p.iter()
+        .zip(centre)
+        .map(|(&a, &b)| {
+            let g = (torus_gap(a, b) - half).max(0.0);
+            g * g
+        })
+        .sum()
+}
+
+/// Whether the box with centre `centre` and half side `half` lies inside the ball (of squared
+/// radius `r2`) of one point of `near`: a box lies inside a ball when its farthest corner does.
+fn box_covered(grid: &TorusGrid, centre: &[f64], half: f64, r2: f64, near: &[u32]) -> bool {
+    near.iter().any(|&i| {
+        let far2: f64 = grid
+            .point(i)
+            .iter()
+            .zip(centre)
+            .map(|(&a, &b)| {
+                let g = torus_gap(a, b) + half;
+                g * g
+            })
+            .sum();
+        far2 <= r2
+    })
 }
 
 /// Builds pass `pass`: a maximal set with at least `needed` points, shuffled, translated.
@@ -857,7 +683,7 @@ mod tests {
     #[test]
     fn maximal_set_sizes_match_the_density_constants() {
         for dims in 1..=MAX_DIMS {
-            let radius = [0.002, 0.02, 0.06][dims - 1];
+            let radius = [0.002, 0.02, 0.06, 0.16][dims - 1];
             let expected = density(dims) / ball_volume(dims, radius / 2.0);
             for seed in 0..2 {
                 let mut rng = pass_rng(seed, 0, 1);
