@@ -487,8 +487,10 @@ fn cholesky(total: &CovarianceAccumulator, k: usize) -> Result<Vec<f64>> {
             return Err(Error::invalid(
                 "control",
                 format!(
-                    "{j} (over the samples, a linear combination of controls 0..{j} up to a \
-                     relative residual variance {:.1e})",
+                    "{j} (over the {} samples, a linear combination of the controls before \
+                     it, 0 to {}, up to a relative residual variance {:.1e})",
+                    total.count(),
+                    j.saturating_sub(1),
                     pivot / diagonal
                 ),
                 format!(

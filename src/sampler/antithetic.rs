@@ -97,7 +97,10 @@ impl<S: Sampler> Antithetic<S> {
             return Err(Error::invalid(
                 "inner sampler pass size",
                 size,
-                format!("at most {} points per pass, so that pairs fit", u64::MAX / 2),
+                format!(
+                    "at most {} points per pass, so that pairs fit",
+                    u64::MAX / 2
+                ),
             ));
         }
         Ok(Antithetic { inner })

@@ -161,7 +161,9 @@ impl CovarianceAccumulator {
         for i in 0..self.dims() {
             let delta_i = other.means[i] - self.means[i];
             let (start, end) = (packed(i, 0), packed(i, i));
-            let row = self.comoments[start..=end].iter_mut().zip(&other.comoments[start..=end]);
+            let row = self.comoments[start..=end]
+                .iter_mut()
+                .zip(&other.comoments[start..=end]);
             for (j, (c, &c_other)) in row.enumerate() {
                 let delta_j = other.means[j] - self.means[j];
                 *c += c_other + delta_i * delta_j * weight;
