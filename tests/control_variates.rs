@@ -71,14 +71,15 @@ fn exp_moments() -> ExpMoments {
 #[test]
 fn closed_forms_match_scipy() {
     // python3 -c "import numpy as np; from scipy.integrate import quad; m=lambda h: quad(h,0,1,epsabs=1e-15,epsrel=1e-15)[0]; F=np.e-1; v=m(lambda x: np.exp(2*x))-F**2; c=m(lambda x: np.exp(x)*x)-F/2; print(v, c, 1-c*c*12/v)"
-    // -> 0.24203560745276542 0.14085908577047745 0.016279517568082325
+    // -> 0.24203560745276542 0.14085908577047745 0.016279517568082214
     let m = exp_moments();
     assert!((m.var_f - 0.24203560745276542).abs() < 1e-14);
     assert!((m.cov_f[0] - 0.14085908577047745).abs() < 1e-14);
     let one_minus_rho2 = 1.0 - m.cov_f[0] * m.cov_f[0] / (m.var_f * m.var_g[0][0]);
-    assert!((one_minus_rho2 - 0.016279517568082325).abs() < 1e-12);
-    // Two controls x, x^2 (python: 1 - c @ solve([[1/12,1/12],[1/12,4/45]], c) / v with
-    // c = (Cov(e^x,x), Cov(e^x,x^2))) -> 0.0001150055761582891
+    assert!((one_minus_rho2 - 0.016279517568082214).abs() < 1e-12);
+    // Two controls x, x^2:
+    // python3 -c "import numpy as np; from scipy.integrate import quad; m=lambda h: quad(h,0,1,epsabs=1e-15,epsrel=1e-15)[0]; F=np.e-1; v=m(lambda x: np.exp(2*x))-F**2; c=np.array([m(lambda x: np.exp(x)*x)-F/2, m(lambda x: np.exp(x)*x*x)-F/3]); print(1-c@np.linalg.solve([[1/12,1/12],[1/12,4/45]],c)/v)"
+    // -> 0.0001150055761582891
     assert!((one_minus_r2_two_controls(&m) - 0.0001150055761582891).abs() < 1e-12);
     // The quadrature agrees with the closed forms.
     assert!((integrate01(|x| x * x * x.exp()) - moment_exp(2)).abs() < 1e-14);
@@ -123,7 +124,7 @@ fn exp_with_linear_control(beta: f64) -> impl Estimator {
 fn known_g_estimator_is_unbiased_with_the_closed_form_variance() {
     let m = exp_moments();
     let optimal = m.cov_f[0] / m.var_g[0][0];
-    // python: 12 * (1 - (e - 1) / 2) -> 1.6903090292457295
+    // python3 -c "import numpy as np; print(12*(1-(np.e-1)/2))" -> 1.6903090292457295
     assert!((optimal - 1.6903090292457295).abs() < 1e-13);
     let n = 200_000u64;
     let mut variances = Vec::new();
@@ -330,8 +331,8 @@ fn regression_estimator_is_consistent_with_a_small_bias() {
     let m = exp_moments();
     let beta = m.cov_f[0] / m.var_g[0][0];
     let sigma_e2 = m.var_f - beta * m.cov_f[0];
-    // python: -12 * quad(lambda x: (x-.5)**2 * (exp(x) - (e-1) - b*(x-.5)), 0, 1) with
-    // b = 12 * (1 - (e-1)/2) -> -0.055945598426633394
+    // python3 -c "import numpy as np; from scipy.integrate import quad; e=np.e; b=12*(1-(e-1)/2); print(-12*quad(lambda x: (x-.5)**2*(np.exp(x)-(e-1)-b*(x-.5)),0,1,epsabs=1e-15,epsrel=1e-15)[0])"
+    // -> -0.055945598426633394
     let bias_constant =
         -integrate01(|x| (x - 0.5).powi(2) * (x.exp() - m.mean - beta * (x - 0.5))) / m.var_g[0][0];
     assert!((bias_constant + 0.055945598426633394).abs() < 1e-12);
@@ -423,7 +424,7 @@ fn regression_with_an_exact_fit_has_zero_error() {
 }
 
 fn message(result: mcint::Result<impl std::fmt::Debug>) -> String {
-    result.err().expect("an error").to_string()
+    result.expect_err("an error").to_string()
 }
 
 #[test]

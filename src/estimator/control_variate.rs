@@ -20,6 +20,9 @@ use crate::{Error, Result};
 /// from `pdf` (A.27 for `beta = 1`, the default; A.29 with a coefficient).
 ///
 /// `G` must be the exact integral of `g` over the pdf's domain (for a [`UniformBox`], the box).
+/// With `Y = f/pdf` and `Z = g/pdf`, the per-sample variance is
+/// `Var[Y] - 2 beta Cov[Y, Z] + beta^2 Var[Z]`, smallest at `beta* = Cov[Y, Z] / Var[Z]`
+/// where it is `(1 - rho^2) Var[Y]`; `beta = 1` (A.27) helps when `Var[Z] < 2 Cov[Y, Z]`.
 /// Since `beta` is fixed, every contribution has expectation `F` and the estimator is unbiased
 /// with any sampler; it works with [`Integrator`](crate::Integrator) as is, including
 /// stratified and quasi-Monte Carlo samplers with replicates. A coefficient estimated from a

@@ -36,7 +36,12 @@ pub fn reflect(u: f64) -> f64 {
 
 /// Antithetic pairs from any sampler: point `2i` is point `i` of the inner sampler and point
 /// `2i + 1` is its reflection `reflect(u)` (about `1 - u`, see [`reflect`]) in every
-/// coordinate.
+/// coordinate (Hammersley & Morton 1956).
+///
+/// The mean of a pair, `(f(u) + f(1 - u)) / 2`, has variance `(Var f + Cov(f(u), f(1 - u))) / 2`
+/// against `Var f / 2` for two independent points: a gain when `f` is monotone in each
+/// coordinate (the covariance is then negative), a loss of up to a factor 2 when `f` is
+/// symmetric about the centre (`f(u) = f(1 - u)`, covariance `+Var f`).
 ///
 /// The two points of a pair are dependent by design, so the pair, not the point, is the unit of
 /// independence, and [`passes`](Sampler::passes) says so:
