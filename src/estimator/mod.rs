@@ -5,13 +5,20 @@
 //! variance is `sigma^2[Y] / N` for independent samples (the seed's A.21). The uniform
 //! estimator is the seed's A.14, the importance-sampling estimator A.19; the biased but
 //! consistent estimator of A.35 is kept as a teaching example ([`ConsistentBiased`]).
+//! Control variates (A.26-A.29) come with a known coefficient as an estimator
+//! ([`ControlVariate`]) and with least-squares coefficients as a runner of their own
+//! ([`RegressionControlVariates`]), since those are not a per-sample contribution.
 
 mod consistent_biased;
+mod control_variate;
 mod importance;
+mod regression_control;
 mod uniform;
 
 pub use consistent_biased::ConsistentBiased;
+pub use control_variate::ControlVariate;
 pub use importance::ImportanceEstimator;
+pub use regression_control::{ControlVariateEstimate, RegressionControlVariates};
 pub use uniform::UniformEstimator;
 
 use crate::Points;

@@ -8,8 +8,10 @@
 //!
 //! The seed's section A.3.3 motivates the stratified placements: stratified (jittered)
 //! sampling (equation A.30), and N-rooks / Latin hypercube sampling (Shirley 1990; McKay,
-//! Beckman & Conover 1979).
+//! Beckman & Conover 1979). [`Antithetic`] wraps any sampler to pair every point with its
+//! reflection (Hammersley & Morton 1956), a variance-reduction companion of A.3's techniques.
 
+mod antithetic;
 mod best_candidate;
 mod correlated_multi_jittered;
 mod halton;
@@ -30,6 +32,7 @@ mod scramble;
 mod sobol;
 mod torus_grid;
 
+pub use antithetic::{Antithetic, reflect};
 pub use best_candidate::BestCandidate;
 pub use correlated_multi_jittered::CorrelatedMultiJittered;
 pub use halton::Halton;

@@ -1,0 +1,176 @@
+//! Control variates with a known integral (the seed's A.26-A.29).
+//!
+//! With a control `g` whose integral `G` over the domain is known exactly,
+//! `F = int (f - g) + G` (A.26), and averaging `(f - g)/pdf` over samples from `pdf` and adding
+//! `G` estimates `F` (A.27). Equivalently (A.29) the estimate is `<F^N> + G - <G^N>`: the plain
+//! estimate corrected by the sampling error that the same points make on the known integral.
+//! A coefficient `beta` generalises this to `<F^N> - beta (<G^N> - G)`, which is unbiased for
+//! every fixed `beta` and has per-sample variance
+//! `Var[f/pdf] - 2 beta Cov[f/pdf, g/pdf] + beta^2 Var[g/pdf]`, smallest at
+//! `beta* = Cov[f/pdf, g/pdf] / Var[g/pdf]`, where it is `(1 - rho^2) Var[f/pdf]` (Lavenberg &
+//! Welch 1981; Glasserman 2004, section 4.1; Owen, *Monte Carlo theory, methods and examples*,
+//! section 8.9). Estimating `beta*` from the same samples is the regression estimator,
+//! [`RegressionControlVariates`](super::RegressionControlVariates).
+
+use super::Estimator;
+use crate::pdf::Pdf;
+use crate::{Error, Result};
+
+/// The control-variate contribution `f(X)/pdf(X) - beta g(X)/pdf(X) + beta G` with `X` drawn
+/// from `pdf` (A.27 for `beta = 1`, the default; A.29 with a coefficient).
+///
+/// `G` must be the exact integral of `g` over the pdf's domain (for a [`UniformBox`], the box).
+/// With `Y = f/pdf` and `Z = g/pdf`, the per-sample variance is
+/// `Var[Y] - 2 beta Cov[Y, Z] + beta^2 Var[Z]`, smallest at `beta* = Cov[Y, Z] / Var[Z]`
+/// where it is `(1 - rho^2) Var[Y]`; `beta = 1` (A.27) helps when `Var[Z] < 2 Cov[Y, Z]`.
+/// Since `beta` is fixed, every contribution has expectation `F` and the estimator is unbiased
+/// with any sampler; it works with [`Integrator`](crate::Integrator) as is, including
+/// stratified and quasi-Monte Carlo samplers with replicates. A coefficient estimated from a
+/// separate pilot run keeps that property; one estimated from the same samples does not (see
+/// [`RegressionControlVariates`](super::RegressionControlVariates)).
+///
+/// Where `f - beta g` is zero the contribution is `beta G` whatever the pdf (no `0/0`); where
+/// the pdf is zero but `f - beta g` is not, the contribution is infinite or NaN, which the
+/// integrator reports as an error.
+///
+/// [`UniformBox`]: crate::pdf::UniformBox
+///
+/// ```
+/// use mcint::{Integrator, estimator::ControlVariate, pdf::UniformBox};
+/// // int_0^1 e^x dx = e - 1 with the control g = 1 + x, G = 3/2 (A.27).
+/// let cv = ControlVariate::new(|x: &[f64]| x[0].exp(), |x: &[f64]| 1.0 + x[0], 1.5, UniformBox::unit(1)?)?;
+/// let e = Integrator::new(cv).samples(10_000).seed(1).run()?;
+/// let exact = std::f64::consts::E - 1.0;
+/// assert!((e.mean - exact).abs() < 4.5 * e.std_error.unwrap());
+/// // Per sample, the sd is 0.21 with the control and 0.49 without (plain Monte Carlo).
+/// assert!(e.std_error.unwrap() < 0.25 / 100.0);
+/// # Ok::<(), mcint::Error>(())
+/// ```
+#[derive(Debug, Clone)]
+pub struct ControlVariate<F, G, P> {
+    f: F,
+    control: G,
+    control_integral: f64,
+    coefficient: f64,
+    pdf: P,
+}
+
+impl<F, G, P> ControlVariate<F, G, P>
+where
+    F: Fn(&[f64]) -> f64 + Send + Sync,
+    G: Fn(&[f64]) -> f64 + Send + Sync,
+    P: Pdf,
+{
+    /// The estimator of the integral of `f` over the pdf's domain with the control `control`,
+    /// whose exact integral over that domain is `control_integral` (finite), coefficient 1.
+    ///
+    /// ```
+    /// use mcint::estimator::ControlVariate;
+    /// use mcint::pdf::UniformBox;
+    /// let bad = ControlVariate::new(|_: &[f64]| 1.0, |_: &[f64]| 1.0, f64::NAN, UniformBox::unit(1).unwrap());
+    /// assert!(bad.err().unwrap().to_string().contains("control_integral"));
+    /// ```
+    pub fn new(f: F, control: G, control_integral: f64, pdf: P) -> Result<Self> {
+        if !control_integral.is_finite() {
+            return Err(Error::invalid(
+                "control_integral",
+                control_integral,
+                "the finite, exactly known integral of the control over the domain",
+            ));
+        }
+        Ok(ControlVariate {
+            f,
+            control,
+            control_integral,
+            coefficient: 1.0,
+            pdf,
+        })
+    }
+
+    /// Sets the fixed coefficient `beta` (finite; 1 gives A.27, 0 plain importance sampling).
+    ///
+    /// ```
+    /// use mcint::estimator::{ControlVariate, Estimator};
+    /// use mcint::pdf::UniformBox;
+    /// let cv = ControlVariate::new(|x: &[f64]| 2.0 * x[0], |x: &[f64]| x[0], 0.5, UniformBox::unit(1).unwrap())
+    ///     .unwrap()
+    ///     .with_coefficient(2.0)
+    ///     .unwrap();
+    /// let mut x = [0.0];
+    /// assert_eq!(cv.contribution(&[0.3], &mut x), 1.0); // f - 2 g = 0: zero variance
+    /// assert!(cv.with_coefficient(f64::INFINITY).is_err());
+    /// ```
+    pub fn with_coefficient(self, coefficient: f64) -> Result<Self> {
+        if !coefficient.is_finite() {
+            return Err(Error::invalid(
+                "coefficient",
+                coefficient,
+                "a finite control-variate coefficient beta",
+            ));
+        }
+        Ok(ControlVariate {
+            coefficient,
+            ..self
+        })
+    }
+
+    /// The coefficient `beta`.
+    ///
+    /// ```
+    /// use mcint::estimator::ControlVariate;
+    /// let cv = ControlVariate::new(|_: &[f64]| 1.0, |_: &[f64]| 1.0, 1.0, mcint::pdf::UniformBox::unit(1).unwrap()).unwrap();
+    /// assert_eq!(cv.coefficient(), 1.0);
+    /// ```
+    pub fn coefficient(&self) -> f64 {
+        self.coefficient
+    }
+
+    /// The known integral `G` of the control.
+    ///
+    /// ```
+    /// use mcint::estimator::ControlVariate;
+    /// let cv = ControlVariate::new(|_: &[f64]| 1.0, |_: &[f64]| 1.0, 2.0, mcint::pdf::UniformBox::new(vec![0.0], vec![2.0]).unwrap()).unwrap();
+    /// assert_eq!(cv.control_integral(), 2.0);
+    /// ```
+    pub fn control_integral(&self) -> f64 {
+        self.control_integral
+    }
+
+    /// The sampling density.
+    ///
+    /// ```
+    /// use mcint::{Pdf, estimator::ControlVariate};
+    /// let cv = ControlVariate::new(|_: &[f64]| 1.0, |_: &[f64]| 1.0, 1.0, mcint::pdf::UniformBox::unit(3).unwrap()).unwrap();
+    /// assert_eq!(cv.pdf().dims(), 3);
+    /// ```
+    pub fn pdf(&self) -> &P {
+        &self.pdf
+    }
+}
+
+impl<F, G, P> Estimator for ControlVariate<F, G, P>
+where
+    F: Fn(&[f64]) -> f64 + Send + Sync,
+    G: Fn(&[f64]) -> f64 + Send + Sync,
+    P: Pdf,
+{
+    fn canonical_dims(&self) -> usize {
+        self.pdf.canonical_dims()
+    }
+
+    fn domain_dims(&self) -> usize {
+        self.pdf.dims()
+    }
+
+    #[inline]
+    fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
+        self.pdf.sample(u, x);
+        let difference = (self.f)(x) - self.coefficient * (self.control)(x);
+        let shift = self.coefficient * self.control_integral;
+        if difference == 0.0 {
+            // A zero integrand contributes nothing even where the pdf is zero (no 0/0).
+            return shift;
+        }
+        difference / self.pdf.pdf(x) + shift
+    }
+}
