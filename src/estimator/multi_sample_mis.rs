@@ -148,6 +148,17 @@ impl<F: Fn(&[f64]) -> f64 + Send + Sync, W: MisWeighting> MultiSampleMis<F, W> {
     }
 }
 
+impl<F, W> std::fmt::Debug for MultiSampleMis<F, W> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let counts: Vec<usize> = self.techniques.iter().map(|t| t.count).collect();
+        f.debug_struct("MultiSampleMis")
+            .field("sample_counts", &counts)
+            .field("dims", &self.dims)
+            .field("canonical_dims", &self.canonical_dims)
+            .finish_non_exhaustive()
+    }
+}
+
 impl<F: Fn(&[f64]) -> f64 + Send + Sync, W: MisWeighting> Estimator for MultiSampleMis<F, W> {
     fn canonical_dims(&self) -> usize {
         self.canonical_dims

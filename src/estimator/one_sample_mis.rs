@@ -147,6 +147,15 @@ impl<F: Fn(&[f64]) -> f64 + Send + Sync, W: MisWeighting> OneSampleMis<F, W> {
     }
 }
 
+impl<F, W> std::fmt::Debug for OneSampleMis<F, W> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("OneSampleMis")
+            .field("probabilities", &self.techniques.weights())
+            .field("dims", &self.techniques.dims())
+            .finish_non_exhaustive()
+    }
+}
+
 impl<F: Fn(&[f64]) -> f64 + Send + Sync, W: MisWeighting> Estimator for OneSampleMis<F, W> {
     fn canonical_dims(&self) -> usize {
         self.techniques.canonical_dims()
