@@ -1139,6 +1139,41 @@ fn mixture_component_choice_is_exact_at_the_edges() {
     assert_eq!(huge.weights(), &[0.5, 0.5]);
 }
 
+/// Hesterberg's bound: importance sampling from `alpha * uniform + (1 - alpha) * proposal` has
+/// variance at most `sigma_uniform^2 / alpha + (1/alpha - 1) F^2`, however bad the proposal;
+/// here the proposal alone (a rate-30 exponential, whose density falls to e^-30 of its peak
+/// where f is largest) is far above that bound. Exact variances by quadrature.
+#[test]
+fn defensive_mixture_obeys_hesterbergs_bound() {
+    let proposal = || Exponential::new(30.0, 0.0, 1.0).unwrap();
+    let f = |x: f64| sharp_times_broad(&[x]);
+    let exact = sharp_times_broad_integral();
+    let second_moment = |pdf: &dyn Pdf| integrate(|x| f(x).powi(2) / pdf.pdf(&[x]), 0.0, 1.0, 400);
+    let v_uniform = second_moment(&UniformInterval::new(0.0, 1.0).unwrap()) - exact * exact;
+    let v_proposal = second_moment(&proposal()) - exact * exact;
+    for alpha in [0.05, 0.2, 0.5, 1.0] {
+        let defensive =
+            Mixture::defensive(Box::new(proposal()), UniformBox::unit(1).unwrap(), alpha).unwrap();
+        let v = second_moment(&defensive) - exact * exact;
+        let bound = v_uniform / alpha + (1.0 / alpha - 1.0) * exact * exact;
+        assert!(v <= bound * (1.0 + 1e-12), "alpha {alpha}: {v} > {bound}");
+        assert!(
+            v_proposal > 1e3 * bound,
+            "alpha {alpha}: proposal {v_proposal}"
+        );
+    }
+    // The defensive estimator realises that variance.
+    let defensive =
+        Mixture::defensive(Box::new(proposal()), UniformBox::unit(1).unwrap(), 0.2).unwrap();
+    let v = second_moment(&defensive) - exact * exact;
+    let estimator = ImportanceEstimator::new(sharp_times_broad, defensive);
+    let (s2, se) = variance_and_its_se(&contributions(&estimator, 200_000, 8100));
+    assert!(
+        (s2 - v).abs() <= 5.0 * se,
+        "sample variance {s2} vs exact {v}"
+    );
+}
+
 proptest! {
     #![proptest_config(config(512, 0x313))]
 

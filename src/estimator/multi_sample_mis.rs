@@ -10,9 +10,9 @@
 //! F = sum_i (1/n_i) sum_j w_i(X_ij) f(X_ij) / p_i(X_ij)
 //! ```
 //!
-//! (Veach's equation 9.4), unbiased whenever the weights sum to one wherever `f != 0`. Each
-//! term is the seed's `f/pdf` (A.19) scaled by a weight, so a point is counted by whichever
-//! techniques are good at it instead of by all of them.
+//! (Veach 1997, chapter 9: the multi-sample model), unbiased whenever the weights sum to one
+//! wherever `f != 0`. Each term is the seed's `f/pdf` (A.19) scaled by a weight, so a point is
+//! counted by whichever techniques are good at it instead of by all of them.
 
 use super::mis_weighting::{weighted_term, with_densities};
 use super::{Estimator, MisHeuristic, MisWeighting};

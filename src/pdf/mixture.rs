@@ -132,10 +132,11 @@ impl Mixture {
     /// for `alpha` in `(0, 1]` and a proposal with the domain's dims.
     ///
     /// Its density is at least `alpha / volume` on the domain, so importance sampling an
-    /// integrand `f` over the domain has weights `f/p <= volume * max|f| / alpha` and a variance
-    /// at most `1/alpha` times that of uniform sampling plus a constant, however badly the
-    /// proposal fits `f` (Hesterberg 1995, Technometrics 37(2):185-194). The proposal's support
-    /// should lie in the domain, since every sample of the mixture is a point of the integral.
+    /// integrand `f` over the domain has contributions `f/p <= volume * max|f| / alpha` and,
+    /// since `integral f^2 / p <= integral f^2 / (alpha / volume)`, a variance of at most
+    /// `sigma_uniform^2 / alpha + (1/alpha - 1) F^2`, however badly the proposal fits `f`
+    /// (Hesterberg 1995, Technometrics 37(2):185-194). The proposal's support should lie in the
+    /// domain, since every sample of the mixture is a point of the integral.
     ///
     /// ```
     /// use mcint::pdf::{Exponential, Mixture, Pdf, UniformBox};
