@@ -5,6 +5,13 @@
 //! variance is `sigma^2[Y] / N` for independent samples (the seed's A.21). The uniform
 //! estimator is the seed's A.14, the importance-sampling estimator A.19; the biased but
 //! consistent estimator of A.35 is kept as a teaching example ([`ConsistentBiased`]).
+//!
+//! Importance sampling and multiple importance sampling (the seed's A.3.1):
+//! - [`ProductImportanceEstimator`]: importance sampling one known factor of `f = g h` (A.25).
+//! - [`MultiSampleMis`] and [`OneSampleMis`]: multiple importance sampling (Veach & Guibas
+//!   1995), weighted by a [`MisHeuristic`] (balance, power, maximum, cutoff) or any
+//!   [`MisWeighting`].
+//!
 //! Control variates (A.26-A.29) come with a known coefficient as an estimator
 //! ([`ControlVariate`]) and with least-squares coefficients as a runner of their own
 //! ([`RegressionControlVariates`]), since those are not a per-sample contribution.
@@ -12,12 +19,22 @@
 mod consistent_biased;
 mod control_variate;
 mod importance;
+mod mis_heuristic;
+mod mis_weighting;
+mod multi_sample_mis;
+mod one_sample_mis;
+mod product_importance;
 mod regression_control;
 mod uniform;
 
 pub use consistent_biased::ConsistentBiased;
 pub use control_variate::ControlVariate;
 pub use importance::ImportanceEstimator;
+pub use mis_heuristic::MisHeuristic;
+pub use mis_weighting::MisWeighting;
+pub use multi_sample_mis::MultiSampleMis;
+pub use one_sample_mis::OneSampleMis;
+pub use product_importance::ProductImportanceEstimator;
 pub use regression_control::{ControlVariateEstimate, RegressionControlVariates};
 pub use uniform::UniformEstimator;
 

@@ -6,10 +6,12 @@
 //! Mitsuba, each pdf keeps `sample`, `pdf` and (where it exists) `invert` side by side. The
 //! one-dimensional densities implement [`Pdf1d`] and get [`Pdf`] for free; they sample by the
 //! exact inverse cdf, so they are monotone and keep stratified or low-discrepancy `u`
-//! stratified.
+//! stratified. [`Mixture`] combines densities (defensive importance sampling, and the
+//! combined density of multiple importance sampling).
 
 mod exponential;
 mod linear;
+mod mixture;
 mod product;
 mod truncated_normal;
 mod uniform;
@@ -17,6 +19,7 @@ mod uniform_box;
 
 pub use exponential::Exponential;
 pub use linear::Linear;
+pub use mixture::Mixture;
 pub use product::ProductPdf;
 pub use truncated_normal::TruncatedNormal;
 pub use uniform::UniformInterval;
