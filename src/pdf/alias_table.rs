@@ -12,11 +12,8 @@
 //! estimator `f(i) / p_i` for a sum `sum_i f(i)`.
 
 use super::Pdf;
-use super::piecewise_constant::check_weights;
+use super::piecewise_constant::{ONE_BELOW, check_weights, into_canonical};
 use crate::Result;
-
-/// The largest canonical coordinate, `1 - 2^-53`.
-const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
 
 /// One of the `n` equal bins: the bin's own outcome below `threshold`, `alias` above it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -182,7 +179,7 @@ impl AliasTable {
     /// ```
     pub fn sample(&self, u: f64) -> (usize, f64) {
         let n = self.bins.len();
-        let scaled = u.max(0.0).min(ONE_BELOW) * n as f64;
+        let scaled = into_canonical(u) * n as f64;
         let bin = (scaled as usize).min(n - 1);
         let fraction = scaled - bin as f64;
         let Bin { threshold, alias } = self.bins[bin];

@@ -17,7 +17,7 @@ use crate::{Error, Result};
 /// is treated as the smallest positive normal `f64`, `2.2e-308`, giving the finite point
 /// `mean - 37.5 sd`. This is exactly what [`TruncatedNormal`](super::TruncatedNormal) does
 /// with infinite bounds, and the two agree bit for bit for every `u`. The largest canonical
-/// `u`, `1 - 2^-53`, gives `mean + 8.3 sd`: the upper tail is cut where `u` runs out of
+/// `u`, `1 - 2^-53`, gives `mean + 8.21 sd`: the upper tail is cut where `u` runs out of
 /// resolution, at a probability of `1.1e-16`.
 ///
 /// ```
@@ -34,7 +34,8 @@ pub struct Normal {
     sd: f64,
 }
 
-/// Standard deviations from the mean that bound every sample (`Phi^-1(2.2e-308) = -37.52`).
+/// Standard deviations from the mean that bound every sample (`Phi^-1(2.2e-308) = -37.52`,
+/// `Phi^-1(1 - 2^-53) = 8.21`).
 const SAMPLE_REACH: f64 = 40.0;
 
 impl Normal {

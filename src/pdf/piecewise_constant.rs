@@ -12,7 +12,13 @@ use super::{Pdf1d, check_interval};
 use crate::{Error, Result};
 
 /// The largest canonical coordinate, `1 - 2^-53`.
-const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
+pub(super) const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
+
+/// `u` moved into `[0, 1)` (NaN to 0), so that a table lookup cannot leave the table or land
+/// on a cell of zero weight even for input outside the documented range.
+pub(super) fn into_canonical(u: f64) -> f64 {
+    if u >= 0.0 { u.min(ONE_BELOW) } else { 0.0 }
+}
 
 /// Checks a table of weights: non-empty, every weight finite and `>= 0`, with a sum that is
 /// positive and finite. Returns the sum (accumulated in index order, as the cdf is).
@@ -106,7 +112,7 @@ impl CellCdf {
     /// it, in `[0, 1)`. That cell has positive probability, so cells of zero weight are never
     /// returned (and `u` outside `[0, 1)`, or NaN, is first moved into it).
     pub(super) fn sample(&self, u: f64) -> (usize, f64) {
-        let u = u.max(0.0).min(ONE_BELOW);
+        let u = into_canonical(u);
         // cdf[0] = 0 <= u < 1 = cdf[n], so the count is in 1..=n.
         let i = self.cdf.partition_point(|&c| c <= u) - 1;
         let (lo, hi) = (self.cdf[i], self.cdf[i + 1]);
@@ -122,7 +128,8 @@ impl CellCdf {
 }
 
 /// Density proportional to a table of weights `w_0, ..., w_{n-1}` on the `n` equal cells of
-/// `[a, b)`: `pdf(x) = w_i / integral` in cell `i`, where `integral = sum(w) (b - a) / n`.
+/// `[a, b)`: `pdf(x) = w_i / integral` in cell `i`, where `integral = sum(w) (b - a) / n`
+/// (more exactly, `w_i / sum(w)` over the cell's width between its floating-point edges).
 ///
 /// Sampling picks a cell by binary search on the cdf (`O(log n)`) and places the point
 /// uniformly inside it, using the rest of `u`. Cells of zero weight have density zero and are
@@ -144,6 +151,10 @@ pub struct PiecewiseConstant1d {
     b: f64,
     /// `(b - a) / n`.
     cell_width: f64,
+    /// Density in each cell: its probability over its width between the float edges that
+    /// sampling uses, so the density is exactly that of the samples even where rounding makes
+    /// the cells unequal (narrow intervals far from zero).
+    densities: Vec<f64>,
     cells: CellCdf,
 }
 
@@ -176,10 +187,11 @@ impl PiecewiseConstant1d {
                 ),
             ));
         }
-        let p = PiecewiseConstant1d {
+        let mut p = PiecewiseConstant1d {
             a,
             b,
             cell_width,
+            densities: Vec::new(),
             cells: CellCdf::new(weights),
         };
         // Every cell must hold a float, or sampling could not place a point in it.
@@ -192,6 +204,19 @@ impl PiecewiseConstant1d {
                      (cell {i} starts at {} and ends at {})",
                     p.edge(i),
                     p.edge(i + 1)
+                ),
+            ));
+        }
+        p.densities = (0..n)
+            .map(|i| p.cells.probabilities()[i] / (p.edge(i + 1) - p.edge(i)))
+            .collect();
+        if let Some(i) = (0..n).find(|&i| !p.densities[i].is_finite()) {
+            return Err(Error::invalid(
+                "b",
+                b,
+                format!(
+                    "an interval whose cells have a finite density (cell {i} is {:e} wide)",
+                    p.edge(i + 1) - p.edge(i)
                 ),
             ));
         }
@@ -320,7 +345,7 @@ impl Pdf1d for PiecewiseConstant1d {
 
     fn pdf_1d(&self, x: f64) -> f64 {
         match self.cell_at(x) {
-            Some(i) => self.cells.probabilities()[i] / self.cell_width,
+            Some(i) => self.densities[i],
             None => 0.0,
         }
     }

@@ -52,8 +52,9 @@ impl PiecewiseConstant2d {
     ///
     /// Requires `width, height >= 1` with `values.len() == width * height`, values finite and
     /// `>= 0` with a positive, finite sum, and finite `lo[d] < hi[d]` whose cells have distinct
-    /// edges and finite densities. Errors name the parameter (`width`, `height`, `values`,
-    /// `x range`, `y range`).
+    /// edges and an area whose reciprocal is finite. Errors name the parameter (`width`,
+    /// `height`, `values`, `x range`, `y range`, `box`). (On boxes so large that
+    /// `1 / area` is below about `1e-308` the density of light cells underflows to zero.)
     ///
     /// ```
     /// use mcint::pdf::PiecewiseConstant2d;
@@ -105,6 +106,15 @@ impl PiecewiseConstant2d {
             PiecewiseConstant1d::new(lo[1], hi[1], &row_shares).map_err(rename("y range"))?;
         // Check the x range once, with a table that is always valid.
         PiecewiseConstant1d::new(lo[0], hi[0], &vec![1.0; width]).map_err(rename("x range"))?;
+        // The density is at most 1 / (cell area); the two 1-D checks bound each factor only.
+        let cell_area = (hi[0] - lo[0]) / width as f64 * ((hi[1] - lo[1]) / height as f64);
+        if !(1.0 / cell_area).is_finite() {
+            return Err(Error::invalid(
+                "box",
+                format!("[{}, {}) x [{}, {})", lo[0], hi[0], lo[1], hi[1]),
+                format!("a box whose cells have a finite density (cell area {cell_area:e})"),
+            ));
+        }
         let conditionals = values
             .chunks_exact(width)
             .map(|row| {
