@@ -5,7 +5,7 @@
 //! the discrete cdf picks a cell, and the leftover fraction of `u` places the point inside it
 //! uniformly, so the warp stays monotone and stratified `u` stay stratified. The method is the
 //! classic one of pbrt-v4's `PiecewiseConstant1D` (Pharr, Jakob & Humphreys, *Physically Based
-//! Rendering*, 4th ed., sec. A.4.2) and Mitsuba 3's `DiscreteDistribution`; this is our own
+//! Rendering*, 4th ed., appendix A.4) and Mitsuba 3's `DiscreteDistribution`; this is our own
 //! implementation.
 
 use super::{Pdf1d, check_interval};

@@ -7,8 +7,8 @@
 //! from the conditional density within that row. Each step is monotone, so stratified `u`
 //! give stratified rows and, within a row, stratified columns. This is the marginal-conditional
 //! method of pbrt-v4's `PiecewiseConstant2D` (Pharr, Jakob & Humphreys, *Physically Based
-//! Rendering*, 4th ed., sec. A.5) and of environment-map sampling in Mitsuba 3; the
-//! implementation is our own, built on [`PiecewiseConstant1d`].
+//! Rendering*, 4th ed., sec. 2.4.2 and appendix A.5) and of environment-map sampling in
+//! Mitsuba 3; the implementation is our own, built on [`PiecewiseConstant1d`].
 
 use super::{Pdf, Pdf1d, PiecewiseConstant1d};
 use crate::{Error, Result};

@@ -2,9 +2,9 @@
 //!
 //! Inverse-cdf sampling (the warp behind the seed's A.13 and A.19): the cdf is quadratic on
 //! each side of the mode, so its inverse is a square root there. The symmetric tent is pbrt's
-//! tent filter (Pharr, Jakob & Humphreys, *Physically Based Rendering*, 4th ed., sec. A.4.3,
-//! `SampleTent`); the triangular distribution is also in Devroye, *Non-Uniform Random Variate
-//! Generation* (1986), sec. II.2.
+//! tent filter (Pharr, Jakob & Humphreys, *Physically Based Rendering*, 4th ed., sec. A.4.1,
+//! `SampleTent`), generalised to any mode; inversion itself is as in Devroye, *Non-Uniform
+//! Random Variate Generation* (1986), ch. II.
 
 use super::{Pdf1d, check_interval};
 use crate::{Error, Result};
