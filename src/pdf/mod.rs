@@ -6,21 +6,41 @@
 //! Mitsuba, each pdf keeps `sample`, `pdf` and (where it exists) `invert` side by side. The
 //! one-dimensional densities implement [`Pdf1d`] and get [`Pdf`] for free; they sample by the
 //! exact inverse cdf, so they are monotone and keep stratified or low-discrepancy `u`
-//! stratified. [`Mixture`] combines densities (defensive importance sampling, and the
-//! combined density of multiple importance sampling).
+//! stratified.
+//!
+//! - One-dimensional: [`UniformInterval`], [`Exponential`], [`Linear`], [`Tent`], [`Normal`],
+//!   [`TruncatedNormal`], and densities from tables: [`PiecewiseConstant1d`] (a step function)
+//!   and [`PiecewiseLinear1d`] (an interpolant).
+//! - Several dimensions: [`UniformBox`], [`ProductPdf`] of independent 1-D densities, and
+//!   [`PiecewiseConstant2d`] (an image-like table, sampled by marginal and conditional).
+//! - Discrete: [`AliasTable`], `O(1)` sampling of an index (a density for counting measure).
+//! - Combinations: [`Mixture`] (defensive importance sampling, and the combined density of
+//!   multiple importance sampling).
 
+mod alias_table;
 mod exponential;
 mod linear;
 mod mixture;
+mod normal;
+mod piecewise_constant;
+mod piecewise_constant_2d;
+mod piecewise_linear;
 mod product;
+mod tent;
 mod truncated_normal;
 mod uniform;
 mod uniform_box;
 
+pub use alias_table::AliasTable;
 pub use exponential::Exponential;
 pub use linear::Linear;
 pub use mixture::Mixture;
+pub use normal::Normal;
+pub use piecewise_constant::PiecewiseConstant1d;
+pub use piecewise_constant_2d::PiecewiseConstant2d;
+pub use piecewise_linear::PiecewiseLinear1d;
 pub use product::ProductPdf;
+pub use tent::Tent;
 pub use truncated_normal::TruncatedNormal;
 pub use uniform::UniformInterval;
 pub use uniform_box::UniformBox;
