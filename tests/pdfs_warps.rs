@@ -269,12 +269,10 @@ impl DirectionCase {
         }
     }
 
-    /// `sin theta` of the sample of `u`, from `1 - cos = u0 h` and `1 + cos = g + (1 - u0) h`.
+    /// `sin theta` of the sample of `u` for the uniform warps, from `1 - cos = u0 h` and
+    /// `1 + cos = g + (1 - u0) h`.
     fn sin_theta(&self, u: DVec2) -> f64 {
-        if self.cosine {
-            let r = (2.0 * u.x - 1.0).abs().max((2.0 * u.y - 1.0).abs());
-            return r;
-        }
+        assert!(!self.cosine);
         (u.x * self.height * (self.complement + (1.0 - u.x) * self.height)).sqrt()
     }
 }

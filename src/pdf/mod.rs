@@ -15,7 +15,8 @@
 //! seed's A.18). Besides the slice-based [`Pdf`] trait they offer typed `sample_point`,
 //! `pdf_point` and `invert_point` methods on `glam`'s `DVec2` and `DVec3`. Their maps are the
 //! low-distortion ones of pbrt-v4 and Mitsuba 3 (Shirley and Chiu's concentric disk, Heitz's
-//! triangle map, `z` linear in `u` on the sphere), with exact inverses.
+//! triangle map, `z` linear in `u` on the sphere), with exact inverses; `invert` reports a
+//! point that is not finite as an error. Densities of directions assume unit vectors.
 
 mod cosine_hemisphere;
 mod exponential;
