@@ -16,8 +16,19 @@
 //! - Discrete: [`AliasTable`], `O(1)` sampling of an index (a density for counting measure).
 //! - Combinations: [`Mixture`] (defensive importance sampling, and the combined density of
 //!   multiple importance sampling).
+//!
+//! The geometric warps take two canonical coordinates to a point of a disk
+//! ([`UniformDisk`]), a triangle in space ([`UniformTriangle`]) or the unit sphere of
+//! directions ([`UniformSphere`], [`UniformHemisphere`], [`CosineHemisphere`],
+//! [`SphericalCap`]), with densities with respect to area or solid angle (the measure of the
+//! seed's A.18). Besides the slice-based [`Pdf`] trait they offer typed `sample_point`,
+//! `pdf_point` and `invert_point` methods on `glam`'s `DVec2` and `DVec3`. Their maps are the
+//! low-distortion ones of pbrt-v4 and Mitsuba 3 (Shirley and Chiu's concentric disk, Heitz's
+//! triangle map, `z` linear in `u` on the sphere), with exact inverses; `invert` reports a
+//! point that is not finite as an error. Densities of directions assume unit vectors.
 
 mod alias_table;
+mod cosine_hemisphere;
 mod exponential;
 mod linear;
 mod mixture;
@@ -26,12 +37,18 @@ mod piecewise_constant;
 mod piecewise_constant_2d;
 mod piecewise_linear;
 mod product;
+mod spherical_cap;
 mod tent;
 mod truncated_normal;
 mod uniform;
 mod uniform_box;
+mod uniform_disk;
+mod uniform_hemisphere;
+mod uniform_sphere;
+mod uniform_triangle;
 
 pub use alias_table::AliasTable;
+pub use cosine_hemisphere::CosineHemisphere;
 pub use exponential::Exponential;
 pub use linear::Linear;
 pub use mixture::Mixture;
@@ -40,10 +57,15 @@ pub use piecewise_constant::PiecewiseConstant1d;
 pub use piecewise_constant_2d::PiecewiseConstant2d;
 pub use piecewise_linear::PiecewiseLinear1d;
 pub use product::ProductPdf;
+pub use spherical_cap::SphericalCap;
 pub use tent::Tent;
 pub use truncated_normal::TruncatedNormal;
 pub use uniform::UniformInterval;
 pub use uniform_box::UniformBox;
+pub use uniform_disk::UniformDisk;
+pub use uniform_hemisphere::UniformHemisphere;
+pub use uniform_sphere::UniformSphere;
+pub use uniform_triangle::UniformTriangle;
 
 use crate::{Error, Result};
 
