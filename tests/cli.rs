@@ -662,3 +662,61 @@ fn integrate_estimators_reduce_variance_from_the_command_line() {
     );
     assert_one_line_error(&out, "uniform, importance, mis, control");
 }
+
+/// `variance_reduction` prints the seed's three scenarios; every estimate lies within its
+/// error bar of the exact value and the orderings the seed describes hold by wide margins.
+#[test]
+fn variance_reduction_example_shows_the_seeds_scenarios() {
+    let out = run("variance_reduction", &["--n", "65536", "--seed", "1"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    // Rows: technique name, then estimate, std error, var/eval, ratio as the last 4 fields.
+    let mut exact = f64::NAN;
+    let mut section = 0;
+    let mut rows: Vec<(usize, String, f64)> = Vec::new();
+    for line in text.lines() {
+        if let Some(rest) = line.strip_prefix("exact integral ") {
+            exact = rest.split(',').next().unwrap().parse().unwrap();
+            section += 1;
+            continue;
+        }
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        if fields.len() < 5 || fields[0] == "technique" {
+            continue;
+        }
+        let Ok(estimate) = fields[fields.len() - 4].parse::<f64>() else {
+            continue;
+        };
+        let se: f64 = fields[fields.len() - 3].parse().unwrap();
+        let variance: f64 = fields[fields.len() - 2].parse().unwrap();
+        let name = fields[..fields.len() - 4].join(" ");
+        // Sampling the lobe alone has a heavy-tailed f/pdf whose sample variance is not a
+        // trustworthy error bar (that is the point of the row), so it is not checked here.
+        if !name.contains("lobe of g only") {
+            assert!(
+                (estimate - exact).abs() <= 5.0 * se + 1e-12 * exact,
+                "{name}: {estimate} vs {exact} (se {se})"
+            );
+        }
+        rows.push((section, name, variance));
+    }
+    assert_eq!((section, rows.len()), (3, 16), "{text}");
+    // Variance per evaluation of the row of `section` whose name contains `needle`.
+    let var = |section: usize, needle: &str| {
+        rows.iter()
+            .find(|r| r.0 == section && r.1.contains(needle))
+            .unwrap_or_else(|| panic!("no row {needle} in section {section}"))
+            .2
+    };
+    let uniform = |section| var(section, "uniform (A.14)");
+    assert_eq!(var(1, "proportional to f"), 0.0);
+    assert!(var(1, "similar shape") < uniform(1) / 4.0);
+    assert!(var(1, "wrong shape") > 100.0 * uniform(1));
+    let best_single = var(2, "sample the light h").min(var(2, "sample the lobe of g only"));
+    assert!(var(2, "MIS, one of each, balance") < best_single / 10.0);
+    assert!(var(2, "one-sample MIS") < best_single / 10.0);
+    assert!(var(3, "coefficient 1 (A.27)") < uniform(3) / 2.0);
+    assert!(var(3, "1 + x, least-squares") < var(3, "coefficient 1 (A.27)") / 2.0);
+    assert!(var(3, "x^2, least squares") < var(3, "1 + x, least-squares") / 2.0);
+    assert!(var(3, "antithetic") < uniform(3) / 4.0);
+}

@@ -1,0 +1,259 @@
+//! The seed's variance-reduction scenarios side by side: for each, every technique's estimate,
+//! its standard error, the exact answer, and the variance per integrand evaluation (the
+//! variance of the estimate times the evaluations it took), so techniques compare at equal
+//! work.
+//!
+//! ```text
+//! cargo run --release --example variance_reduction [-- --n N] [--seed S]
+//! ```
+//! 1. Importance sampling (A.19, Figure A.2, A.23-A.24): a Gaussian bump sampled uniformly,
+//!    from a density of similar shape, from one of the wrong shape (more variance than
+//!    uniform), and from the density proportional to it (zero variance).
+//! 2. A product `f = g h` (A.25) and multiple importance sampling (Veach & Guibas 1995): a
+//!    glossy reflection `g` (a sharp lobe plus a diffuse floor) times a broad light `h`.
+//!    Sampling the lobe misses the floor, sampling the light misses the lobe, MIS combines
+//!    both; sampling all of `g` exactly (A.25) is the ideal when `g` is fully known.
+//! 3. Control variates (A.26-A.29): `e^x` with the control `1 + x`, with the seed's
+//!    coefficient 1, with the least-squares coefficient, with two controls, and antithetic
+//!    pairs for comparison.
+
+#[path = "support/mod.rs"]
+mod support;
+
+use mcint::estimator::{
+    ControlVariate, Estimator, ImportanceEstimator, MisHeuristic, MultiSampleMis, OneSampleMis,
+    ProductImportanceEstimator, RegressionControlVariates, UniformEstimator,
+};
+use mcint::pdf::{Exponential, Linear, Mixture, Pdf, TruncatedNormal, UniformBox};
+use mcint::sampler::{Antithetic, Independent};
+use mcint::stats::normal_cdf;
+use mcint::{Estimate, Integrator};
+use support::{Args, fail};
+
+const SPEC: support::Spec = &[("n", true), ("seed", true)];
+
+fn main() {
+    if let Err(message) = run() {
+        fail(message);
+    }
+}
+
+fn run() -> Result<(), String> {
+    let args = Args::parse(SPEC)?;
+    let n: u64 = args
+        .get("n", "a whole, even number of samples >= 4")?
+        .unwrap_or(1 << 16);
+    if n < 4 || n % 2 == 1 {
+        return Err(format!(
+            "--n {n} is not allowed: use a whole, even number of samples >= 4"
+        ));
+    }
+    let seed: u64 = args.get("seed", "a whole number")?.unwrap_or(1);
+    let table = Table { n, seed };
+    importance_sampling(&table).map_err(|e| e.to_string())?;
+    product_and_mis(&table).map_err(|e| e.to_string())?;
+    control_variates(&table).map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// Prints rows of one scenario; every row uses `n` integrand evaluations and `seed`.
+struct Table {
+    n: u64,
+    seed: u64,
+}
+
+impl Table {
+    fn header(&self, title: &str, exact: f64) {
+        println!("\n{title}");
+        println!(
+            "exact integral {exact:.10}, {} evaluations per technique",
+            self.n
+        );
+        println!(
+            "{:<44} {:>14} {:>11} {:>12} {:>9}",
+            "technique", "estimate", "std error", "var/eval", "vs first"
+        );
+    }
+
+    /// Runs `estimator` on independent points, `evaluations` integrand calls per contribution.
+    fn run(
+        &self,
+        estimator: impl Estimator + 'static,
+        evaluations: u64,
+    ) -> mcint::Result<(Estimate, u64)> {
+        let estimate = Integrator::new(estimator)
+            .samples(self.n / evaluations)
+            .seed(self.seed)
+            .run()?;
+        Ok((estimate, evaluations))
+    }
+
+    fn row(&self, name: &str, (estimate, evaluations): (Estimate, u64), first: &mut Option<f64>) {
+        let se = estimate.std_error.unwrap_or(f64::NAN);
+        let variance = se * se * (estimate.n * evaluations) as f64;
+        let reference = *first.get_or_insert(variance);
+        println!(
+            "{name:<44} {:>14.10} {se:>11.3e} {variance:>12.4e} {:>9.3}",
+            estimate.mean,
+            variance / reference
+        );
+    }
+}
+
+/// A Gaussian bump on [0, 1]: uniform, similar, wrong and proportional densities.
+fn importance_sampling(t: &Table) -> mcint::Result<()> {
+    let (centre, width) = (0.3, 0.1);
+    let f = move |x: &[f64]| (-0.5 * ((x[0] - centre) / width).powi(2)).exp();
+    let exact = width
+        * (2.0 * std::f64::consts::PI).sqrt()
+        * (normal_cdf((1.0 - centre) / width) - normal_cdf(-centre / width));
+    t.header("1. Importance sampling (A.19; Figure A.2; A.23)", exact);
+    let mut first = None;
+    let unit = UniformBox::unit(1)?;
+    t.row(
+        "uniform (A.14)",
+        t.run(UniformEstimator::new(f, unit), 1)?,
+        &mut first,
+    );
+    let similar = TruncatedNormal::new(centre, 1.5 * width, 0.0, 1.0)?;
+    t.row(
+        "similar shape: normal(0.3, 0.15)",
+        t.run(ImportanceEstimator::new(f, similar), 1)?,
+        &mut first,
+    );
+    let wrong = TruncatedNormal::new(0.85, 0.1, 0.0, 1.0)?;
+    t.row(
+        "wrong shape: normal(0.85, 0.1)",
+        t.run(ImportanceEstimator::new(f, wrong), 1)?,
+        &mut first,
+    );
+    let exact_pdf = TruncatedNormal::new(centre, width, 0.0, 1.0)?;
+    t.row(
+        "proportional to f (A.23): zero variance",
+        t.run(ImportanceEstimator::new(f, exact_pdf), 1)?,
+        &mut first,
+    );
+    Ok(())
+}
+
+/// A glossy reflection times a light: `g` is a sharp lobe plus a diffuse floor, `h` a
+/// broad, brighter-to-the-right light. Sampling the lobe alone (as a BRDF sampler would)
+/// misses the floor, sampling the light misses the lobe; MIS is good at both. Sampling all
+/// of `g` exactly (A.25) is the ideal when `g` is fully known.
+fn product_and_mis(t: &Table) -> mcint::Result<()> {
+    let (rate, floor) = (10.0, 0.3);
+    let lobe = Exponential::new(rate, 0.0, 1.0)?;
+    let lobe_density = move |x: f64| rate * (-rate * x).exp() / (1.0 - (-rate).exp());
+    let g = move |x: &[f64]| lobe_density(x[0]) + floor;
+    let h = |x: &[f64]| 0.1 + 1.9 * x[0];
+    let f = move |x: &[f64]| g(x) * h(x);
+    // Mean of the truncated exponential on [0, 1]: 1/rate - e^-rate / (1 - e^-rate).
+    let lobe_mean = 1.0 / rate - (-rate).exp() / (1.0 - (-rate).exp());
+    let exact = (0.1 + 1.9 * lobe_mean) + floor * (0.1 + 1.9 / 2.0);
+    t.header(
+        "2. Product f = g h (A.25) and multiple importance sampling",
+        exact,
+    );
+    let light = || Linear::new(0.0, 1.0, 0.1, 2.0);
+    let techniques = || -> mcint::Result<Vec<(Box<dyn Pdf>, usize)>> {
+        Ok(vec![(Box::new(lobe), 1), (Box::new(light()?), 1)])
+    };
+    let mut first = None;
+    t.row(
+        "uniform (A.14)",
+        t.run(UniformEstimator::new(f, UniformBox::unit(1)?), 1)?,
+        &mut first,
+    );
+    t.row(
+        "sample the light h",
+        t.run(ImportanceEstimator::new(f, light()?), 1)?,
+        &mut first,
+    );
+    t.row(
+        "sample the lobe of g only",
+        t.run(ImportanceEstimator::new(f, lobe), 1)?,
+        &mut first,
+    );
+    t.row(
+        "MIS, one of each, balance heuristic",
+        t.run(
+            MultiSampleMis::new(f, techniques()?, MisHeuristic::Balance)?,
+            2,
+        )?,
+        &mut first,
+    );
+    t.row(
+        "MIS, one of each, power heuristic (2)",
+        t.run(
+            MultiSampleMis::new(f, techniques()?, MisHeuristic::power(2.0)?)?,
+            2,
+        )?,
+        &mut first,
+    );
+    let one_sample = OneSampleMis::new(
+        f,
+        vec![Box::new(lobe), Box::new(light()?)],
+        vec![0.5, 0.5],
+        MisHeuristic::Balance,
+    )?;
+    t.row(
+        "one-sample MIS, balance heuristic",
+        t.run(one_sample, 1)?,
+        &mut first,
+    );
+    // pdf_g: exactly proportional to g (lobe plus uniform floor), so f/pdf_g = G h.
+    let pdf_g = Mixture::new(
+        vec![Box::new(lobe), Box::new(UniformBox::unit(1)?)],
+        vec![1.0, floor],
+    )?;
+    t.row(
+        "sample all of g, average G h (A.25)",
+        t.run(ProductImportanceEstimator::new(h, pdf_g, 1.0 + floor)?, 1)?,
+        &mut first,
+    );
+    Ok(())
+}
+
+/// `e^x` on [0, 1] with the control `1 + x` (its first Taylor terms).
+fn control_variates(t: &Table) -> mcint::Result<()> {
+    let f = |x: &[f64]| x[0].exp();
+    let g = |x: &[f64]| 1.0 + x[0];
+    let exact = std::f64::consts::E - 1.0;
+    t.header(
+        "3. Control variates (A.26-A.29) and antithetic pairs",
+        exact,
+    );
+    let unit = || UniformBox::unit(1);
+    let mut first = None;
+    t.row(
+        "uniform (A.14)",
+        t.run(UniformEstimator::new(f, unit()?), 1)?,
+        &mut first,
+    );
+    t.row(
+        "control 1 + x, coefficient 1 (A.27)",
+        t.run(ControlVariate::new(f, g, 1.5, unit()?)?, 1)?,
+        &mut first,
+    );
+    for (name, controls) in [
+        ("control 1 + x, least-squares coefficient", 1),
+        ("controls 1 + x and x^2, least squares", 2),
+    ] {
+        let mut runner = RegressionControlVariates::new(f, unit()?).control(g, 1.5);
+        if controls == 2 {
+            runner = runner.control(|x: &[f64]| x[0] * x[0], 1.0 / 3.0);
+        }
+        let result = runner.samples(t.n).seed(t.seed).run()?;
+        t.row(name, (result.estimate, 1), &mut first);
+    }
+    // Antithetic pairs are dependent: each pair is one replicate, so the error bar comes
+    // from the spread of pair means.
+    let antithetic = Integrator::new(UniformEstimator::new(f, unit()?))
+        .sampler(Antithetic::new(Independent::new(1, t.seed)?)?)
+        .samples(2)
+        .replicates(t.n / 2)
+        .seed(t.seed)
+        .run()?;
+    t.row("antithetic pairs (x, 1 - x)", (antithetic, 1), &mut first);
+    Ok(())
+}
