@@ -35,6 +35,7 @@
 #![warn(missing_docs)]
 
 mod error;
+pub mod adaptive;
 pub mod estimator;
 mod hash;
 mod integrate;

@@ -23,7 +23,7 @@
 
 use crate::pdf::Pdf;
 use crate::sampler::{Independent, PassKind, Sampler};
-use crate::stats::{CovarianceAccumulator, ErrorBasis, Estimate};
+use crate::stats::{CovarianceAccumulator, ErrorBasis, Estimate, StopReason};
 use crate::{Error, Points, Result};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
@@ -578,6 +578,11 @@ fn regression(total: &CovarianceAccumulator, integrals: &[f64]) -> Result<Contro
             n,
             replicates: 1,
             non_finite: 0,
+            stop: StopReason::Budget,
+            converged: None,
+            iterations: 1,
+            chi2_dof: None,
+            q_value: None,
         },
         coefficients: beta,
         plain_variance: total_ss / (n - 1) as f64,

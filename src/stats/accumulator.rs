@@ -1,6 +1,6 @@
 //! Streaming mean and variance with exact merging (Welford 1962; Chan, Golub & LeVeque 1979).
 
-use super::estimate::{ErrorBasis, Estimate};
+use super::estimate::{ErrorBasis, Estimate, StopReason};
 
 /// Count, mean and sum of squared deviations (`M2`) of a stream of values, plus min, max and
 /// a count of non-finite values (which are kept out of the moments).
@@ -219,6 +219,11 @@ impl Accumulator {
             n: self.count,
             replicates: 1,
             non_finite: self.non_finite,
+            stop: StopReason::Budget,
+            converged: None,
+            iterations: 1,
+            chi2_dof: None,
+            q_value: None,
         }
     }
 }

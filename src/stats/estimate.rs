@@ -49,6 +49,38 @@ pub struct Estimate {
     pub replicates: u64,
     /// Contributions that were NaN or infinite and were left out.
     pub non_finite: u64,
+    /// Why the run that made this estimate stopped.
+    pub stop: StopReason,
+    /// Whether the requested tolerance was met (`None` when no tolerance was requested).
+    pub converged: Option<bool>,
+    /// Iterations (adaptive methods) or stages (a run that doubles its samples until a
+    /// tolerance is met); 1 for a single fixed run.
+    pub iterations: u64,
+    /// `chi^2` per degree of freedom of the agreement between iterations, where an adaptive
+    /// method combines iterations (VEGAS); values near 1 mean they agree.
+    pub chi2_dof: Option<f64>,
+    /// The probability of a `chi^2` at least as large as [`chi2_dof`](Self::chi2_dof) shows
+    /// if the iterations agree (VEGAS's `Q`; small values warn of an unreliable estimate).
+    pub q_value: Option<f64>,
+}
+
+/// Why a run stopped.
+///
+/// ```
+/// use mcint::{Integrator, pdf::UniformBox, stats::StopReason};
+/// let e = Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).samples(10).run().unwrap();
+/// assert_eq!(e.stop, StopReason::Budget);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StopReason {
+    /// The fixed number of samples asked for was used.
+    Budget,
+    /// The requested absolute or relative tolerance was met.
+    ToleranceMet,
+    /// The maximum number of integrand evaluations was reached first.
+    MaxEvaluations,
+    /// The time limit was reached first.
+    TimeLimit,
 }
 
 impl Estimate {
@@ -94,6 +126,11 @@ impl Estimate {
             n: r.saturating_mul(n_per_replicate),
             replicates: r,
             non_finite: 0,
+            stop: StopReason::Budget,
+            converged: None,
+            iterations: 1,
+            chi2_dof: None,
+            q_value: None,
         })
     }
 

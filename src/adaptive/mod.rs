@@ -1,0 +1,9 @@
+//! Adaptive integrators: methods that learn where the integrand matters while they sample
+//! (the seed's A.3.4), with the caveats of A.3.5 (adaptive reuse of samples can bias an
+//! estimate unless, as here, every estimate comes from samples drawn after the decisions that
+//! shaped it).
+//!
+//! Every method takes its uniform points from any [`Sampler`](crate::sampler::Sampler)
+//! (independent points by default), runs on all threads with results that do not depend on
+//! the thread count, stops at a [`Tolerance`](crate::stats::Tolerance) or a fixed budget, and
+//! returns the crate's [`Estimate`](crate::stats::Estimate).
