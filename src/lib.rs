@@ -34,8 +34,8 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-mod error;
 pub mod adaptive;
+mod error;
 pub mod estimator;
 mod hash;
 mod integrate;
