@@ -576,6 +576,7 @@ fn regression(total: &CovarianceAccumulator, integrals: &[f64]) -> Result<Contro
             dof: Some(dof),
             basis: ErrorBasis::PerSample,
             n,
+            evaluations: n,
             replicates: 1,
             non_finite: 0,
             stop: StopReason::Budget,

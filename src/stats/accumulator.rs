@@ -217,6 +217,7 @@ impl Accumulator {
                 ErrorBasis::None
             },
             n: self.count,
+            evaluations: self.count,
             replicates: 1,
             non_finite: self.non_finite,
             stop: StopReason::Budget,

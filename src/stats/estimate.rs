@@ -45,6 +45,9 @@ pub struct Estimate {
     pub basis: ErrorBasis,
     /// Total number of contributions (integrand evaluations) behind the estimate.
     pub n: u64,
+    /// Integrand evaluations the run spent, including pilot stages and warm-up iterations
+    /// whose samples are not in the estimate (equal to `n` for a single fixed run).
+    pub evaluations: u64,
     /// Number of independent replicates.
     pub replicates: u64,
     /// Contributions that were NaN or infinite and were left out.
@@ -124,6 +127,7 @@ impl Estimate {
                 ErrorBasis::None
             },
             n: r.saturating_mul(n_per_replicate),
+            evaluations: r.saturating_mul(n_per_replicate),
             replicates: r,
             non_finite: 0,
             stop: StopReason::Budget,
