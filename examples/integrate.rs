@@ -4,7 +4,8 @@
 //! ```text
 //! cargo run --release --example integrate -- --genz FAMILY --dims D [--a a1,a2,..] [--u u1,u2,..]
 //!     [--sampler NAME] [--scramble NAME] [--strength T] [--n N] [--replicates R] [--seed S]
-//!     [--threads T] [--estimator uniform|importance|mis|control] [--json]
+//!     [--threads T] [--estimator uniform|importance|mis|control]
+//!     [--method plain|rqmc] [--tol-abs X] [--tol-rel X] [--max-evals N] [--json]
 //! ```
 //! FAMILY is one of oscillatory, product-peak, corner-peak, gaussian, continuous,
 //! discontinuous. Defaults: `a_i = 1 + 0.5 (i-1)`, `u_i = 0.2 + 0.6 (i-1)/(d-1)`, sampler
@@ -17,8 +18,16 @@
 //! samples a product density shaped like the family (truncated normals for `gaussian`, exact;
 //! piecewise-linear tables of the factors otherwise), `mis` combines one uniform point and
 //! one proposal point with the balance heuristic, `control` subtracts the family's
-//! least-squares linear part, fitted on a separate pilot run (A.27). The report gives the variance per integrand evaluation, so the
-//! estimators can be compared at equal work.
+//! least-squares linear part, fitted on a separate pilot run (A.27). The report gives the
+//! variance per integrand evaluation, so the estimators can be compared at equal work.
+//!
+//! `--method` (default `plain`) picks the integrator: `plain` uses the sampler as given
+//! (default `independent`); `rqmc` is randomized quasi-Monte Carlo, Owen-scrambled Sobol' by
+//! default with 16 replicates. `--tol-abs` and/or `--tol-rel` make the run stop once the 95%
+//! half-width is at most `max(tol-abs, tol-rel * |estimate|)` (then `--n` is the first stage:
+//! the pilot for independent points, the first points per replicate otherwise), or at
+//! `--max-evals` integrand evaluations (default 2^30). The report says whether the tolerance
+//! was met and why the run stopped.
 
 #[path = "support/genz_estimators.rs"]
 mod genz_estimators;
@@ -28,6 +37,7 @@ mod support;
 use genz_estimators::EstimatorKind;
 use mcint::estimator::Estimator;
 use mcint::sampler::{PassKind, SamplerKind};
+use mcint::stats::{StopReason, Tolerance};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
 use mcint::{Estimate, Integrator};
 use std::time::Instant;
@@ -46,6 +56,10 @@ const SPEC: support::Spec = &[
     ("seed", true),
     ("threads", true),
     ("estimator", true),
+    ("method", true),
+    ("tol-abs", true),
+    ("tol-rel", true),
+    ("max-evals", true),
     ("json", false),
 ];
 
@@ -83,12 +97,17 @@ fn run() -> Result<(), String> {
     let built = genz_estimators::build(estimator_kind, &f, seed)?;
     // The sampler feeds the estimator's canonical points (two per dimension for mis).
     let canonical_dims = built.estimator.canonical_dims();
+    let method: Method = args
+        .get::<String>("method", METHOD_NAMES)?
+        .map_or(Ok(Method::Plain), |name| name.parse())?;
     let kind: SamplerKind = args
         .get::<String>("sampler", "a sampler name")?
-        .unwrap_or_else(|| "independent".into())
+        .unwrap_or_else(|| method.default_sampler().into())
         .parse()
         .map_err(|e: mcint::Error| e.to_string())?;
-    let n = match args.get::<u64>("n", "a whole number of points >= 1")? {
+    let tolerance = tolerance_from(&args)?;
+    let n_flag = args.get::<u64>("n", "a whole number of points >= 1")?;
+    let n = match n_flag {
         Some(n) => n,
         None if kind == SamplerKind::Jittered => {
             largest_power_not_above(DEFAULT_POINTS, canonical_dims)
@@ -101,6 +120,13 @@ fn run() -> Result<(), String> {
         .build_with(canonical_dims, n, scramble, strength, seed)
         .map_err(|e| e.to_string())?;
     let independent = sampler.passes() == PassKind::Independent;
+    if method == Method::Rqmc && (independent || !sampler.is_randomized()) {
+        return Err(format!(
+            "--method rqmc needs a randomized quasi-Monte Carlo or stratified sampler, not {} \
+             with scramble {scramble} (for example --sampler sobol --scramble owen)",
+            kind.name()
+        ));
+    }
     let default_replicates = if independent || !sampler.is_randomized() {
         1
     } else {
@@ -113,16 +139,23 @@ fn run() -> Result<(), String> {
 
     let mut integrator = Integrator::new(built.estimator)
         .sampler(sampler)
-        .samples(n)
         .replicates(replicates)
         .seed(seed);
+    // With a tolerance the run picks its own first stage unless --n says otherwise.
+    if tolerance.is_none() || n_flag.is_some() {
+        integrator = integrator.samples(n);
+    }
     if let Some(t) = threads {
         integrator = integrator.threads(t);
+    }
+    if let Some(tolerance) = tolerance {
+        integrator = integrator.tolerance(tolerance);
     }
     let started = Instant::now();
     let estimate = integrator.run().map_err(|e| e.to_string())?;
     let seconds = started.elapsed().as_secs_f64();
     let report = Report {
+        method,
         family,
         dims,
         kind,
@@ -142,6 +175,69 @@ fn run() -> Result<(), String> {
     Ok(())
 }
 
+/// The integration methods `--method` accepts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Method {
+    Plain,
+    Rqmc,
+}
+
+const METHOD_NAMES: &str = "plain or rqmc";
+
+impl Method {
+    fn name(self) -> &'static str {
+        match self {
+            Method::Plain => "plain",
+            Method::Rqmc => "rqmc",
+        }
+    }
+
+    fn default_sampler(self) -> &'static str {
+        match self {
+            Method::Plain => "independent",
+            Method::Rqmc => "sobol",
+        }
+    }
+}
+
+impl std::str::FromStr for Method {
+    type Err = String;
+
+    fn from_str(name: &str) -> Result<Method, String> {
+        match name {
+            "plain" => Ok(Method::Plain),
+            "rqmc" => Ok(Method::Rqmc),
+            _ => Err(format!(
+                "unknown --method '{name}': expected {METHOD_NAMES}"
+            )),
+        }
+    }
+}
+
+/// The tolerance of `--tol-abs`, `--tol-rel` and `--max-evals`, if one was asked for.
+fn tolerance_from(args: &Args) -> Result<Option<Tolerance>, String> {
+    let abs: Option<f64> = args.get("tol-abs", "a positive number")?;
+    let rel: Option<f64> = args.get("tol-rel", "a positive number")?;
+    let max_evals: Option<u64> = args.get("max-evals", "a whole number of evaluations")?;
+    if abs.is_none() && rel.is_none() {
+        return match max_evals {
+            Some(_) => Err(
+                "--max-evals limits a run to a tolerance: give --tol-abs or \
+                            --tol-rel too (or --n for a fixed number of points)"
+                    .into(),
+            ),
+            None => Ok(None),
+        };
+    }
+    let mut tolerance = Tolerance::new(abs, rel).map_err(|e| e.to_string())?;
+    if let Some(limit) = max_evals {
+        tolerance = tolerance
+            .max_evaluations(limit)
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(Some(tolerance))
+}
+
 /// Largest `k^d <= n` with `k >= 1`.
 fn largest_power_not_above(n: u64, d: usize) -> u64 {
     let exponent = u32::try_from(d).unwrap_or(u32::MAX);
@@ -153,6 +249,7 @@ fn largest_power_not_above(n: u64, d: usize) -> u64 {
 }
 
 struct Report {
+    method: Method,
     family: GenzFamily,
     dims: usize,
     kind: SamplerKind,
@@ -177,9 +274,12 @@ impl Report {
     fn print_json(&self) {
         let e = &self.estimate;
         println!(
-            "{{\"family\": \"{}\", \"dims\": {}, \"sampler\": \"{}\", \"scramble\": \"{}\", \"estimator\": \"{}\", \
-             \"estimate\": {}, \"std_error\": {}, \"variance_per_evaluation\": {}, \
-             \"exact\": {}, \"n\": {}, \"replicates\": {}, \"seconds\": {}}}",
+            "{{\"method\": \"{}\", \"family\": \"{}\", \"dims\": {}, \"sampler\": \"{}\", \
+             \"scramble\": \"{}\", \"estimator\": \"{}\", \"estimate\": {}, \"std_error\": {}, \
+             \"variance_per_evaluation\": {}, \"exact\": {}, \"n\": {}, \"replicates\": {}, \
+             \"evaluations\": {}, \"converged\": {}, \"stop\": \"{}\", \"iterations\": {}, \
+             \"chi2_dof\": {}, \"seconds\": {}}}",
+            self.method.name(),
             self.family.name(),
             self.dims,
             self.kind.name(),
@@ -191,6 +291,11 @@ impl Report {
             json_number(Some(self.exact)),
             e.n,
             e.replicates,
+            e.evaluations,
+            e.converged.map_or("null".into(), |c| c.to_string()),
+            stop_name(e.stop),
+            e.iterations,
+            json_number(e.chi2_dof),
             json_number(Some(self.seconds)),
         );
     }
@@ -203,6 +308,7 @@ impl Report {
             self.family.name(),
             self.dims
         );
+        println!("method      {}", self.method.name());
         println!(
             "sampler     {}, scramble {} ({} replicates x {} points)",
             self.kind,
@@ -236,7 +342,33 @@ impl Report {
                 println!("|error|     {error:.3e}");
             }
         }
+        if let Some(converged) = e.converged {
+            println!(
+                "tolerance   {} ({}, {} stages, {} evaluations in all)",
+                if converged { "met" } else { "NOT met" },
+                stop_name(e.stop),
+                e.iterations,
+                e.evaluations
+            );
+        }
+        if let Some(chi2) = e.chi2_dof {
+            println!(
+                "chi2/dof    {chi2:.2} over {} iterations (Q = {:.2})",
+                e.iterations,
+                e.q_value.unwrap_or(f64::NAN)
+            );
+        }
         println!("time        {:.3} s", self.seconds);
+    }
+}
+
+/// How a run ended, in words.
+fn stop_name(stop: StopReason) -> &'static str {
+    match stop {
+        StopReason::Budget => "budget",
+        StopReason::ToleranceMet => "tolerance met",
+        StopReason::MaxEvaluations => "max evaluations",
+        StopReason::TimeLimit => "time limit",
     }
 }
 

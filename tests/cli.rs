@@ -720,3 +720,95 @@ fn variance_reduction_example_shows_the_seeds_scenarios() {
     assert!(var(3, "x^2, least squares") < var(3, "1 + x, least-squares") / 2.0);
     assert!(var(3, "antithetic") < uniform(3) / 4.0);
 }
+
+/// `integrate --method M --tol-abs X`: every method meets the tolerance on the 5-D Genz
+/// Gaussian, says so in the JSON, and its estimate is within the tolerance (twice, allowing
+/// for the 5% of intervals that miss) of the exact value.
+#[test]
+fn integrate_methods_stop_at_the_tolerance() {
+    for (method, extra) in [("plain", None), ("rqmc", None), ("rqmc", Some("lattice"))] {
+        let mut args = vec![
+            "--genz",
+            "gaussian",
+            "--dims",
+            "5",
+            "--method",
+            method,
+            "--tol-abs",
+            "1e-4",
+            "--seed",
+            "4",
+            "--json",
+        ];
+        if let Some(sampler) = extra {
+            args.extend(["--sampler", sampler]);
+        }
+        let out = run("integrate", &args);
+        assert!(out.status.success(), "{method}: {}", stderr(&out));
+        let json = stdout(&out);
+        assert_eq!(json_field(&json, "method"), method);
+        assert_eq!(json_field(&json, "converged"), "true", "{json}");
+        assert_eq!(json_field(&json, "stop"), "tolerance met", "{json}");
+        let estimate: f64 = json_field(&json, "estimate").parse().unwrap();
+        let exact: f64 = json_field(&json, "exact").parse().unwrap();
+        assert!((estimate - exact).abs() < 2e-4, "{json}");
+        let iterations: u64 = json_field(&json, "iterations").parse().unwrap();
+        assert!(iterations >= 2, "{json}");
+        let evaluations: u64 = json_field(&json, "evaluations").parse().unwrap();
+        let n: u64 = json_field(&json, "n").parse().unwrap();
+        assert!(evaluations >= n, "{json}");
+    }
+    // A budget too small for the tolerance: the run stops there and says it did not converge.
+    let out = run(
+        "integrate",
+        &[
+            "--genz",
+            "oscillatory",
+            "--dims",
+            "3",
+            "--tol-rel",
+            "1e-9",
+            "--max-evals",
+            "100000",
+            "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json = stdout(&out);
+    assert_eq!(json_field(&json, "converged"), "false", "{json}");
+    assert_eq!(json_field(&json, "stop"), "max evaluations", "{json}");
+    assert_eq!(json_field(&json, "evaluations"), "100000", "{json}");
+}
+
+#[test]
+fn integrate_rejects_bad_methods_and_tolerances() {
+    let base = ["--genz", "gaussian", "--dims", "2"];
+    let with = |extra: &[&'static str]| {
+        let mut args = base.to_vec();
+        args.extend_from_slice(extra);
+        run("integrate", &args)
+    };
+    assert_one_line_error(&with(&["--method", "simpson"]), "expected plain");
+    assert_one_line_error(&with(&["--tol-abs", "-1"]), "tol");
+    assert_one_line_error(&with(&["--tol-rel", "abc"]), "--tol-rel");
+    assert_one_line_error(&with(&["--max-evals", "1000"]), "--tol-abs");
+    assert_one_line_error(
+        &with(&["--tol-abs", "1e-3", "--max-evals", "10"]),
+        "max_evals",
+    );
+    assert_one_line_error(
+        &with(&["--method", "rqmc", "--sampler", "independent"]),
+        "randomized quasi-Monte Carlo",
+    );
+    assert_one_line_error(
+        &with(&[
+            "--method",
+            "rqmc",
+            "--scramble",
+            "none",
+            "--tol-abs",
+            "1e-3",
+        ]),
+        "randomized",
+    );
+}
