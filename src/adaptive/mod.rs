@@ -9,5 +9,7 @@
 //! returns the crate's [`Estimate`](crate::stats::Estimate).
 
 mod miser;
+mod two_stage;
 
 pub use miser::Miser;
+pub use two_stage::TwoStage;
