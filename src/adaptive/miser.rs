@@ -1,0 +1,861 @@
+//! [`Miser`]: recursive stratified sampling (Press & Farrar 1990), after GSL's
+//! `gsl_monte_miser` and Numerical Recipes' `miser`.
+//!
+//! A region with enough points spends a fraction of them (`explore_fraction`) exploring: for
+//! every axis it estimates the spread `sigma` of the integrand in each half of the region.
+//! It bisects along the axis whose halves promise the smallest variance, gives each half
+//! `min_points` plus a share of the rest in proportion to `(V_h sigma_h)^(2/(1+alpha))`, and
+//! recurses; a region with fewer than `min_points_per_bisection` points is integrated by
+//! plain Monte Carlo. Only those leaf samples enter the estimate. Each exploration is drawn
+//! before, and independently of, the samples its decisions steer, so the estimate is
+//! unbiased (the seed's A.3.5 caveat does not apply).
+//!
+//! The choice of `alpha` comes from Press & Farrar's model: if the variance of a half's
+//! estimate falls as `sigma^2 / N^alpha` (faster than `1/N` because the half is stratified
+//! further), then minimising `sum V_h^2 sigma_h^2 / N_h^alpha` gives
+//! `N_h ∝ (V_h sigma_h)^(2/(1+alpha))`, and the best axis minimises
+//! `sum_h (V_h sigma_h)^(2/(1+alpha))`. `alpha = 1` is Neyman allocation; GSL and NR use 2.
+//! Without dither (the default) the halves have equal volumes and this is exactly GSL's rule;
+//! the spreads are the sample standard deviations of the exploration values in each half,
+//! as GSL's `estimate_corrmc` intends.
+//!
+//! MISER's own error estimate (summing the leaves' sample variances) is heuristic: the leaves
+//! are small and the tree is shaped by noisy explorations. The error bar here instead comes
+//! from `R` independent replicates, each a complete MISER run with its own randomness: the
+//! replicate means are independent and identically distributed, so their Student-t interval
+//! with `R - 1` degrees of freedom is honest ([`Estimate::from_replicates`]).
+
+pub(super) mod batch;
+
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::time::Instant;
+
+use batch::{BLOCK, Batches, Cell};
+
+use crate::hash::hash_words;
+use crate::pdf::{Pdf, UniformBox};
+use crate::sampler::{Independent, Sampler};
+use crate::stats::{Estimate, StopReason, Tolerance};
+use crate::{Error, Points, Result};
+
+/// Evaluations of a run without [`Miser::evaluations`].
+const DEFAULT_EVALUATIONS: u64 = 1 << 18;
+/// Replicates of a run without [`Miser::replicates`].
+const DEFAULT_REPLICATES: u64 = 16;
+/// The most replicates a run may have (their results are kept in memory).
+const MAX_REPLICATES: u64 = 1 << 20;
+/// A region this deep is integrated as a leaf, which bounds the recursion (and the stack)
+/// even for a tiny `explore_fraction`; typical trees are a few dozen levels deep.
+const MAX_DEPTH: u32 = 512;
+/// Both halves need this many points before a spare thread takes one of them.
+const SPLIT_MIN: u64 = 1 << 14;
+/// Separates MISER's coin flips from every other use of the seed.
+const TAG: u64 = 0x004d_4953_4552;
+
+/// MISER: recursive stratified sampling with variance-driven bisection, with an error bar
+/// from independent replicates.
+///
+/// Points come from any [`Sampler`] with independent points or extensible passes (independent
+/// points by default; a scrambled Sobol' sequence gives each exploration and each leaf its own
+/// randomized net). The result is bit-identical for any number of threads: replicates, and
+/// large subregions, are units of work whose points and decisions depend only on their
+/// place in the plan, and partial results are added in a fixed order.
+///
+/// With a [`Tolerance`], the run starts with [`evaluations`](Self::evaluations) and doubles
+/// the evaluations per replicate, each stage a fresh, independent run, until the 95%
+/// half-width meets the tolerance or a limit stops it; the estimate is the last stage's and
+/// `n` counts every evaluation spent (all stages, exploration included).
+///
+/// ```
+/// use mcint::{adaptive::Miser, pdf::UniformBox};
+/// // A sharp peak: the integral of exp(-50 |x - c|^2) over the unit square is about pi/50.
+/// let f = |x: &[f64]| (-50.0 * ((x[0] - 0.5).powi(2) + (x[1] - 0.5).powi(2))).exp();
+/// let e = Miser::new(f, UniformBox::unit(2).unwrap())
+///     .evaluations(1 << 16)
+///     .seed(1)
+///     .run()
+///     .unwrap();
+/// let exact = std::f64::consts::PI / 50.0 * libm::erf(0.5 * 50f64.sqrt()).powi(2);
+/// assert!((e.mean - exact).abs() < 5.0 * e.std_error.unwrap());
+/// assert_eq!(e.replicates, 16);
+/// ```
+pub struct Miser<F> {
+    f: F,
+    domain: UniformBox,
+    sampler: Option<Box<dyn Sampler>>,
+    evaluations: u64,
+    tolerance: Option<Tolerance>,
+    explore_fraction: f64,
+    min_points: Option<u64>,
+    min_points_per_bisection: Option<u64>,
+    dither: f64,
+    alpha: f64,
+    replicates: u64,
+    seed: Option<u64>,
+    threads: Option<usize>,
+}
+
+impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
+    /// MISER for `f` over a box, with GSL's defaults: `explore_fraction` 0.1,
+    /// `min_points` `16 d`, `min_points_per_bisection` `32 min_points`, `alpha` 2, no dither;
+    /// and 16 replicates, `2^18` evaluations, independent points, all threads.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox};
+    /// let e = Miser::new(|x: &[f64]| x[0] + x[1], UniformBox::unit(2).unwrap()).run().unwrap();
+    /// assert!((e.mean - 1.0).abs() < 1e-2);
+    /// ```
+    pub fn new(f: F, domain: UniformBox) -> Self {
+        Miser {
+            f,
+            domain,
+            sampler: None,
+            evaluations: DEFAULT_EVALUATIONS,
+            tolerance: None,
+            explore_fraction: 0.1,
+            min_points: None,
+            min_points_per_bisection: None,
+            dither: 0.0,
+            alpha: 2.0,
+            replicates: DEFAULT_REPLICATES,
+            seed: None,
+            threads: None,
+        }
+    }
+
+    /// The source of uniform points: independent points or an extensible randomized sequence
+    /// (scrambled Sobol', Halton, lattice, ...) whose dimension equals the domain's. Samplers
+    /// with fixed-size passes are refused by [`run`](Self::run). A seed set with
+    /// [`seed`](Self::seed) overrides the sampler's.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox, sampler::{Scramble, Sobol}};
+    /// let e = Miser::new(|x: &[f64]| x[0] * x[1], UniformBox::unit(2).unwrap())
+    ///     .sampler(Sobol::new(2, Scramble::Owen, 3).unwrap())
+    ///     .evaluations(1 << 14)
+    ///     .run()
+    ///     .unwrap();
+    /// assert!((e.mean - 0.25).abs() < 5.0 * e.std_error.unwrap());
+    /// ```
+    pub fn sampler(mut self, sampler: impl Sampler + 'static) -> Self {
+        let mut boxed: Box<dyn Sampler> = Box::new(sampler);
+        if let Some(seed) = self.seed {
+            boxed.reseed(seed);
+        }
+        self.sampler = Some(boxed);
+        self
+    }
+
+    /// Total integrand evaluations of a fixed run, exploration included (default `2^18`),
+    /// shared equally by the replicates (the remainder of `n / replicates` is not used); with a
+    /// tolerance, the evaluations of the first stage.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox};
+    /// let e = Miser::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap())
+    ///     .evaluations(1000).replicates(8).run().unwrap();
+    /// assert_eq!(e.n, 1000);
+    /// ```
+    pub fn evaluations(mut self, n: u64) -> Self {
+        self.evaluations = n;
+        self
+    }
+
+    /// Run in stages, doubling the evaluations per replicate, until `tolerance` is met or its
+    /// evaluation or time limit stops the run ([`Estimate::stop`] says which).
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox, stats::{StopReason, Tolerance}};
+    /// let e = Miser::new(|x: &[f64]| x[0] * x[0], UniformBox::unit(1).unwrap())
+    ///     .tolerance(Tolerance::absolute(1e-4).unwrap())
+    ///     .evaluations(1 << 12)
+    ///     .run()
+    ///     .unwrap();
+    /// assert_eq!((e.stop, e.converged), (StopReason::ToleranceMet, Some(true)));
+    /// ```
+    pub fn tolerance(mut self, tolerance: Tolerance) -> Self {
+        self.tolerance = Some(tolerance);
+        self
+    }
+
+    /// Fraction of a region's points spent exploring before it is bisected (in `(0, 1)`;
+    /// default 0.1, as GSL). At least `min_points` are always spent.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox};
+    /// let run = |f| Miser::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).explore_fraction(f).run();
+    /// assert!(run(0.2).is_ok());
+    /// assert!(run(1.0).unwrap_err().to_string().contains("explore_fraction"));
+    /// ```
+    pub fn explore_fraction(mut self, fraction: f64) -> Self {
+        self.explore_fraction = fraction;
+        self
+    }
+
+    /// The fewest points a region receives, and explores with (at least 2; default `16 d`, as
+    /// GSL, which gives each of the `2 d` half-regions about 8 exploration points).
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox};
+    /// let run = |n| Miser::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).min_points(n).run();
+    /// assert!(run(8).is_ok());
+    /// assert!(run(1).unwrap_err().to_string().contains("min_points"));
+    /// ```
+    pub fn min_points(mut self, n: u64) -> Self {
+        self.min_points = Some(n);
+        self
+    }
+
+    /// Regions with fewer points are not bisected but integrated by plain Monte Carlo (at
+    /// least `3 min_points`: an exploration and two halves; default `32 min_points`, as GSL).
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox};
+    /// let run = |n| Miser::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap())
+    ///     .min_points(16).min_points_per_bisection(n).run();
+    /// assert!(run(64).is_ok());
+    /// assert!(run(40).unwrap_err().to_string().contains("min_points_per_bisection"));
+    /// ```
+    pub fn min_points_per_bisection(mut self, n: u64) -> Self {
+        self.min_points_per_bisection = Some(n);
+        self
+    }
+
+    /// Moves each bisection off-centre by `±dither` of the region's width, with a random sign
+    /// per axis (in `[0, 0.5)`; default 0, as GSL). A little dither (GSL suggests 0.1) keeps
+    /// the cuts away from features symmetric about the centre.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox};
+    /// let run = |d| Miser::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).dither(d).run();
+    /// assert!(run(0.1).is_ok());
+    /// assert!(run(0.5).unwrap_err().to_string().contains("dither"));
+    /// ```
+    pub fn dither(mut self, dither: f64) -> Self {
+        self.dither = dither;
+        self
+    }
+
+    /// The exponent of Press & Farrar's variance model (finite, `>= 0`; default 2, as GSL
+    /// and NR): halves get points in proportion to `(V_h sigma_h)^(2/(1+alpha))`.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox};
+    /// let run = |a| Miser::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).alpha(a).run();
+    /// assert!(run(1.0).is_ok());
+    /// assert!(run(-1.0).unwrap_err().to_string().contains("alpha"));
+    /// ```
+    pub fn alpha(mut self, alpha: f64) -> Self {
+        self.alpha = alpha;
+        self
+    }
+
+    /// Number of independent replicates (1 to `2^20`; default 16). The error bar is their
+    /// Student-t interval with `R - 1` degrees of freedom; a single replicate gives none.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox};
+    /// let e = Miser::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).replicates(1).run().unwrap();
+    /// assert_eq!(e.std_error, None);
+    /// ```
+    pub fn replicates(mut self, replicates: u64) -> Self {
+        self.replicates = replicates;
+        self
+    }
+
+    /// The seed of every random choice: the sampler's randomization and MISER's coin flips.
+    /// The same seed gives the same result.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox};
+    /// let run = |s| Miser::new(|x: &[f64]| x[0].sin(), UniformBox::unit(1).unwrap())
+    ///     .evaluations(4096).seed(s).run().unwrap().mean;
+    /// assert_eq!(run(1), run(1));
+    /// assert_ne!(run(1), run(2));
+    /// ```
+    pub fn seed(mut self, seed: u64) -> Self {
+        self.seed = Some(seed);
+        if let Some(sampler) = self.sampler.as_mut() {
+            sampler.reseed(seed);
+        }
+        self
+    }
+
+    /// Number of worker threads (at least 1; default: all available). The result does not
+    /// depend on it.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox};
+    /// let run = |t| Miser::new(|x: &[f64]| x[0].exp(), UniformBox::unit(1).unwrap())
+    ///     .evaluations(1 << 16).replicates(2).threads(t).run().unwrap();
+    /// assert_eq!(run(1), run(3));
+    /// ```
+    pub fn threads(mut self, threads: usize) -> Self {
+        self.threads = Some(threads);
+        self
+    }
+
+    /// Runs the integration.
+    ///
+    /// Errors name the setting that is out of range, report a sampler of the wrong dimension
+    /// or kind, and report NaN or infinite integrand values (their count and the first
+    /// point, in coordinates relative to the domain), since such a mean would be silently
+    /// wrong.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox};
+    /// let bad = Miser::new(|x: &[f64]| 1.0 / (x[0] - x[0]), UniformBox::unit(1).unwrap()).run();
+    /// assert!(bad.unwrap_err().to_string().contains("non-finite"));
+    /// ```
+    pub fn run(&self) -> Result<Estimate> {
+        let settings = self.settings()?;
+        let threads = match self.threads {
+            Some(0) => return Err(Error::invalid("threads", 0, "at least 1")),
+            Some(t) => t,
+            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        };
+        let default_sampler;
+        let sampler: &dyn Sampler = match &self.sampler {
+            Some(s) => s.as_ref(),
+            None => {
+                default_sampler = Independent::new(self.domain.dims(), self.seed.unwrap_or(0))?;
+                &default_sampler
+            }
+        };
+        let batches = Batches::new(sampler, &self.domain, "MISER")?;
+        let run = Run {
+            f: &self.f,
+            domain: &self.domain,
+            batches,
+            settings,
+            seed: self.seed.unwrap_or_else(|| sampler.seed()),
+        };
+
+        let r = self.replicates;
+        let first_stage = match &self.tolerance {
+            Some(t) => self.evaluations.min(t.evaluation_limit()),
+            None => self.evaluations,
+        };
+        let mut per_replicate = first_stage / r;
+        if per_replicate == 0 {
+            let (name, value) = match &self.tolerance {
+                Some(t) if t.evaluation_limit() < self.evaluations => {
+                    ("max_evals", t.evaluation_limit())
+                }
+                _ => ("evaluations", self.evaluations),
+            };
+            return Err(Error::invalid(
+                name,
+                value,
+                format!("at least one evaluation per replicate ({r})"),
+            ));
+        }
+
+        let start = Instant::now();
+        let mut spent: u64 = 0;
+        let mut next_slot: u64 = 0;
+        let mut stage: u64 = 0;
+        loop {
+            stage += 1;
+            let stage_evaluations = per_replicate * r;
+            let means = run.stage(per_replicate, r, next_slot, threads)?;
+            spent = spent.saturating_add(stage_evaluations);
+            next_slot += stage_evaluations;
+            let mut estimate = Estimate::from_replicates(&means, per_replicate)?;
+            estimate.n = spent;
+            estimate.iterations = stage;
+            let Some(tolerance) = &self.tolerance else {
+                estimate.stop = StopReason::Budget;
+                return Ok(estimate);
+            };
+            let stop = if tolerance.is_met(&estimate) {
+                Some(StopReason::ToleranceMet)
+            } else if tolerance
+                .time()
+                .is_some_and(|limit| start.elapsed() >= limit)
+            {
+                Some(StopReason::TimeLimit)
+            } else if per_replicate
+                .checked_mul(2 * r)
+                .and_then(|next| spent.checked_add(next))
+                .is_none_or(|total| total > tolerance.evaluation_limit())
+            {
+                Some(StopReason::MaxEvaluations)
+            } else {
+                None
+            };
+            if let Some(stop) = stop {
+                estimate.stop = stop;
+                estimate.converged = Some(stop == StopReason::ToleranceMet);
+                return Ok(estimate);
+            }
+            per_replicate *= 2;
+        }
+    }
+
+    /// Validates the settings and fills in the defaults that depend on the dimension.
+    fn settings(&self) -> Result<Settings> {
+        let dims = self.domain.dims();
+        if !(1..=MAX_REPLICATES).contains(&self.replicates) {
+            return Err(Error::invalid(
+                "replicates",
+                self.replicates,
+                format!("1 to {MAX_REPLICATES}"),
+            ));
+        }
+        if self.replicates < 2 && self.tolerance.is_some() {
+            return Err(Error::invalid(
+                "replicates",
+                self.replicates,
+                "at least 2 with a tolerance (the error bar comes from the replicates)",
+            ));
+        }
+        let f = self.explore_fraction;
+        if !(f > 0.0 && f < 1.0) {
+            return Err(Error::invalid(
+                "explore_fraction",
+                f,
+                "a fraction strictly between 0 and 1",
+            ));
+        }
+        let min_points = self
+            .min_points
+            .unwrap_or_else(|| 16u64.saturating_mul(dims as u64));
+        if min_points < 2 {
+            return Err(Error::invalid("min_points", min_points, "at least 2"));
+        }
+        let least = min_points.saturating_mul(3);
+        let min_bisect = self
+            .min_points_per_bisection
+            .unwrap_or_else(|| min_points.saturating_mul(32));
+        if min_bisect < least {
+            return Err(Error::invalid(
+                "min_points_per_bisection",
+                min_bisect,
+                format!(
+                    "at least 3 x min_points = {least} (an exploration and two halves of \
+                     min_points each)"
+                ),
+            ));
+        }
+        if !(self.dither >= 0.0 && self.dither < 0.5) {
+            return Err(Error::invalid("dither", self.dither, "a value in [0, 0.5)"));
+        }
+        if !(self.alpha.is_finite() && self.alpha >= 0.0) {
+            return Err(Error::invalid("alpha", self.alpha, "a finite value >= 0"));
+        }
+        Ok(Settings {
+            dims,
+            explore_fraction: f,
+            min_points,
+            min_bisect,
+            dither: self.dither,
+            beta: 2.0 / (1.0 + self.alpha),
+        })
+    }
+}
+
+/// Validated settings.
+#[derive(Debug, Clone, Copy)]
+struct Settings {
+    dims: usize,
+    explore_fraction: f64,
+    min_points: u64,
+    min_bisect: u64,
+    dither: f64,
+    /// `2 / (1 + alpha)`.
+    beta: f64,
+}
+
+/// Everything a region's computation reads.
+struct Run<'a, F> {
+    f: &'a F,
+    domain: &'a UniformBox,
+    batches: Batches<'a>,
+    settings: Settings,
+    seed: u64,
+}
+
+/// Where a replicate's first non-finite value occurred.
+#[derive(Debug, Clone)]
+struct FirstNonFinite {
+    /// Position of the point in the replicate's share of the evaluations.
+    index: u64,
+    value: f64,
+    /// The point, relative to the domain.
+    point: Vec<f64>,
+}
+
+/// The outcome of one region: its integral over the unit cube's measure (the domain volume is
+/// applied at the end) and the non-finite values met.
+#[derive(Debug, Clone, Default)]
+struct Partial {
+    integral: f64,
+    non_finite: u64,
+    first: Option<FirstNonFinite>,
+}
+
+impl Partial {
+    /// Left then right: the order is fixed by the tree, whoever computed the halves.
+    fn join(left: Partial, right: Partial) -> Partial {
+        Partial {
+            integral: left.integral + right.integral,
+            non_finite: left.non_finite + right.non_finite,
+            first: left.first.or(right.first),
+        }
+    }
+
+    fn record(&mut self, index: u64, value: f64, point: &[f64]) {
+        self.non_finite += 1;
+        if self.first.is_none() {
+            self.first = Some(FirstNonFinite {
+                index,
+                value,
+                point: point.to_vec(),
+            });
+        }
+    }
+}
+
+/// Per-thread buffers.
+struct Workspace {
+    points: Points,
+    unit: Vec<f64>,
+    x: Vec<f64>,
+}
+
+impl Workspace {
+    fn new(dims: usize) -> Result<Workspace> {
+        Ok(Workspace {
+            points: Points::new(dims, BLOCK)?,
+            unit: vec![0.0; dims],
+            x: vec![0.0; dims],
+        })
+    }
+}
+
+/// Shifted sums of the exploration values that fell in one half of one axis.
+#[derive(Debug, Clone, Copy, Default)]
+struct HalfSums {
+    count: u64,
+    sum: f64,
+    sum_sq: f64,
+}
+
+impl HalfSums {
+    /// Sample standard deviation (`None` with fewer than two values).
+    fn std_dev(&self) -> Option<f64> {
+        if self.count < 2 {
+            return None;
+        }
+        let n = self.count as f64;
+        let m2 = self.sum_sq - self.sum * self.sum / n;
+        Some((m2.max(0.0) / (n - 1.0)).sqrt())
+    }
+}
+
+/// The slots of one stage's replicates, and the spare threads its regions may take.
+struct Stage {
+    base: u64,
+    per_replicate: u64,
+    spare: AtomicUsize,
+}
+
+impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
+    /// Runs `replicates` independent MISER replicates of `per_replicate` evaluations each,
+    /// using the slots from `base` on, and returns their estimates in replicate order.
+    fn stage(
+        &self,
+        per_replicate: u64,
+        replicates: u64,
+        base: u64,
+        threads: usize,
+    ) -> Result<Vec<f64>> {
+        let needed = per_replicate
+            .checked_mul(replicates)
+            .and_then(|n| n.checked_add(base));
+        if needed.is_none_or(|n| n > self.batches.slots()) {
+            return Err(Error::IndexOutOfRange {
+                what: "evaluations of the sampler's stream (sample indices or passes)",
+                limit: self.batches.slots(),
+            });
+        }
+        let workers = threads.min(usize::try_from(replicates).unwrap_or(usize::MAX));
+        let stage = Stage {
+            base,
+            per_replicate,
+            spare: AtomicUsize::new(threads - workers),
+        };
+        let next = AtomicU64::new(0);
+        let failed = AtomicBool::new(false);
+        let first_error: Mutex<Option<Error>> = Mutex::new(None);
+        let fail = |e: Error| {
+            failed.store(true, Ordering::Relaxed);
+            if let Ok(mut slot) = first_error.lock() {
+                slot.get_or_insert(e);
+            }
+        };
+
+        let finished: Vec<Option<Vec<(u64, Partial)>>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = (0..workers)
+                .map(|_| {
+                    scope.spawn(|| {
+                        let mut done = Vec::new();
+                        match Workspace::new(self.settings.dims) {
+                            Ok(mut work) => loop {
+                                let r = next.fetch_add(1, Ordering::Relaxed);
+                                if r >= replicates || failed.load(Ordering::Relaxed) {
+                                    break;
+                                }
+                                let slot = base + r * per_replicate;
+                                let cell = Cell::unit(self.settings.dims);
+                                match self.region(&stage, cell, per_replicate, slot, 0, &mut work) {
+                                    Ok(partial) => done.push((r, partial)),
+                                    Err(e) => {
+                                        fail(e);
+                                        break;
+                                    }
+                                }
+                            },
+                            Err(e) => fail(e),
+                        }
+                        // Out of replicates: this thread may now take subregions of others.
+                        stage.spare.fetch_add(1, Ordering::Relaxed);
+                        done
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().ok()).collect()
+        });
+
+        if let Some(e) = first_error.into_inner().ok().flatten() {
+            return Err(e);
+        }
+        let mut partials: Vec<Option<Partial>> = vec![None; replicates as usize];
+        for (r, partial) in finished.into_iter().flatten().flatten() {
+            partials[r as usize] = Some(partial);
+        }
+        let partials: Vec<Partial> = partials
+            .into_iter()
+            .collect::<Option<_>>()
+            .ok_or_else(panicked)?;
+        let non_finite: u64 = partials.iter().map(|p| p.non_finite).sum();
+        if let Some((r, first)) = partials
+            .iter()
+            .enumerate()
+            .find_map(|(r, p)| p.first.as_ref().map(|first| (r, first)))
+        {
+            return Err(Error::NonFiniteContribution {
+                count: non_finite,
+                first_index: first.index,
+                first_replicate: r as u64,
+                first_value: first.value,
+                first_point: first.point.clone(),
+            });
+        }
+        let volume = self.domain.volume();
+        Ok(partials.iter().map(|p| volume * p.integral).collect())
+    }
+
+    /// MISER on one region with `budget` evaluations, drawing its batches from slot `slot` on.
+    fn region(
+        &self,
+        stage: &Stage,
+        cell: Cell,
+        budget: u64,
+        slot: u64,
+        depth: u32,
+        work: &mut Workspace,
+    ) -> Result<Partial> {
+        let s = &self.settings;
+        let explore = s
+            .min_points
+            .max((budget as f64 * s.explore_fraction) as u64);
+        let bisect = budget >= s.min_bisect
+            && depth < MAX_DEPTH
+            && budget.saturating_sub(explore) >= 2 * s.min_points;
+        if !bisect {
+            return self.leaf(stage, &cell, budget, slot, work);
+        }
+
+        let coin = hash_words(self.seed, &[TAG, slot]);
+        let mid: Vec<f64> = (0..s.dims)
+            .map(|i| {
+                let (lo, hi) = (cell.lo[i], cell.hi[i]);
+                let shift = if s.dither > 0.0 {
+                    let heads = hash_words(self.seed, &[TAG, slot, 1 + i as u64]) & 1 == 1;
+                    if heads { s.dither } else { -s.dither }
+                } else {
+                    0.0
+                };
+                lo + (0.5 - shift) * (hi - lo)
+            })
+            .collect();
+        let mut partial = Partial::default();
+        let halves = self.explore(stage, &cell, &mid, explore, slot, work, &mut partial)?;
+
+        // The axis whose halves promise the least variance; the scan starts at a random axis
+        // so that exact ties (a constant region) are broken at random, not always the same way.
+        let start = (coin % s.dims as u64) as usize;
+        let mut best: Option<(usize, f64, f64)> = None;
+        for k in 0..s.dims {
+            let i = (start + k) % s.dims;
+            let (Some(sl), Some(sr)) = (halves[i].0.std_dev(), halves[i].1.std_dev()) else {
+                continue;
+            };
+            let frac_l = (mid[i] - cell.lo[i]) / (cell.hi[i] - cell.lo[i]);
+            let wl = (frac_l * sl).powf(s.beta);
+            let wr = ((1.0 - frac_l) * sr).powf(s.beta);
+            if best.is_none_or(|(_, bl, br)| wl + wr < bl + br) {
+                best = Some((i, wl, wr));
+            }
+        }
+        let (axis, wl, wr) = best.unwrap_or((start, 1.0, 1.0));
+        let frac_l = (mid[axis] - cell.lo[axis]) / (cell.hi[axis] - cell.lo[axis]);
+        let share_l = if wl + wr > 0.0 && (wl + wr).is_finite() {
+            wl / (wl + wr)
+        } else {
+            frac_l
+        };
+        let rest = budget - explore;
+        let free = rest - 2 * s.min_points;
+        let n_left = s.min_points + ((free as f64 * share_l) as u64).min(free);
+        let n_right = rest - n_left;
+
+        let mut left = cell.clone();
+        left.hi[axis] = mid[axis];
+        let mut right = cell;
+        right.lo[axis] = mid[axis];
+        let slot_left = slot + explore;
+        let slot_right = slot_left + n_left;
+
+        let take_thread = n_left >= SPLIT_MIN
+            && n_right >= SPLIT_MIN
+            && stage
+                .spare
+                .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| n.checked_sub(1))
+                .is_ok();
+        let (l, r) = if take_thread {
+            std::thread::scope(|scope| {
+                let handle = scope.spawn(|| {
+                    let mut own = Workspace::new(s.dims)?;
+                    self.region(stage, left, n_left, slot_left, depth + 1, &mut own)
+                });
+                let r = self.region(stage, right, n_right, slot_right, depth + 1, work);
+                let l = handle.join().unwrap_or_else(|_| Err(panicked()));
+                stage.spare.fetch_add(1, Ordering::Relaxed);
+                (l, r)
+            })
+        } else {
+            let l = self.region(stage, left, n_left, slot_left, depth + 1, work);
+            let r = self.region(stage, right, n_right, slot_right, depth + 1, work);
+            (l, r)
+        };
+        let children = Partial::join(l?, r?);
+        Ok(Partial::join(partial, children))
+    }
+
+    /// Draws `n` exploration points and returns, per axis, the sums of the values that fell
+    /// in its left and right halves. As in GSL, point `k` is forced into the right (`k` even)
+    /// or left half of axis `(k / 2) mod d`, so every half-region gets points.
+    #[allow(clippy::too_many_arguments)]
+    fn explore(
+        &self,
+        stage: &Stage,
+        cell: &Cell,
+        mid: &[f64],
+        n: u64,
+        slot: u64,
+        work: &mut Workspace,
+        partial: &mut Partial,
+    ) -> Result<Vec<(HalfSums, HalfSums)>> {
+        let dims = self.settings.dims;
+        let mut halves = vec![(HalfSums::default(), HalfSums::default()); dims];
+        // Sums are taken about the first value, so that a large constant offset does not
+        // cancel away the spread.
+        let mut shift: Option<f64> = None;
+        let mut k = 0u64;
+        while k < n {
+            let want = (n - k).min(BLOCK as u64) as usize;
+            let len = self.batches.fill(slot, k, want, &mut work.points)?;
+            for i in 0..len {
+                let forced = ((k + i as u64) / 2 % dims as u64) as usize;
+                let right_side = (k + i as u64).is_multiple_of(2);
+                for (dim, u) in work.unit.iter_mut().enumerate() {
+                    let (lo, hi) = if dim != forced {
+                        (cell.lo[dim], cell.hi[dim])
+                    } else if right_side {
+                        (mid[dim], cell.hi[dim])
+                    } else {
+                        (cell.lo[dim], mid[dim])
+                    };
+                    *u = lo + work.points.get(i, dim) * (hi - lo);
+                }
+                self.domain.sample(&work.unit, &mut work.x);
+                let y = (self.f)(&work.x);
+                if !y.is_finite() {
+                    partial.record(slot - stage.base_of(slot) + k + i as u64, y, &work.unit);
+                    continue;
+                }
+                let y = y - *shift.get_or_insert(y);
+                for ((half, &u), &m) in halves.iter_mut().zip(&work.unit).zip(mid) {
+                    let side = if u <= m { &mut half.0 } else { &mut half.1 };
+                    side.count += 1;
+                    side.sum += y;
+                    side.sum_sq += y * y;
+                }
+            }
+            k += len as u64;
+        }
+        Ok(halves)
+    }
+
+    /// Plain Monte Carlo with `n` points in `cell`.
+    fn leaf(
+        &self,
+        stage: &Stage,
+        cell: &Cell,
+        n: u64,
+        slot: u64,
+        work: &mut Workspace,
+    ) -> Result<Partial> {
+        let mut partial = Partial::default();
+        let mut sum = 0.0;
+        let mut k = 0u64;
+        while k < n {
+            let want = (n - k).min(BLOCK as u64) as usize;
+            let len = self.batches.fill(slot, k, want, &mut work.points)?;
+            for i in 0..len {
+                cell.place(&work.points, i, self.domain, &mut work.unit, &mut work.x);
+                let y = (self.f)(&work.x);
+                if y.is_finite() {
+                    sum += y;
+                } else {
+                    partial.record(slot - stage.base_of(slot) + k + i as u64, y, &work.unit);
+                }
+            }
+            k += len as u64;
+        }
+        if n > 0 {
+            partial.integral = cell.volume() * (sum / n as f64);
+        }
+        Ok(partial)
+    }
+}
+
+impl Stage {
+    /// The first slot of the replicate that owns `slot`.
+    fn base_of(&self, slot: u64) -> u64 {
+        self.base + (slot - self.base) / self.per_replicate * self.per_replicate
+    }
+}
+
+/// The error for a worker thread that panicked (the integrand panicked).
+fn panicked() -> Error {
+    Error::invalid(
+        "worker thread",
+        "panicked",
+        "an integrand that does not panic",
+    )
+}

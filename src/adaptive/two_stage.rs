@@ -1,0 +1,600 @@
+//! [`TwoStage`]: two-stage adaptive stratified sampling that stays unbiased (Kirk & Arvo,
+//! "Unbiased sampling techniques for image synthesis", SIGGRAPH 1991).
+//!
+//! The domain is cut into a grid of `k^d` equal strata. A pilot stage samples every stratum a
+//! few times and estimates each stratum's standard deviation `sigma_j`; the main budget is
+//! then shared by Neyman allocation, `n_j ∝ V_j sigma_j`, with at least two points in every
+//! stratum (so a stratum whose pilot happened to see no variation is still sampled, and still
+//! has a variance estimate). The estimate uses only the second-stage samples:
+//!
+//! `I = sum_j V_j mean_j`, `Var = sum_j V_j^2 s_j^2 / n_j`.
+//!
+//! Given the pilot, the allocation is fixed and the second-stage samples are fresh, so
+//! `E[I | pilot] = I` exactly and the variance estimate is unbiased too: the adaptivity costs
+//! no bias. The degrees of freedom of the Student-t interval are Welch-Satterthwaite's.
+//!
+//! The naive alternative, [`TwoStage::reuse_pilot`], also averages the pilot samples into
+//! each stratum. Its allocation depends on the very samples it averages, so it is biased (the
+//! seed's A.3.5): a stratum whose pilot saw a rare large value gets many more samples, which
+//! dilute that value, while a stratum whose pilot saw only small values keeps them at full
+//! weight, so rare large values are systematically under-counted.
+
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+use super::miser::batch::{BLOCK, Batches, Cell};
+use crate::pdf::{Pdf, UniformBox};
+use crate::sampler::{Independent, Sampler};
+use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason};
+use crate::{Error, Points, Result};
+
+/// Pilot points per stratum without [`TwoStage::pilot`].
+const DEFAULT_PILOT: u64 = 8;
+/// Without [`TwoStage::total`], the total is this many times the pilot.
+const DEFAULT_TOTAL_PER_PILOT: u64 = 4;
+/// Second-stage points every stratum gets whatever its pilot showed.
+const MIN_MAIN: u64 = 2;
+/// The most strata a grid may have (the per-stratum statistics are kept in memory).
+const MAX_STRATA: u64 = 1 << 24;
+/// Strata handed to a thread at a time.
+const STRATA_PER_CHUNK: usize = 64;
+
+/// Two-stage adaptive stratified sampling: a pilot estimates each stratum's spread, the main
+/// budget follows Neyman allocation, and the estimate comes from fresh samples only.
+///
+/// Points come from any [`Sampler`] with independent points or extensible passes (a scrambled
+/// Sobol' sequence gives every stratum's batch its own randomized net). Strata are units of
+/// work, so the result is bit-identical for any thread count.
+///
+/// ```
+/// use mcint::{adaptive::TwoStage, pdf::UniformBox};
+/// // A peak in one corner: most of the variance sits in a few strata.
+/// let f = |x: &[f64]| (-200.0 * ((x[0] - 0.9).powi(2) + (x[1] - 0.9).powi(2))).exp();
+/// let e = TwoStage::new(f, UniformBox::unit(2).unwrap(), 8)
+///     .pilot(8)
+///     .total(20_000)
+///     .seed(5)
+///     .run()
+///     .unwrap();
+/// let half = 0.5 * (std::f64::consts::PI / 200.0).sqrt();
+/// let axis = half * (libm::erf(0.9 * 200f64.sqrt()) + libm::erf(0.1 * 200f64.sqrt()));
+/// assert!((e.mean - axis * axis).abs() < 5.0 * e.std_error.unwrap());
+/// assert_eq!(e.n, 20_000);
+/// ```
+pub struct TwoStage<F> {
+    f: F,
+    domain: UniformBox,
+    strata_per_axis: usize,
+    pilot: u64,
+    total: Option<u64>,
+    reuse_pilot: bool,
+    sampler: Option<Box<dyn Sampler>>,
+    seed: Option<u64>,
+    threads: Option<usize>,
+}
+
+impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
+    /// Two-stage sampling of `f` over a box cut into `strata_per_axis^d` equal strata
+    /// (`strata_per_axis >= 1`, at most `2^24` strata), with 8 pilot points per stratum, a
+    /// total of 4 times the pilot, independent points and all threads until told otherwise.
+    ///
+    /// ```
+    /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
+    /// let e = TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap(), 16).run().unwrap();
+    /// assert_eq!(e.n, 4 * 8 * 16);
+    /// assert!(TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap(), 0).run().is_err());
+    /// ```
+    pub fn new(f: F, domain: UniformBox, strata_per_axis: usize) -> Self {
+        TwoStage {
+            f,
+            domain,
+            strata_per_axis,
+            pilot: DEFAULT_PILOT,
+            total: None,
+            reuse_pilot: false,
+            sampler: None,
+            seed: None,
+            threads: None,
+        }
+    }
+
+    /// Pilot points per stratum (at least 2, for a standard deviation; default 8).
+    ///
+    /// ```
+    /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
+    /// let run = |p| TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap(), 4).pilot(p).run();
+    /// assert!(run(4).is_ok());
+    /// assert!(run(1).unwrap_err().to_string().contains("pilot"));
+    /// ```
+    pub fn pilot(mut self, per_stratum: u64) -> Self {
+        self.pilot = per_stratum;
+        self
+    }
+
+    /// Total evaluations, pilot included (at least `(pilot + 2)` per stratum; default
+    /// `4 pilot` per stratum).
+    ///
+    /// ```
+    /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
+    /// let run = |n| TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap(), 4).pilot(2).total(n).run();
+    /// assert_eq!(run(100).unwrap().n, 100);
+    /// assert!(run(15).unwrap_err().to_string().contains("total"));
+    /// ```
+    pub fn total(mut self, evaluations: u64) -> Self {
+        self.total = Some(evaluations);
+        self
+    }
+
+    /// Also average the pilot samples into the estimate (default false). This is the naive
+    /// variant and it is **biased**: the allocation depends on the samples it then averages.
+    /// It exists to show that bias; do not use it for answers.
+    ///
+    /// ```
+    /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
+    /// // For a linear integrand the pilot's spread says nothing about its mean, so no bias shows.
+    /// let e = TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap(), 4)
+    ///     .reuse_pilot(true).total(4000).run().unwrap();
+    /// assert!((e.mean - 0.5).abs() < 5.0 * e.std_error.unwrap());
+    /// ```
+    pub fn reuse_pilot(mut self, reuse: bool) -> Self {
+        self.reuse_pilot = reuse;
+        self
+    }
+
+    /// The source of uniform points: independent points or an extensible randomized sequence
+    /// whose dimension equals the domain's. A seed set with [`seed`](Self::seed) overrides the
+    /// sampler's.
+    ///
+    /// ```
+    /// use mcint::{adaptive::TwoStage, pdf::UniformBox, sampler::{Scramble, Sobol}};
+    /// let e = TwoStage::new(|x: &[f64]| x[0] * x[1], UniformBox::unit(2).unwrap(), 4)
+    ///     .sampler(Sobol::new(2, Scramble::Owen, 1).unwrap())
+    ///     .total(4096)
+    ///     .run()
+    ///     .unwrap();
+    /// assert!((e.mean - 0.25).abs() < 5.0 * e.std_error.unwrap());
+    /// ```
+    pub fn sampler(mut self, sampler: impl Sampler + 'static) -> Self {
+        let mut boxed: Box<dyn Sampler> = Box::new(sampler);
+        if let Some(seed) = self.seed {
+            boxed.reseed(seed);
+        }
+        self.sampler = Some(boxed);
+        self
+    }
+
+    /// The seed of the sampler's randomization; the same seed gives the same result.
+    ///
+    /// ```
+    /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
+    /// let run = |s| TwoStage::new(|x: &[f64]| x[0].sin(), UniformBox::unit(1).unwrap(), 4)
+    ///     .seed(s).run().unwrap().mean;
+    /// assert_eq!(run(3), run(3));
+    /// assert_ne!(run(3), run(4));
+    /// ```
+    pub fn seed(mut self, seed: u64) -> Self {
+        self.seed = Some(seed);
+        if let Some(sampler) = self.sampler.as_mut() {
+            sampler.reseed(seed);
+        }
+        self
+    }
+
+    /// Number of worker threads (at least 1; default: all available). The result does not
+    /// depend on it.
+    ///
+    /// ```
+    /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
+    /// let run = |t| TwoStage::new(|x: &[f64]| x[0].exp(), UniformBox::unit(2).unwrap(), 32)
+    ///     .threads(t).run().unwrap();
+    /// assert_eq!(run(1), run(3));
+    /// ```
+    pub fn threads(mut self, threads: usize) -> Self {
+        self.threads = Some(threads);
+        self
+    }
+
+    /// Runs both stages.
+    ///
+    /// Errors name the setting that is out of range, report a sampler of the wrong dimension
+    /// or kind, and report NaN or infinite integrand values (their count and the first point,
+    /// in coordinates relative to the domain).
+    ///
+    /// ```
+    /// use mcint::{adaptive::TwoStage, pdf::UniformBox, stats::ErrorBasis};
+    /// let e = TwoStage::new(|x: &[f64]| x[0] * x[0], UniformBox::unit(1).unwrap(), 8).run().unwrap();
+    /// assert_eq!((e.basis, e.iterations), (ErrorBasis::PerSample, 2));
+    /// ```
+    pub fn run(&self) -> Result<Estimate> {
+        let dims = self.domain.dims();
+        let strata = self.strata()?;
+        if self.pilot < 2 {
+            return Err(Error::invalid(
+                "pilot",
+                self.pilot,
+                "at least 2 points per stratum (a standard deviation needs two)",
+            ));
+        }
+        let least = strata.saturating_mul(self.pilot + MIN_MAIN);
+        let total = self.total.unwrap_or_else(|| {
+            strata
+                .saturating_mul(self.pilot)
+                .saturating_mul(DEFAULT_TOTAL_PER_PILOT)
+        });
+        if total < least {
+            return Err(Error::invalid(
+                "total",
+                total,
+                format!("at least (pilot + {MIN_MAIN}) x {strata} strata = {least} evaluations"),
+            ));
+        }
+        let threads = match self.threads {
+            Some(0) => return Err(Error::invalid("threads", 0, "at least 1")),
+            Some(t) => t,
+            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        };
+        let default_sampler;
+        let sampler: &dyn Sampler = match &self.sampler {
+            Some(s) => s.as_ref(),
+            None => {
+                default_sampler = Independent::new(dims, self.seed.unwrap_or(0))?;
+                &default_sampler
+            }
+        };
+        let batches = Batches::new(sampler, &self.domain, "two-stage sampling")?;
+        if total > batches.slots() {
+            return Err(Error::IndexOutOfRange {
+                what: "evaluations of the sampler's stream (sample indices or passes)",
+                limit: batches.slots(),
+            });
+        }
+        let strata = strata as usize;
+        let grid = Grid {
+            f: &self.f,
+            domain: &self.domain,
+            batches,
+            per_axis: self.strata_per_axis,
+        };
+
+        // Stage 1: the pilot, stratum j at slots j * pilot ...
+        let pilot = self.pilot;
+        let pilot_stats = grid.sample_strata(strata, threads, |j| (j as u64 * pilot, pilot))?;
+        let main_base = strata as u64 * pilot;
+        let counts = neyman_allocation(&pilot_stats, total - main_base);
+
+        // Stage 2: fresh samples, stratum j right after stratum j - 1.
+        let mut starts = Vec::with_capacity(strata);
+        let mut next = main_base;
+        for &n in &counts {
+            starts.push(next);
+            next += n;
+        }
+        let main_stats = grid.sample_strata(strata, threads, |j| (starts[j], counts[j]))?;
+
+        let used: Vec<Accumulator> = if self.reuse_pilot {
+            pilot_stats
+                .iter()
+                .zip(&main_stats)
+                .map(|(p, m)| {
+                    let mut all = *p;
+                    all.merge(m);
+                    all
+                })
+                .collect()
+        } else {
+            main_stats
+        };
+        Ok(stratified_estimate(
+            &used,
+            self.domain.volume() / strata as f64,
+            total,
+        ))
+    }
+
+    /// Number of strata, checked.
+    fn strata(&self) -> Result<u64> {
+        let k = self.strata_per_axis;
+        if k == 0 {
+            return Err(Error::invalid("strata_per_axis", 0, "at least 1"));
+        }
+        let mut strata: u64 = 1;
+        for _ in 0..self.domain.dims() {
+            strata = strata.saturating_mul(k as u64);
+        }
+        if strata > MAX_STRATA {
+            return Err(Error::invalid(
+                "strata_per_axis",
+                k,
+                format!(
+                    "at most {MAX_STRATA} strata in all (strata_per_axis^{})",
+                    self.domain.dims()
+                ),
+            ));
+        }
+        Ok(strata)
+    }
+}
+
+/// The grid of strata and what sampling one stratum needs.
+struct Grid<'a, F> {
+    f: &'a F,
+    domain: &'a UniformBox,
+    batches: Batches<'a>,
+    per_axis: usize,
+}
+
+/// Per-thread buffers.
+struct Workspace {
+    points: Points,
+    unit: Vec<f64>,
+    x: Vec<f64>,
+}
+
+/// A stratum's first non-finite value: stratum, index within its batch, value, point.
+type NonFinite = (usize, u64, f64, Vec<f64>);
+
+impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
+    /// The cell of stratum `j`: digit `i` of `j` in base `per_axis` is its row along axis `i`.
+    fn cell(&self, mut j: usize) -> Cell {
+        let k = self.per_axis;
+        let dims = self.domain.dims();
+        let mut cell = Cell::unit(dims);
+        for (lo, hi) in cell.lo.iter_mut().zip(cell.hi.iter_mut()) {
+            let row = j % k;
+            j /= k;
+            *lo = row as f64 / k as f64;
+            *hi = (row + 1) as f64 / k as f64;
+        }
+        cell
+    }
+
+    /// Samples every stratum `j` with the batch `batch(j) = (first slot, points)` and returns
+    /// the per-stratum statistics in stratum order (each computed in index order, so the
+    /// result does not depend on how strata are shared among threads).
+    fn sample_strata(
+        &self,
+        strata: usize,
+        threads: usize,
+        batch: impl Fn(usize) -> (u64, u64) + Sync,
+    ) -> Result<Vec<Accumulator>> {
+        let chunks = strata.div_ceil(STRATA_PER_CHUNK);
+        let next = AtomicUsize::new(0);
+        let failed = AtomicBool::new(false);
+        let first_error: Mutex<Option<Error>> = Mutex::new(None);
+        let workers = threads.min(chunks).max(1);
+        let dims = self.domain.dims();
+
+        type Done = Vec<(usize, Vec<Accumulator>, Option<NonFinite>)>;
+        let finished: Vec<Option<Done>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = (0..workers)
+                .map(|_| {
+                    scope.spawn(|| {
+                        let mut done = Vec::new();
+                        let fail = |e: Error| {
+                            failed.store(true, Ordering::Relaxed);
+                            if let Ok(mut slot) = first_error.lock() {
+                                slot.get_or_insert(e);
+                            }
+                        };
+                        let mut work = match Points::new(dims, BLOCK) {
+                            Ok(points) => Workspace {
+                                points,
+                                unit: vec![0.0; dims],
+                                x: vec![0.0; dims],
+                            },
+                            Err(e) => {
+                                fail(e);
+                                return done;
+                            }
+                        };
+                        loop {
+                            let chunk = next.fetch_add(1, Ordering::Relaxed);
+                            if chunk >= chunks || failed.load(Ordering::Relaxed) {
+                                break;
+                            }
+                            let first = chunk * STRATA_PER_CHUNK;
+                            let last = (first + STRATA_PER_CHUNK).min(strata);
+                            let mut stats = Vec::with_capacity(last - first);
+                            let mut bad = None;
+                            for j in first..last {
+                                let (slot, n) = batch(j);
+                                match self.sample_stratum(j, slot, n, &mut work, &mut bad) {
+                                    Ok(acc) => stats.push(acc),
+                                    Err(e) => {
+                                        fail(e);
+                                        return done;
+                                    }
+                                }
+                            }
+                            done.push((chunk, stats, bad));
+                        }
+                        done
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().ok()).collect()
+        });
+
+        if let Some(e) = first_error.into_inner().ok().flatten() {
+            return Err(e);
+        }
+        let mut by_chunk: Vec<Option<(Vec<Accumulator>, Option<NonFinite>)>> = vec![None; chunks];
+        for done in finished {
+            for (chunk, stats, bad) in done.ok_or_else(panicked)? {
+                by_chunk[chunk] = Some((stats, bad));
+            }
+        }
+        let mut all = Vec::with_capacity(strata);
+        let mut first_bad = None;
+        for part in by_chunk {
+            let (stats, bad) = part.ok_or_else(panicked)?;
+            all.extend(stats);
+            first_bad = first_bad.or(bad);
+        }
+        if let Some((stratum, index, value, point)) = first_bad {
+            return Err(Error::NonFiniteContribution {
+                count: all.iter().map(|a| a.non_finite()).sum(),
+                first_index: index,
+                first_replicate: stratum as u64,
+                first_value: value,
+                first_point: point,
+            });
+        }
+        Ok(all)
+    }
+
+    /// `n` points in stratum `j` from the batch at `slot`.
+    fn sample_stratum(
+        &self,
+        j: usize,
+        slot: u64,
+        n: u64,
+        work: &mut Workspace,
+        bad: &mut Option<NonFinite>,
+    ) -> Result<Accumulator> {
+        let cell = self.cell(j);
+        let mut acc = Accumulator::new();
+        let mut k = 0u64;
+        while k < n {
+            let want = (n - k).min(BLOCK as u64) as usize;
+            let len = self.batches.fill(slot, k, want, &mut work.points)?;
+            for i in 0..len {
+                cell.place(&work.points, i, self.domain, &mut work.unit, &mut work.x);
+                let y = (self.f)(&work.x);
+                acc.push(y);
+                if !y.is_finite() && bad.is_none() {
+                    *bad = Some((j, k + i as u64, y, work.unit.clone()));
+                }
+            }
+            k += len as u64;
+        }
+        Ok(acc)
+    }
+}
+
+/// Second-stage points per stratum: `MIN_MAIN` each, and the rest of `main` in proportion to
+/// the pilot standard deviations (all strata have the same volume), rounded by largest
+/// remainders so that the counts add up to `main` exactly. With no spread anywhere the rest
+/// is shared equally.
+fn neyman_allocation(pilot: &[Accumulator], main: u64) -> Vec<u64> {
+    let strata = pilot.len();
+    let free = main - MIN_MAIN * strata as u64;
+    let sigmas: Vec<f64> = pilot
+        .iter()
+        .map(|a| {
+            let s = a.variance().sqrt();
+            if s.is_finite() { s } else { 0.0 }
+        })
+        .collect();
+    let sum: f64 = sigmas.iter().sum();
+    let weights: Vec<f64> = if sum > 0.0 && sum.is_finite() {
+        sigmas.iter().map(|s| s / sum).collect()
+    } else {
+        vec![1.0 / strata as f64; strata]
+    };
+    let mut counts = Vec::with_capacity(strata);
+    let mut remainders = Vec::with_capacity(strata);
+    let mut given = 0u64;
+    for (j, w) in weights.iter().enumerate() {
+        let exact = free as f64 * w;
+        let whole = (exact.floor() as u64).min(free - given);
+        given += whole;
+        counts.push(MIN_MAIN + whole);
+        remainders.push((exact - whole as f64, j));
+    }
+    // Largest remainders first; ties go to the lower stratum index.
+    remainders.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    for &(_, j) in remainders.iter().cycle().take((free - given) as usize) {
+        counts[j] += 1;
+    }
+    counts
+}
+
+/// `sum_j V_j mean_j` with variance `sum_j V_j^2 s_j^2 / n_j` and Welch-Satterthwaite degrees
+/// of freedom.
+fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) -> Estimate {
+    let mut mean = 0.0;
+    let mut variance = 0.0;
+    let mut dof_denominator = 0.0;
+    let mut samples = 0u64;
+    for acc in strata {
+        let n = acc.count();
+        samples += n;
+        mean += volume * acc.mean();
+        let v = volume * volume * acc.variance() / n as f64;
+        variance += v;
+        dof_denominator += v * v / (n - 1) as f64;
+    }
+    let dof = if dof_denominator > 0.0 {
+        variance * variance / dof_denominator
+    } else {
+        // No spread anywhere: any dof will do; take the pooled one.
+        (samples - strata.len() as u64) as f64
+    };
+    Estimate {
+        mean,
+        std_error: Some(variance.sqrt()),
+        dof: Some(dof),
+        basis: ErrorBasis::PerSample,
+        n: evaluations,
+        replicates: 1,
+        non_finite: 0,
+        stop: StopReason::Budget,
+        converged: None,
+        iterations: 2,
+        chi2_dof: None,
+        q_value: None,
+    }
+}
+
+/// The error for a worker thread that panicked (the integrand panicked).
+fn panicked() -> Error {
+    Error::invalid(
+        "worker thread",
+        "panicked",
+        "an integrand that does not panic",
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pilot(values: &[&[f64]]) -> Vec<Accumulator> {
+        values
+            .iter()
+            .map(|v| {
+                let mut acc = Accumulator::new();
+                acc.extend(v);
+                acc
+            })
+            .collect()
+    }
+
+    #[test]
+    fn allocation_follows_the_pilot_spread_and_adds_up() {
+        // Standard deviations 0, 1 and 3: the 40 free points go 0 : 10 : 30.
+        let stats = pilot(&[
+            &[5.0, 5.0],
+            &[0.0, 2.0f64.sqrt()],
+            &[0.0, 3.0 * 2f64.sqrt()],
+        ]);
+        assert_eq!(neyman_allocation(&stats, 46), vec![2, 12, 32]);
+        // Remainders: 7 free points at 1 : 1 : 1 give 2, 2, 2 and one more to the first.
+        let even = pilot(&[&[0.0, 1.0], &[0.0, 1.0], &[0.0, 1.0]]);
+        assert_eq!(neyman_allocation(&even, 13), vec![5, 4, 4]);
+        // No spread anywhere: shared equally, never zero.
+        let flat = pilot(&[&[1.0, 1.0], &[2.0, 2.0]]);
+        assert_eq!(neyman_allocation(&flat, 4), vec![2, 2]);
+        assert_eq!(neyman_allocation(&flat, 9), vec![5, 4]);
+    }
+
+    #[test]
+    fn stratified_estimate_adds_strata_and_their_variances() {
+        let strata = pilot(&[&[1.0, 3.0], &[2.0, 2.0, 2.0]]);
+        let e = stratified_estimate(&strata, 0.5, 10);
+        assert_eq!(e.mean, 0.5 * 2.0 + 0.5 * 2.0);
+        // Only the first stratum varies: 0.25 * 2 / 2, with its 1 degree of freedom.
+        assert_eq!((e.std_error, e.dof, e.n), (Some(0.5), Some(1.0), 10));
+    }
+}
