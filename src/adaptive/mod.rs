@@ -7,3 +7,9 @@
 //! (independent points by default), runs on all threads with results that do not depend on
 //! the thread count, stops at a [`Tolerance`](crate::stats::Tolerance) or a fixed budget, and
 //! returns the crate's [`Estimate`](crate::stats::Estimate).
+
+mod vegas;
+mod vegas_grid;
+
+pub use vegas::Vegas;
+pub use vegas_grid::VegasGrid;
