@@ -51,8 +51,11 @@ use crate::{Error, Points, Result};
 
 /// Points drawn from the sampler at once.
 const BLOCK: usize = 512;
-/// Points per unit of work handed to a thread (and per partial result merged in order).
+/// Points per unit of work handed to a thread (and per partial result merged in order), at
+/// least: chunks grow with the budget so that an iteration never has more than
+/// `MAX_CHUNKS` of them.
 const CHUNK: u64 = 1 << 12;
+const MAX_CHUNKS: u64 = 1 << 16;
 /// Most hypercubes in the stratification: bounds the two per-hypercube arrays (64 MiB).
 const MAX_HYPERCUBES: u64 = 1 << 22;
 /// Grid increments are capped at one per this many evaluations (as `vegas` does), so that
@@ -572,6 +575,8 @@ struct Strata {
     allocation_budget: Option<f64>,
     /// Grid increments per axis.
     increments: Vec<usize>,
+    /// Points per chunk of work.
+    chunk: u64,
 }
 
 impl Strata {
@@ -650,6 +655,7 @@ impl Strata {
             allocation_budget: (adaptive && cubes > 1)
                 .then_some((evaluations - evaluations / 4) as f64),
             increments,
+            chunk: evaluations.div_ceil(MAX_CHUNKS).max(CHUNK),
         }
     }
 }
@@ -688,7 +694,7 @@ struct ChunkStart {
     offset: u64,
 }
 
-/// Cuts the iteration's index range into chunks of `CHUNK` points; returns them and the
+/// Cuts the iteration's index range into chunks of `strata.chunk` points; returns them and the
 /// iteration's number of points.
 fn plan_chunks(strata: &Strata, allocation: &Allocation) -> (Vec<ChunkStart>, u64) {
     let mut chunks = Vec::new();
@@ -702,7 +708,7 @@ fn plan_chunks(strata: &Strata, allocation: &Allocation) -> (Vec<ChunkStart>, u6
                 cube,
                 offset: boundary - total,
             });
-            boundary += CHUNK;
+            boundary += strata.chunk;
         }
         total += n;
     }
