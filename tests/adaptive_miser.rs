@@ -182,7 +182,7 @@ fn tolerance_stops_the_run_for_the_right_reason() {
     assert!(e.half_width(0.95).unwrap().unwrap() <= 2e-4);
     assert!(e.iterations > 1, "2^12 evaluations cannot reach 2e-4");
     // Stages of 2^12, 2^13, ...: n counts all of them.
-    assert_eq!(e.n, (1 << 12) * ((1 << e.iterations) - 1));
+    assert_eq!(e.evaluations, (1 << 12) * ((1 << e.iterations) - 1));
     assert!(((e.mean - g.exact()) / e.std_error.unwrap()).abs() < 5.0);
 
     // Out of evaluations: stages of 4096, 8192, 16384 fit in 28672, the next does not.
@@ -200,7 +200,7 @@ fn tolerance_stops_the_run_for_the_right_reason() {
         (e.stop, e.converged),
         (StopReason::MaxEvaluations, Some(false))
     );
-    assert_eq!((e.iterations, e.n), (3, 28_672));
+    assert_eq!((e.iterations, e.evaluations), (3, 28_672));
 
     // Out of time: the limit is checked after each stage.
     let timed = Tolerance::absolute(1e-12)

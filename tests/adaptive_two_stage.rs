@@ -98,7 +98,7 @@ fn neyman_allocation_beats_plain_monte_carlo_where_the_variance_is_uneven() {
             .run()
             .unwrap();
         assert_eq!(
-            (e.n, e.basis, e.iterations),
+            (e.evaluations, e.basis, e.iterations),
             (total, ErrorBasis::PerSample, 2)
         );
         means.push(e.mean);
@@ -143,7 +143,7 @@ fn results_are_bit_identical_for_any_thread_count_and_sampler_choices_work() {
         assert_eq!(one, run(3, sobol));
         let z = (one.mean - g.exact()) / one.std_error.unwrap();
         assert!(z.abs() < 5.0, "sobol = {sobol}: z = {z:.2}");
-        assert_eq!(one.n, 40_000);
+        assert_eq!(one.evaluations, 40_000);
     }
     // `seed` overrides the sampler's own seed.
     let with_sampler = TwoStage::new(|x: &[f64]| g.eval(x), UniformBox::unit(3).unwrap(), 12)
@@ -194,7 +194,7 @@ fn bad_parameters_are_errors_that_name_the_field() {
             .total(64)
             .run()
             .unwrap()
-            .n,
+            .evaluations,
         64
     );
     let nan = TwoStage::new(|x: &[f64]| 1.0 / (x[0] - x[0]), unit(), 4)

@@ -64,8 +64,8 @@ const TAG: u64 = 0x004d_4953_4552;
 ///
 /// With a [`Tolerance`], the run starts with [`evaluations`](Self::evaluations) and doubles
 /// the evaluations per replicate, each stage a fresh, independent run, until the 95%
-/// half-width meets the tolerance or a limit stops it; the estimate is the last stage's and
-/// `n` counts every evaluation spent (all stages, exploration included).
+/// half-width meets the tolerance or a limit stops it; the estimate is the last stage's (`n`
+/// its evaluations, exploration included) and `evaluations` counts every stage.
 ///
 /// ```
 /// use mcint::{adaptive::Miser, pdf::UniformBox};
@@ -363,7 +363,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
             spent = spent.saturating_add(stage_evaluations);
             next_slot += stage_evaluations;
             let mut estimate = Estimate::from_replicates(&means, per_replicate)?;
-            estimate.n = spent;
+            estimate.evaluations = spent;
             estimate.iterations = stage;
             let Some(tolerance) = &self.tolerance else {
                 estimate.stop = StopReason::Budget;

@@ -10,6 +10,10 @@
 
 mod miser;
 mod two_stage;
+mod vegas;
+mod vegas_grid;
 
 pub use miser::Miser;
 pub use two_stage::TwoStage;
+pub use vegas::Vegas;
+pub use vegas_grid::VegasGrid;

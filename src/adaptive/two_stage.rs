@@ -536,7 +536,8 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
         std_error: Some(variance.sqrt()),
         dof: Some(dof),
         basis: ErrorBasis::PerSample,
-        n: evaluations,
+        n: samples,
+        evaluations,
         replicates: 1,
         non_finite: 0,
         stop: StopReason::Budget,
@@ -595,6 +596,8 @@ mod tests {
         let e = stratified_estimate(&strata, 0.5, 10);
         assert_eq!(e.mean, 0.5 * 2.0 + 0.5 * 2.0);
         // Only the first stratum varies: 0.25 * 2 / 2, with its 1 degree of freedom.
-        assert_eq!((e.std_error, e.dof, e.n), (Some(0.5), Some(1.0), 10));
+        assert_eq!((e.std_error, e.dof), (Some(0.5), Some(1.0)));
+        // The five samples of the strata are behind the estimate; ten were spent.
+        assert_eq!((e.n, e.evaluations), (5, 10));
     }
 }

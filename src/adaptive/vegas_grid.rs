@@ -1,0 +1,432 @@
+//! [`VegasGrid`]: the separable adaptive map of VEGAS (Lepage 1978; Lepage 2021, section 2).
+//!
+//! Each axis of the box is cut into `N` increments whose widths adapt; a coordinate `y` in
+//! `[0, 1)` falls in increment `i = floor(y N)` and maps linearly into it, so every increment
+//! receives the same share `1/N` of uniform points wherever it lies and however wide it is.
+//! The Jacobian `dx/dy` is `N` times the increment's width on each axis. Training makes
+//! increments narrow where `(J f)^2`, projected on the axis, is large: the density of
+//! points then follows `|f|` as closely as a product of one-dimensional densities can.
+//!
+//! Adaptation follows the Python `vegas` package: the projections are smoothed with the
+//! weights `(1, 6, 1) / 8` (`(7, 1) / 8` at the ends), normalized to `r_i` summing to 1, and
+//! damped to `((1 - r_i) / ln(1 / r_i))^alpha`, which compresses their range so that the grid
+//! moves cautiously; the new nodes then split the damped weights into `N` equal shares.
+
+use crate::pdf::UniformBox;
+use crate::{Error, Result};
+
+/// Added to every normalized projection so that increments that saw no weight shrink a lot
+/// but keep a positive width (the `TINY` of the Python `vegas` package).
+const TINY: f64 = 1e-250;
+
+/// Most increments per axis accepted, to keep a grid's memory bounded.
+const MAX_INCREMENTS: usize = 1 << 20;
+
+/// The adaptive map `y -> x` from `[0, 1)^d` onto a box, one piecewise-linear map per axis.
+///
+/// ```
+/// use mcint::adaptive::VegasGrid;
+/// use mcint::pdf::UniformBox;
+/// let mut grid = VegasGrid::new(&UniformBox::unit(1).unwrap(), 4).unwrap();
+/// // Train on a function that lives in [0, 0.5): the grid moves its nodes there.
+/// for i in 0..1000 {
+///     let y = (i as f64 + 0.5) / 1000.0;
+///     let mut x = [0.0];
+///     let jac = grid.map(&[y], &mut x).unwrap();
+///     let f = if x[0] < 0.5 { 1.0 } else { 0.0 };
+///     grid.add_training(&[y], (jac * f) * (jac * f)).unwrap();
+/// }
+/// grid.adapt(1.0).unwrap();
+/// assert!(grid.nodes(0)[2] < 0.5);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct VegasGrid {
+    /// Increments per axis.
+    counts: Vec<usize>,
+    /// Where each axis lies in the arrays below.
+    layout: Vec<AxisLayout>,
+    /// Nodes of every axis, from the box's `lo` to its `hi`, axis after axis.
+    nodes: Vec<f64>,
+    /// Widths of the increments, axis after axis.
+    widths: Vec<f64>,
+    /// Training data per increment, laid out like `widths` but in pairs: the weighted sum
+    /// of the values and the sum of the weights.
+    training: Vec<f64>,
+}
+
+impl VegasGrid {
+    /// The uniform grid on `domain` with `increments` (2 to `2^20`) equal increments per axis.
+    ///
+    /// ```
+    /// use mcint::{adaptive::VegasGrid, pdf::UniformBox};
+    /// let b = UniformBox::new(vec![0.0, -1.0], vec![1.0, 1.0]).unwrap();
+    /// let grid = VegasGrid::new(&b, 4).unwrap();
+    /// assert_eq!(grid.nodes(1), &[-1.0, -0.5, 0.0, 0.5, 1.0]);
+    /// assert!(VegasGrid::new(&b, 1).is_err());
+    /// ```
+    pub fn new(domain: &UniformBox, increments: usize) -> Result<Self> {
+        Self::with_increments(domain, &vec![increments; domain.lo().len()])
+    }
+
+    /// The uniform grid with `counts[d]` increments on axis `d`.
+    pub(crate) fn with_increments(domain: &UniformBox, counts: &[usize]) -> Result<Self> {
+        for &n in counts {
+            check_increments(n)?;
+        }
+        let cells: usize = counts.iter().sum();
+        let mut grid = VegasGrid {
+            counts: counts.to_vec(),
+            layout: Vec::with_capacity(counts.len()),
+            nodes: Vec::with_capacity(cells + counts.len()),
+            widths: Vec::with_capacity(cells),
+            training: vec![0.0; 2 * cells],
+        };
+        for ((&lo, &hi), &n) in domain.lo().iter().zip(domain.hi()).zip(counts) {
+            let start = grid.nodes.len();
+            grid.layout.push(AxisLayout {
+                node_start: start,
+                cell_start: grid.widths.len(),
+                // `check_increments` keeps n within u32.
+                last: (n - 1) as u32,
+                increments: n as f64,
+            });
+            grid.nodes
+                .extend((0..=n).map(|i| lo + (hi - lo) * (i as f64 / n as f64)));
+            // The last node is exactly `hi`, whatever the rounding above.
+            grid.nodes[start + n] = hi;
+            let axis = &grid.nodes[start..];
+            grid.widths.extend(axis.windows(2).map(|w| w[1] - w[0]));
+        }
+        Ok(grid)
+    }
+
+    /// Number of axes.
+    ///
+    /// ```
+    /// use mcint::{adaptive::VegasGrid, pdf::UniformBox};
+    /// assert_eq!(VegasGrid::new(&UniformBox::unit(3).unwrap(), 10).unwrap().dims(), 3);
+    /// ```
+    pub fn dims(&self) -> usize {
+        self.counts.len()
+    }
+
+    /// Number of increments of each axis.
+    ///
+    /// ```
+    /// use mcint::{adaptive::VegasGrid, pdf::UniformBox};
+    /// let grid = VegasGrid::new(&UniformBox::unit(2).unwrap(), 10).unwrap();
+    /// assert_eq!(grid.increments(), &[10, 10]);
+    /// ```
+    pub fn increments(&self) -> &[usize] {
+        &self.counts
+    }
+
+    /// Total number of increments over all axes (half the length of the training data).
+    pub(crate) fn cells(&self) -> usize {
+        self.widths.len()
+    }
+
+    /// The nodes of axis `axis`, increasing from the box's lower to its upper bound (empty
+    /// for an axis that does not exist).
+    ///
+    /// ```
+    /// use mcint::{adaptive::VegasGrid, pdf::UniformBox};
+    /// let grid = VegasGrid::new(&UniformBox::unit(1).unwrap(), 2).unwrap();
+    /// assert_eq!(grid.nodes(0), &[0.0, 0.5, 1.0]);
+    /// assert!(grid.nodes(1).is_empty());
+    /// ```
+    pub fn nodes(&self, axis: usize) -> &[f64] {
+        match self.counts.get(axis) {
+            Some(&n) => {
+                let start = self.layout[axis].node_start;
+                &self.nodes[start..=start + n]
+            }
+            None => &[],
+        }
+    }
+
+    /// Maps `y` in `[0, 1)^d` to `x` in the box and returns the Jacobian `dx/dy`.
+    ///
+    /// ```
+    /// use mcint::{adaptive::VegasGrid, pdf::UniformBox};
+    /// let grid = VegasGrid::new(&UniformBox::new(vec![0.0], vec![2.0]).unwrap(), 4).unwrap();
+    /// let mut x = [0.0];
+    /// assert_eq!(grid.map(&[0.25], &mut x).unwrap(), 2.0);
+    /// assert_eq!(x, [0.5]);
+    /// assert!(grid.map(&[0.25, 0.5], &mut x).is_err());
+    /// ```
+    pub fn map(&self, y: &[f64], x: &mut [f64]) -> Result<f64> {
+        self.check_len("y", y.len())?;
+        self.check_len("x", x.len())?;
+        let mut jacobian = 1.0;
+        for (axis, (&y, x)) in y.iter().zip(x.iter_mut()).enumerate() {
+            let (value, factor, _) = self.map_axis(axis, y);
+            *x = value;
+            jacobian *= factor;
+        }
+        Ok(jacobian)
+    }
+
+    /// Adds training data `value` at `y` (for VEGAS, `(J f)^2`): the grid adapts to the
+    /// average value in each increment of each axis, as the Python `vegas` package does.
+    /// Non-finite or negative values are errors.
+    ///
+    /// ```
+    /// use mcint::{adaptive::VegasGrid, pdf::UniformBox};
+    /// let mut grid = VegasGrid::new(&UniformBox::unit(2).unwrap(), 8).unwrap();
+    /// assert!(grid.add_training(&[0.1, 0.9], 2.5).is_ok());
+    /// assert!(grid.add_training(&[0.1, 0.9], f64::NAN).is_err());
+    /// ```
+    pub fn add_training(&mut self, y: &[f64], value: f64) -> Result<()> {
+        self.check_len("y", y.len())?;
+        if !(value.is_finite() && value >= 0.0) {
+            return Err(Error::invalid(
+                "training value",
+                value,
+                "a finite value >= 0",
+            ));
+        }
+        for (axis, &y) in y.iter().enumerate() {
+            let (_, _, cell) = self.map_axis(axis, y);
+            self.training[2 * cell] += value;
+            self.training[2 * cell + 1] += 1.0;
+        }
+        Ok(())
+    }
+
+    /// Moves the nodes to the training data added since the last call (then clears it),
+    /// with damping exponent `alpha` (finite, `>= 0`; `0` leaves the grid unchanged, larger
+    /// values adapt faster; VEGAS uses 0.5). An axis whose training data is all zero keeps
+    /// its nodes.
+    ///
+    /// ```
+    /// use mcint::{adaptive::VegasGrid, pdf::UniformBox};
+    /// let mut grid = VegasGrid::new(&UniformBox::unit(1).unwrap(), 4).unwrap();
+    /// let before = grid.clone();
+    /// grid.adapt(0.5).unwrap(); // no training data: nothing moves
+    /// assert_eq!(grid, before);
+    /// assert!(grid.adapt(-1.0).is_err());
+    /// ```
+    pub fn adapt(&mut self, alpha: f64) -> Result<()> {
+        check_alpha(alpha)?;
+        let training = std::mem::take(&mut self.training);
+        self.adapt_to(&training, alpha);
+        self.training = training;
+        self.training.fill(0.0);
+        Ok(())
+    }
+
+    /// Adapts every axis to `training` (pairs of weighted sums of `(J f)^2` and sums of
+    /// weights per increment, as [`add_training`](Self::add_training) accumulates them),
+    /// with a checked `alpha`.
+    ///
+    /// The weighted average per increment, rather than the sum, is what the grid follows:
+    /// it does not carry the fluctuation of the number of points that fell in the increment,
+    /// which with about ten points per increment would otherwise dominate the noise.
+    pub(crate) fn adapt_to(&mut self, training: &[f64], alpha: f64) {
+        if alpha == 0.0 {
+            return;
+        }
+        let most = self.counts.iter().copied().max().unwrap_or(0);
+        let mut averages = vec![0.0; most];
+        let mut weights = vec![0.0; most];
+        let mut new_nodes = vec![0.0; most + 1];
+        for axis in 0..self.dims() {
+            let n = self.counts[axis];
+            let (nodes_at, cells_at) = (self.layout[axis].node_start, self.layout[axis].cell_start);
+            let raw = &mut averages[..n];
+            for (avg, pair) in raw
+                .iter_mut()
+                .zip(training[2 * cells_at..2 * (cells_at + n)].chunks_exact(2))
+            {
+                *avg = if pair[1] > 0.0 {
+                    pair[0] / pair[1]
+                } else {
+                    0.0
+                };
+            }
+            let weights = &mut weights[..n];
+            if !damped_weights(raw, alpha, weights) {
+                continue;
+            }
+            let new_nodes = &mut new_nodes[..=n];
+            let nodes = &self.nodes[nodes_at..=nodes_at + n];
+            let widths = &self.widths[cells_at..cells_at + n];
+            regrid(nodes, widths, weights, new_nodes);
+            self.nodes[nodes_at..=nodes_at + n].copy_from_slice(new_nodes);
+            for (width, pair) in self.widths[cells_at..cells_at + n]
+                .iter_mut()
+                .zip(new_nodes.windows(2))
+            {
+                *width = pair[1] - pair[0];
+            }
+        }
+    }
+
+    /// The image of `y` on axis `axis`, the Jacobian factor `N * width`, and the index of the
+    /// increment in the training data.
+    #[inline]
+    pub(crate) fn map_axis(&self, axis: usize, y: f64) -> (f64, f64, usize) {
+        let a = &self.layout[axis];
+        let t = y * a.increments;
+        // `y < 1` keeps `t < n` except through rounding; clamp rather than index past the end
+        // (the saturating cast also sends a negative `t` to increment 0).
+        let cell = (t as u32).min(a.last);
+        let at = a.cell_start + cell as usize;
+        let width = self.widths[at];
+        let x = self.nodes[a.node_start + cell as usize] + width * (t - f64::from(cell));
+        (x, width * a.increments, at)
+    }
+
+    fn check_len(&self, what: &'static str, len: usize) -> Result<()> {
+        if len != self.dims() {
+            return Err(Error::DimensionMismatch {
+                what,
+                expected: self.dims(),
+                found: len,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Where one axis lies in the grid's arrays, and its number of increments.
+#[derive(Debug, Clone, PartialEq)]
+struct AxisLayout {
+    node_start: usize,
+    cell_start: usize,
+    /// The last increment, `n - 1`.
+    last: u32,
+    /// `n`, as a float.
+    increments: f64,
+}
+
+/// Validates a number of increments per axis.
+pub(crate) fn check_increments(increments: usize) -> Result<()> {
+    if !(2..=MAX_INCREMENTS).contains(&increments) {
+        return Err(Error::invalid(
+            "grid_increments",
+            increments,
+            format!("2 to {MAX_INCREMENTS} increments per axis"),
+        ));
+    }
+    Ok(())
+}
+
+/// Validates the damping exponent.
+pub(crate) fn check_alpha(alpha: f64) -> Result<()> {
+    if !(alpha.is_finite() && alpha >= 0.0) {
+        return Err(Error::invalid(
+            "alpha",
+            alpha,
+            "a finite damping exponent >= 0 (0 freezes the grid; VEGAS uses 0.5)",
+        ));
+    }
+    Ok(())
+}
+
+/// Smooths, normalizes and damps one axis's projections into `weights`; false when they
+/// carry no usable information (all zero, or not finite), in which case the axis stays put.
+fn damped_weights(raw: &[f64], alpha: f64, weights: &mut [f64]) -> bool {
+    let n = raw.len();
+    // Neighbour smoothing (1, 6, 1)/8, and (7, 1)/8 at the two ends.
+    weights[0] = (7.0 * raw[0] + raw[1]) / 8.0;
+    weights[n - 1] = (7.0 * raw[n - 1] + raw[n - 2]) / 8.0;
+    for i in 1..n - 1 {
+        weights[i] = (raw[i - 1] + 6.0 * raw[i] + raw[i + 1]) / 8.0;
+    }
+    let sum: f64 = weights.iter().sum();
+    if !(sum.is_finite() && sum > 0.0) {
+        return false;
+    }
+    for w in weights.iter_mut() {
+        let r = *w / sum + TINY;
+        // ((1 - r) / ln(1/r))^alpha tends to 1 as r -> 1; avoid 0/0 there.
+        *w = if r < 1.0 - 1e-8 {
+            let damped = (1.0 - r) / -r.ln();
+            // The default exponent, by a square root rather than a general power.
+            if alpha == 0.5 {
+                damped.sqrt()
+            } else {
+                damped.powf(alpha)
+            }
+        } else {
+            1.0
+        };
+    }
+    true
+}
+
+/// New nodes that split `weights` (spread uniformly over each old increment) into equal
+/// shares: the inverse of the piecewise-linear cumulative weight.
+fn regrid(nodes: &[f64], widths: &[f64], weights: &[f64], new_nodes: &mut [f64]) {
+    let n = weights.len();
+    let total: f64 = weights.iter().sum();
+    let share = total / n as f64;
+    new_nodes[0] = nodes[0];
+    new_nodes[n] = nodes[n];
+    let mut j = 0; // old increment holding the current target
+    let mut below = 0.0; // cumulative weight of increments 0..j
+    for i in 1..n {
+        let target = share * i as f64;
+        while j < n - 1 && below + weights[j] < target {
+            below += weights[j];
+            j += 1;
+        }
+        let fraction = ((target - below) / weights[j]).clamp(0.0, 1.0);
+        let node = nodes[j] + widths[j] * fraction;
+        // Rounding must never make an increment negative.
+        new_nodes[i] = node.clamp(new_nodes[i - 1], nodes[n]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn equal_weights_keep_the_nodes() {
+        let grid = VegasGrid::new(&UniformBox::unit(1).unwrap(), 5).unwrap();
+        let mut new_nodes = vec![0.0; 6];
+        regrid(grid.nodes(0), &grid.widths, &[1.0; 5], &mut new_nodes);
+        for (a, b) in new_nodes.iter().zip(grid.nodes(0)) {
+            assert!((a - b).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn regrid_inverts_the_cumulative_weight() {
+        // Weight 3 on [0, 0.5) and 1 on [0.5, 1): half the total lies below 1/3.
+        let mut new_nodes = vec![0.0; 5];
+        regrid(
+            &[0.0, 0.5, 1.0],
+            &[0.5, 0.5],
+            &[3.0, 1.0],
+            &mut new_nodes[..3],
+        );
+        assert!((new_nodes[1] - 1.0 / 3.0).abs() < 1e-15);
+        // The same on quarters: quarters of the total at 1/6, 1/3 and 1/2.
+        let nodes = [0.0, 0.25, 0.5, 0.75, 1.0];
+        regrid(&nodes, &[0.25; 4], &[3.0, 3.0, 1.0, 1.0], &mut new_nodes);
+        let expected = [0.0, 1.0 / 6.0, 1.0 / 3.0, 0.5, 1.0];
+        for (a, b) in new_nodes.iter().zip(expected) {
+            assert!((a - b).abs() < 1e-15, "{new_nodes:?}");
+        }
+    }
+
+    #[test]
+    fn damping_compresses_the_range_of_weights() {
+        let mut w = [0.0; 4];
+        assert!(damped_weights(&[1.0, 0.0, 0.0, 100.0], 0.5, &mut w));
+        let (lo, hi) = w
+            .iter()
+            .fold((f64::MAX, 0.0f64), |(a, b), &x| (a.min(x), b.max(x)));
+        assert!(lo > 0.0 && hi / lo < 100.0, "{w:?}");
+        assert!(!damped_weights(&[0.0; 4], 0.5, &mut w));
+        assert!(!damped_weights(
+            &[f64::INFINITY, 0.0, 0.0, 1.0],
+            0.5,
+            &mut w
+        ));
+    }
+}
