@@ -5,7 +5,8 @@
 //! cargo run --release --example integrate -- --genz FAMILY --dims D [--a a1,a2,..] [--u u1,u2,..]
 //!     [--sampler NAME] [--scramble NAME] [--strength T] [--n N] [--replicates R] [--seed S]
 //!     [--threads T] [--estimator uniform|importance|mis|control]
-//!     [--method plain|rqmc] [--tol-abs X] [--tol-rel X] [--max-evals N] [--json]
+//!     [--method plain|rqmc|vegas|vegas-plus|miser] [--tol-abs X] [--tol-rel X]
+//!     [--max-evals N] [--json]
 //! ```
 //! FAMILY is one of oscillatory, product-peak, corner-peak, gaussian, continuous,
 //! discontinuous. Defaults: `a_i = 1 + 0.5 (i-1)`, `u_i = 0.2 + 0.6 (i-1)/(d-1)`, sampler
@@ -23,7 +24,12 @@
 //!
 //! `--method` (default `plain`) picks the integrator: `plain` uses the sampler as given
 //! (default `independent`); `rqmc` is randomized quasi-Monte Carlo, Owen-scrambled Sobol' by
-//! default with 16 replicates. `--tol-abs` and/or `--tol-rel` make the run stop once the 95%
+//! default with 16 replicates; `vegas` and `vegas-plus` are VEGAS without and with adaptive
+//! stratification (`--n` evaluations per iteration, default 10^4, after 5 warm-up
+//! iterations; 10 iterations, or as many as a tolerance needs), `miser` is MISER (`--n`
+//! evaluations in all, default 2^18, over `--replicates` independent runs, default 16). The
+//! adaptive methods take their uniform points from `--sampler` (default `independent`) and
+//! accept only `--estimator uniform`. `--tol-abs` and/or `--tol-rel` make the run stop once the 95%
 //! half-width is at most `max(tol-abs, tol-rel * |estimate|)` (then `--n` is the first stage:
 //! the pilot for independent points, the first points per replicate otherwise), or at
 //! `--max-evals` integrand evaluations (default 2^30). The report says whether the tolerance
@@ -31,6 +37,8 @@
 
 #[path = "support/genz_estimators.rs"]
 mod genz_estimators;
+#[path = "support/methods.rs"]
+mod methods;
 #[path = "support/mod.rs"]
 mod support;
 
@@ -40,6 +48,7 @@ use mcint::sampler::{PassKind, SamplerKind};
 use mcint::stats::{StopReason, Tolerance};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
 use mcint::{Estimate, Integrator};
+use methods::{AdaptiveRun, METHOD_NAMES, Method};
 use std::time::Instant;
 use support::{Args, fail};
 
@@ -127,32 +136,51 @@ fn run() -> Result<(), String> {
             kind.name()
         ));
     }
-    let default_replicates = if independent || !sampler.is_randomized() {
-        1
-    } else {
-        16
-    };
-    let replicates: u64 = args
-        .get("replicates", "a whole number >= 1")?
-        .unwrap_or(default_replicates);
+    let replicates_flag: Option<u64> = args.get("replicates", "a whole number >= 1")?;
     let threads: Option<usize> = args.get("threads", "a whole number of threads >= 1")?;
-
-    let mut integrator = Integrator::new(built.estimator)
-        .sampler(sampler)
-        .replicates(replicates)
-        .seed(seed);
-    // With a tolerance the run picks its own first stage unless --n says otherwise.
-    if tolerance.is_none() || n_flag.is_some() {
-        integrator = integrator.samples(n);
-    }
-    if let Some(t) = threads {
-        integrator = integrator.threads(t);
-    }
-    if let Some(tolerance) = tolerance {
-        integrator = integrator.tolerance(tolerance);
-    }
     let started = Instant::now();
-    let estimate = integrator.run().map_err(|e| e.to_string())?;
+    let estimate = if method.is_adaptive() {
+        if estimator_kind != EstimatorKind::Uniform {
+            return Err(format!(
+                "--estimator {} applies to --method plain and rqmc; {} adapts its own \
+                 density (use --estimator uniform)",
+                estimator_kind.name(),
+                method.name()
+            ));
+        }
+        AdaptiveRun {
+            method,
+            f: &f,
+            sampler,
+            n: n_flag,
+            replicates: replicates_flag,
+            tolerance,
+            seed,
+            threads,
+        }
+        .run()?
+    } else {
+        let default_replicates = if independent || !sampler.is_randomized() {
+            1
+        } else {
+            16
+        };
+        let mut integrator = Integrator::new(built.estimator)
+            .sampler(sampler)
+            .replicates(replicates_flag.unwrap_or(default_replicates))
+            .seed(seed);
+        // With a tolerance the run picks its own first stage unless --n says otherwise.
+        if tolerance.is_none() || n_flag.is_some() {
+            integrator = integrator.samples(n);
+        }
+        if let Some(t) = threads {
+            integrator = integrator.threads(t);
+        }
+        if let Some(tolerance) = tolerance {
+            integrator = integrator.tolerance(tolerance);
+        }
+        integrator.run().map_err(|e| e.to_string())?
+    };
     let seconds = started.elapsed().as_secs_f64();
     let report = Report {
         method,
@@ -173,45 +201,6 @@ fn run() -> Result<(), String> {
         report.print_text()
     }
     Ok(())
-}
-
-/// The integration methods `--method` accepts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Method {
-    Plain,
-    Rqmc,
-}
-
-const METHOD_NAMES: &str = "plain or rqmc";
-
-impl Method {
-    fn name(self) -> &'static str {
-        match self {
-            Method::Plain => "plain",
-            Method::Rqmc => "rqmc",
-        }
-    }
-
-    fn default_sampler(self) -> &'static str {
-        match self {
-            Method::Plain => "independent",
-            Method::Rqmc => "sobol",
-        }
-    }
-}
-
-impl std::str::FromStr for Method {
-    type Err = String;
-
-    fn from_str(name: &str) -> Result<Method, String> {
-        match name {
-            "plain" => Ok(Method::Plain),
-            "rqmc" => Ok(Method::Rqmc),
-            _ => Err(format!(
-                "unknown --method '{name}': expected {METHOD_NAMES}"
-            )),
-        }
-    }
 }
 
 /// The tolerance of `--tol-abs`, `--tol-rel` and `--max-evals`, if one was asked for.
@@ -309,12 +298,18 @@ impl Report {
             self.dims
         );
         println!("method      {}", self.method.name());
+        let layout = if matches!(self.method, Method::Vegas | Method::VegasPlus) {
+            format!("{} iterations combined, {} points", e.iterations, e.n)
+        } else {
+            format!(
+                "{} replicates x {} points",
+                e.replicates,
+                e.n / e.replicates
+            )
+        };
         println!(
-            "sampler     {}, scramble {} ({} replicates x {} points)",
-            self.kind,
-            self.scramble,
-            e.replicates,
-            e.n / e.replicates
+            "sampler     {}, scramble {} ({layout})",
+            self.kind, self.scramble
         );
         println!(
             "estimator   {}: {}",

@@ -59,7 +59,7 @@ const STRATA_PER_CHUNK: usize = 64;
 /// let half = 0.5 * (std::f64::consts::PI / 200.0).sqrt();
 /// let axis = half * (libm::erf(0.9 * 200f64.sqrt()) + libm::erf(0.1 * 200f64.sqrt()));
 /// assert!((e.mean - axis * axis).abs() < 5.0 * e.std_error.unwrap());
-/// assert_eq!(e.n, 20_000);
+/// assert_eq!(e.evaluations, 20_000);
 /// ```
 pub struct TwoStage<F> {
     f: F,
@@ -81,7 +81,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
     /// ```
     /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
     /// let e = TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap(), 16).run().unwrap();
-    /// assert_eq!(e.n, 4 * 8 * 16);
+    /// assert_eq!(e.evaluations, 4 * 8 * 16);
     /// assert!(TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap(), 0).run().is_err());
     /// ```
     pub fn new(f: F, domain: UniformBox, strata_per_axis: usize) -> Self {
@@ -117,7 +117,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
     /// ```
     /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
     /// let run = |n| TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap(), 4).pilot(2).total(n).run();
-    /// assert_eq!(run(100).unwrap().n, 100);
+    /// assert_eq!(run(100).unwrap().evaluations, 100);
     /// assert!(run(15).unwrap_err().to_string().contains("total"));
     /// ```
     pub fn total(mut self, evaluations: u64) -> Self {

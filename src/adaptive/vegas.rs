@@ -171,7 +171,8 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
     /// let e = Vegas::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap())
     ///     .stratified(false).evaluations_per_iteration(1000).warmup(1).iterations(2)
     ///     .run().unwrap();
-    /// assert_eq!(e.n, 3000);
+    /// // Two measured iterations in the estimate, one warm-up spent before them.
+    /// assert_eq!((e.n, e.evaluations), (2000, 3000));
     /// ```
     pub fn evaluations_per_iteration(mut self, n: u64) -> Self {
         self.evaluations = n;

@@ -1,0 +1,89 @@
+//! Time to reach a 95% half-width of 1e-5 (so |error| <= 1e-5 in about 95% of runs) on the
+//! 5-D Genz Gaussian and oscillatory families (customary parameters), for each method that
+//! gets there within a few seconds on one thread, side by side in one run.
+//!
+//! `cargo bench --bench adaptive`. Methods that need far longer are measured once from the
+//! command line instead (see the README: plain Monte Carlo needs about 1.2e9 evaluations on
+//! the Gaussian, VEGAS some 2e9 on the oscillatory family, MISER with independent points
+//! some 5e8). The Python peers (vegas, scipy's `qmc_quad`, QMCPy's `CubQMCSobolG`) are timed
+//! on the same work by `benches/peers_python/adaptive_peers.py`.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use mcint::Integrator;
+use mcint::adaptive::{Miser, Vegas};
+use mcint::pdf::UniformBox;
+use mcint::sampler::{Scramble, Sobol};
+use mcint::stats::Tolerance;
+use mcint::testfns::{Genz, GenzFamily, TestFunction};
+use std::hint::black_box;
+
+const DIMS: usize = 5;
+const TARGET: f64 = 1e-5;
+
+fn tolerance() -> Tolerance {
+    Tolerance::absolute(TARGET).unwrap()
+}
+
+fn to_tolerance(c: &mut Criterion) {
+    for family in [GenzFamily::Gaussian, GenzFamily::Oscillatory] {
+        let f = Genz::with_defaults(family, DIMS).unwrap();
+        let integrand = |x: &[f64]| f.eval(x);
+        let unit = || UniformBox::unit(DIMS).unwrap();
+        let mut group = c.benchmark_group(format!("to_1e-5_{family}_5d"));
+        group.sample_size(10);
+        let mut seed = 0u64;
+        let mut next_seed = || {
+            seed += 1;
+            seed
+        };
+        group.bench_function("rqmc_sobol_owen_16_replicates", |b| {
+            b.iter(|| {
+                let e = Integrator::over_box(integrand, unit())
+                    .sampler(Sobol::new(DIMS, Scramble::Owen, 0).unwrap())
+                    .tolerance(tolerance())
+                    .seed(next_seed())
+                    .threads(1)
+                    .run()
+                    .unwrap();
+                assert_eq!(e.converged, Some(true));
+                black_box(e.mean)
+            })
+        });
+        if family == GenzFamily::Gaussian {
+            for (name, stratified) in [("vegas", false), ("vegas_plus", true)] {
+                group.bench_function(name, |b| {
+                    b.iter(|| {
+                        let e = Vegas::new(integrand, unit())
+                            .stratified(stratified)
+                            .iterations(1 << 20)
+                            .tolerance(tolerance())
+                            .seed(next_seed())
+                            .threads(1)
+                            .run()
+                            .unwrap();
+                        assert_eq!(e.converged, Some(true));
+                        black_box(e.mean)
+                    })
+                });
+            }
+        }
+        group.bench_function("miser_sobol_owen", |b| {
+            b.iter(|| {
+                let e = Miser::new(integrand, unit())
+                    .sampler(Sobol::new(DIMS, Scramble::Owen, 0).unwrap())
+                    .evaluations(1 << 16)
+                    .tolerance(tolerance())
+                    .seed(next_seed())
+                    .threads(1)
+                    .run()
+                    .unwrap();
+                assert_eq!(e.converged, Some(true));
+                black_box(e.mean)
+            })
+        });
+        group.finish();
+    }
+}
+
+criterion_group!(benches, to_tolerance);
+criterion_main!(benches);
