@@ -42,6 +42,7 @@ mod integrate;
 pub mod pdf;
 mod points;
 mod quadrature;
+pub mod quality;
 pub mod sampler;
 pub mod stats;
 pub mod testfns;
