@@ -2,7 +2,8 @@
 //!
 //! ```text
 //! cargo run --release --example points -- --sampler latin --dims 2 --n 16 [--seed S] [--pass P]
-//!     [--scramble none|xor|lms|owen|permute|shift] [--strength T] [--format csv|bin] [--out FILE]
+//!     [--scramble none|xor|lms|owen|permute|shift] [--strength T] [--format csv|bin|svg|png]
+//!     [--pairs] [--out FILE]
 //! ```
 //! `--n` is the number of points written; for samplers with fixed passes it is also the pass
 //! size (jittered needs `k^dims`, hammersley uses it as the set size). `--pass P` writes the
@@ -11,7 +12,12 @@
 //! `--strength` to oa-bush (default 3). Samplers: independent, jittered, latin, sobol, halton,
 //! hammersley, lattice, multijitter, cmj, oa-bose, oa-bush, nrooks-multistage, poisson,
 //! best-candidate, pmj02.
+//!
+//! `--format svg` or `png` draws the first two dimensions (with `--pairs`, every pairwise
+//! projection) into `--out FILE`, whose name must end in `.svg` or `.png` accordingly.
 
+#[path = "support/plot.rs"]
+mod plot;
 #[path = "support/mod.rs"]
 mod support;
 
@@ -29,6 +35,7 @@ const SPEC: support::Spec = &[
     ("scramble", true),
     ("strength", true),
     ("format", true),
+    ("pairs", false),
     ("out", true),
 ];
 
@@ -49,10 +56,25 @@ fn run() -> Result<(), String> {
     let seed: u64 = args.get("seed", "a whole number")?.unwrap_or(0);
     let pass: u64 = args.get("pass", "a whole number")?.unwrap_or(0);
     let format: String = args
-        .get("format", "csv or bin")?
+        .get("format", "csv, bin, svg or png")?
         .unwrap_or_else(|| "csv".into());
-    if format != "csv" && format != "bin" {
-        return Err(format!("invalid --format '{format}': expected csv or bin"));
+    if !["csv", "bin", "svg", "png"].contains(&format.as_str()) {
+        return Err(format!(
+            "invalid --format '{format}': expected csv, bin, svg or png"
+        ));
+    }
+    let image = format == "svg" || format == "png";
+    if image && n > MAX_DRAWN_POINTS {
+        return Err(format!(
+            "invalid --n {n}: at most {MAX_DRAWN_POINTS} points can be drawn"
+        ));
+    }
+    if image && dims < 2 && !args.has("pairs") {
+        return Err(
+            "--format svg or png draws dimensions 0 and 1: needs --dims 2 or more \
+                    (or --pairs)"
+                .into(),
+        );
     }
     if n == 0 {
         return Err("invalid --n 0: expected at least 1 point".into());
@@ -78,6 +100,27 @@ fn run() -> Result<(), String> {
     let start = pass
         .checked_mul(pass_length)
         .ok_or("--pass is too large: the first index overflows 64 bits")?;
+    if image {
+        let path: String = args.require("out", "the image file to write")?;
+        if !path.ends_with(&format!(".{format}")) {
+            return Err(format!(
+                "invalid --out '{path}': a --format {format} image needs a name ending in .{format}"
+            ));
+        }
+        let columns = collect_columns(&*sampler, start, n, dims)?;
+        let title = format!("{name}, {n} points, seed {seed}, pass {pass}");
+        let path = std::path::Path::new(&path);
+        return if args.has("pairs") {
+            plot::pairs(path, &title, &columns)
+        } else {
+            let xy: Vec<(f64, f64)> = columns[0]
+                .iter()
+                .copied()
+                .zip(columns[1].iter().copied())
+                .collect();
+            plot::scatter(path, &title, &xy, None)
+        };
+    }
     let out: Box<dyn Write> = match args.get::<String>("out", "a file path")? {
         Some(path) => Box::new(
             std::fs::File::create(&path).map_err(|e| format!("cannot create '{path}': {e}"))?,
@@ -99,6 +142,21 @@ fn run() -> Result<(), String> {
         written += len;
     }
     out.flush().map_err(|e| format!("write failed: {e}"))
+}
+
+/// Largest point set `--format svg|png` draws.
+const MAX_DRAWN_POINTS: u64 = 1 << 20;
+
+/// Points `start .. start + n` of `sampler`, one vector per dimension.
+fn collect_columns(
+    sampler: &dyn mcint::Sampler,
+    start: u64,
+    n: u64,
+    dims: usize,
+) -> Result<Vec<Vec<f64>>, String> {
+    let mut block = Points::new(dims, n as usize).map_err(|e| e.to_string())?;
+    sampler.fill(start, &mut block).map_err(|e| e.to_string())?;
+    Ok((0..dims).map(|d| block.column(d).to_vec()).collect())
 }
 
 fn write_block(out: &mut impl Write, block: &Points, format: &str) -> std::io::Result<()> {

@@ -159,7 +159,7 @@ fn points_rejects_bad_input_with_one_line() {
                 "xml",
             ],
         ),
-        "csv or bin",
+        "csv, bin, svg or png",
     );
     assert_one_line_error(
         &run(
@@ -845,4 +845,145 @@ fn integrate_rejects_bad_methods_and_tolerances() {
         ]),
         "randomized",
     );
+}
+
+/// `points --format svg|png` draws the points: the SVG has one circle per point (and per
+/// pairwise panel with `--pairs`), the PNG is a PNG; bad combinations are one-line errors.
+#[test]
+fn points_draws_svg_and_png_images() {
+    let dir = std::env::temp_dir().join(format!("mcint-points-images-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("cmj.svg");
+    let out = run(
+        "points",
+        &[
+            "--sampler",
+            "cmj",
+            "--dims",
+            "2",
+            "--n",
+            "64",
+            "--format",
+            "svg",
+            "--out",
+            svg.to_str().unwrap(),
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg"), "{}", &text[..40.min(text.len())]);
+    assert_eq!(text.matches("<circle").count(), 64);
+
+    let pairs = dir.join("pairs.svg");
+    let out = run(
+        "points",
+        &[
+            "--sampler",
+            "sobol",
+            "--dims",
+            "3",
+            "--n",
+            "32",
+            "--format",
+            "svg",
+            "--pairs",
+            "--out",
+            pairs.to_str().unwrap(),
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    // Six off-diagonal panels of 32 points each.
+    let text = std::fs::read_to_string(&pairs).unwrap();
+    assert_eq!(text.matches("<circle").count(), 6 * 32);
+
+    let png = dir.join("halton.png");
+    let out = run(
+        "points",
+        &[
+            "--sampler",
+            "halton",
+            "--dims",
+            "2",
+            "--n",
+            "100",
+            "--format",
+            "png",
+            "--out",
+            png.to_str().unwrap(),
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+
+    let wrong = dir.join("wrong.svg");
+    assert_one_line_error(
+        &run(
+            "points",
+            &[
+                "--sampler",
+                "sobol",
+                "--dims",
+                "2",
+                "--n",
+                "8",
+                "--format",
+                "png",
+                "--out",
+                wrong.to_str().unwrap(),
+            ],
+        ),
+        "ending in .png",
+    );
+    assert_one_line_error(
+        &run(
+            "points",
+            &[
+                "--sampler",
+                "sobol",
+                "--dims",
+                "2",
+                "--n",
+                "8",
+                "--format",
+                "svg",
+            ],
+        ),
+        "missing --out",
+    );
+    assert_one_line_error(
+        &run(
+            "points",
+            &[
+                "--sampler",
+                "sobol",
+                "--dims",
+                "1",
+                "--n",
+                "8",
+                "--format",
+                "svg",
+                "--out",
+                wrong.to_str().unwrap(),
+            ],
+        ),
+        "--dims 2",
+    );
+    assert_one_line_error(
+        &run(
+            "points",
+            &[
+                "--sampler",
+                "sobol",
+                "--dims",
+                "2",
+                "--n",
+                "8",
+                "--format",
+                "jpeg",
+            ],
+        ),
+        "csv, bin, svg or png",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }
