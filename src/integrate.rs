@@ -13,7 +13,10 @@ use crate::{Error, Points, Result};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
+mod non_finite;
 mod staged;
+
+pub use non_finite::NonFinitePolicy;
 
 /// Points generated and evaluated together: small enough to stay in L1/L2 cache.
 const BLOCK: u64 = 1024;
@@ -50,6 +53,7 @@ pub struct Integrator<E> {
     seed: Option<u64>,
     threads: Option<usize>,
     tolerance: Option<Tolerance>,
+    non_finite: NonFinitePolicy,
 }
 
 impl<F: Fn(&[f64]) -> f64 + Send + Sync> Integrator<UniformEstimator<F>> {
@@ -101,6 +105,7 @@ impl<E: Estimator> Integrator<E> {
             seed: None,
             threads: None,
             tolerance: None,
+            non_finite: NonFinitePolicy::Fail,
         }
     }
 
@@ -222,11 +227,30 @@ impl<E: Estimator> Integrator<E> {
         self
     }
 
+    /// What to do with NaN or infinite contributions: fail (the default) or skip and count
+    /// them (see [`NonFinitePolicy`]).
+    ///
+    /// ```
+    /// use mcint::{Integrator, NonFinitePolicy, pdf::UniformBox};
+    /// let e = Integrator::over_box(|x: &[f64]| 1.0 / x[0].round(), UniformBox::unit(1).unwrap())
+    ///     .samples(100)
+    ///     .non_finite(NonFinitePolicy::Skip)
+    ///     .run()
+    ///     .unwrap();
+    /// assert_eq!(e.n + e.non_finite, 100);
+    /// ```
+    pub fn non_finite(mut self, policy: NonFinitePolicy) -> Self {
+        self.non_finite = policy;
+        self
+    }
+
     /// Runs the integration.
     ///
     /// Errors when a setting is out of range, when the sampler's dimension differs from the
     /// estimator's, and when any contribution is NaN or infinite (the error gives their count
-    /// and the first offending point): such a mean would be silently wrong.
+    /// and the first offending point): such a mean would be silently wrong. With
+    /// [`NonFinitePolicy::Skip`] they are left out and counted instead, but a replicate with
+    /// no finite contribution at all is still an error.
     ///
     /// ```
     /// use mcint::{Integrator, pdf::UniformBox};
@@ -256,7 +280,7 @@ impl<E: Estimator> Integrator<E> {
         let plan = Plan::new(self, sampler)?;
         let chunks = run_chunks(&plan, sampler, &self.estimator, threads)?;
         let replicate_accumulators = plan.merge_replicates(&chunks);
-        plan.check_finite(sampler, &chunks, &replicate_accumulators)?;
+        plan.check_finite(sampler, &chunks, &replicate_accumulators, self.non_finite)?;
         plan.estimate(sampler.passes(), &replicate_accumulators)
     }
 }
@@ -397,17 +421,29 @@ impl Plan {
             .collect()
     }
 
-    /// Fails with the first offending point when any contribution was not finite.
+    /// Fails with the first offending point when a contribution was not finite (under
+    /// [`NonFinitePolicy::Skip`], only when a replicate has no finite contribution left).
     fn check_finite(
         &self,
         sampler: &dyn Sampler,
         chunks: &[ChunkResult],
         reps: &[Accumulator],
+        policy: NonFinitePolicy,
     ) -> Result<()> {
         let count: u64 = reps.iter().map(|r| r.non_finite()).sum();
         let Some(first) = chunks.iter().find_map(|c| c.first_non_finite) else {
             return Ok(());
         };
+        if policy == NonFinitePolicy::Skip {
+            return match reps.iter().position(|r| r.count() == 0) {
+                None => Ok(()),
+                Some(replicate) => Err(Error::invalid(
+                    "integrand",
+                    format!("non-finite at every point of replicate {replicate}"),
+                    "at least one finite contribution per replicate, even when skipping",
+                )),
+            };
+        }
         let mut point = vec![0.0; sampler.dims()];
         sampler.point(first.replicate * self.stride + first.index, &mut point)?;
         Err(Error::NonFiniteContribution {
@@ -431,7 +467,10 @@ impl Plan {
             return Ok(estimate);
         }
         let means: Vec<f64> = reps.iter().map(|r| r.mean()).collect();
-        Estimate::from_replicates(&means, self.samples)
+        let mut estimate = Estimate::from_replicates(&means, self.samples)?;
+        estimate.non_finite = reps.iter().map(Accumulator::non_finite).sum();
+        estimate.n = reps.iter().map(Accumulator::count).sum();
+        Ok(estimate)
     }
 }
 

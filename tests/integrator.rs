@@ -238,3 +238,56 @@ fn unrandomized_sequences_report_no_error_bar() {
             .contains("at most 4294967296")
     );
 }
+
+/// `NonFinitePolicy::Skip` leaves NaN contributions out and counts them: the estimate is the
+/// mean over the finite region (here x on [0.1, 1), mean 0.55), for independent points and
+/// for replicates of stratified points; a replicate with nothing finite is still an error.
+#[test]
+fn skipped_non_finite_contributions_are_counted_and_left_out() {
+    use mcint::NonFinitePolicy;
+    use mcint::sampler::{Scramble, Sobol};
+    let f = |x: &[f64]| if x[0] < 0.1 { f64::NAN } else { x[0] };
+    let unit = || UniformBox::unit(1).unwrap();
+    let plain = Integrator::over_box(f, unit())
+        .samples(100_000)
+        .seed(3)
+        .non_finite(NonFinitePolicy::Skip)
+        .run()
+        .unwrap();
+    // Binomial(100000, 0.1) skipped: within 5 standard deviations (sd 94.9) of 10000.
+    assert!(
+        (plain.non_finite as f64 - 10_000.0).abs() < 5.0 * 94.9,
+        "{plain:?}"
+    );
+    assert_eq!(plain.n + plain.non_finite, 100_000);
+    assert_eq!(plain.evaluations, 100_000);
+    assert!(
+        (plain.mean - 0.55).abs() < 5.0 * plain.std_error.unwrap(),
+        "{plain:?}"
+    );
+
+    let rqmc = Integrator::over_box(f, unit())
+        .sampler(Sobol::new(1, Scramble::Owen, 4).unwrap())
+        .samples(1024)
+        .replicates(8)
+        .non_finite(NonFinitePolicy::Skip)
+        .run()
+        .unwrap();
+    assert!(rqmc.non_finite > 0 && rqmc.n + rqmc.non_finite == 8 * 1024);
+    assert!((rqmc.mean - 0.55).abs() < 1e-3, "{rqmc:?}");
+
+    let all_nan = Integrator::over_box(|_: &[f64]| f64::NAN, unit())
+        .samples(10)
+        .non_finite(NonFinitePolicy::Skip)
+        .run()
+        .unwrap_err()
+        .to_string();
+    assert!(all_nan.contains("at least one finite"), "{all_nan}");
+    // The default still fails, naming the count.
+    let strict = Integrator::over_box(f, unit())
+        .samples(1000)
+        .seed(3)
+        .run()
+        .unwrap_err();
+    assert!(matches!(strict, mcint::Error::NonFiniteContribution { .. }));
+}

@@ -91,7 +91,12 @@ impl<E: Estimator> Stage<'_, E> {
             self.threads,
         )?;
         let accumulators = plan.merge_replicates(&chunks);
-        plan.check_finite(self.sampler, &chunks, &accumulators)?;
+        plan.check_finite(
+            self.sampler,
+            &chunks,
+            &accumulators,
+            self.integrator.non_finite,
+        )?;
         Ok(accumulators)
     }
 }
@@ -234,6 +239,8 @@ fn doubling<E: Estimator>(
         stages += 1;
         let means: Vec<f64> = accumulators.iter().map(Accumulator::mean).collect();
         let mut current = Estimate::from_replicates(&means, done)?;
+        current.non_finite = accumulators.iter().map(Accumulator::non_finite).sum();
+        current.n = accumulators.iter().map(Accumulator::count).sum();
         current.std_error = current.std_error.map(|s| s * RQMC_INFLATION);
         let met = tolerance.is_met(&current);
         estimate = Some(current);

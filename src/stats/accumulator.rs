@@ -217,7 +217,7 @@ impl Accumulator {
                 ErrorBasis::None
             },
             n: self.count,
-            evaluations: self.count,
+            evaluations: self.count + self.non_finite,
             replicates: 1,
             non_finite: self.non_finite,
             stop: StopReason::Budget,
