@@ -6,7 +6,7 @@
 //!     [--sampler NAME] [--scramble NAME] [--strength T] [--n N] [--replicates R] [--seed S]
 //!     [--threads T] [--estimator uniform|importance|mis|control]
 //!     [--method plain|rqmc|vegas|vegas-plus|miser] [--tol-abs X] [--tol-rel X]
-//!     [--max-evals N] [--json]
+//!     [--max-evals N] [--checkpoint FILE [--save-every K] [--stop-after K]] [--json]
 //! ```
 //! FAMILY is one of oscillatory, product-peak, corner-peak, gaussian, continuous,
 //! discontinuous. Defaults: `a_i = 1 + 0.5 (i-1)`, `u_i = 0.2 + 0.6 (i-1)/(d-1)`, sampler
@@ -34,7 +34,14 @@
 //! the pilot for independent points, the first points per replicate otherwise), or at
 //! `--max-evals` integrand evaluations (default 2^30). The report says whether the tolerance
 //! was met and why the run stopped.
+//!
+//! `--checkpoint FILE` (plain and rqmc, fixed budget) saves the run's finished chunks of
+//! 16384 points to FILE every `--save-every` chunks (default 16) and, when FILE exists,
+//! resumes from it: however often it is stopped and restarted, the result has the same bits
+//! as an uninterrupted run. `--stop-after K` stops after K chunks, as an interruption would.
 
+#[path = "support/checkpoint.rs"]
+mod checkpoint;
 #[path = "support/genz_estimators.rs"]
 mod genz_estimators;
 #[path = "support/methods.rs"]
@@ -69,6 +76,9 @@ const SPEC: support::Spec = &[
     ("tol-abs", true),
     ("tol-rel", true),
     ("max-evals", true),
+    ("checkpoint", true),
+    ("save-every", true),
+    ("stop-after", true),
     ("json", false),
 ];
 
@@ -179,7 +189,33 @@ fn run() -> Result<(), String> {
         if let Some(tolerance) = tolerance {
             integrator = integrator.tolerance(tolerance);
         }
-        integrator.run().map_err(|e| e.to_string())?
+        match args.get::<String>("checkpoint", "a file path")? {
+            None => integrator.run().map_err(|e| e.to_string())?,
+            Some(path) => {
+                if tolerance.is_some() {
+                    return Err(
+                        "--checkpoint applies to fixed-budget runs, not to runs to a \
+                                tolerance"
+                            .into(),
+                    );
+                }
+                let save_every = args
+                    .get("save-every", "a whole number of chunks >= 1")?
+                    .unwrap_or(checkpoint::DEFAULT_SAVE_EVERY);
+                if save_every == 0 {
+                    return Err("invalid --save-every 0: expected at least 1 chunk".into());
+                }
+                let stop_after = args.get("stop-after", "a whole number of chunks >= 1")?;
+                if stop_after == Some(0) {
+                    return Err("invalid --stop-after 0: expected at least 1 chunk".into());
+                }
+                let path = std::path::Path::new(&path);
+                match checkpoint::run(&integrator, path, save_every, stop_after)? {
+                    Some(estimate) => estimate,
+                    None => return Ok(()),
+                }
+            }
+        }
     };
     let seconds = started.elapsed().as_secs_f64();
     let report = Report {

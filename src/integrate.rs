@@ -14,9 +14,11 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 mod non_finite;
+mod partial;
 mod staged;
 
 pub use non_finite::NonFinitePolicy;
+pub use partial::PartialRun;
 
 /// Points generated and evaluated together: small enough to stay in L1/L2 cache.
 const BLOCK: u64 = 1024;
@@ -260,28 +262,32 @@ impl<E: Estimator> Integrator<E> {
     /// assert!(bad.unwrap_err().to_string().contains("10 non-finite"));
     /// ```
     pub fn run(&self) -> Result<Estimate> {
-        let default_sampler;
-        let sampler: &dyn Sampler = match &self.sampler {
-            Some(s) => s.as_ref(),
-            None => {
-                default_sampler =
-                    Independent::new(self.estimator.canonical_dims(), self.seed.unwrap_or(0))?;
-                &default_sampler
+        self.with_sampler(|sampler, threads| {
+            if let Some(tolerance) = &self.tolerance {
+                return staged::run_to_tolerance(self, sampler, threads, tolerance);
             }
-        };
+            let plan = Plan::new(self, sampler)?;
+            let chunks = run_chunks(&plan, sampler, &self.estimator, threads)?;
+            plan.finish(self, sampler, &chunks)
+        })
+    }
+
+    /// Calls `work` with the sampler (the default one built if none was given) and the
+    /// number of threads.
+    fn with_sampler<R>(&self, work: impl FnOnce(&dyn Sampler, usize) -> Result<R>) -> Result<R> {
         let threads = match self.threads {
             Some(0) => return Err(Error::invalid("threads", 0, "at least 1")),
             Some(t) => t,
             None => std::thread::available_parallelism().map_or(1, |n| n.get()),
         };
-        if let Some(tolerance) = &self.tolerance {
-            return staged::run_to_tolerance(self, sampler, threads, tolerance);
+        match &self.sampler {
+            Some(s) => work(s.as_ref(), threads),
+            None => {
+                let sampler =
+                    Independent::new(self.estimator.canonical_dims(), self.seed.unwrap_or(0))?;
+                work(&sampler, threads)
+            }
         }
-        let plan = Plan::new(self, sampler)?;
-        let chunks = run_chunks(&plan, sampler, &self.estimator, threads)?;
-        let replicate_accumulators = plan.merge_replicates(&chunks);
-        plan.check_finite(sampler, &chunks, &replicate_accumulators, self.non_finite)?;
-        plan.estimate(sampler.passes(), &replicate_accumulators)
     }
 }
 
@@ -455,6 +461,24 @@ impl Plan {
         })
     }
 
+    /// The estimate from every chunk's result, in chunk order: the same bits whichever
+    /// threads, processes or checkpoints produced the chunks.
+    fn finish<E: Estimator>(
+        &self,
+        integrator: &Integrator<E>,
+        sampler: &dyn Sampler,
+        chunks: &[ChunkResult],
+    ) -> Result<Estimate> {
+        let replicate_accumulators = self.merge_replicates(chunks);
+        self.check_finite(
+            sampler,
+            chunks,
+            &replicate_accumulators,
+            integrator.non_finite,
+        )?;
+        self.estimate(sampler.passes(), &replicate_accumulators)
+    }
+
     fn estimate(&self, passes: PassKind, reps: &[Accumulator]) -> Result<Estimate> {
         if passes == PassKind::Independent {
             // Independent points: all samples are iid, so the per-sample variance is honest.
@@ -475,15 +499,32 @@ impl Plan {
 }
 
 /// Where the first non-finite contribution of a chunk occurred.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct NonFinite {
     replicate: u64,
     index: u64,
+    /// NaN or an infinity, serialized by its bits (JSON has no form for them).
+    #[cfg_attr(feature = "serde", serde(with = "f64_bits"))]
     value: f64,
 }
 
+/// Serializes an `f64` as its IEEE-754 bits, so NaN and infinities survive any format.
+#[cfg(feature = "serde")]
+mod f64_bits {
+    pub fn serialize<S: serde::Serializer>(value: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_u64(value.to_bits())
+    }
+
+    pub fn deserialize<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        let bits: u64 = serde::Deserialize::deserialize(d)?;
+        Ok(f64::from_bits(bits))
+    }
+}
+
 /// What one chunk of work produced.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 struct ChunkResult {
     accumulator: Accumulator,
     first_non_finite: Option<NonFinite>,
@@ -496,7 +537,18 @@ fn run_chunks<E: Estimator>(
     estimator: &E,
     threads: usize,
 ) -> Result<Vec<ChunkResult>> {
-    let total = plan.total_chunks()?;
+    run_chunk_range(plan, sampler, estimator, threads, 0..plan.total_chunks()?)
+}
+
+/// Evaluates chunks `range` on `threads` workers and returns the results in chunk order.
+fn run_chunk_range<E: Estimator>(
+    plan: &Plan,
+    sampler: &dyn Sampler,
+    estimator: &E,
+    threads: usize,
+    range: std::ops::Range<u64>,
+) -> Result<Vec<ChunkResult>> {
+    let (first, total) = (range.start, range.end.saturating_sub(range.start));
     let slots = usize::try_from(total).map_err(|_| Error::IndexOutOfRange {
         what: "number of work chunks",
         limit: usize::MAX as u64,
@@ -527,7 +579,7 @@ fn run_chunks<E: Estimator>(
                         if chunk >= total || failed.load(Ordering::Relaxed) {
                             break;
                         }
-                        match work.run_chunk(plan, sampler, estimator, chunk) {
+                        match work.run_chunk(plan, sampler, estimator, first + chunk) {
                             Ok(result) => done.push((chunk, result)),
                             Err(e) => {
                                 failed.store(true, Ordering::Relaxed);

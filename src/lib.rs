@@ -49,7 +49,7 @@ pub mod testfns;
 
 pub use error::{Error, Result};
 pub use estimator::Estimator;
-pub use integrate::{Integrator, NonFinitePolicy};
+pub use integrate::{Integrator, NonFinitePolicy, PartialRun};
 pub use pdf::Pdf;
 pub use points::Points;
 pub use sampler::Sampler;

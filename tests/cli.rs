@@ -987,3 +987,85 @@ fn points_draws_svg_and_png_images() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `integrate --checkpoint FILE`: a run stopped twice and restarted prints the same JSON
+/// estimate, bit for bit, as an uninterrupted run; a checkpoint of another run is refused.
+#[test]
+fn integrate_checkpoint_resumes_to_the_same_bits() {
+    let dir = std::env::temp_dir().join(format!("mcint-checkpoint-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("run.json");
+    let file = file.to_str().unwrap();
+    let base = [
+        "--genz",
+        "oscillatory",
+        "--dims",
+        "3",
+        "--sampler",
+        "sobol",
+        "--n",
+        "65536",
+        "--replicates",
+        "4",
+        "--json",
+    ];
+    let with = |extra: &[&str]| {
+        let mut args = base.to_vec();
+        args.extend_from_slice(extra);
+        run("integrate", &args)
+    };
+    let whole = with(&[]);
+    assert!(whole.status.success(), "{}", stderr(&whole));
+    for stop in ["3", "5"] {
+        let part = with(&[
+            "--checkpoint",
+            file,
+            "--stop-after",
+            stop,
+            "--save-every",
+            "2",
+        ]);
+        assert!(part.status.success(), "{}", stderr(&part));
+        assert!(stdout(&part).is_empty());
+        assert!(
+            stderr(&part).contains("of 16 chunks saved"),
+            "{}",
+            stderr(&part)
+        );
+    }
+    let resumed = with(&["--checkpoint", file]);
+    assert!(resumed.status.success(), "{}", stderr(&resumed));
+    for key in ["estimate", "std_error", "n", "replicates"] {
+        assert_eq!(
+            json_field(&stdout(&resumed), key),
+            json_field(&stdout(&whole), key),
+            "{key}"
+        );
+    }
+    let other = run(
+        "integrate",
+        &[
+            "--genz",
+            "oscillatory",
+            "--dims",
+            "3",
+            "--n",
+            "65536",
+            "--checkpoint",
+            file,
+            "--stop-after",
+            "1",
+        ],
+    );
+    // The finished checkpoint belongs to the Sobol' run, not to this independent one.
+    assert_one_line_error(&other, "same run");
+    assert_one_line_error(
+        &with(&["--checkpoint", file, "--tol-abs", "1e-3"]),
+        "fixed-budget",
+    );
+    assert_one_line_error(
+        &with(&["--checkpoint", file, "--save-every", "0"]),
+        "--save-every",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

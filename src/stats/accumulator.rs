@@ -20,6 +20,11 @@ use super::estimate::{ErrorBasis, Estimate, StopReason};
 /// assert!((left.variance() - 5.0 / 3.0).abs() < 1e-15);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(into = "AccumulatorState", try_from = "AccumulatorState")
+)]
 pub struct Accumulator {
     count: u64,
     mean: f64,
@@ -226,5 +231,62 @@ impl Accumulator {
             chi2_dof: None,
             q_value: None,
         }
+    }
+}
+
+/// The serialized form of an [`Accumulator`]: `min` and `max` are absent while it is empty
+/// (their infinite starting values have no JSON form).
+#[cfg(feature = "serde")]
+#[derive(serde::Serialize, serde::Deserialize)]
+struct AccumulatorState {
+    count: u64,
+    mean: f64,
+    m2: f64,
+    min: Option<f64>,
+    max: Option<f64>,
+    non_finite: u64,
+}
+
+#[cfg(feature = "serde")]
+impl From<Accumulator> for AccumulatorState {
+    fn from(a: Accumulator) -> Self {
+        let seen = a.count > 0;
+        AccumulatorState {
+            count: a.count,
+            mean: a.mean,
+            m2: a.m2,
+            min: seen.then_some(a.min),
+            max: seen.then_some(a.max),
+            non_finite: a.non_finite,
+        }
+    }
+}
+
+#[cfg(feature = "serde")]
+impl TryFrom<AccumulatorState> for Accumulator {
+    type Error = String;
+
+    fn try_from(s: AccumulatorState) -> std::result::Result<Self, String> {
+        let consistent = match (s.count, s.min, s.max) {
+            (0, None, None) => s.mean == 0.0 && s.m2 == 0.0,
+            (_, Some(lo), Some(hi)) => {
+                s.count > 0 && lo <= hi && s.mean.is_finite() && s.m2.is_finite() && s.m2 >= 0.0
+            }
+            _ => false,
+        };
+        if !consistent {
+            return Err(format!(
+                "inconsistent accumulator: count {}, mean {}, m2 {}, min {:?}, max {:?}",
+                s.count, s.mean, s.m2, s.min, s.max
+            ));
+        }
+        Ok(Accumulator {
+            count: s.count,
+            mean: s.mean,
+            m2: s.m2,
+            min: s.min.unwrap_or(f64::INFINITY),
+            max: s.max.unwrap_or(f64::NEG_INFINITY),
+            non_finite: s.non_finite,
+        })
     }
 }

@@ -11,6 +11,7 @@ use crate::{Error, Result};
 /// acc.extend(&[1.0, 2.0]);
 /// assert_eq!(acc.estimate().basis, ErrorBasis::PerSample);
 /// ```
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ErrorBasis {
     /// The per-sample variance of independent contributions, `s / sqrt(n)`.
@@ -32,6 +33,7 @@ pub enum ErrorBasis {
 /// let (lo, hi) = e.confidence_interval(0.95).unwrap().unwrap();
 /// assert!(lo < 1.0 && 1.0 < hi);
 /// ```
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct Estimate {
@@ -74,6 +76,7 @@ pub struct Estimate {
 /// let e = Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).samples(10).run().unwrap();
 /// assert_eq!(e.stop, StopReason::Budget);
 /// ```
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StopReason {
     /// The fixed number of samples asked for was used.
