@@ -4,3 +4,14 @@
 //! Every measure takes points as rows of a slice of `[f64]` points or a
 //! [`Points`](crate::Points) block, works in `[0,1)^d`, and returns plain numbers, so the
 //! example binaries can print and plot them.
+
+mod nets;
+mod spectrum;
+
+pub use nets::{
+    NetCheck, UnbalancedInterval, elementary_intervals_balanced, shape_balanced, t_value,
+};
+pub use spectrum::{
+    Periodogram, RadialSpectrum, mean_periodogram, mean_periodogram_with_threads, periodogram,
+    periodogram_with_threads,
+};
