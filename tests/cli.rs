@@ -1069,3 +1069,62 @@ fn integrate_checkpoint_resumes_to_the_same_bits() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `gallery --out DIR` writes one image per sampler and an index naming every one of them,
+/// with the t-value of the power-of-two sets (0 for Sobol' and PMJ02 as 2-D nets).
+#[test]
+fn gallery_draws_every_sampler_and_an_index() {
+    let dir = std::env::temp_dir().join(format!("mcint-gallery-{}", std::process::id()));
+    let out = run(
+        "gallery",
+        &[
+            "--out",
+            dir.to_str().unwrap(),
+            "--n",
+            "64",
+            "--passes",
+            "2",
+            "--frequency",
+            "8",
+            "--format",
+            "svg",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let index = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    for name in [
+        "independent",
+        "jittered",
+        "latin",
+        "sobol",
+        "halton",
+        "hammersley",
+        "lattice",
+        "multijitter",
+        "cmj",
+        "oa-bose",
+        "oa-bush",
+        "nrooks-multistage",
+        "poisson",
+        "best-candidate",
+        "pmj02",
+    ] {
+        let image = std::fs::read_to_string(dir.join(format!("{name}.svg"))).unwrap();
+        assert!(image.starts_with("<svg"), "{name}");
+        assert!(
+            index.contains(&format!("<img src=\"{name}.svg\"")),
+            "{name}"
+        );
+    }
+    for net in ["sobol", "pmj02"] {
+        let row = format!("<a href=\"#{net}\">{net}</a></td><td>64</td><td>0</td>");
+        assert!(index.contains(&row), "{net}: {index}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_one_line_error(&run("gallery", &[]), "missing --out");
+    assert_one_line_error(
+        &run("gallery", &["--out", "/tmp/x", "--format", "gif"]),
+        "png or svg",
+    );
+    assert_one_line_error(&run("gallery", &["--out", "/tmp/x", "--n", "0"]), "--n");
+}

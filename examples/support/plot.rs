@@ -394,3 +394,59 @@ fn draw_line<DB: DrawingBackend>(
     }
     Ok(())
 }
+
+/// One sampler's card: its points (with strata) on the left, the mean periodogram (log grey
+/// scale from `lo` to `hi`) on the right, the radially averaged spectrum below.
+pub struct Card<'a> {
+    pub title: &'a str,
+    pub points: &'a [(f64, f64)],
+    pub strata: Option<Strata>,
+    pub periodogram: &'a [f64],
+    pub size: usize,
+    pub lo: f64,
+    pub hi: f64,
+    pub radial: &'a [(f64, f64)],
+}
+
+/// Draws a [`Card`] into one image.
+pub fn card(path: &Path, card: &Card<'_>) -> Result<(), String> {
+    if card.size == 0 || card.periodogram.len() != card.size * card.size {
+        return Err(format!(
+            "cannot draw a {0} x {0} periodogram from {1} values",
+            card.size,
+            card.periodogram.len()
+        ));
+    }
+    on_backend!(path, (1100, 860), draw_card(card))
+}
+
+fn draw_card<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    card: &Card<'_>,
+) -> Result<(), String> {
+    root.fill(&WHITE).map_err(text_error)?;
+    let root = root.titled(card.title, (FAMILY, 22)).map_err(text_error)?;
+    let (top, bottom) = root.split_vertically(560);
+    let (left, right) = top.split_horizontally(550);
+    draw_scatter(&left, "points", card.points, card.strata)?;
+    draw_heatmap(
+        &right,
+        "mean periodogram",
+        card.periodogram,
+        card.size,
+        card.lo,
+        card.hi,
+    )?;
+    let series = [Series {
+        name: "radial power".into(),
+        points: card.radial.to_vec(),
+    }];
+    draw_line(
+        &bottom,
+        "radially averaged power spectrum",
+        "frequency |k|",
+        "power",
+        &series,
+        Some(1.0),
+    )
+}

@@ -1,0 +1,254 @@
+//! Draws every sampler's 2-D points (with the strata or elementary intervals that define
+//! them) and their Fourier spectrum, one image per sampler, plus an index page with the
+//! measures of each set.
+//!
+//! ```text
+//! cargo run --release --example gallery -- --out DIR [--n 256] [--passes 16] [--frequency 32]
+//!     [--format png|svg] [--seed S] [--publication]
+//! ```
+//! `--n` points per set (samplers that cannot make exactly `n` use the nearest size they
+//! can: 17^2 for `oa-bose` and `oa-bush`, the latter with strength 2); the spectrum is the periodogram averaged over
+//! `--passes` independent passes up to frequency `--frequency`. `--publication` uses 1024
+//! points, 64 passes and frequency 64 (a minute or so instead of seconds). The index,
+//! `DIR/index.html`, lists each sampler's t-value (for power-of-two sizes), L2-star and
+//! centered L2 discrepancies, and low-frequency power.
+
+#[path = "support/plot.rs"]
+mod plot;
+#[path = "support/mod.rs"]
+mod support;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use mcint::Points;
+use mcint::quality::{Periodogram, mean_periodogram, t_value};
+use mcint::sampler::{Sampler, SamplerKind};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use support::{Args, fail};
+
+const SPEC: support::Spec = &[
+    ("out", true),
+    ("n", true),
+    ("passes", true),
+    ("frequency", true),
+    ("format", true),
+    ("seed", true),
+    ("publication", false),
+];
+
+/// Sizes tried, in order, when a construction cannot make `--n` points.
+const FALLBACK_SIZES: [u64; 4] = [289, 343, 243, 225];
+
+fn main() {
+    if let Err(message) = run() {
+        fail(message);
+    }
+}
+
+struct Settings {
+    n: u64,
+    passes: usize,
+    frequency: usize,
+    format: String,
+    seed: u64,
+}
+
+fn run() -> Result<(), String> {
+    let args = Args::parse(SPEC)?;
+    let out: PathBuf = args
+        .require::<String>("out", "the folder to write the gallery into")?
+        .into();
+    let publication = args.has("publication");
+    let settings = Settings {
+        n: positive(&args, "n", if publication { 1024 } else { 256 })?,
+        passes: positive(&args, "passes", if publication { 64 } else { 16 })? as usize,
+        frequency: positive(&args, "frequency", if publication { 64 } else { 32 })? as usize,
+        format: args
+            .get::<String>("format", "png or svg")?
+            .unwrap_or_else(|| "png".into()),
+        seed: args.get("seed", "a whole number")?.unwrap_or(1),
+    };
+    if settings.format != "png" && settings.format != "svg" {
+        return Err(format!(
+            "invalid --format '{}': expected png or svg",
+            settings.format
+        ));
+    }
+    std::fs::create_dir_all(&out).map_err(|e| format!("cannot create '{}': {e}", out.display()))?;
+    let progress = ProgressBar::new(SamplerKind::ALL.len() as u64).with_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?,
+    );
+    let mut rows = Vec::new();
+    for kind in SamplerKind::ALL {
+        progress.set_message(kind.name());
+        rows.push(draw_sampler(kind, &settings, &out)?);
+        progress.inc(1);
+    }
+    progress.finish_with_message("done");
+    let index = out.join("index.html");
+    std::fs::write(&index, index_page(&rows, &settings))
+        .map_err(|e| format!("cannot write '{}': {e}", index.display()))?;
+    println!("{}", index.display());
+    Ok(())
+}
+
+fn positive(args: &Args, name: &str, default: u64) -> Result<u64, String> {
+    let value: u64 = args.get(name, "a whole number >= 1")?.unwrap_or(default);
+    if value == 0 {
+        return Err(format!("invalid --{name} 0: expected at least 1"));
+    }
+    Ok(value)
+}
+
+/// What the index says of one sampler.
+struct Row {
+    name: &'static str,
+    n: u64,
+    image: String,
+    t_value: Option<u32>,
+    low_frequency_power: f64,
+}
+
+/// Builds `kind` in 2-D with `n` points, or the first fallback size it accepts.
+fn build(kind: SamplerKind, n: u64, seed: u64) -> Result<(Box<dyn Sampler>, u64), String> {
+    let mut first_error = None;
+    for size in std::iter::once(n).chain(FALLBACK_SIZES) {
+        // Bush arrays of strength 2 in 2-D: every cell of the p x p grid holds one point.
+        let strength = (kind == SamplerKind::OaBush).then_some(2);
+        match kind.build_with(2, size, kind.default_scramble(), strength, seed) {
+            Ok(sampler) => return Ok((sampler, size)),
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+        }
+    }
+    Err(format!(
+        "{}: {}",
+        kind.name(),
+        first_error.map_or_else(String::new, |e| e.to_string())
+    ))
+}
+
+/// The strata that define a sampler's points, drawn behind them.
+fn strata_of(kind: SamplerKind, n: u64) -> Option<plot::Strata> {
+    let side = (n as f64).sqrt().round() as u32;
+    let square = u64::from(side) * u64::from(side) == n;
+    let power_of_two = n.is_power_of_two();
+    match kind {
+        SamplerKind::Jittered
+        | SamplerKind::MultiJitter
+        | SamplerKind::Cmj
+        | SamplerKind::OaBose
+        | SamplerKind::OaBush
+            if square =>
+        {
+            Some(plot::Strata { x: side, y: side })
+        }
+        // A square elementary interval of a (0, m, 2)-net.
+        SamplerKind::Sobol | SamplerKind::Pmj02 | SamplerKind::Hammersley if power_of_two => {
+            let m = n.trailing_zeros();
+            Some(plot::Strata {
+                x: 1 << (m / 2),
+                y: 1 << (m - m / 2),
+            })
+        }
+        _ => None,
+    }
+}
+
+fn draw_sampler(kind: SamplerKind, settings: &Settings, out: &Path) -> Result<Row, String> {
+    let (sampler, n) = build(kind, settings.n, settings.seed)?;
+    let mut points = Points::new(2, n as usize).map_err(|e| e.to_string())?;
+    sampler.fill(0, &mut points).map_err(|e| e.to_string())?;
+    let xy: Vec<(f64, f64)> = points
+        .column(0)
+        .iter()
+        .copied()
+        .zip(points.column(1).iter().copied())
+        .collect();
+    let passes = settings.passes;
+    let spectrum: Periodogram = mean_periodogram(&*sampler, n as usize, passes, settings.frequency)
+        .map_err(|e| format!("{}: {e}", kind.name()))?;
+    let radial = spectrum.radial_spectrum();
+    let radial_points: Vec<(f64, f64)> = radial
+        .frequencies
+        .iter()
+        .copied()
+        .zip(radial.power.iter().copied())
+        .collect();
+    // Low frequencies: the annuli up to a quarter of the way to the mean point spacing.
+    let low_limit = ((n as f64).sqrt() / 4.0).max(1.0);
+    let low: Vec<f64> = radial
+        .frequencies
+        .iter()
+        .zip(&radial.power)
+        .filter(|(f, _)| **f <= low_limit)
+        .map(|(_, p)| *p)
+        .collect();
+    let low_frequency_power = low.iter().sum::<f64>() / low.len().max(1) as f64;
+    let image = format!("{}.{}", kind.name(), settings.format);
+    let title = format!("{}: {n} points, spectrum over {passes} passes", kind.name());
+    plot::card(
+        &out.join(&image),
+        &plot::Card {
+            title: &title,
+            points: &xy,
+            strata: strata_of(kind, n),
+            periodogram: spectrum.values(),
+            size: spectrum.size(),
+            lo: 0.01,
+            hi: 4.0,
+            radial: &radial_points,
+        },
+    )?;
+    Ok(Row {
+        name: kind.name(),
+        n,
+        image,
+        t_value: if n.is_power_of_two() {
+            t_value(&points).ok()
+        } else {
+            None
+        },
+        low_frequency_power,
+    })
+}
+
+fn index_page(rows: &[Row], settings: &Settings) -> String {
+    let mut html = String::from(
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>mcint sampler gallery</title>\
+         <style>body{font-family:sans-serif} td,th{padding:4px 10px;text-align:right}\
+         img{max-width:100%}</style></head><body>\n<h1>mcint sampler gallery</h1>\n",
+    );
+    let _ = writeln!(
+        html,
+        "<p>2-D point sets (seed {}); spectra averaged over {} passes up to frequency {}. \
+         Low-frequency power: mean radial power for |k| up to a quarter of sqrt(N) \
+         (1 for independent points, near 0 for blue noise and good nets).</p>",
+        settings.seed, settings.passes, settings.frequency
+    );
+    html.push_str(
+        "<table><tr><th>sampler</th><th>points</th><th>t-value</th>\
+         <th>low-frequency power</th></tr>\n",
+    );
+    for row in rows {
+        let _ = writeln!(
+            html,
+            "<tr><td><a href=\"#{0}\">{0}</a></td><td>{1}</td><td>{2}</td><td>{3:.3}</td></tr>",
+            row.name,
+            row.n,
+            row.t_value.map_or("-".into(), |t| t.to_string()),
+            row.low_frequency_power
+        );
+    }
+    html.push_str("</table>\n");
+    for row in rows {
+        let _ = writeln!(
+            html,
+            "<h2 id=\"{0}\">{0}</h2>\n<img src=\"{1}\" alt=\"{0} points and spectrum\">",
+            row.name, row.image
+        );
+    }
+    html.push_str("</body></html>\n");
+    html
+}
