@@ -4,3 +4,7 @@
 //! Every measure takes points as rows of a slice of `[f64]` points or a
 //! [`Points`](crate::Points) block, works in `[0,1)^d`, and returns plain numbers, so the
 //! example binaries can print and plot them.
+
+mod convergence;
+
+pub use convergence::{Convergence, ConvergencePoint, ConvergenceStudy};
