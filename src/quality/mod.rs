@@ -4,9 +4,11 @@
 //! Every measure takes a [`Points`](crate::Points) block (or a sampler), works in `[0,1)^d`,
 //! and returns plain numbers, so the example binaries can print and plot them.
 
+mod convergence;
 mod nets;
 mod spectrum;
 
+pub use convergence::{Convergence, ConvergencePoint, ConvergenceStudy};
 pub use nets::{
     NetCheck, UnbalancedInterval, elementary_intervals_balanced, shape_balanced, t_value,
 };

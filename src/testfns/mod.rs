@@ -1,16 +1,19 @@
 //! Test integrands on the unit cube `[0,1)^d` with known integrals.
 //!
 //! These are the functions numerical-integration papers use to compare methods: the six
-//! Genz (1984) families, polynomials, the Roos-Arnold product and the Sobol' g-function. Each
+//! Genz (1984) families, polynomials, the Roos-Arnold product, the Sobol' g-function and the
+//! two-dimensional integrands of rendering papers ([`GraphicsIntegrand`]). Each
 //! implements [`TestFunction`], which pairs the integrand with its exact integral over the
 //! unit cube, so that examples, tests and benches can report true errors.
 
 mod genz;
+mod graphics;
 mod polynomial;
 mod roos_arnold;
 mod sobol_g;
 
 pub use genz::{Genz, GenzFamily};
+pub use graphics::GraphicsIntegrand;
 pub use polynomial::Polynomial;
 pub use roos_arnold::RoosArnold;
 pub use sobol_g::SobolG;

@@ -1,0 +1,721 @@
+//! Convergence studies: how fast a sampler's error falls with the number of points.
+//!
+//! At each point count `N` of a list, `R` independent randomizations ("passes") of the sampler
+//! each give an estimate `Q̂ = (1/N) Σ f(u_i)` of an integrand with a known integral `I`. The
+//! root mean squared error over the passes, `RMSE_N = sqrt((1/R) Σ (Q̂ - I)²)`, is what the
+//! papers plot against `N` on log-log axes, and the slope of that plot is the sampler's rate on
+//! that integrand: `-1/2` for independent points, `-1` for jittered points on smooth
+//! integrands, `-3/2` for scrambled nets on smooth integrands, `-3/4` for stratified points
+//! on a disk.
+//!
+//! # Uncertainties and the fit
+//!
+//! * Each RMSE carries a standard error by the delta method: the mean squared error is a mean
+//!   of `R` independent squared errors, so its standard error is `s(e²)/√R` (the sample
+//!   standard deviation of the squared errors), and `RMSE = √MSE` has standard error
+//!   `s(e²)/(2 √R RMSE)`. The log of the RMSE then has standard error
+//!   `σ_k = s(e²)/(2 √R MSE)`, which is about `1/√(2R)` when the errors are normal.
+//! * The slope and intercept come from an ordinary (unweighted) least-squares fit of
+//!   `ln RMSE` on `ln N`. Weighting by `1/σ_k²` would be the textbook choice, but each `σ_k`
+//!   is estimated from the same passes as its RMSE, and a point whose spread happens to be
+//!   underestimated also tends to have its RMSE underestimated, so weights estimated this
+//!   way bias the slope; since `σ_k` is nearly the same at every `N` for near-normal errors,
+//!   equal weights lose little.
+//! * The slope's standard error propagates the `σ_k` through the fit,
+//!   `√(Σ c_k² σ_k²)` with `c_k = (x_k - x̄)/Σ(x_j - x̄)²` and `x = ln N` (every point count uses
+//!   its own independent passes, so the `σ_k` are independent). That is the error from
+//!   sampling noise alone; a power law that does not fit (pre-asymptotic curvature, or
+//!   oscillation of the error with `N`) shows as residuals larger than the `σ_k`, measured
+//!   by `χ² = Σ r_k² / σ_k²` on `K - 2` degrees of freedom. When `χ²/(K-2) > 1` the standard
+//!   error is multiplied by `√(χ²/(K-2))` (the Birge ratio, as the Particle Data Group scales
+//!   inconsistent fits), so that a poor fit reports a correspondingly wide slope.
+//!
+//! Both uncertainties are large-`R` approximations; with `R` of 32 or more they are good to a
+//! few tens of percent, which is what a `4σ` test needs.
+//!
+//! # Determinism
+//!
+//! Pass `r` at point count `N` uses the sampler that the factory builds for `N` with a seed
+//! hashed from `(seed, N, r)`, and takes its points `0..N`. The result depends only on the
+//! seed, the point counts and the number of passes: not on the thread count, and not on the
+//! other point counts in the list.
+
+use std::fmt;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::mpsc;
+
+use crate::hash::hash_words;
+use crate::sampler::{PassKind, Sampler};
+use crate::testfns::TestFunction;
+use crate::{Error, Points, Result};
+
+/// Passes per point count when none is given.
+const DEFAULT_PASSES: u64 = 32;
+/// Points filled and evaluated at a time.
+const BLOCK: usize = 1024;
+/// Salt separating the pass seeds from other uses of the seed.
+const SALT: u64 = 0x636f_6e76_6572_6765;
+
+/// The error measured at one point count.
+///
+/// ```
+/// use mcint::quality::Convergence;
+/// use mcint::sampler::Independent;
+/// use mcint::testfns::GraphicsIntegrand;
+/// let study = Convergence::new(&GraphicsIntegrand::Bilinear, &[64, 256])
+///     .run(|_n, seed| Independent::new(2, seed))?;
+/// let p = study.points[0];
+/// assert_eq!(p.n, 64);
+/// assert!(p.rmse > 0.0 && p.rmse_std_error > 0.0 && p.rmse_std_error < p.rmse);
+/// # Ok::<(), mcint::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConvergencePoint {
+    /// Points per estimate.
+    pub n: u64,
+    /// Root mean squared error of the estimates over the passes.
+    pub rmse: f64,
+    /// Standard error of `rmse` (delta method: `s(e²) / (2 √R rmse)`).
+    pub rmse_std_error: f64,
+    /// Mean signed error over the passes (near zero for an unbiased sampler).
+    pub mean_error: f64,
+    /// Standard error of `mean_error`: `s(e) / √R`.
+    pub mean_error_std_error: f64,
+}
+
+/// A convergence study's measurements and the power law fitted to them,
+/// `RMSE ≈ exp(intercept) · N^slope`.
+///
+/// ```
+/// use mcint::quality::Convergence;
+/// use mcint::sampler::Independent;
+/// use mcint::testfns::GraphicsIntegrand;
+/// let study = Convergence::new(&GraphicsIntegrand::Gaussian, &[64, 256, 1024, 4096])
+///     .passes(64)
+///     .seed(3)
+///     .run(|_n, seed| Independent::new(2, seed))?;
+/// // Independent points: RMSE ~ N^-1/2.
+/// assert!((study.slope + 0.5).abs() < 4.0 * study.slope_std_error);
+/// assert_eq!(study.sampler, "independent");
+/// # Ok::<(), mcint::Error>(())
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConvergenceStudy {
+    /// The integrand's name.
+    pub integrand: String,
+    /// The sampler's name.
+    pub sampler: String,
+    /// Independent passes per point count (`R`).
+    pub passes: u64,
+    /// One entry per point count, in increasing `n`.
+    pub points: Vec<ConvergencePoint>,
+    /// Fitted slope of `ln RMSE` against `ln N`: the convergence rate.
+    pub slope: f64,
+    /// Standard error of the slope: the propagated sampling error, inflated by
+    /// `√(χ²/dof)` when the points scatter more than their errors allow (see the module
+    /// documentation).
+    pub slope_std_error: f64,
+    /// The slope's standard error from sampling noise alone, before any inflation.
+    pub slope_sampling_error: f64,
+    /// Fitted intercept: `ln RMSE` extrapolated to `N = 1`.
+    pub intercept: f64,
+    /// `χ²` of the fit per degree of freedom (`K - 2` for `K` point counts); `None` with only
+    /// two point counts. Near 1 when a power law describes the points within their errors.
+    pub chi2_per_dof: Option<f64>,
+}
+
+impl ConvergenceStudy {
+    /// The fitted power law's RMSE at `n` points: `exp(intercept) · n^slope`.
+    ///
+    /// ```
+    /// use mcint::quality::Convergence;
+    /// use mcint::sampler::Independent;
+    /// use mcint::testfns::GraphicsIntegrand;
+    /// let study = Convergence::new(&GraphicsIntegrand::Disk, &[100, 400, 1600])
+    ///     .run(|_n, seed| Independent::new(2, seed))?;
+    /// // The disk's indicator has variance 1/4, so the RMSE is 0.5 / sqrt(N).
+    /// let ratio = study.fitted_rmse(400) / (0.5 / 20.0);
+    /// assert!(ratio > 0.7 && ratio < 1.4, "{ratio}");
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    pub fn fitted_rmse(&self, n: u64) -> f64 {
+        (self.intercept + self.slope * (n as f64).ln()).exp()
+    }
+}
+
+/// The settings of a convergence study, and [`run`](Self::run) to carry it out.
+///
+/// ```
+/// use mcint::quality::Convergence;
+/// use mcint::sampler::{Scramble, Sobol};
+/// use mcint::testfns::GraphicsIntegrand;
+/// let sizes: Vec<u64> = (6..=12).map(|m| 1 << m).collect();
+/// let study = Convergence::new(&GraphicsIntegrand::Bilinear, &sizes)
+///     .passes(32)
+///     .seed(7)
+///     .threads(2)
+///     .run(|_n, seed| Sobol::new(2, Scramble::Owen, seed))?;
+/// // Owen-scrambled Sobol' on a smooth integrand: close to N^-3/2.
+/// assert!(study.slope < -1.2 && study.slope > -1.8, "{}", study.slope);
+/// # Ok::<(), mcint::Error>(())
+/// ```
+pub struct Convergence<'a> {
+    integrand: &'a dyn TestFunction,
+    sizes: Vec<u64>,
+    passes: u64,
+    seed: u64,
+    threads: Option<usize>,
+    progress: Option<&'a dyn Fn(u64, u64)>,
+}
+
+impl fmt::Debug for Convergence<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Convergence")
+            .field("integrand", &self.integrand.name())
+            .field("sizes", &self.sizes)
+            .field("passes", &self.passes)
+            .field("seed", &self.seed)
+            .field("threads", &self.threads)
+            .field("progress", &self.progress.is_some())
+            .finish()
+    }
+}
+
+impl<'a> Convergence<'a> {
+    /// A study of `integrand` at the point counts `sizes` (at least two, strictly increasing,
+    /// each valid for the sampler), with 32 passes each and seed 0 unless set.
+    ///
+    /// ```
+    /// use mcint::quality::Convergence;
+    /// use mcint::testfns::GraphicsIntegrand;
+    /// let study = Convergence::new(&GraphicsIntegrand::Step, &[16, 64, 256]);
+    /// assert!(format!("{study:?}").contains("[16, 64, 256]"));
+    /// ```
+    pub fn new(integrand: &'a dyn TestFunction, sizes: &[u64]) -> Self {
+        Convergence {
+            integrand,
+            sizes: sizes.to_vec(),
+            passes: DEFAULT_PASSES,
+            seed: 0,
+            threads: None,
+            progress: None,
+        }
+    }
+
+    /// Independent passes `R` per point count (at least 2; default 32). The slope's standard
+    /// error falls like `1/√R`.
+    ///
+    /// ```
+    /// use mcint::quality::Convergence;
+    /// use mcint::sampler::Independent;
+    /// use mcint::testfns::GraphicsIntegrand;
+    /// let one = Convergence::new(&GraphicsIntegrand::Disk, &[16, 64]).passes(1);
+    /// assert!(one.run(|_n, seed| Independent::new(2, seed)).is_err());
+    /// ```
+    pub fn passes(mut self, passes: u64) -> Self {
+        self.passes = passes;
+        self
+    }
+
+    /// The seed from which every pass's seed is hashed (default 0).
+    ///
+    /// ```
+    /// use mcint::quality::Convergence;
+    /// use mcint::sampler::Independent;
+    /// use mcint::testfns::GraphicsIntegrand;
+    /// let run = |seed| Convergence::new(&GraphicsIntegrand::Disk, &[16, 64]).seed(seed)
+    ///     .run(|_n, s| Independent::new(2, s)).unwrap().slope;
+    /// assert_eq!(run(1), run(1));
+    /// assert_ne!(run(1), run(2));
+    /// ```
+    pub fn seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
+    }
+
+    /// Number of worker threads (at least 1; default: all available). The result does not
+    /// depend on it.
+    ///
+    /// ```
+    /// use mcint::quality::Convergence;
+    /// use mcint::sampler::Independent;
+    /// use mcint::testfns::GraphicsIntegrand;
+    /// let run = |t| Convergence::new(&GraphicsIntegrand::Gaussian, &[16, 64, 256]).threads(t)
+    ///     .run(|_n, s| Independent::new(2, s)).unwrap();
+    /// assert_eq!(run(1), run(3));
+    /// ```
+    pub fn threads(mut self, threads: usize) -> Self {
+        self.threads = Some(threads);
+        self
+    }
+
+    /// A callback told `(points evaluated so far, total points)` after every pass, on the
+    /// thread that called [`run`](Self::run) (the total is `R · Σ N`), for progress bars.
+    ///
+    /// ```
+    /// use std::cell::Cell;
+    /// use mcint::quality::Convergence;
+    /// use mcint::sampler::Independent;
+    /// use mcint::testfns::GraphicsIntegrand;
+    /// let last = Cell::new((0, 0));
+    /// let report = |done, total| last.set((done, total));
+    /// Convergence::new(&GraphicsIntegrand::Disk, &[16, 64]).passes(4).progress(&report)
+    ///     .run(|_n, s| Independent::new(2, s))?;
+    /// assert_eq!(last.get(), (320, 320));
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    pub fn progress(mut self, progress: &'a dyn Fn(u64, u64)) -> Self {
+        self.progress = Some(progress);
+        self
+    }
+
+    /// Runs the study. `sampler(n, seed)` builds the sampler for `n` points per estimate with
+    /// the given seed (each pass asks for a new one); the estimate uses its points `0..n`.
+    ///
+    /// Errors when fewer than two point counts are given or they are not strictly increasing
+    /// and positive, when `R < 2` or `threads == 0`, when the factory fails for a point count
+    /// (its own error is returned, naming what it accepts), when a sampler's dimension differs
+    /// from the integrand's, when it is not randomized (its passes would all be equal), when
+    /// `n` does not fit its pass structure (a fixed pass size other than `n`, or a sequence
+    /// whose passes are shorter than `n`), when the integrand is not finite at some point,
+    /// and when some point count has a zero RMSE (its logarithm cannot be fitted).
+    ///
+    /// ```
+    /// use mcint::quality::Convergence;
+    /// use mcint::sampler::{SamplerKind, Jittered};
+    /// use mcint::testfns::GraphicsIntegrand;
+    /// let f = GraphicsIntegrand::Gaussian;
+    /// // Jittered points need n = k^2: the sampler's own error says which sizes would do.
+    /// let err = Convergence::new(&f, &[16, 50])
+    ///     .run(|n, seed| Jittered::with_points(2, n, seed)).unwrap_err();
+    /// assert!(err.to_string().contains("nearest valid"), "{err}");
+    /// let study = Convergence::new(&f, &[16, 64, 256, 1024])
+    ///     .run(|n, seed| SamplerKind::Jittered.build(2, n, seed))?;
+    /// assert!((study.slope + 1.0).abs() < 0.2, "{}", study.slope);
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    pub fn run<S, F>(&self, sampler: F) -> Result<ConvergenceStudy>
+    where
+        S: Sampler,
+        F: Fn(u64, u64) -> Result<S> + Sync,
+    {
+        self.check_settings()?;
+        let threads = match self.threads {
+            Some(t) => t,
+            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        };
+        // Pass 0 of every size is built here, so that a size the sampler rejects is reported
+        // before any work, and always the same one (the smallest).
+        let first_passes = self
+            .sizes
+            .iter()
+            .map(|&n| self.plan().build(&sampler, n, 0))
+            .collect::<Result<Vec<S>>>()?;
+        let sampler_name = first_passes[0].name().to_string();
+        let errors = self.run_passes(&sampler, &first_passes, threads)?;
+        let points = self
+            .sizes
+            .iter()
+            .zip(&errors)
+            .map(|(&n, e)| summarize(n, e))
+            .collect::<Vec<_>>();
+        if let Some(p) = points.iter().find(|p| p.rmse == 0.0) {
+            return Err(Error::invalid(
+                "integrand",
+                self.integrand.name(),
+                format!(
+                    "an integrand this sampler does not integrate exactly (every estimate at \
+                     N = {} was exact, so log RMSE is undefined)",
+                    p.n
+                ),
+            ));
+        }
+        let fit = fit_log_log(&points);
+        Ok(ConvergenceStudy {
+            integrand: self.integrand.name(),
+            sampler: sampler_name,
+            passes: self.passes,
+            points,
+            slope: fit.slope,
+            slope_std_error: fit.slope_std_error,
+            slope_sampling_error: fit.slope_sampling_error,
+            intercept: fit.intercept,
+            chi2_per_dof: fit.chi2_per_dof,
+        })
+    }
+
+    fn plan(&self) -> PassPlan<'a> {
+        PassPlan {
+            integrand: self.integrand,
+            seed: self.seed,
+        }
+    }
+
+    fn check_settings(&self) -> Result<()> {
+        if self.sizes.len() < 2 {
+            return Err(Error::invalid(
+                "sizes",
+                format!("{:?}", self.sizes),
+                "at least two point counts, to fit a slope",
+            ));
+        }
+        if self.sizes[0] == 0 || self.sizes.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(Error::invalid(
+                "sizes",
+                format!("{:?}", self.sizes),
+                "positive point counts in strictly increasing order",
+            ));
+        }
+        if self.passes < 2 {
+            return Err(Error::invalid(
+                "passes",
+                self.passes,
+                "at least 2 independent passes per point count, to measure a spread",
+            ));
+        }
+        if self.threads == Some(0) {
+            return Err(Error::invalid("threads", 0, "at least 1"));
+        }
+        Ok(())
+    }
+
+    /// The signed errors of every pass, `errors[k][r]` for size `k` and pass `r`.
+    fn run_passes<S, F>(
+        &self,
+        factory: &F,
+        first_passes: &[S],
+        threads: usize,
+    ) -> Result<Vec<Vec<f64>>>
+    where
+        S: Sampler,
+        F: Fn(u64, u64) -> Result<S> + Sync,
+    {
+        let too_many = || Error::IndexOutOfRange {
+            what: "number of passes times point counts",
+            limit: usize::MAX as u64,
+        };
+        let passes = usize::try_from(self.passes).map_err(|_| too_many())?;
+        let total_items = self.sizes.len().checked_mul(passes).ok_or_else(too_many)?;
+        // Largest sizes first: the long jobs start early, so the workers finish together.
+        let order: Vec<(usize, u64)> = (0..self.sizes.len())
+            .rev()
+            .flat_map(|k| (0..self.passes).map(move |r| (k, r)))
+            .collect();
+        let total_points = self.sizes.iter().fold(0u64, |sum, &n| {
+            sum.saturating_add(n.saturating_mul(self.passes))
+        });
+        let next = AtomicUsize::new(0);
+        let failed = AtomicBool::new(false);
+        let mut errors = vec![vec![0.0; passes]; self.sizes.len()];
+        let mut first_failure: Option<((usize, u64), Error)> = None;
+        let workers = threads.min(total_items);
+        let (plan, sizes) = (self.plan(), &self.sizes);
+        let integrand = plan.integrand;
+
+        std::thread::scope(|scope| {
+            let (sender, receiver) = mpsc::channel::<((usize, u64), Result<f64>)>();
+            for _ in 0..workers {
+                let sender = sender.clone();
+                let (next, failed, order) = (&next, &failed, &order);
+                scope.spawn(move || {
+                    let mut block = match Points::new(integrand.dims(), BLOCK) {
+                        Ok(block) => block,
+                        Err(e) => {
+                            failed.store(true, Ordering::Relaxed);
+                            let _ = sender.send(((0, 0), Err(e)));
+                            return;
+                        }
+                    };
+                    loop {
+                        let item = next.fetch_add(1, Ordering::Relaxed);
+                        if item >= order.len() || failed.load(Ordering::Relaxed) {
+                            return;
+                        }
+                        let (k, r) = order[item];
+                        let n = sizes[k];
+                        let error = if r == 0 {
+                            pass_error(&first_passes[k], integrand, n, r, &mut block)
+                        } else {
+                            plan.build(factory, n, r)
+                                .and_then(|s| pass_error(&s, integrand, n, r, &mut block))
+                        };
+                        if error.is_err() {
+                            failed.store(true, Ordering::Relaxed);
+                        }
+                        if sender.send(((k, r), error)).is_err() {
+                            return;
+                        }
+                    }
+                });
+            }
+            drop(sender);
+            let mut done = 0u64;
+            for ((k, r), error) in receiver {
+                match error {
+                    Ok(e) => {
+                        errors[k][r as usize] = e;
+                        done = done.saturating_add(self.sizes[k]);
+                        if let Some(progress) = self.progress {
+                            progress(done, total_points);
+                        }
+                    }
+                    // Of several failures, report the one of the smallest size and pass,
+                    // whichever thread met it first.
+                    Err(e) => {
+                        if first_failure.as_ref().is_none_or(|(at, _)| (k, r) < *at) {
+                            first_failure = Some(((k, r), e));
+                        }
+                    }
+                }
+            }
+        });
+        match first_failure {
+            Some((_, e)) => Err(e),
+            None => Ok(errors),
+        }
+    }
+}
+
+/// What a worker needs to build and check the sampler of one pass (the study's settings
+/// without the progress callback, which stays on the calling thread).
+#[derive(Clone, Copy)]
+struct PassPlan<'a> {
+    integrand: &'a dyn TestFunction,
+    seed: u64,
+}
+
+impl PassPlan<'_> {
+    /// The sampler of pass `pass` at `n` points, checked to fit the study.
+    fn build<S: Sampler, F: Fn(u64, u64) -> Result<S>>(
+        &self,
+        factory: &F,
+        n: u64,
+        pass: u64,
+    ) -> Result<S> {
+        let sampler = factory(n, hash_words(self.seed, &[n, pass, SALT]))?;
+        if sampler.dims() != self.integrand.dims() {
+            return Err(Error::DimensionMismatch {
+                what: "sampler",
+                expected: self.integrand.dims(),
+                found: sampler.dims(),
+            });
+        }
+        if !sampler.is_randomized() {
+            return Err(Error::invalid(
+                "sampler",
+                sampler.name(),
+                "a randomized sampler (a deterministic one repeats the same estimate in \
+                 every pass, so it has no spread to measure)",
+            ));
+        }
+        match sampler.passes() {
+            PassKind::Fixed { size } if size != n => Err(Error::invalid(
+                "n",
+                n,
+                format!(
+                    "the pass size of the {} sampler built for it, {size} (build the sampler \
+                     for the point count it is given)",
+                    sampler.name()
+                ),
+            )),
+            PassKind::Extensible { max } if n > max => Err(Error::invalid(
+                "n",
+                n,
+                format!(
+                    "at most {max}, the pass size of the {} sampler",
+                    sampler.name()
+                ),
+            )),
+            _ => Ok(sampler),
+        }
+    }
+}
+
+/// The signed error `Q̂ - I` of the estimate from points `0..n` of `sampler` (pass `pass` of
+/// the study, for error messages).
+fn pass_error(
+    sampler: &dyn Sampler,
+    f: &dyn TestFunction,
+    n: u64,
+    pass: u64,
+    block: &mut Points,
+) -> Result<f64> {
+    let mut x = vec![0.0; f.dims()];
+    // Block sums added with Neumaier's compensation: the errors measured can be 1e-9 of the
+    // values summed.
+    let (mut sum, mut compensation) = (0.0f64, 0.0f64);
+    let mut start = 0u64;
+    while start < n {
+        let len = (n - start).min(BLOCK as u64) as usize;
+        block.set_len(len);
+        sampler.fill(start, block)?;
+        let mut block_sum = 0.0;
+        for i in 0..len {
+            block.copy_point(i, &mut x);
+            let y = f.eval(&x);
+            if !y.is_finite() {
+                return Err(Error::NonFiniteContribution {
+                    count: 1,
+                    first_index: start + i as u64,
+                    first_replicate: pass,
+                    first_value: y,
+                    first_point: x,
+                });
+            }
+            block_sum += y;
+        }
+        let t = sum + block_sum;
+        compensation += if sum.abs() >= block_sum.abs() {
+            (sum - t) + block_sum
+        } else {
+            (block_sum - t) + sum
+        };
+        sum = t;
+        start += len as u64;
+    }
+    Ok((sum + compensation) / n as f64 - f.exact())
+}
+
+/// RMSE, mean error and their standard errors from the signed errors of the passes.
+fn summarize(n: u64, errors: &[f64]) -> ConvergencePoint {
+    let r = errors.len() as f64;
+    let mean_error = errors.iter().sum::<f64>() / r;
+    let error_var = errors.iter().map(|e| (e - mean_error).powi(2)).sum::<f64>() / (r - 1.0);
+    let mse = errors.iter().map(|e| e * e).sum::<f64>() / r;
+    let squares_var = errors.iter().map(|e| (e * e - mse).powi(2)).sum::<f64>() / (r - 1.0);
+    let rmse = mse.sqrt();
+    let mse_std_error = (squares_var / r).sqrt();
+    ConvergencePoint {
+        n,
+        rmse,
+        rmse_std_error: if rmse > 0.0 {
+            mse_std_error / (2.0 * rmse)
+        } else {
+            0.0
+        },
+        mean_error,
+        mean_error_std_error: (error_var / r).sqrt(),
+    }
+}
+
+/// The least-squares line through `(ln N, ln RMSE)` and its uncertainties.
+struct LogLogFit {
+    slope: f64,
+    intercept: f64,
+    slope_std_error: f64,
+    slope_sampling_error: f64,
+    chi2_per_dof: Option<f64>,
+}
+
+/// Ordinary least squares of `ln RMSE` on `ln N`, with the slope's error propagated from each
+/// point's `σ_k` and inflated by the Birge ratio (see the module documentation). Needs at
+/// least two points with positive RMSE.
+fn fit_log_log(points: &[ConvergencePoint]) -> LogLogFit {
+    let k = points.len() as f64;
+    let xs: Vec<f64> = points.iter().map(|p| (p.n as f64).ln()).collect();
+    let ys: Vec<f64> = points.iter().map(|p| p.rmse.ln()).collect();
+    // σ of ln RMSE: relative standard error of the RMSE.
+    let sigmas: Vec<f64> = points.iter().map(|p| p.rmse_std_error / p.rmse).collect();
+    let mean_x = xs.iter().sum::<f64>() / k;
+    let mean_y = ys.iter().sum::<f64>() / k;
+    let sxx: f64 = xs.iter().map(|x| (x - mean_x).powi(2)).sum();
+    let sxy: f64 = xs
+        .iter()
+        .zip(&ys)
+        .map(|(x, y)| (x - mean_x) * (y - mean_y))
+        .sum();
+    let slope = sxy / sxx;
+    let intercept = mean_y - slope * mean_x;
+    let slope_sampling_error = xs
+        .iter()
+        .zip(&sigmas)
+        .map(|(x, s)| ((x - mean_x) / sxx * s).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let chi2: f64 = xs
+        .iter()
+        .zip(&ys)
+        .zip(&sigmas)
+        .map(|((x, y), s)| {
+            let residual = y - intercept - slope * x;
+            // A point that fits exactly adds nothing, even with a zero spread.
+            if residual == 0.0 {
+                0.0
+            } else {
+                (residual / s).powi(2)
+            }
+        })
+        .sum();
+    let dof = points.len().saturating_sub(2);
+    let chi2_per_dof = (dof > 0).then(|| chi2 / dof as f64);
+    let inflation = chi2_per_dof.map_or(1.0, |c| c.sqrt().max(1.0));
+    LogLogFit {
+        slope,
+        intercept,
+        slope_std_error: slope_sampling_error * inflation,
+        slope_sampling_error,
+        chi2_per_dof,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(n: u64, rmse: f64, rel: f64) -> ConvergencePoint {
+        ConvergencePoint {
+            n,
+            rmse,
+            rmse_std_error: rel * rmse,
+            mean_error: 0.0,
+            mean_error_std_error: 0.0,
+        }
+    }
+
+    #[test]
+    fn exact_power_law_is_fitted_exactly_with_the_propagated_error() {
+        // RMSE = 2 N^-0.75 at N = 1, 4, 16: x = 0, ln 4, ln 16.
+        let points: Vec<_> = [1u64, 4, 16]
+            .iter()
+            .map(|&n| point(n, 2.0 * (n as f64).powf(-0.75), 0.1))
+            .collect();
+        let fit = fit_log_log(&points);
+        assert!((fit.slope + 0.75).abs() < 1e-12);
+        assert!((fit.intercept - 2f64.ln()).abs() < 1e-12);
+        assert!(fit.chi2_per_dof.unwrap() < 1e-20);
+        // c = (x - mean)/Sxx with x = (0, a, 2a), a = ln 4: Sxx = 2 a², Σ c² = 1/Sxx.
+        let a = 4f64.ln();
+        let expected = 0.1 / (2.0 * a * a).sqrt();
+        assert!((fit.slope_sampling_error - expected).abs() < 1e-12);
+        assert_eq!(fit.slope_std_error, fit.slope_sampling_error);
+    }
+
+    #[test]
+    fn scatter_beyond_the_errors_inflates_the_slope_error() {
+        // Residuals of ±0.3 in ln RMSE against σ = 0.01 give χ²/dof ≫ 1.
+        let points = vec![
+            point(1, 1.0, 0.01),
+            point(10, 0.1f64 * 0.3f64.exp(), 0.01),
+            point(100, 0.01f64 * (-0.3f64).exp(), 0.01),
+            point(1000, 0.001, 0.01),
+        ];
+        let fit = fit_log_log(&points);
+        let chi2 = fit.chi2_per_dof.unwrap();
+        assert!(chi2 > 100.0, "{chi2}");
+        let ratio = fit.slope_std_error / fit.slope_sampling_error;
+        assert!((ratio - chi2.sqrt()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn summary_of_known_errors() {
+        let p = summarize(8, &[1.0, -1.0, 1.0, -1.0]);
+        assert_eq!((p.rmse, p.mean_error, p.rmse_std_error), (1.0, 0.0, 0.0));
+        let q = summarize(8, &[0.0, 2.0]);
+        // MSE = 2; the squares 0 and 4 have s² = 8, so SE(MSE) = √(8/2) = 2 and
+        // SE(RMSE) = 2 / (2 √2).
+        assert!((q.rmse - 2f64.sqrt()).abs() < 1e-15);
+        assert!((q.rmse_std_error - 1.0 / 2f64.sqrt()).abs() < 1e-15);
+        assert_eq!(q.mean_error, 1.0);
+        assert_eq!(q.mean_error_std_error, 1.0);
+    }
+}
