@@ -1128,3 +1128,58 @@ fn gallery_draws_every_sampler_and_an_index() {
     );
     assert_one_line_error(&run("gallery", &["--out", "/tmp/x", "--n", "0"]), "--n");
 }
+
+/// `convergence --out DIR` draws one log-log plot per integrand and writes the slope table;
+/// even a tiny run orders the samplers as theory says on the smooth Gaussian.
+#[test]
+fn convergence_draws_plots_and_a_slope_table() {
+    let dir = std::env::temp_dir().join(format!("mcint-convergence-{}", std::process::id()));
+    let out = run(
+        "convergence",
+        &[
+            "--out",
+            dir.to_str().unwrap(),
+            "--max-log2",
+            "10",
+            "--passes",
+            "16",
+            "--format",
+            "svg",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let table = std::fs::read_to_string(dir.join("slopes.md")).unwrap();
+    assert_eq!(stdout(&out), table);
+    for name in [
+        "disk",
+        "gaussian",
+        "bilinear",
+        "step",
+        "triangle",
+        "genz-gaussian-4d",
+        "genz-oscillatory-4d",
+    ] {
+        let svg = std::fs::read_to_string(dir.join(format!("{name}.svg"))).unwrap();
+        assert!(svg.starts_with("<svg"), "{name}");
+        assert!(table.contains(&format!("| {name} |")), "{name}");
+    }
+    // Slopes on the 2-D Gaussian: independent near -0.5, Sobol' far steeper (each slope's
+    // standard error here is about 0.05, so 0.25 is about 5 of them).
+    let row = table
+        .lines()
+        .find(|l| l.starts_with("| gaussian |"))
+        .unwrap();
+    let slopes: Vec<f64> = row
+        .split('|')
+        .filter_map(|cell| cell.split('±').next()?.trim().parse().ok())
+        .collect();
+    let (independent, sobol) = (slopes[0], slopes[3]);
+    assert!((independent + 0.5).abs() < 0.25, "{row}");
+    assert!(sobol < -1.2, "{row}");
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_one_line_error(&run("convergence", &[]), "missing --out");
+    assert_one_line_error(
+        &run("convergence", &["--out", "/tmp/x", "--max-log2", "40"]),
+        "--max-log2",
+    );
+}
