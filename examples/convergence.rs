@@ -100,7 +100,7 @@ fn sizes(kind: SamplerKind, dims: usize, max_log2: u32) -> Vec<u64> {
                 let k = 2f64.powf(f64::from(m) / dims as f64).round() as u64;
                 // A multiple of 3 would put a stratum edge on the step at x = 1/3, and a
                 // jittered estimate of it would be exact.
-                let k = if k % 3 == 0 { k + 1 } else { k };
+                let k = if k.is_multiple_of(3) { k + 1 } else { k };
                 k.pow(dims as u32)
             } else {
                 1 << m
