@@ -11,7 +11,7 @@
 //! `--passes` independent passes up to frequency `--frequency`. `--publication` uses 1024
 //! points, 64 passes and frequency 64 (a minute or so instead of seconds). The index,
 //! `DIR/index.html`, lists each sampler's t-value (for power-of-two sizes), L2-star and
-//! centered L2 discrepancies, and low-frequency power.
+//! centered L2 discrepancies (of the drawn set), and low-frequency power.
 
 #[path = "support/plot.rs"]
 mod plot;
@@ -20,7 +20,7 @@ mod support;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use mcint::Points;
-use mcint::quality::{Periodogram, mean_periodogram, t_value};
+use mcint::quality::{Periodogram, centered_l2, l2_star, mean_periodogram, t_value};
 use mcint::sampler::{Sampler, SamplerKind};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -106,6 +106,8 @@ struct Row {
     n: u64,
     image: String,
     t_value: Option<u32>,
+    l2_star: f64,
+    centered_l2: f64,
     low_frequency_power: f64,
 }
 
@@ -210,6 +212,8 @@ fn draw_sampler(kind: SamplerKind, settings: &Settings, out: &Path) -> Result<Ro
         } else {
             None
         },
+        l2_star: l2_star(&points).map_err(|e| e.to_string())?,
+        centered_l2: centered_l2(&points).map_err(|e| e.to_string())?,
         low_frequency_power,
     })
 }
@@ -228,16 +232,19 @@ fn index_page(rows: &[Row], settings: &Settings) -> String {
         settings.seed, settings.passes, settings.frequency
     );
     html.push_str(
-        "<table><tr><th>sampler</th><th>points</th><th>t-value</th>\
-         <th>low-frequency power</th></tr>\n",
+        "<table><tr><th>sampler</th><th>points</th><th>t-value</th><th>L2-star</th>\
+         <th>centered L2</th><th>low-frequency power</th></tr>\n",
     );
     for row in rows {
         let _ = writeln!(
             html,
-            "<tr><td><a href=\"#{0}\">{0}</a></td><td>{1}</td><td>{2}</td><td>{3:.3}</td></tr>",
+            "<tr><td><a href=\"#{0}\">{0}</a></td><td>{1}</td><td>{2}</td><td>{3:.3e}</td>\
+             <td>{4:.3e}</td><td>{5:.3}</td></tr>",
             row.name,
             row.n,
             row.t_value.map_or("-".into(), |t| t.to_string()),
+            row.l2_star,
+            row.centered_l2,
             row.low_frequency_power
         );
     }

@@ -5,10 +5,16 @@
 //! and returns plain numbers, so the example binaries can print and plot them.
 
 mod convergence;
+mod discrepancy;
 mod nets;
 mod spectrum;
+mod star_discrepancy;
 
 pub use convergence::{Convergence, ConvergencePoint, ConvergenceStudy};
+pub use discrepancy::{
+    centered_l2, centered_l2_squared, l2_star, l2_star_squared, mixture_l2, mixture_l2_squared,
+    wrap_around_l2, wrap_around_l2_squared,
+};
 pub use nets::{
     NetCheck, UnbalancedInterval, elementary_intervals_balanced, shape_balanced, t_value,
 };
@@ -16,3 +22,4 @@ pub use spectrum::{
     Periodogram, RadialSpectrum, mean_periodogram, mean_periodogram_with_threads, periodogram,
     periodogram_with_threads,
 };
+pub use star_discrepancy::{STAR_DISCREPANCY_MAX_POINTS, star_discrepancy};

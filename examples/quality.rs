@@ -1,0 +1,141 @@
+//! Measures the quality of a point set read from a CSV file and prints the value alone on one
+//! line.
+//!
+//! ```text
+//! cargo run --release --example quality -- --input FILE
+//!     --measure l2-star|centered|wrap-around|mixture|star|t-value [--squared]
+//! ```
+//! FILE holds one point per line, coordinates in `[0, 1]` separated by commas, as the `points`
+//! example writes it (`--format csv`). The L2 measures print the discrepancy itself (the root;
+//! see `mcint::quality`); `--squared` prints its square instead, which for `centered`,
+//! `wrap-around` and `mixture` is what `scipy.stats.qmc.discrepancy` returns for `CD`, `WD`
+//! and `MD`. `star` is the exact star discrepancy, for one- or two-dimensional sets.
+//! `t-value` is the quality parameter `t` of a base-2 net. Malformed input (a missing or
+//! empty file, ragged rows, something that is not a number, a coordinate outside `[0, 1]`)
+//! gives a one-line error on stderr and exit status 2.
+//!
+//! ```text
+//! cargo run --release --example points -- --sampler sobol --dims 2 --n 1024 --out sobol.csv
+//! cargo run --release --example quality -- --input sobol.csv --measure star
+//! ```
+
+#[path = "support/mod.rs"]
+mod support;
+
+use mcint::Points;
+use mcint::quality;
+use support::{Args, fail};
+
+const SPEC: support::Spec = &[("input", true), ("measure", true), ("squared", false)];
+
+/// A measure of the library, as a function of the point set.
+type Measure = fn(&Points) -> mcint::Result<f64>;
+
+/// What `--measure` asked for.
+enum Choice {
+    /// An L2 discrepancy: its root and its square.
+    L2(Measure, Measure),
+    Star,
+    TValue,
+}
+
+const MEASURES: &str = "l2-star, centered, wrap-around, mixture, star or t-value";
+
+fn main() {
+    match run() {
+        Ok(value) => println!("{value}"),
+        Err(message) => fail(message),
+    }
+}
+
+/// The measured value, formatted for printing (`{:?}` of an f64 reads back to the same f64).
+fn run() -> Result<String, String> {
+    let args = Args::parse(SPEC)?;
+    let path: String = args.require("input", "a CSV file of points, one per line")?;
+    let measure: String = args.require("measure", MEASURES)?;
+    let squared = args.has("squared");
+    // Check the flags before reading a possibly large file.
+    let choice = match measure.as_str() {
+        "l2-star" => Choice::L2(quality::l2_star, quality::l2_star_squared),
+        "centered" => Choice::L2(quality::centered_l2, quality::centered_l2_squared),
+        "wrap-around" => Choice::L2(quality::wrap_around_l2, quality::wrap_around_l2_squared),
+        "mixture" => Choice::L2(quality::mixture_l2, quality::mixture_l2_squared),
+        "star" => Choice::Star,
+        "t-value" => Choice::TValue,
+        other => return Err(format!("invalid --measure '{other}': expected {MEASURES}")),
+    };
+    if squared && !matches!(choice, Choice::L2(..)) {
+        return Err(format!(
+            "--squared applies to the L2 measures only, not to --measure {measure}"
+        ));
+    }
+    let points = read_points(&path)?;
+    let value = match choice {
+        Choice::L2(root, square) => {
+            if squared {
+                square(&points)
+            } else {
+                root(&points)
+            }
+        }
+        Choice::Star => quality::star_discrepancy(&points),
+        Choice::TValue => return t_value(&points),
+    };
+    value.map(|v| format!("{v:?}")).map_err(|e| e.to_string())
+}
+
+/// The t-value of a base-2 net (the smallest `t` for which the set is a `(t, m, d)`-net).
+fn t_value(points: &Points) -> Result<String, String> {
+    quality::t_value(points)
+        .map(|t| t.to_string())
+        .map_err(|e| e.to_string())
+}
+
+/// Reads a CSV file of points (one per line, comma-separated coordinates in `[0, 1]`).
+fn read_points(path: &str) -> Result<Points, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read '{path}': {e}"))?;
+    // A final newline (or several) is not an empty point.
+    let body = text.trim_end();
+    if body.is_empty() {
+        return Err(format!("'{path}' holds no points"));
+    }
+    let mut dims = 0;
+    let mut rows = 0;
+    let mut values = Vec::new(); // row-major
+    for (index, line) in body.lines().enumerate() {
+        let line_number = index + 1;
+        let mut count = 0;
+        for (column, field) in line.split(',').enumerate() {
+            let field = field.trim();
+            let x: f64 = field.parse().map_err(|_| {
+                format!(
+                    "{path}, line {line_number}, column {}: '{field}' is not a number",
+                    column + 1
+                )
+            })?;
+            if !(0.0..=1.0).contains(&x) {
+                return Err(format!(
+                    "{path}, line {line_number}, column {}: {x} is outside [0, 1]",
+                    column + 1
+                ));
+            }
+            values.push(x);
+            count += 1;
+        }
+        if index == 0 {
+            dims = count;
+        } else if count != dims {
+            return Err(format!(
+                "{path}, line {line_number}: {count} coordinates, but line 1 has {dims}"
+            ));
+        }
+        rows += 1;
+    }
+    let mut points = Points::new(dims, rows).map_err(|e| e.to_string())?;
+    for (dim, column) in points.columns_mut().enumerate() {
+        for (i, x) in column.iter_mut().enumerate() {
+            *x = values[i * dims + dim];
+        }
+    }
+    Ok(points)
+}
