@@ -11,7 +11,8 @@
 //! `--passes` independent passes up to frequency `--frequency`. `--publication` uses 1024
 //! points, 64 passes and frequency 64 (a minute or so instead of seconds). The index,
 //! `DIR/index.html`, lists each sampler's t-value (for power-of-two sizes), L2-star and
-//! centered L2 discrepancies (of the drawn set), and low-frequency power.
+//! centered L2 discrepancies (of the drawn set), and low-frequency power; the spectra are
+//! also written as data, `DIR/NAME-radial.csv` and `DIR/NAME-periodogram.csv`.
 
 #[path = "support/plot.rs"]
 mod plot;
@@ -188,6 +189,7 @@ fn draw_sampler(kind: SamplerKind, settings: &Settings, out: &Path) -> Result<Ro
         .map(|(_, p)| *p)
         .collect();
     let low_frequency_power = low.iter().sum::<f64>() / low.len().max(1) as f64;
+    write_spectrum_data(out, kind.name(), &spectrum)?;
     let image = format!("{}.{}", kind.name(), settings.format);
     let title = format!("{}: {n} points, spectrum over {passes} passes", kind.name());
     plot::card(
@@ -216,6 +218,32 @@ fn draw_sampler(kind: SamplerKind, settings: &Settings, out: &Path) -> Result<Ro
         centered_l2: centered_l2(&points).map_err(|e| e.to_string())?,
         low_frequency_power,
     })
+}
+
+/// The spectrum as data: `NAME-radial.csv` (frequency, power, anisotropy, frequencies in the
+/// annulus) and `NAME-periodogram.csv` (kx, ky, power).
+fn write_spectrum_data(out: &Path, name: &str, spectrum: &Periodogram) -> Result<(), String> {
+    let radial = spectrum.radial_spectrum();
+    let mut text = String::from("frequency,power,anisotropy,count\n");
+    for i in 0..radial.frequencies.len() {
+        let _ = writeln!(
+            text,
+            "{:?},{:?},{:?},{}",
+            radial.frequencies[i], radial.power[i], radial.anisotropy[i], radial.counts[i]
+        );
+    }
+    let path = out.join(format!("{name}-radial.csv"));
+    std::fs::write(&path, text).map_err(|e| format!("cannot write '{}': {e}", path.display()))?;
+    let k = spectrum.max_frequency() as i64;
+    let mut text = String::from("kx,ky,power\n");
+    for ky in -k..=k {
+        for kx in -k..=k {
+            let p = spectrum.get(kx, ky).unwrap_or(f64::NAN);
+            let _ = writeln!(text, "{kx},{ky},{p:?}");
+        }
+    }
+    let path = out.join(format!("{name}-periodogram.csv"));
+    std::fs::write(&path, text).map_err(|e| format!("cannot write '{}': {e}", path.display()))
 }
 
 fn index_page(rows: &[Row], settings: &Settings) -> String {

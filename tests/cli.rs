@@ -1115,6 +1115,11 @@ fn gallery_draws_every_sampler_and_an_index() {
             index.contains(&format!("<img src=\"{name}.svg\"")),
             "{name}"
         );
+        // Frequencies 1 ..= 8 of the radial spectrum, and the (2*8+1)^2 periodogram.
+        let radial = std::fs::read_to_string(dir.join(format!("{name}-radial.csv"))).unwrap();
+        assert_eq!(radial.lines().count(), 1 + 8, "{name}");
+        let grid = std::fs::read_to_string(dir.join(format!("{name}-periodogram.csv"))).unwrap();
+        assert_eq!(grid.lines().count(), 1 + 17 * 17, "{name}");
     }
     for net in ["sobol", "pmj02"] {
         let row = format!("<a href=\"#{net}\">{net}</a></td><td>64</td><td>0</td>");
