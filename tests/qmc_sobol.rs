@@ -194,7 +194,8 @@ fn fill_equals_point_bit_for_bit() {
             for start in starts {
                 // Ragged lengths, below and across chunk boundaries and pass boundaries.
                 let len = [0, 1, 2, 31, 33, 255, 257, 700][rng.below(8) as usize];
-                let len = len.min((u64::MAX - start) as usize + 1);
+                let room = usize::try_from(u64::MAX - start).unwrap_or(usize::MAX);
+                let len = len.min(room.saturating_add(1));
                 let points = block(&sobol, start, len);
                 for i in 0..len {
                     sobol.point(start + i as u64, &mut p).unwrap();
