@@ -4,6 +4,10 @@
 //! ```text
 //! cargo run --release --example quickstart
 //! ```
+//! It takes no flags.
+
+#[path = "support/mod.rs"]
+mod support;
 
 use mcint::estimator::{ImportanceEstimator, UniformEstimator};
 use mcint::pdf::{Exponential, Pdf1d, ProductPdf, TruncatedNormal, UniformBox};
@@ -17,9 +21,11 @@ const POINTS: u64 = 1 << 16;
 const REPLICATES: u64 = 16;
 
 fn main() {
+    if let Err(message) = support::Args::parse(&[]) {
+        support::fail(message);
+    }
     if let Err(e) = run() {
-        eprintln!("error: {e}");
-        std::process::exit(1);
+        support::fail(e);
     }
 }
 

@@ -26,6 +26,9 @@ impl Args {
         let mut switches = Vec::new();
         let mut args = args.peekable();
         let known = || {
+            if spec.is_empty() {
+                return "none".to_string();
+            }
             spec.iter()
                 .map(|(n, _)| format!("--{n}"))
                 .collect::<Vec<_>>()

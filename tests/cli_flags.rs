@@ -1,0 +1,100 @@
+//! Every example binary answers a bad command line (unknown flag, flag without its value,
+//! malformed number, stray argument) with one line on stderr and a non-zero exit, before
+//! doing any work.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn example(name: &str) -> PathBuf {
+    let mut dir = std::env::current_exe().expect("test binary path");
+    dir.pop();
+    if dir.ends_with("deps") {
+        dir.pop();
+    }
+    dir.join("examples")
+        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX))
+}
+
+fn run(name: &str, args: &[&str]) -> Output {
+    let path = example(name);
+    Command::new(&path).args(args).output().unwrap_or_else(|e| {
+        panic!(
+            "cannot run {}: {e} (build it with cargo test or cargo build --examples)",
+            path.display()
+        )
+    })
+}
+
+fn assert_one_line_error(name: &str, args: &[&str], needle: &str) {
+    let out = run(name, args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{name} {args:?} succeeded");
+    assert_eq!(stderr.lines().count(), 1, "{name} {args:?}: {stderr}");
+    assert!(stderr.starts_with("error: "), "{name} {args:?}: {stderr}");
+    assert!(
+        stderr.contains(needle),
+        "{name} {args:?}: {stderr} lacks {needle}"
+    );
+    assert!(out.stdout.is_empty(), "{name} {args:?} printed to stdout");
+}
+
+/// A flag each binary takes with a value, and valid values of its required flags.
+const BINARIES: [(&str, &str, &[&str]); 6] = [
+    ("points", "--n", &["--sampler", "sobol", "--dims", "2"]),
+    ("integrate", "--n", &["--genz", "gaussian", "--dims", "2"]),
+    ("variance_reduction", "--n", &[]),
+    ("gallery", "--n", &["--out", "/tmp/mcint-never-written"]),
+    (
+        "convergence",
+        "--passes",
+        &["--out", "/tmp/mcint-never-written"],
+    ),
+    ("quality", "--input", &["--measure", "star"]),
+];
+
+#[test]
+fn quickstart_takes_no_flags() {
+    assert_one_line_error("quickstart", &["--n", "5"], "unknown flag '--n'");
+    assert_one_line_error("quickstart", &["stray"], "unexpected argument 'stray'");
+}
+
+#[test]
+fn unknown_flags_are_refused_with_the_list_of_known_ones() {
+    for (name, _, required) in BINARIES {
+        let mut args = required.to_vec();
+        args.push("--bogus");
+        assert_one_line_error(name, &args, "unknown flag '--bogus'");
+    }
+}
+
+#[test]
+fn flags_without_values_are_refused() {
+    for (name, flag, required) in BINARIES {
+        let mut args = required.to_vec();
+        args.push(flag);
+        assert_one_line_error(name, &args, "needs a value");
+    }
+}
+
+#[test]
+fn malformed_numbers_are_refused() {
+    for (name, flag, required) in BINARIES {
+        if flag == "--input" {
+            continue;
+        }
+        for bad in ["12x", "-3", "1e99999", "0x10", ""] {
+            let mut args = required.to_vec();
+            args.extend([flag, bad]);
+            assert_one_line_error(name, &args, flag);
+        }
+    }
+}
+
+#[test]
+fn stray_arguments_are_refused() {
+    for (name, _, required) in BINARIES {
+        let mut args = required.to_vec();
+        args.push("stray");
+        assert_one_line_error(name, &args, "unexpected argument 'stray'");
+    }
+}
