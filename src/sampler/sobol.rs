@@ -41,7 +41,7 @@
 //! Gray-code step is taken per group. The Owen column runs its Gray code on bit-reversed
 //! direction words, since the hash works on reversed words, saving one bit reversal per value.
 //! All of it is compiled once per instruction set and selected at run time
-//! (`super::simd`), which turns these loops into 8-lane vector code under AVX2.
+//! (`super::simd`), which turns these loops into 8- or 16-lane vector code.
 
 use super::owen::{OwenScramble, dimension_seed, owen_scramble_u32};
 use super::simd::{Kernel, dispatch};
