@@ -6,7 +6,7 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use mcint::Points;
-use mcint::sampler::{Independent, Sampler, Scramble, Sobol};
+use mcint::sampler::{Independent, Sampler, Scramble, Sobol, simd};
 use rand::Rng;
 use rand_pcg::Pcg64;
 use std::hint::black_box;
@@ -43,6 +43,18 @@ fn owen_sobol(c: &mut Criterion) {
         })
     });
 
+    // The same fill with the vector kernels turned off (the baseline build's code).
+    group.bench_function("mcint_fill_portable", |b| {
+        let mut start = 0u64;
+        simd::force_portable(true);
+        b.iter(|| {
+            sobol.fill(start, &mut block).unwrap();
+            start = (start + POINTS as u64) % (1 << 32);
+            black_box(block.get(0, 0))
+        });
+        simd::force_portable(false);
+    });
+
     group.bench_function("sobol_burley_sample_4d", |b| {
         let mut start = 0u32;
         b.iter(|| {
@@ -77,6 +89,29 @@ fn owen_sobol(c: &mut Criterion) {
     group.finish();
 }
 
+/// Sobol' fills under the other scrambles, which need no per-value hashing.
+fn sobol_scrambles(c: &mut Criterion) {
+    let mut group = c.benchmark_group("sobol_4d_4096");
+    group.throughput(Throughput::Elements((DIMS * POINTS) as u64));
+    let mut block = Points::new(DIMS, POINTS).unwrap();
+    for (name, scramble) in [
+        ("none", Scramble::None),
+        ("xor", Scramble::Xor),
+        ("lms", Scramble::Lms),
+    ] {
+        let sobol = Sobol::new(DIMS, scramble, 7).unwrap();
+        group.bench_function(format!("mcint_fill_{name}"), |b| {
+            let mut start = 0u64;
+            b.iter(|| {
+                sobol.fill(start, &mut block).unwrap();
+                start = (start + POINTS as u64) % (1 << 32);
+                black_box(block.get(0, 0))
+            })
+        });
+    }
+    group.finish();
+}
+
 fn independent(c: &mut Criterion) {
     let mut group = c.benchmark_group("independent_4d_4096");
     group.throughput(Throughput::Elements((DIMS * POINTS) as u64));
@@ -104,5 +139,5 @@ fn independent(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, owen_sobol, independent);
+criterion_group!(benches, owen_sobol, sobol_scrambles, independent);
 criterion_main!(benches);

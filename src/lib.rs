@@ -31,7 +31,7 @@
 //! # Ok::<(), mcint::Error>(())
 //! ```
 
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod adaptive;

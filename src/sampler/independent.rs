@@ -6,6 +6,11 @@ use crate::{Points, Result};
 use rand_core::Rng;
 use rand_pcg::Pcg64;
 
+/// Generator copies a block fill steps in turn (see `fill`).
+const STREAMS: usize = 2;
+/// Fewest points per copy worth the copies' jumps.
+const MIN_RUN: usize = 64;
+
 /// Independent uniform points: coordinate `j` of point `i` is value `i * dims + j` of one
 /// PCG-64 stream (O'Neill 2014, from `rand_pcg`) selected by the seed.
 ///
@@ -91,11 +96,35 @@ impl Sampler for Independent {
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.dims, start, points)?;
-        let mut rng = self.at(u128::from(start) * self.dims as u128);
+        let dims = self.dims as u128;
         let len = points.len();
         let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
-        // The stream is point-major; the block is column-major, so write with a stride.
-        for i in 0..len {
+        // The stream is point-major; the block is column-major, so write with a stride. One
+        // PCG step is a serial chain of 128-bit multiplies, so the block is cut into
+        // `STREAMS` runs of points, each drawn by its own copy of the generator jumped to the
+        // run's first value, and the copies are stepped in turn: independent chains the CPU
+        // overlaps. Each value is still value `index * dims + dim` of the one stream.
+        let per_stream = if len >= STREAMS * MIN_RUN {
+            len / STREAMS
+        } else {
+            0
+        };
+        let mut rngs: [Pcg64; STREAMS] = std::array::from_fn(|_| self.origin.clone());
+        rngs[0] = self.at(u128::from(start) * dims);
+        for k in 1..STREAMS {
+            rngs[k] = rngs[k - 1].clone();
+            rngs[k].advance(per_stream as u128 * dims);
+        }
+        for i in 0..per_stream {
+            for column in columns.iter_mut() {
+                for (k, rng) in rngs.iter_mut().enumerate() {
+                    column[k * per_stream + i] = unit_f64(rng.next_u64());
+                }
+            }
+        }
+        // The last copy ends where the points after the runs begin.
+        let rng = &mut rngs[STREAMS - 1];
+        for i in STREAMS * per_stream..len {
             for column in columns.iter_mut() {
                 column[i] = unit_f64(rng.next_u64());
             }

@@ -29,6 +29,8 @@ pub(crate) mod permutation;
 mod pmj02;
 mod poisson_disk;
 mod scramble;
+#[doc(hidden)]
+pub mod simd;
 mod sobol;
 mod torus_grid;
 

@@ -69,7 +69,7 @@ impl OwenScramble {
     }
 
     /// Scrambles `x`: bit-reverse, mix upward, reverse back. Branch-free.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn apply(&self, x: u32) -> u32 {
         self.apply_reversed(x.reverse_bits())
     }
@@ -78,7 +78,7 @@ impl OwenScramble {
     /// word in normal order: `apply_reversed(x.reverse_bits()) == apply(x)`. Generators that
     /// can produce reversed words directly (Sobol' with reversed direction words) save one
     /// reversal per value.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn apply_reversed(&self, mut v: u32) -> u32 {
         v = v.wrapping_add(self.add[0]);
         v ^= v.wrapping_mul(self.even[0]);
@@ -98,7 +98,7 @@ impl OwenScramble {
     /// input digits alone, equivalently (the scramble being a bijection) of the scrambled word
     /// `scrambled`. This hashes it with a per-seed key (the "lowbias32" mixer of Wellons'
     /// hash-prospector, a bijection of `u32` with low bias); use the top bits.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn tail_bits(&self, scrambled: u32) -> u32 {
         let mut h = scrambled ^ self.tail;
         h ^= h >> 16;

@@ -34,13 +34,17 @@
 //! A randomized coordinate is therefore exactly uniform on the `2^-53` grid of `[0, 1)`, and
 //! below 1 by construction.
 //!
-//! The fill kernels work column by column over a block: for each dimension, Gray-code XOR
-//! updates into a chunk of words, then the scramble and the conversion in loops without
-//! loop-carried dependencies (which the compiler vectorizes), with the scramble dispatched once
-//! per column. The Owen column runs its Gray code on bit-reversed direction words, since the
-//! hash works on reversed words, saving one bit reversal per value.
+//! The fill kernels work column by column over a block: for each dimension, the Gray-code
+//! words of a chunk, then the scramble and the conversion in loops without loop-carried
+//! dependencies, with the scramble dispatched once per column. Within an aligned group of 16
+//! indices the words are the group's first word XOR a per-column table, so only one serial
+//! Gray-code step is taken per group. The Owen column runs its Gray code on bit-reversed
+//! direction words, since the hash works on reversed words, saving one bit reversal per value.
+//! All of it is compiled once per instruction set and selected at run time
+//! (`super::simd`), which turns these loops into 8- or 16-lane vector code.
 
 use super::owen::{OwenScramble, dimension_seed, owen_scramble_u32};
+use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, Scramble, check_block, check_point};
 use crate::hash::{hash_words, mix64};
 use crate::{Error, Points, Result};
@@ -66,6 +70,9 @@ const CHUNK: usize = 1 << CHUNK_BITS;
 /// Below this many points of one aligned chunk, the shuffled kernel computes words directly
 /// instead of generating the whole chunk by Gray code.
 const SHUFFLE_DIRECT_BELOW: usize = 32;
+/// Indices per aligned Gray-code group (a power of two dividing `CHUNK`): within an aligned
+/// group the words are the group's first word XOR a per-column table, with no serial chain.
+const GROUP: usize = 16;
 
 /// Salts separating the hashes drawn from one pass seed.
 const PASS_SALT: u64 = 0x736f_626f_6c5f_7073;
@@ -218,7 +225,7 @@ fn gray(i: u32) -> u32 {
 }
 
 /// A 32-bit word widened to 53 digits (zeros below).
-#[inline]
+#[inline(always)]
 fn widen(word: u32) -> u64 {
     u64::from(word) << EXTRA_BITS
 }
@@ -235,14 +242,14 @@ fn linear(columns: &WideDirections, word: u32) -> u64 {
 }
 
 /// An unscrambled word as a double: exactly `word * 2^-32`.
-#[inline]
+#[inline(always)]
 fn unscrambled_f64(word: u32) -> f64 {
     f64::from(word) * (1.0 / 4_294_967_296.0)
 }
 
 /// A 53-digit randomized fraction (`bits < 2^53`) as a double: exact, on the `2^-53` grid,
 /// below 1.
-#[inline]
+#[inline(always)]
 fn wide_f64(bits: u64) -> f64 {
     let tail = (bits & ((1 << EXTRA_BITS) - 1)) as u32;
     join_f64((bits >> EXTRA_BITS) as u32, tail)
@@ -256,7 +263,7 @@ fn owen_f64(scramble: &OwenScramble, reversed: u32) -> f64 {
 }
 
 /// The scrambled word of a bit-reversed word, and its next 21 digits (right-aligned).
-#[inline]
+#[inline(always)]
 fn owen_parts(scramble: &OwenScramble, reversed: u32) -> (u32, u32) {
     let word = scramble.apply_reversed(reversed);
     (word, scramble.tail_bits(word) >> (32 - EXTRA_BITS))
@@ -265,14 +272,14 @@ fn owen_parts(scramble: &OwenScramble, reversed: u32) -> (u32, u32) {
 /// `(word * 2^21 + tail) * 2^-53` for `tail < 2^21`, as a sum of two exactly converted parts:
 /// the sum is a multiple of `2^-53` below 1, so it is exact, and only 32-bit integers are
 /// converted (which vectorizes, unlike 64-bit conversion before AVX-512).
-#[inline]
+#[inline(always)]
 fn join_f64(word: u32, tail: u32) -> f64 {
     f64::from(word) * (1.0 / 4_294_967_296.0) + f64::from(tail) * (1.0 / 9_007_199_254_740_992.0)
 }
 
 /// Owen-scrambles a chunk of bit-reversed words and converts them: the 32-bit hashing first
 /// (a loop of independent integer operations), then the conversion.
-#[inline]
+#[inline(always)]
 fn owen_chunk(scramble: &OwenScramble, reversed: &[u32], out: &mut [f64]) {
     let mut words = [0u32; CHUNK];
     let mut tails = [0u32; CHUNK];
@@ -483,6 +490,7 @@ impl Sobol {
 
     /// Fills `out` with in-pass points `first..` of one pass (no index shuffle), column by
     /// column: Gray-code words into a buffer, then scramble and convert.
+    #[inline(always)]
     fn fill_run(&self, pass: u64, first: u32, out: &mut Points, offset: usize, len: usize) {
         let pass_seed = self.pass_seed(pass);
         for (dim, directions) in self.directions.iter().enumerate() {
@@ -517,6 +525,7 @@ impl Sobol {
     }
 
     /// Like [`fill_run`](Self::fill_run) with the index shuffle (Owen only).
+    #[inline(always)]
     fn fill_shuffled_run(
         &self,
         pass: u64,
@@ -555,7 +564,9 @@ impl Sobol {
                     }
                 } else {
                     // The whole aligned chunk of sequence points by Gray code, then gathered.
-                    gray_words(&reversed, direct(&reversed, gray(base)), base, &mut words);
+                    let offsets = group_offsets(&reversed);
+                    let start = direct(&reversed, gray(base));
+                    gray_words(&reversed, &offsets, start, base, &mut words);
                     for (g, &s) in gathered.iter_mut().zip(shuffled.iter()) {
                         *g = words[s as usize & (CHUNK - 1)];
                     }
@@ -567,32 +578,103 @@ impl Sobol {
     }
 }
 
+/// A fill of one pass's run of points, compiled for each instruction set by [`dispatch`].
+struct FillRun<'a> {
+    sobol: &'a Sobol,
+    pass: u64,
+    first: u32,
+    out: &'a mut Points,
+    offset: usize,
+    len: usize,
+}
+
+impl Kernel for FillRun<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let FillRun {
+            sobol,
+            pass,
+            first,
+            out,
+            offset,
+            len,
+        } = self;
+        if sobol.shuffles() {
+            sobol.fill_shuffled_run(pass, first, out, offset, len);
+        } else {
+            sobol.fill_run(pass, first, out, offset, len);
+        }
+    }
+}
+
+/// The words of in-group offsets `0..GROUP` relative to the group's first word: entry `j` is
+/// the XOR of the direction words selected by `gray(j)`. For an aligned index `a` (a multiple
+/// of `GROUP`) and `j < GROUP`, `gray(a + j) = gray(a) ^ gray(j)`, so the word of `a + j` is
+/// the word of `a` XOR entry `j`.
+#[inline(always)]
+fn group_offsets<W: Copy + Default + BitXorAssign>(directions: &[W; 32]) -> [W; GROUP] {
+    let mut offsets = [W::default(); GROUP];
+    let mut word = W::default();
+    for (j, slot) in offsets.iter_mut().enumerate().skip(1) {
+        word ^= directions[j.trailing_zeros() as usize];
+        *slot = word;
+    }
+    offsets
+}
+
 /// Writes the words of in-pass indices `first, first + 1, ...` into `words`, starting from
-/// `start` (the word of `first`, possibly scrambled or widened): consecutive Gray codes differ
-/// in bit `ctz(i + 1)`. Returns the word of the index after the last.
-#[inline]
+/// `start` (the word of `first`, possibly scrambled or widened). Returns the word of the
+/// index after the last. Consecutive Gray codes differ in bit `ctz(i + 1)`; the indices
+/// before the first multiple of `GROUP` and after the last step one at a time, the aligned
+/// groups in between are filled from `offsets` ([`group_offsets`]), with one serial step per
+/// group.
+#[inline(always)]
 fn gray_words<W: Copy + BitXorAssign>(
     directions: &[W; 32],
+    offsets: &[W; GROUP],
     start: W,
     first: u32,
     words: &mut [W],
 ) -> W {
+    // ctz(0) = 32 only past the end of a pass, where the update is never used.
+    let step = |i: u32| directions[(i.trailing_zeros() & 31) as usize];
     let mut word = start;
     let mut i = first;
-    for slot in words.iter_mut() {
+    let head = ((GROUP as u32).wrapping_sub(first) as usize & (GROUP - 1)).min(words.len());
+    let (head, rest) = words.split_at_mut(head);
+    for slot in head {
         *slot = word;
         i = i.wrapping_add(1);
-        // ctz(0) = 32 only past the end of a pass, where the update is never used.
-        word ^= directions[(i.trailing_zeros() & 31) as usize];
+        word ^= step(i);
+    }
+    let mut groups = rest.chunks_exact_mut(GROUP);
+    for group in &mut groups {
+        for (slot, &offset) in group.iter_mut().zip(offsets) {
+            let mut w = word;
+            w ^= offset;
+            *slot = w;
+        }
+        // The group's last word, then one step into the next group.
+        word ^= offsets[GROUP - 1];
+        i = i.wrapping_add(GROUP as u32);
+        word ^= step(i);
+    }
+    for slot in groups.into_remainder() {
+        *slot = word;
+        i = i.wrapping_add(1);
+        word ^= step(i);
     }
     word
 }
 
 /// One column of a run of consecutive in-pass indices starting at `first`, whose word is
-/// `start`: Gray-code updates into a chunk buffer (a serial XOR chain), then `finish` scrambles
-/// and converts the chunk (loops free of loop-carried dependencies). Monomorphized per
-/// scramble, so the inner loops do not branch on it.
-#[inline]
+/// `start`: Gray-code words into a chunk buffer, then `finish` scrambles and converts the
+/// chunk (loops free of loop-carried dependencies). Monomorphized per scramble, so the inner
+/// loops do not branch on it. Chunks after the first start at multiples of `CHUNK`, so only
+/// the first and last can have unaligned groups.
+#[inline(always)]
 fn gray_column<W: Copy + Default + BitXorAssign, F: FnMut(&[W], &mut [f64])>(
     directions: &[W; 32],
     start: W,
@@ -600,19 +682,24 @@ fn gray_column<W: Copy + Default + BitXorAssign, F: FnMut(&[W], &mut [f64])>(
     column: &mut [f64],
     mut finish: F,
 ) {
+    let offsets = group_offsets(directions);
     let mut words = [W::default(); CHUNK];
     let mut word = start;
     let mut i = first;
-    for out in column.chunks_mut(CHUNK) {
-        let words = &mut words[..out.len()];
-        word = gray_words(directions, word, i, words);
-        i = i.wrapping_add(out.len() as u32);
+    let mut rest = column;
+    while !rest.is_empty() {
+        let n = (CHUNK - (i as usize & (CHUNK - 1))).min(rest.len());
+        let (out, tail) = rest.split_at_mut(n);
+        let words = &mut words[..n];
+        word = gray_words(directions, &offsets, word, i, words);
+        i = i.wrapping_add(n as u32);
         finish(words, out);
+        rest = tail;
     }
 }
 
 /// Converts a chunk of words one by one.
-#[inline]
+#[inline(always)]
 fn convert<W: Copy>(words: &[W], out: &mut [f64], to_f64: impl Fn(W) -> f64) {
     for (x, &w) in out.iter_mut().zip(words) {
         *x = to_f64(w);
@@ -696,11 +783,14 @@ impl Sampler for Sobol {
             let first = index as u32;
             let room = (1u64 << PASS_BITS) - u64::from(first);
             let n = (len - done).min(usize::try_from(room).unwrap_or(usize::MAX));
-            if self.shuffles() {
-                self.fill_shuffled_run(pass, first, points, done, n);
-            } else {
-                self.fill_run(pass, first, points, done, n);
-            }
+            dispatch(FillRun {
+                sobol: self,
+                pass,
+                first,
+                out: points,
+                offset: done,
+                len: n,
+            });
             done += n;
         }
         Ok(())

@@ -1,0 +1,170 @@
+//! The vectorized fill kernels (Sobol' under every scramble, with and without the index
+//! shuffle, and `Independent`) against the scalar `point` path, bit for bit: random starts and
+//! starts near the ends of a pass (2^32) and of the index range (u64::MAX), ragged lengths
+//! around the Gray-code group (16) and chunk (256) sizes, and several dimensions. Then the
+//! portable kernels against the dispatched ones.
+//!
+//! `simd::force_portable` switches the whole process, so the tests that rely on the dispatched
+//! path hold a shared lock and the one that switches holds it exclusively.
+
+use mcint::Points;
+use mcint::sampler::{Independent, Sampler, Scramble, Sobol, simd};
+use std::sync::RwLock;
+
+static PATH: RwLock<()> = RwLock::new(());
+
+const PASS: u64 = 1 << 32;
+const DIMS: [usize; 6] = [1, 2, 3, 4, 7, 32];
+const LENGTHS: [usize; 16] = [
+    0, 1, 7, 8, 9, 15, 16, 17, 31, 33, 255, 256, 257, 511, 1000, 1500,
+];
+
+/// SplitMix64, for drawing random starts.
+fn splitmix(state: &mut u64) -> u64 {
+    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// Starts for a block of `len` points: aligned, misaligned, random, straddling or ending at
+/// pass boundaries, and ending at the last index `u64::MAX`.
+fn starts(len: usize, rng: &mut u64) -> Vec<u64> {
+    let len = len as u64;
+    let mut starts = vec![0, 1, 13, 16, 255, 4096 + 5];
+    // Straddling the end of pass 0 (the index counter wraps at 2^32 inside the kernels).
+    starts.push(PASS - len / 2 - 3);
+    // Ending exactly at the end of a pass, and starting just after it.
+    starts.push(7 * PASS - len);
+    starts.push(PASS + 1);
+    // The last indices of the whole range.
+    starts.push(u64::MAX - len.saturating_sub(1));
+    starts.push(u64::MAX - len.saturating_sub(1) - 9);
+    for _ in 0..3 {
+        starts.push(splitmix(rng) >> 1);
+        // A random in-pass index in a random pass.
+        starts.push((splitmix(rng) & !(PASS - 1)) | (splitmix(rng) >> 32));
+    }
+    starts
+}
+
+/// Fills a block and asserts every coordinate equals `point`'s, bit for bit.
+fn assert_fill_matches_point(sampler: &dyn Sampler, start: u64, len: usize) {
+    let dims = sampler.dims();
+    let mut block = Points::new(dims, len).unwrap();
+    sampler.fill(start, &mut block).unwrap();
+    let mut p = vec![0.0; dims];
+    for i in 0..len {
+        let index = start + i as u64;
+        sampler.point(index, &mut p).unwrap();
+        for (dim, &x) in p.iter().enumerate() {
+            let y = block.get(i, dim);
+            assert_eq!(
+                x.to_bits(),
+                y.to_bits(),
+                "{} {} ({dims} dims): start {start} len {len} point {index} dim {dim}: \
+                 point {x} fill {y}",
+                simd::active(),
+                sampler.name()
+            );
+        }
+    }
+}
+
+/// The Sobol' samplers under test: every scramble, and Owen with the index shuffle.
+fn sobols(dims: usize, seed: u64) -> Vec<Sobol> {
+    let mut all: Vec<Sobol> = [Scramble::None, Scramble::Xor, Scramble::Lms, Scramble::Owen]
+        .into_iter()
+        .map(|scramble| Sobol::new(dims, scramble, seed).unwrap())
+        .collect();
+    all.push(
+        Sobol::new(dims, Scramble::Owen, seed)
+            .unwrap()
+            .with_index_shuffle(true),
+    );
+    all
+}
+
+#[test]
+fn sobol_fill_equals_point_for_every_scramble_start_length_and_dimension() {
+    let _shared = PATH.read().unwrap();
+    let mut rng = 1;
+    for dims in DIMS {
+        for sobol in sobols(dims, dims as u64 * 31 + 5) {
+            for len in LENGTHS {
+                for start in starts(len, &mut rng) {
+                    assert_fill_matches_point(&sobol, start, len);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn sobol_long_fill_over_a_pass_boundary_equals_point() {
+    // Several chunks, unaligned, crossing from pass 4 into pass 5.
+    let _shared = PATH.read().unwrap();
+    for sobol in sobols(3, 77) {
+        assert_fill_matches_point(&sobol, 5 * PASS - 2500 - 3, 5000);
+    }
+}
+
+#[test]
+fn independent_fill_equals_point_for_every_start_length_and_dimension() {
+    let _shared = PATH.read().unwrap();
+    let mut rng = 2;
+    for dims in DIMS {
+        let sampler = Independent::new(dims, dims as u64 + 11).unwrap();
+        for len in LENGTHS {
+            for start in starts(len, &mut rng) {
+                assert_fill_matches_point(&sampler, start, len);
+            }
+        }
+    }
+}
+
+#[test]
+fn portable_kernels_equal_the_dispatched_ones() {
+    let _exclusive = PATH.write().unwrap();
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        assert_ne!(simd::active(), "portable", "avx2 is present but not used");
+    }
+    let mut samplers: Vec<Box<dyn Sampler>> = Vec::new();
+    for dims in [1, 4, 7] {
+        for sobol in sobols(dims, 3) {
+            samplers.push(Box::new(sobol));
+        }
+        samplers.push(Box::new(Independent::new(dims, 3).unwrap()));
+    }
+    let mut rng = 3;
+    for sampler in &samplers {
+        for len in [1, 17, 256, 1000, 3000] {
+            for start in starts(len, &mut rng) {
+                let mut dispatched = Points::new(sampler.dims(), len).unwrap();
+                let mut portable = dispatched.clone();
+                sampler.fill(start, &mut dispatched).unwrap();
+                simd::force_portable(true);
+                assert_eq!(simd::active(), "portable");
+                let result = sampler.fill(start, &mut portable);
+                simd::force_portable(false);
+                result.unwrap();
+                assert_eq!(
+                    dispatched,
+                    portable,
+                    "{} ({} dims): start {start} len {len}",
+                    sampler.name(),
+                    sampler.dims()
+                );
+                // Equal as numbers is not enough: compare the bits (signs of zero, NaNs).
+                for dim in 0..sampler.dims() {
+                    let bits = |p: &Points| -> Vec<u64> {
+                        p.column(dim).iter().map(|x| x.to_bits()).collect()
+                    };
+                    assert_eq!(bits(&dispatched), bits(&portable));
+                }
+            }
+        }
+    }
+}
