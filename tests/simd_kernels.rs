@@ -168,3 +168,31 @@ fn portable_kernels_equal_the_dispatched_ones() {
         }
     }
 }
+
+/// Small enough for Miri (`cargo +nightly miri test --test simd_kernels small`), which checks
+/// the dispatch's unsafe call: a few ragged fills of every scramble equal `point()`.
+#[test]
+fn small_fills_equal_point() {
+    for scramble in [Scramble::None, Scramble::Xor, Scramble::Lms, Scramble::Owen] {
+        let sobol = Sobol::new(3, scramble, 9).unwrap();
+        for (start, len) in [(0u64, 17usize), (5, 3), ((1 << 32) - 2, 4)] {
+            let mut block = Points::new(3, len).unwrap();
+            sobol.fill(start, &mut block).unwrap();
+            let mut p = [0.0; 3];
+            for i in 0..len {
+                sobol.point(start + i as u64, &mut p).unwrap();
+                for (d, x) in p.iter().enumerate() {
+                    assert_eq!(x.to_bits(), block.get(i, d).to_bits(), "{scramble:?}");
+                }
+            }
+        }
+    }
+    let independent = Independent::new(2, 4).unwrap();
+    let mut block = Points::new(2, 9).unwrap();
+    independent.fill(3, &mut block).unwrap();
+    let mut p = [0.0; 2];
+    for i in 0..9 {
+        independent.point(3 + i as u64, &mut p).unwrap();
+        assert_eq!(p[1].to_bits(), block.get(i, 1).to_bits());
+    }
+}
