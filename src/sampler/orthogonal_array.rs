@@ -649,7 +649,7 @@ fn pow_mod(mut base: u64, mut exp: u64, m: u64) -> u64 {
 
 /// Deterministic Miller-Rabin: the first twelve primes as bases decide every `u64`
 /// (Jaeschke 1993; Sorenson & Webster 2015).
-fn is_prime(n: u64) -> bool {
+pub(super) fn is_prime(n: u64) -> bool {
     const BASES: [u64; 12] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37];
     if n < 2 {
         return false;
