@@ -76,7 +76,8 @@ impl Pdf1d for Linear {
             return 0.0;
         }
         let t = (x - self.a) / (self.b - self.a);
-        2.0 * ((1.0 - t) * self.v0 + t * self.v1) / ((self.v0 + self.v1) * (self.b - self.a))
+        // Divided in two steps: (v0 + v1) (b - a) can overflow when b - a is near f64::MAX.
+        2.0 * ((1.0 - t) * self.v0 + t * self.v1) / (self.v0 + self.v1) / (self.b - self.a)
     }
 
     fn invert_1d(&self, x: f64) -> f64 {

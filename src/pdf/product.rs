@@ -23,10 +23,18 @@ pub struct ProductPdf {
 }
 
 impl ProductPdf {
-    /// The product of `factors` (at least one).
+    /// The product of `factors` (at least one), whose density at the median point (every
+    /// factor's `sample_1d(0.5)`) must be a finite normal float: a product of many narrow or
+    /// wide factors can overflow to infinity, which would make every `f / pdf` silently 0, or
+    /// underflow to 0.
     ///
     /// ```
-    /// assert!(mcint::pdf::ProductPdf::new(vec![]).is_err());
+    /// use mcint::pdf::{Pdf1d, ProductPdf, UniformInterval};
+    /// assert!(ProductPdf::new(vec![]).is_err());
+    /// // 400 factors of density 10 would have density 1e400.
+    /// let narrow = || Box::new(UniformInterval::new(0.0, 0.1).unwrap()) as Box<dyn Pdf1d>;
+    /// assert!(ProductPdf::new((0..400).map(|_| narrow()).collect()).is_err());
+    /// assert!(ProductPdf::new((0..300).map(|_| narrow()).collect()).is_ok());
     /// ```
     pub fn new(factors: Vec<Box<dyn Pdf1d>>) -> Result<Self> {
         if factors.is_empty() {
@@ -34,6 +42,19 @@ impl ProductPdf {
                 "factors",
                 "[]",
                 "at least one one-dimensional pdf",
+            ));
+        }
+        // Multiplied in the order `pdf` uses, so this is the value it would return.
+        let median_density: f64 = factors.iter().map(|p| p.pdf_1d(p.sample_1d(0.5))).product();
+        if !(median_density.is_finite() && median_density >= f64::MIN_POSITIVE) {
+            return Err(Error::invalid(
+                "factors",
+                format!(
+                    "{} pdfs with density {median_density:e} at their median",
+                    factors.len()
+                ),
+                "factors whose product density is a finite normal float (use fewer, or less \
+                 narrow or wide, factors)",
             ));
         }
         Ok(ProductPdf { factors })

@@ -4,6 +4,7 @@ use super::Pdf1d;
 use crate::quadrature::gauss_kronrod;
 use crate::stats::{normal_cdf, normal_quantile, normal_sf};
 use crate::{Error, Result};
+use std::f64::consts::PI;
 
 /// The normal density with `mean` and `sd`, restricted to `[a, b]` and renormalised.
 ///
@@ -31,16 +32,22 @@ pub struct TruncatedNormal {
     at_a: f64,
     /// Normal probability of `[a, b]`.
     mass: f64,
+    /// The density's normalisation, `1 / (sqrt(2 pi) sd mass)`.
+    norm: f64,
 }
 
 impl TruncatedNormal {
     /// Requires finite `mean`, finite `sd > 0`, and `a < b` (either may be infinite) with a
-    /// normal probability of the interval above 1e-300.
+    /// normal probability of the interval above 1e-300 and a peak density that is a finite
+    /// normal float.
     ///
     /// ```
     /// use mcint::pdf::TruncatedNormal;
     /// assert!(TruncatedNormal::new(0.0, 0.0, -1.0, 1.0).is_err());
     /// assert!(TruncatedNormal::new(0.0, 1.0, 60.0, 61.0).is_err()); // no mass in f64
+    /// // A subnormal sd has an infinite peak 1 / (sd sqrt(2 pi)), the largest a subnormal one.
+    /// assert!(TruncatedNormal::new(0.0, 1e-310, -1.0, 1.0).is_err());
+    /// assert!(TruncatedNormal::new(0.0, f64::MAX, -f64::MAX, 0.0).is_err());
     /// ```
     pub fn new(mean: f64, sd: f64, a: f64, b: f64) -> Result<Self> {
         if !mean.is_finite() {
@@ -76,6 +83,22 @@ impl TruncatedNormal {
                 format!("an interval with normal probability above 1e-300 (it has {mass:e})"),
             ));
         }
+        // 1 / (sqrt(2 pi) sd mass), divided step by step: the product overflows for sd near
+        // f64::MAX. The density is largest at the point of [a, b] nearest the mean, and that
+        // peak must be a finite normal float (a subnormal sd would make it infinite).
+        let norm = 1.0 / (2.0 * PI).sqrt() / sd / mass;
+        let nearest = (mean.clamp(a, b) - mean) / sd;
+        let peak = (-0.5 * nearest * nearest).exp() * norm;
+        if !(peak.is_finite() && peak >= f64::MIN_POSITIVE) {
+            return Err(Error::invalid(
+                "sd",
+                sd,
+                format!(
+                    "a value > 0 whose peak density is a finite normal float (it is {peak:e} \
+                     on [{a}, {b}])"
+                ),
+            ));
+        }
         Ok(TruncatedNormal {
             mean,
             sd,
@@ -84,6 +107,7 @@ impl TruncatedNormal {
             upper,
             at_a,
             mass,
+            norm,
         })
     }
 }
@@ -111,7 +135,7 @@ impl Pdf1d for TruncatedNormal {
             return 0.0;
         }
         let z = (x - self.mean) / self.sd;
-        (-0.5 * z * z).exp() / ((2.0 * std::f64::consts::PI).sqrt() * self.sd * self.mass)
+        (-0.5 * z * z).exp() * self.norm
     }
 
     fn invert_1d(&self, x: f64) -> f64 {
