@@ -205,7 +205,7 @@ impl Genz {
     ///
     /// # Errors
     ///
-    /// [`Error::InvalidParameter`] naming `d` when `d == 0`.
+    /// [`Error::InvalidParameter`] naming `d` when `d == 0` or too large to store.
     ///
     /// ```
     /// use mcint::testfns::{Genz, GenzFamily};
@@ -213,11 +213,13 @@ impl Genz {
     /// assert_eq!(f.a(), &[1.0, 1.5, 2.0]);
     /// assert_eq!(f.u(), &[0.2, 0.5, 0.8]);
     /// assert!(Genz::with_defaults(GenzFamily::Continuous, 0).is_err());
+    /// assert!(Genz::with_defaults(GenzFamily::Continuous, usize::MAX).is_err());
     /// ```
     pub fn with_defaults(family: GenzFamily, d: usize) -> Result<Genz> {
         if d == 0 {
             return Err(Error::invalid("d", d, "at least 1"));
         }
+        crate::error::check_vec_len::<f64>("d", d)?;
         let a = (0..d).map(|k| 1.0 + 0.5 * k as f64).collect();
         let u = if d == 1 {
             vec![0.5]
