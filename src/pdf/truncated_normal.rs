@@ -6,6 +6,12 @@ use crate::stats::{normal_cdf, normal_quantile, normal_sf};
 use crate::{Error, Result};
 use std::f64::consts::PI;
 
+/// The largest double below one.
+const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
+/// The smallest positive double (subnormal): upper-tail probabilities go down to 1e-300 times
+/// `1 - u`, below `f64::MIN_POSITIVE`.
+const SMALLEST_POSITIVE: f64 = 5e-324;
+
 /// The normal density with `mean` and `sd`, restricted to `[a, b]` and renormalised.
 ///
 /// Sampling inverts the cdf, so stratified or quasi-random `u` stay stratified. When the whole
@@ -32,8 +38,8 @@ pub struct TruncatedNormal {
     at_a: f64,
     /// Normal probability of `[a, b]`.
     mass: f64,
-    /// The density's normalisation, `1 / (sqrt(2 pi) sd mass)`.
-    norm: f64,
+    /// The density's normalisation, `sqrt(2 pi) sd mass`.
+    denominator: f64,
 }
 
 impl TruncatedNormal {
@@ -48,6 +54,10 @@ impl TruncatedNormal {
     /// // A subnormal sd has an infinite peak 1 / (sd sqrt(2 pi)), the largest a subnormal one.
     /// assert!(TruncatedNormal::new(0.0, 1e-310, -1.0, 1.0).is_err());
     /// assert!(TruncatedNormal::new(0.0, f64::MAX, -f64::MAX, 0.0).is_err());
+    /// // Samples are finite, also for u near 1 on a half-line.
+    /// use mcint::pdf::Pdf1d;
+    /// let half_line = TruncatedNormal::new(0.5, 1e160, 0.0, f64::INFINITY).unwrap();
+    /// assert!(half_line.sample_1d(1.0 - f64::EPSILON / 2.0).is_finite());
     /// ```
     pub fn new(mean: f64, sd: f64, a: f64, b: f64) -> Result<Self> {
         if !mean.is_finite() {
@@ -83,12 +93,15 @@ impl TruncatedNormal {
                 format!("an interval with normal probability above 1e-300 (it has {mass:e})"),
             ));
         }
-        // 1 / (sqrt(2 pi) sd mass), divided step by step: the product overflows for sd near
-        // f64::MAX. The density is largest at the point of [a, b] nearest the mean, and that
-        // peak must be a finite normal float (a subnormal sd would make it infinite).
-        let norm = 1.0 / (2.0 * PI).sqrt() / sd / mass;
+        // sqrt(2 pi) sd mass, in that order unless sqrt(2 pi) sd overflows (sd near f64::MAX
+        // and a small mass). The density is largest at the point of [a, b] nearest the mean,
+        // and that peak must be a finite normal float (a subnormal sd would make it infinite).
+        let denominator = match (2.0 * PI).sqrt() * sd * mass {
+            d if d.is_finite() => d,
+            _ => (2.0 * PI).sqrt() * (sd * mass),
+        };
         let nearest = (mean.clamp(a, b) - mean) / sd;
-        let peak = (-0.5 * nearest * nearest).exp() * norm;
+        let peak = (-0.5 * nearest * nearest).exp() / denominator;
         if !(peak.is_finite() && peak >= f64::MIN_POSITIVE) {
             return Err(Error::invalid(
                 "sd",
@@ -107,7 +120,7 @@ impl TruncatedNormal {
             upper,
             at_a,
             mass,
-            norm,
+            denominator,
         })
     }
 }
@@ -122,10 +135,12 @@ fn standard_normal_mass(alpha: f64, beta: f64) -> f64 {
 impl Pdf1d for TruncatedNormal {
     fn sample_1d(&self, u: f64) -> f64 {
         let z = if self.upper {
-            -normal_quantile(self.at_a - u * self.mass)
+            // Keep p above zero: with b = +inf, at_a - u mass can round to 0 for u near 1.
+            -normal_quantile((self.at_a - u * self.mass).max(SMALLEST_POSITIVE))
         } else {
-            // Keep p above zero so u = 0 with a = -inf gives a finite point.
-            normal_quantile((self.at_a + u * self.mass).max(f64::MIN_POSITIVE))
+            // Keep p in (0, 1) so u = 0 with a = -inf, and u near 1 with b = +inf (where
+            // at_a + u mass can round to 1), give finite points.
+            normal_quantile((self.at_a + u * self.mass).clamp(f64::MIN_POSITIVE, ONE_BELOW))
         };
         (self.mean + self.sd * z).clamp(self.a, self.b)
     }
@@ -135,7 +150,7 @@ impl Pdf1d for TruncatedNormal {
             return 0.0;
         }
         let z = (x - self.mean) / self.sd;
-        (-0.5 * z * z).exp() * self.norm
+        (-0.5 * z * z).exp() / self.denominator
     }
 
     fn invert_1d(&self, x: f64) -> f64 {
