@@ -162,7 +162,7 @@ impl SamplerKind {
     /// assert_eq!(oa.name(), "oa-bush");
     /// assert!(SamplerKind::OaBush.build_with(3, 100, Scramble::None, Some(3), 1).is_err());
     /// // 64 = 4^3, but 4 is not prime: the error is about the points given, not about p = 4.
-    /// let err = SamplerKind::OaBush.build_with(3, 64, Scramble::None, Some(3), 1).unwrap_err();
+    /// let err = SamplerKind::OaBush.build_with(3, 64, Scramble::None, Some(3), 1).err().unwrap();
     /// assert!(err.to_string().starts_with("invalid points = 64"), "{err}");
     /// assert!(SamplerKind::Latin.build_with(3, 100, Scramble::None, Some(3), 1).is_err());
     /// ```
@@ -265,7 +265,11 @@ impl FromStr for SamplerKind {
             .find(|kind| kind.name() == name)
             .ok_or_else(|| {
                 let names: Vec<&str> = SamplerKind::ALL.iter().map(|k| k.name()).collect();
-                Error::invalid("sampler", name, format!("one of {}", names.join(", ")))
+                Error::invalid(
+                    "sampler",
+                    format!("{name:?}"),
+                    format!("one of {}", names.join(", ")),
+                )
             })
     }
 }

@@ -115,7 +115,11 @@ impl FromStr for OaOffset {
             .find(|o| o.name() == name)
             .ok_or_else(|| {
                 let names: Vec<&str> = OaOffset::ALL.iter().map(|o| o.name()).collect();
-                Error::invalid("offset", name, format!("one of {}", names.join(", ")))
+                Error::invalid(
+                    "offset",
+                    format!("{name:?}"),
+                    format!("one of {}", names.join(", ")),
+                )
             })
     }
 }
