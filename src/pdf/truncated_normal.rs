@@ -54,6 +54,8 @@ impl TruncatedNormal {
     /// // A subnormal sd has an infinite peak 1 / (sd sqrt(2 pi)), the largest a subnormal one.
     /// assert!(TruncatedNormal::new(0.0, 1e-310, -1.0, 1.0).is_err());
     /// assert!(TruncatedNormal::new(0.0, f64::MAX, -f64::MAX, 0.0).is_err());
+    /// // Samples 38 sd below the mean would overflow on (-inf, 0].
+    /// assert!(TruncatedNormal::new(0.0, 1e307, f64::NEG_INFINITY, 0.0).is_err());
     /// // Samples are finite, also for u near 1 on a half-line.
     /// use mcint::pdf::Pdf1d;
     /// let half_line = TruncatedNormal::new(0.5, 1e160, 0.0, f64::INFINITY).unwrap();
@@ -71,6 +73,18 @@ impl TruncatedNormal {
                 "[a, b]",
                 format!("[{a}, {b}]"),
                 "a < b (either may be infinite)",
+            ));
+        }
+        // Samples reach about 38.5 sd from the mean (the quantile of the smallest double);
+        // on a half-line nothing clamps them, so that reach must stay finite (as for Normal).
+        let reach = mean.abs() + 40.0 * sd;
+        if (a.is_infinite() || b.is_infinite()) && !reach.is_finite() {
+            return Err(Error::invalid(
+                "sd",
+                sd,
+                format!(
+                    "a value with |mean| + 40 sd finite when an end is infinite (mean = {mean})"
+                ),
             ));
         }
         let (alpha, beta) = ((a - mean) / sd, (b - mean) / sd);
