@@ -152,9 +152,11 @@ impl Pdf1d for TruncatedNormal {
             // Keep p above zero: with b = +inf, at_a - u mass can round to 0 for u near 1.
             -normal_quantile((self.at_a - u * self.mass).max(SMALLEST_POSITIVE))
         } else {
-            // Keep p in (0, 1) so u = 0 with a = -inf, and u near 1 with b = +inf (where
-            // at_a + u mass can round to 1), give finite points.
-            normal_quantile((self.at_a + u * self.mass).clamp(f64::MIN_POSITIVE, ONE_BELOW))
+            // Keep p above zero so u = 0 with a = -inf gives a finite point, and below one for
+            // canonical u < 1 (with b = +inf, at_a + u mass can round to 1). Other u are
+            // treated as Normal treats them, so that the two agree bit for bit on (-inf, inf).
+            let p = (self.at_a + u * self.mass).max(f64::MIN_POSITIVE);
+            normal_quantile(if u < 1.0 { p.min(ONE_BELOW) } else { p })
         };
         (self.mean + self.sd * z).clamp(self.a, self.b)
     }
