@@ -77,6 +77,22 @@ impl Error {
     }
 }
 
+/// Ok when a vector of `len` values of `T` can exist (at most `isize::MAX` bytes), so that a
+/// constructor that builds one from a count reports an absurd count instead of panicking in
+/// `vec!`.
+pub(crate) fn check_vec_len<T>(name: &'static str, len: usize) -> Result<()> {
+    let size = std::mem::size_of::<T>();
+    let most = isize::MAX as usize / size.max(1);
+    if size > 0 && len > most {
+        return Err(Error::invalid(
+            name,
+            len,
+            format!("at most {most} (one value each must fit in memory)"),
+        ));
+    }
+    Ok(())
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -117,3 +133,14 @@ impl std::error::Error for Error {}
 
 /// Result alias used throughout the crate.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn vector_lengths_beyond_isize_are_errors() {
+        assert!(super::check_vec_len::<f64>("d", 1 << 40).is_ok());
+        let err = super::check_vec_len::<f64>("d", usize::MAX / 4).unwrap_err();
+        assert!(err.to_string().starts_with("invalid d = "), "{err}");
+        assert!(super::check_vec_len::<()>("d", usize::MAX).is_ok());
+    }
+}

@@ -32,15 +32,22 @@ impl Points {
     /// let block = mcint::Points::new(3, 1024).unwrap();
     /// assert_eq!((block.dims(), block.len()), (3, 1024));
     /// assert!(mcint::Points::new(0, 4).is_err());
+    /// // More coordinates than an allocation can hold is an error, not a panic.
+    /// assert!(mcint::Points::new(1, usize::MAX / 4).is_err());
     /// ```
     pub fn new(dims: usize, len: usize) -> Result<Self> {
         if dims == 0 {
             return Err(Error::invalid("dims", dims, "at least 1"));
         }
-        let size = dims.checked_mul(len).ok_or(Error::IndexOutOfRange {
-            what: "dims * len of a point block",
-            limit: usize::MAX as u64,
-        })?;
+        // A Vec holds at most isize::MAX bytes; beyond that `vec!` panics.
+        let limit = isize::MAX as usize / std::mem::size_of::<f64>();
+        let size =
+            dims.checked_mul(len)
+                .filter(|&size| size <= limit)
+                .ok_or(Error::IndexOutOfRange {
+                    what: "dims * len of a point block",
+                    limit: limit as u64,
+                })?;
         Ok(Points {
             dims,
             len,

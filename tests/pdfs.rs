@@ -994,8 +994,12 @@ fn constructors_reject_bad_parameters_by_name() {
     assert_eq!(exponential(1.0, 0.0, nan), "b");
     // A growing exponential has no mass at +inf to normalise.
     assert_eq!(exponential(-1.0, 0.0, INF), "b");
-    // |rate| (b - a) underflows: no representable mass.
-    assert_eq!(exponential(1e-300, 0.0, 1e-300), "rate");
+    // |rate| (b - a) underflows: the density is uniform to rounding, and sampled as such.
+    let flat = Exponential::new(1e-300, 0.0, 1e-300).unwrap();
+    assert!((flat.pdf_1d(5e-301) * 1e-300 - 1.0).abs() < 1e-15);
+    assert!((flat.sample_1d(0.25) / 2.5e-301 - 1.0).abs() < 1e-15);
+    // A half-line needs 1 / rate finite.
+    assert_eq!(exponential(5e-324, 0.0, INF), "rate");
     assert!(Exponential::new(1.0, 0.0, INF).is_ok());
 
     let linear = |a, b, v0, v1| named(Linear::new(a, b, v0, v1).unwrap_err());
@@ -1056,7 +1060,7 @@ fn constructors_reject_bad_parameters_by_name() {
         named(UniformBox::new(vec![0.0, 0.0], vec![1e-200, 1e-200]).unwrap_err()),
         "box volume"
     );
-    assert_eq!(named(UniformBox::unit(0).unwrap_err()), "lo");
+    assert_eq!(named(UniformBox::unit(0).unwrap_err()), "dims");
     assert_eq!(named(ProductPdf::new(vec![]).unwrap_err()), "factors");
 
     // Messages name the parameter and what was allowed.

@@ -505,7 +505,7 @@ fn unknown_sampler_name_lists_the_valid_names() {
         assert_eq!(
             err.to_string(),
             format!(
-                "invalid sampler = {name}: expected one of independent, jittered, latin, sobol, \
+                "invalid sampler = {name:?}: expected one of independent, jittered, latin, sobol, \
                  halton, hammersley, lattice, multijitter, cmj, oa-bose, oa-bush, \
                  nrooks-multistage, poisson, best-candidate, pmj02"
             )

@@ -99,13 +99,22 @@ where
     /// let mut x = [0.0];
     /// assert_eq!(cv.contribution(&[0.3], &mut x), 1.0); // f - 2 g = 0: zero variance
     /// assert!(cv.with_coefficient(f64::INFINITY).is_err());
+    /// // beta times the control's integral, added to every contribution, must be finite.
+    /// let huge = ControlVariate::new(|x: &[f64]| x[0], |x: &[f64]| x[0], f64::MAX, UniformBox::unit(1).unwrap());
+    /// assert!(huge.unwrap().with_coefficient(2.0).is_err());
     /// ```
     pub fn with_coefficient(self, coefficient: f64) -> Result<Self> {
-        if !coefficient.is_finite() {
+        // The shift beta * integral is added to every contribution: if it overflowed, every
+        // contribution would be infinite.
+        if !(coefficient.is_finite() && (coefficient * self.control_integral).is_finite()) {
             return Err(Error::invalid(
                 "coefficient",
                 coefficient,
-                "a finite control-variate coefficient beta",
+                format!(
+                    "a finite control-variate coefficient beta with beta * control_integral \
+                     finite (control_integral = {:e})",
+                    self.control_integral
+                ),
             ));
         }
         Ok(ControlVariate {

@@ -101,6 +101,9 @@ impl<F: Fn(&[f64]) -> f64 + Send + Sync, W: MisWeighting> MultiSampleMis<F, W> {
             });
         }
         let mut canonical_dims = 0usize;
+        // The total count too (`samples_per_contribution`): a pdf that consumes no canonical
+        // coordinates leaves the dimension unchanged however large its count.
+        let mut total_count = 0usize;
         for (i, (pdf, count)) in techniques.iter().enumerate() {
             if *count == 0 {
                 return Err(Error::invalid(
@@ -109,16 +112,18 @@ impl<F: Fn(&[f64]) -> f64 + Send + Sync, W: MisWeighting> MultiSampleMis<F, W> {
                     "at least one sample per technique",
                 ));
             }
+            let overflow = || {
+                Error::invalid(
+                    "n_i",
+                    format!("{count} (technique {i})"),
+                    "counts whose total and total canonical dimension fit in usize",
+                )
+            };
             canonical_dims = count
                 .checked_mul(pdf.canonical_dims())
                 .and_then(|d| d.checked_add(canonical_dims))
-                .ok_or_else(|| {
-                    Error::invalid(
-                        "n_i",
-                        format!("{count} (technique {i})"),
-                        "counts whose total canonical dimension fits in usize",
-                    )
-                })?;
+                .ok_or_else(overflow)?;
+            total_count = total_count.checked_add(*count).ok_or_else(overflow)?;
         }
         let techniques = techniques
             .into_iter()

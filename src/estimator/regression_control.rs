@@ -244,8 +244,9 @@ impl<'a, F: Fn(&[f64]) -> f64 + Send + Sync, P: Pdf> RegressionControlVariates<'
     /// dimension differs from the pdf's canonical dimension, the sampler's points are not
     /// independent, there are too few samples for the regression (`n <= k + 1`), a value of
     /// `f/pdf` or `g_j/pdf` is NaN or infinite (with their count and the first offending
-    /// point), or a control is constant or a linear combination of the others over the samples
-    /// (its coefficient would not be determined).
+    /// point), a control is constant or a linear combination of the others over the samples
+    /// (its coefficient would not be determined), or a control's integral is so far from its
+    /// sample mean that the corrected mean overflows.
     ///
     /// ```
     /// use mcint::{estimator::RegressionControlVariates, pdf::UniformBox};
@@ -255,6 +256,11 @@ impl<'a, F: Fn(&[f64]) -> f64 + Send + Sync, P: Pdf> RegressionControlVariates<'
     ///     .samples(1000)
     ///     .run();
     /// assert!(r.unwrap_err().to_string().contains("linear combination"));
+    /// let far = RegressionControlVariates::new(|x: &[f64]| x[0].exp(), UniformBox::unit(1).unwrap())
+    ///     .control(|x: &[f64]| x[0], f64::MAX)
+    ///     .samples(1000)
+    ///     .run();
+    /// assert!(far.unwrap_err().to_string().starts_with("invalid control integral"));
     /// ```
     pub fn run(&self) -> Result<ControlVariateEstimate> {
         let k = self.controls.len();
@@ -557,6 +563,19 @@ fn regression(total: &CovarianceAccumulator, integrals: &[f64]) -> Result<Contro
     let offsets: Vec<f64> = (0..k).map(|j| total.mean(1 + j) - integrals[j]).collect();
     let correction: f64 = beta.iter().zip(&offsets).map(|(b, d)| b * d).sum();
     let mean = total.mean(0) - correction;
+    if !mean.is_finite() {
+        // Finite samples, so the correction overflowed: a known integral far from the
+        // control's sample mean.
+        return Err(Error::invalid(
+            "control integral",
+            format!("{integrals:?}"),
+            format!(
+                "integrals near the controls' sample means {:?} (the correction beta (mean - \
+                 integral) = {correction:e} overflows)",
+                (0..k).map(|j| total.mean(1 + j)).collect::<Vec<_>>()
+            ),
+        ));
+    }
 
     let total_ss = total.comoment(0, 0);
     // Rounding can leave a tiny negative residual when f is (nearly) a combination of controls.

@@ -22,20 +22,27 @@ pub struct Exponential {
     b: f64,
     /// `|rate|`, the decay rate measured from the peak end.
     decay: f64,
-    /// Probability mass of the untruncated exponential within the interval, `1 - e^{-decay L}`.
+    /// Probability mass of the untruncated exponential within the interval, `1 - e^{-decay L}`
+    /// (it may underflow for a tiny decay; `scale` keeps the precision).
     mass: f64,
+    /// The normalisation `mass / decay`, the integral of `e^{-decay t}` over the interval.
+    scale: f64,
     /// True when the density peaks at `a` (positive rate).
     peak_at_a: bool,
 }
 
 impl Exponential {
     /// Requires a finite non-zero `rate`, finite `a < b`; `b = +inf` is allowed when
-    /// `rate > 0`.
+    /// `rate > 0` (and `1 / rate` is finite), and the normalisation must stay finite.
     ///
     /// ```
-    /// use mcint::pdf::Exponential;
+    /// use mcint::pdf::{Exponential, Pdf1d};
     /// assert!(Exponential::new(0.0, 0.0, 1.0).is_err());
     /// assert!(Exponential::new(-1.0, 0.0, f64::INFINITY).is_err());
+    /// // A subnormal rate is nearly uniform on a short interval, and too flat for a half-line.
+    /// let flat = Exponential::new(5e-324, 0.0, 2.0).unwrap();
+    /// assert_eq!((flat.pdf_1d(1.0), flat.sample_1d(0.25)), (0.5, 0.5));
+    /// assert!(Exponential::new(5e-324, 0.0, f64::INFINITY).is_err());
     /// ```
     pub fn new(rate: f64, a: f64, b: f64) -> Result<Self> {
         if !rate.is_finite() || rate == 0.0 {
@@ -47,32 +54,62 @@ impl Exponential {
         }
         check_interval(a, b, rate > 0.0)?;
         let decay = rate.abs();
-        let mass = -(-decay * (b - a)).exp_m1();
-        if mass.is_nan() || mass <= 0.0 {
+        let width = b - a;
+        let z = decay * width;
+        // The integral of e^{-decay t} over the interval, (1 - e^{-z}) / decay, written as
+        // width (1 - e^{-z}) / z so that a tiny or subnormal decay keeps its precision.
+        let scale = if z.is_infinite() {
+            1.0 / decay
+        } else {
+            width * one_minus_exp_over(z)
+        };
+        if !(scale > 0.0 && scale.is_finite() && (1.0 / scale).is_finite()) {
             return Err(Error::invalid(
                 "rate",
                 rate,
-                "a rate with |rate| (b - a) above 1e-300",
+                format!(
+                    "a rate whose normalisation (1 - e^(-|rate| (b - a))) / |rate| and its \
+                     reciprocal are finite (it is {scale:e}; for b = +inf, 1 / |rate| must be \
+                     finite)"
+                ),
             ));
         }
         Ok(Exponential {
             a,
             b,
             decay,
-            mass,
+            // Computed directly, so that it never exceeds 1 (`distance` takes ln(1 - v mass)).
+            mass: if z.is_infinite() { 1.0 } else { -(-z).exp_m1() },
+            scale,
             peak_at_a: rate > 0.0,
         })
     }
 
-    /// Distance from the peak end whose truncated cdf is `v`.
+    /// Distance from the peak end whose truncated cdf is `v`: `-ln(1 - v mass) / decay`,
+    /// written as `v scale (-ln(1 - y) / y)` with `y = v mass`, which stays accurate when
+    /// `v mass` underflows (a tiny decay, where the density is nearly uniform).
     fn distance(&self, v: f64) -> f64 {
-        -(-v * self.mass).ln_1p() / self.decay
+        let y = v * self.mass;
+        let log_ratio = if y > 0.0 { -(-y).ln_1p() / y } else { 1.0 };
+        v * self.scale * log_ratio
     }
 
-    /// Truncated cdf of the distance `t` from the peak end.
+    /// Truncated cdf of the distance `t` from the peak end, `(1 - e^{-decay t}) / mass`; for a
+    /// small `decay t` written as `(t / scale) (1 - e^{-decay t}) / (decay t)`, which keeps its
+    /// precision when `mass` is tiny (then `decay t` is too).
     fn distance_cdf(&self, t: f64) -> f64 {
-        -(-self.decay * t).exp_m1() / self.mass
+        let z = self.decay * t;
+        if z < 1.0 {
+            t / self.scale * one_minus_exp_over(z)
+        } else {
+            -(-z).exp_m1() / self.mass
+        }
     }
+}
+
+/// `(1 - e^{-z}) / z` for `z >= 0` (1 at 0 and, to rounding, wherever `z` is tiny).
+fn one_minus_exp_over(z: f64) -> f64 {
+    if z > 0.0 { -(-z).exp_m1() / z } else { 1.0 }
 }
 
 impl Pdf1d for Exponential {
@@ -94,7 +131,7 @@ impl Pdf1d for Exponential {
         } else {
             self.b - x
         };
-        self.decay * (-self.decay * t).exp() / self.mass
+        (-self.decay * t).exp() / self.scale
     }
 
     fn invert_1d(&self, x: f64) -> f64 {

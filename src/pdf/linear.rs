@@ -25,15 +25,26 @@ pub struct Linear {
 }
 
 impl Linear {
-    /// Requires finite `a < b`, finite `v0, v1 >= 0` with `v0 + v1 > 0`.
+    /// Requires finite `a < b` with a finite peak `2 / (b - a)`, finite `v0, v1 >= 0` with
+    /// `v0 + v1 > 0`.
     ///
     /// ```
     /// use mcint::pdf::Linear;
     /// assert!(Linear::new(0.0, 1.0, 0.0, 0.0).is_err());
     /// assert!(Linear::new(0.0, 1.0, -1.0, 2.0).is_err());
+    /// // The peak 2 / (b - a) = 2.2e308 would overflow.
+    /// assert!(Linear::new(1.3e-308, 2.2e-308, 1.0, 0.0).is_err());
     /// ```
     pub fn new(a: f64, b: f64, v0: f64, v1: f64) -> Result<Self> {
         check_interval(a, b, false)?;
+        // The density reaches 2 / (b - a) when one end value is zero.
+        if !(2.0 / (b - a)).is_finite() {
+            return Err(Error::invalid(
+                "b",
+                b,
+                format!("an interval wide enough that the peak 2 / (b - a) is finite (a = {a})"),
+            ));
+        }
         for (name, v) in [("v0", v0), ("v1", v1)] {
             if !v.is_finite() || v < 0.0 {
                 return Err(Error::invalid(name, v, "a finite value >= 0"));
@@ -76,7 +87,12 @@ impl Pdf1d for Linear {
             return 0.0;
         }
         let t = (x - self.a) / (self.b - self.a);
-        2.0 * ((1.0 - t) * self.v0 + t * self.v1) / ((self.v0 + self.v1) * (self.b - self.a))
+        let numerator = 2.0 * ((1.0 - t) * self.v0 + t * self.v1);
+        match (self.v0 + self.v1) * (self.b - self.a) {
+            d if d.is_finite() => numerator / d,
+            // (v0 + v1) (b - a) overflows when b - a is near f64::MAX: divide in two steps.
+            _ => numerator / (self.v0 + self.v1) / (self.b - self.a),
+        }
     }
 
     fn invert_1d(&self, x: f64) -> f64 {

@@ -170,19 +170,21 @@ impl<T: Pdf1d> Pdf for T {
     }
 }
 
-/// Validates an interval `lo < hi` with a finite width (`hi` may be `+inf` when
+/// Validates an interval `lo < hi` with a finite width whose reciprocal is a finite normal
+/// float, so that a density of order `1 / (hi - lo)` is representable (`hi` may be `+inf` when
 /// `hi_may_be_infinite`).
 pub(crate) fn check_interval(lo: f64, hi: f64, hi_may_be_infinite: bool) -> Result<()> {
     if !lo.is_finite() {
         return Err(Error::invalid("a", lo, "a finite lower bound"));
     }
-    let hi_ok =
-        (hi.is_finite() && (hi - lo).is_finite()) || (hi_may_be_infinite && hi == f64::INFINITY);
+    let density = 1.0 / (hi - lo);
+    let hi_ok = (hi.is_finite() && density.is_finite() && density >= f64::MIN_POSITIVE)
+        || (hi_may_be_infinite && hi == f64::INFINITY);
     if !hi_ok || hi.is_nan() || hi <= lo {
         let allowed = if hi_may_be_infinite {
-            format!("an upper bound above a = {lo}, +inf or with b - a finite")
+            format!("an upper bound above a = {lo}, +inf or with 1 / (b - a) a finite normal float")
         } else {
-            format!("a finite upper bound above a = {lo} with b - a finite")
+            format!("a finite upper bound above a = {lo} with 1 / (b - a) a finite normal float")
         };
         return Err(Error::invalid("b", hi, allowed));
     }

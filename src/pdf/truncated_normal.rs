@@ -4,6 +4,13 @@ use super::Pdf1d;
 use crate::quadrature::gauss_kronrod;
 use crate::stats::{normal_cdf, normal_quantile, normal_sf};
 use crate::{Error, Result};
+use std::f64::consts::PI;
+
+/// The largest double below one.
+const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
+/// The smallest positive double (subnormal): upper-tail probabilities go down to 1e-300 times
+/// `1 - u`, below `f64::MIN_POSITIVE`.
+const SMALLEST_POSITIVE: f64 = 5e-324;
 
 /// The normal density with `mean` and `sd`, restricted to `[a, b]` and renormalised.
 ///
@@ -31,16 +38,28 @@ pub struct TruncatedNormal {
     at_a: f64,
     /// Normal probability of `[a, b]`.
     mass: f64,
+    /// The density's normalisation, `sqrt(2 pi) sd mass`.
+    denominator: f64,
 }
 
 impl TruncatedNormal {
     /// Requires finite `mean`, finite `sd > 0`, and `a < b` (either may be infinite) with a
-    /// normal probability of the interval above 1e-300.
+    /// normal probability of the interval above 1e-300 and a peak density that is a finite
+    /// normal float.
     ///
     /// ```
     /// use mcint::pdf::TruncatedNormal;
     /// assert!(TruncatedNormal::new(0.0, 0.0, -1.0, 1.0).is_err());
     /// assert!(TruncatedNormal::new(0.0, 1.0, 60.0, 61.0).is_err()); // no mass in f64
+    /// // A subnormal sd has an infinite peak 1 / (sd sqrt(2 pi)), the largest a subnormal one.
+    /// assert!(TruncatedNormal::new(0.0, 1e-310, -1.0, 1.0).is_err());
+    /// assert!(TruncatedNormal::new(0.0, f64::MAX, -f64::MAX, 0.0).is_err());
+    /// // Samples 38 sd below the mean would overflow on (-inf, 0].
+    /// assert!(TruncatedNormal::new(0.0, 1e307, f64::NEG_INFINITY, 0.0).is_err());
+    /// // Samples are finite, also for u near 1 on a half-line.
+    /// use mcint::pdf::Pdf1d;
+    /// let half_line = TruncatedNormal::new(0.5, 1e160, 0.0, f64::INFINITY).unwrap();
+    /// assert!(half_line.sample_1d(1.0 - f64::EPSILON / 2.0).is_finite());
     /// ```
     pub fn new(mean: f64, sd: f64, a: f64, b: f64) -> Result<Self> {
         if !mean.is_finite() {
@@ -54,6 +73,18 @@ impl TruncatedNormal {
                 "[a, b]",
                 format!("[{a}, {b}]"),
                 "a < b (either may be infinite)",
+            ));
+        }
+        // Samples reach about 38.5 sd from the mean (the quantile of the smallest double);
+        // on a half-line nothing clamps them, so that reach must stay finite (as for Normal).
+        let reach = mean.abs() + 40.0 * sd;
+        if (a.is_infinite() || b.is_infinite()) && !reach.is_finite() {
+            return Err(Error::invalid(
+                "sd",
+                sd,
+                format!(
+                    "a value with |mean| + 40 sd finite when an end is infinite (mean = {mean})"
+                ),
             ));
         }
         let (alpha, beta) = ((a - mean) / sd, (b - mean) / sd);
@@ -76,6 +107,25 @@ impl TruncatedNormal {
                 format!("an interval with normal probability above 1e-300 (it has {mass:e})"),
             ));
         }
+        // sqrt(2 pi) sd mass, in that order unless sqrt(2 pi) sd overflows (sd near f64::MAX
+        // and a small mass). The density is largest at the point of [a, b] nearest the mean,
+        // and that peak must be a finite normal float (a subnormal sd would make it infinite).
+        let denominator = match (2.0 * PI).sqrt() * sd * mass {
+            d if d.is_finite() => d,
+            _ => (2.0 * PI).sqrt() * (sd * mass),
+        };
+        let nearest = (mean.clamp(a, b) - mean) / sd;
+        let peak = (-0.5 * nearest * nearest).exp() / denominator;
+        if !(peak.is_finite() && peak >= f64::MIN_POSITIVE) {
+            return Err(Error::invalid(
+                "sd",
+                sd,
+                format!(
+                    "a value > 0 whose peak density is a finite normal float (it is {peak:e} \
+                     on [{a}, {b}])"
+                ),
+            ));
+        }
         Ok(TruncatedNormal {
             mean,
             sd,
@@ -84,6 +134,7 @@ impl TruncatedNormal {
             upper,
             at_a,
             mass,
+            denominator,
         })
     }
 }
@@ -98,10 +149,14 @@ fn standard_normal_mass(alpha: f64, beta: f64) -> f64 {
 impl Pdf1d for TruncatedNormal {
     fn sample_1d(&self, u: f64) -> f64 {
         let z = if self.upper {
-            -normal_quantile(self.at_a - u * self.mass)
+            // Keep p above zero: with b = +inf, at_a - u mass can round to 0 for u near 1.
+            -normal_quantile((self.at_a - u * self.mass).max(SMALLEST_POSITIVE))
         } else {
-            // Keep p above zero so u = 0 with a = -inf gives a finite point.
-            normal_quantile((self.at_a + u * self.mass).max(f64::MIN_POSITIVE))
+            // Keep p above zero so u = 0 with a = -inf gives a finite point, and below one for
+            // canonical u < 1 (with b = +inf, at_a + u mass can round to 1). Other u are
+            // treated as Normal treats them, so that the two agree bit for bit on (-inf, inf).
+            let p = (self.at_a + u * self.mass).max(f64::MIN_POSITIVE);
+            normal_quantile(if u < 1.0 { p.min(ONE_BELOW) } else { p })
         };
         (self.mean + self.sd * z).clamp(self.a, self.b)
     }
@@ -111,7 +166,7 @@ impl Pdf1d for TruncatedNormal {
             return 0.0;
         }
         let z = (x - self.mean) / self.sd;
-        (-0.5 * z * z).exp() / ((2.0 * std::f64::consts::PI).sqrt() * self.sd * self.mass)
+        (-0.5 * z * z).exp() / self.denominator
     }
 
     fn invert_1d(&self, x: f64) -> f64 {

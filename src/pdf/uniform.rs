@@ -19,10 +19,14 @@ pub struct UniformInterval {
 }
 
 impl UniformInterval {
-    /// The uniform density on `[a, b)`; requires finite `a < b`.
+    /// The uniform density on `[a, b)`; requires finite `a < b` with a finite density
+    /// `1 / (b - a)`.
     ///
     /// ```
     /// assert!(mcint::pdf::UniformInterval::new(1.0, 1.0).is_err());
+    /// // A subnormal width would make the density infinite.
+    /// let err = mcint::pdf::UniformInterval::new(0.0, 5e-324).unwrap_err();
+    /// assert!(err.to_string().starts_with("invalid b = "), "{err}");
     /// ```
     pub fn new(a: f64, b: f64) -> Result<Self> {
         check_interval(a, b, false)?;

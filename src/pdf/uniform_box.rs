@@ -29,6 +29,8 @@ impl UniformBox {
     /// use mcint::pdf::UniformBox;
     /// assert!(UniformBox::new(vec![0.0], vec![0.0]).is_err());
     /// assert!(UniformBox::new(vec![], vec![]).is_err());
+    /// // Sides of 1e-155 give a volume of 1e-310, whose density would be infinite.
+    /// assert!(UniformBox::new(vec![0.0; 2], vec![1e-155; 2]).is_err());
     /// ```
     pub fn new(lo: Vec<f64>, hi: Vec<f64>) -> Result<Self> {
         if lo.is_empty() {
@@ -51,11 +53,12 @@ impl UniformBox {
             }
         }
         let volume: f64 = lo.iter().zip(&hi).map(|(l, h)| h - l).product();
-        if !volume.is_finite() || volume <= 0.0 {
+        // The density 1 / volume must be finite too (a subnormal volume would make it inf).
+        if !(volume.is_finite() && volume > 0.0 && (1.0 / volume).is_finite()) {
             return Err(Error::invalid(
                 "box volume",
                 volume,
-                "a finite positive volume",
+                "a finite positive volume whose reciprocal, the density, is finite",
             ));
         }
         Ok(UniformBox { lo, hi, volume })
@@ -65,8 +68,15 @@ impl UniformBox {
     ///
     /// ```
     /// assert_eq!(mcint::pdf::UniformBox::unit(3).unwrap().volume(), 1.0);
+    /// let err = mcint::pdf::UniformBox::unit(0).unwrap_err();
+    /// assert!(err.to_string().starts_with("invalid dims = 0"), "{err}");
+    /// assert!(mcint::pdf::UniformBox::unit(usize::MAX).is_err());
     /// ```
     pub fn unit(dims: usize) -> Result<Self> {
+        if dims == 0 {
+            return Err(Error::invalid("dims", dims, "at least 1"));
+        }
+        crate::error::check_vec_len::<f64>("dims", dims)?;
         UniformBox::new(vec![0.0; dims], vec![1.0; dims])
     }
 

@@ -45,16 +45,21 @@ impl Jittered {
         if strata_per_axis == 0 {
             return Err(Error::invalid("strata_per_axis", 0, "at least 1"));
         }
-        let pass_size = u32::try_from(dims)
-            .ok()
-            .and_then(|d| strata_per_axis.checked_pow(d))
-            .ok_or_else(|| {
-                Error::invalid(
-                    "strata_per_axis",
-                    strata_per_axis,
-                    format!("a value whose {dims}th power fits in 64 bits"),
-                )
-            })?;
+        // 1^dims is 1 for every dims, also those beyond u32 that `checked_pow` cannot take.
+        let pass_size = if strata_per_axis == 1 {
+            Some(1)
+        } else {
+            u32::try_from(dims)
+                .ok()
+                .and_then(|d| strata_per_axis.checked_pow(d))
+        }
+        .ok_or_else(|| {
+            Error::invalid(
+                "strata_per_axis",
+                strata_per_axis,
+                format!("a value whose {dims}th power fits in 64 bits"),
+            )
+        })?;
         Ok(Jittered {
             dims,
             strata_per_axis,
@@ -74,17 +79,17 @@ impl Jittered {
     /// ```
     pub fn with_points(dims: usize, points: u64, seed: u64) -> Result<Self> {
         check_dims(dims)?;
+        // Beyond u32 dimensions only k = 1 has a power that fits in 64 bits (2^dims does
+        // not), so 1 is the only valid size.
+        let powers = u32::try_from(dims).unwrap_or(u32::MAX);
         let root = integer_root(points, dims);
-        if root > 0 && root.checked_pow(dims as u32) == Some(points) {
+        if root > 0 && root.checked_pow(powers) == Some(points) {
             return Jittered::new(dims, root, seed);
         }
-        let below = root
-            .max(1)
-            .checked_pow(dims as u32)
-            .filter(|&n| n <= points);
+        let below = root.max(1).checked_pow(powers).filter(|&n| n <= points);
         let above = root
             .checked_add(1)
-            .and_then(|next| next.checked_pow(dims as u32));
+            .and_then(|next| next.checked_pow(powers));
         let nearest = [below, above]
             .into_iter()
             .flatten()
@@ -189,7 +194,22 @@ impl Sampler for Jittered {
 
 #[cfg(test)]
 mod tests {
-    use super::integer_root;
+    use super::{Jittered, integer_root};
+
+    #[test]
+    fn one_stratum_fits_any_dimension() {
+        use crate::sampler::{PassKind, Sampler};
+        for dims in [1usize << 32, (1 << 32) + 2, usize::MAX] {
+            let s = Jittered::new(dims, 1, 0).unwrap();
+            assert_eq!(s.passes(), PassKind::Fixed { size: 1 });
+            assert!(Jittered::with_points(dims, 1, 0).is_ok());
+            // 2^dims does not fit: 1 is the only valid size (not 4, as truncating dims to
+            // 32 bits would claim).
+            let err = Jittered::with_points(dims, 5, 0).unwrap_err().to_string();
+            assert!(err.ends_with("(nearest valid: 1)"), "{err}");
+            assert!(Jittered::new(dims, 2, 0).is_err());
+        }
+    }
 
     #[test]
     fn integer_root_is_exact_at_and_around_powers() {

@@ -1,5 +1,6 @@
 //! Choosing a sampler by name, as configuration files and the example binaries do.
 
+use super::orthogonal_array::is_prime;
 use super::{
     BestCandidate, CorrelatedMultiJittered, Halton, Hammersley, Independent, Jittered,
     LatinHypercube, Lattice, MultiJittered, MultiStageNRooks, OaOffset, OrthogonalArray, Pmj02,
@@ -160,6 +161,9 @@ impl SamplerKind {
     /// let oa = SamplerKind::OaBush.build_with(3, 125, Scramble::None, Some(3), 1).unwrap();
     /// assert_eq!(oa.name(), "oa-bush");
     /// assert!(SamplerKind::OaBush.build_with(3, 100, Scramble::None, Some(3), 1).is_err());
+    /// // 64 = 4^3, but 4 is not prime: the error is about the points given, not about p = 4.
+    /// let err = SamplerKind::OaBush.build_with(3, 64, Scramble::None, Some(3), 1).err().unwrap();
+    /// assert!(err.to_string().starts_with("invalid points = 64"), "{err}");
     /// assert!(SamplerKind::Latin.build_with(3, 100, Scramble::None, Some(3), 1).is_err());
     /// ```
     pub fn build_with(
@@ -231,13 +235,14 @@ impl SamplerKind {
 }
 
 /// A Bush array of `points = p^t` (always Bush's construction, also for `t = 2`), or the error
-/// of [`OrthogonalArray::with_points`] naming the nearest valid sizes.
+/// of [`OrthogonalArray::with_points`] naming the nearest valid sizes (also when `points` is
+/// a power of a number that is not prime: the caller gave `points`, not `p`).
 fn bush_with_points(dims: usize, points: u64, strength: u32, seed: u64) -> Result<OrthogonalArray> {
     let offset = OaOffset::MultiJittered;
     if strength > 0 && strength <= 64 {
         let root = (points as f64).powf(1.0 / f64::from(strength)).round() as u64;
         for p in root.saturating_sub(1)..=root.saturating_add(1) {
-            if p >= 2 && p.checked_pow(strength) == Some(points) {
+            if is_prime(p) && p.checked_pow(strength) == Some(points) {
                 return OrthogonalArray::bush(dims, p, strength, offset, seed);
             }
         }
@@ -260,7 +265,11 @@ impl FromStr for SamplerKind {
             .find(|kind| kind.name() == name)
             .ok_or_else(|| {
                 let names: Vec<&str> = SamplerKind::ALL.iter().map(|k| k.name()).collect();
-                Error::invalid("sampler", name, format!("one of {}", names.join(", ")))
+                Error::invalid(
+                    "sampler",
+                    format!("{name:?}"),
+                    format!("one of {}", names.join(", ")),
+                )
             })
     }
 }

@@ -115,7 +115,11 @@ impl FromStr for OaOffset {
             .find(|o| o.name() == name)
             .ok_or_else(|| {
                 let names: Vec<&str> = OaOffset::ALL.iter().map(|o| o.name()).collect();
-                Error::invalid("offset", name, format!("one of {}", names.join(", ")))
+                Error::invalid(
+                    "offset",
+                    format!("{name:?}"),
+                    format!("one of {}", names.join(", ")),
+                )
             })
     }
 }
@@ -649,7 +653,7 @@ fn pow_mod(mut base: u64, mut exp: u64, m: u64) -> u64 {
 
 /// Deterministic Miller-Rabin: the first twelve primes as bases decide every `u64`
 /// (Jaeschke 1993; Sorenson & Webster 2015).
-fn is_prime(n: u64) -> bool {
+pub(super) fn is_prime(n: u64) -> bool {
     const BASES: [u64; 12] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37];
     if n < 2 {
         return false;

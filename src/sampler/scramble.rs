@@ -15,6 +15,9 @@ use std::str::FromStr;
 /// use mcint::sampler::Scramble;
 /// assert_eq!("owen".parse::<Scramble>().unwrap(), Scramble::Owen);
 /// assert!("nope".parse::<Scramble>().unwrap_err().to_string().contains("xor"));
+/// // The name is quoted, so that an empty or blank one shows.
+/// let err = "".parse::<Scramble>().unwrap_err().to_string();
+/// assert!(err.starts_with(r#"invalid scramble = "": expected one of none"#), "{err}");
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Scramble {
@@ -97,7 +100,11 @@ impl FromStr for Scramble {
             .find(|s| s.name() == name)
             .ok_or_else(|| {
                 let names: Vec<&str> = Scramble::ALL.iter().map(|s| s.name()).collect();
-                Error::invalid("scramble", name, format!("one of {}", names.join(", ")))
+                Error::invalid(
+                    "scramble",
+                    format!("{name:?}"),
+                    format!("one of {}", names.join(", ")),
+                )
             })
     }
 }

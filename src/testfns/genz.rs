@@ -142,8 +142,9 @@ impl Genz {
     ///
     /// # Errors
     ///
-    /// [`Error::InvalidParameter`] naming `a` (empty, or a value not finite and positive)
-    /// or `u` (wrong length, or a value outside `[0, 1]`).
+    /// [`Error::InvalidParameter`] naming `a` (empty, or a value not finite and positive, or
+    /// values for which the exact integral is NaN) or `u` (wrong length, or a value outside
+    /// `[0, 1]`).
     ///
     /// ```
     /// use mcint::testfns::{Genz, GenzFamily, TestFunction};
@@ -151,6 +152,9 @@ impl Genz {
     /// // For equal a_i the corner peak integrates to Π_{k=1}^{d} 1 / (1 + k a).
     /// assert!((f.exact() - 1.0 / (6.0 * 11.0 * 16.0)).abs() < 1e-15);
     /// assert!(Genz::new(GenzFamily::CornerPeak, vec![-1.0], vec![0.5]).is_err());
+    /// // The integral would be 0 (the cut at u_1 = 0) times e^830 = inf: undefined.
+    /// let (a, u) = (vec![1.0, 1.0, 830.0], vec![0.0, 0.5, 0.5]);
+    /// assert!(Genz::new(GenzFamily::Discontinuous, a, u).is_err());
     /// ```
     pub fn new(family: GenzFamily, a: Vec<f64>, u: Vec<f64>) -> Result<Genz> {
         if a.is_empty() {
@@ -191,6 +195,18 @@ impl Genz {
         }
         let inv_a_sq = a.iter().map(|ai| (ai * ai).recip()).collect();
         let exact = exact_integral(family, &a, &u);
+        // Extreme values may overflow the integral (documented above), but an undefined one
+        // (0 * inf between factors, or within one for a subnormal a_i) is an error.
+        if exact.is_nan() {
+            return Err(Error::invalid(
+                "a",
+                format!("{a:?}"),
+                format!(
+                    "values whose exact {} integral is defined in floating point (it is NaN)",
+                    family.name()
+                ),
+            ));
+        }
         Ok(Genz {
             family,
             a,
@@ -205,7 +221,7 @@ impl Genz {
     ///
     /// # Errors
     ///
-    /// [`Error::InvalidParameter`] naming `d` when `d == 0`.
+    /// [`Error::InvalidParameter`] naming `d` when `d == 0` or too large to store.
     ///
     /// ```
     /// use mcint::testfns::{Genz, GenzFamily};
@@ -213,11 +229,13 @@ impl Genz {
     /// assert_eq!(f.a(), &[1.0, 1.5, 2.0]);
     /// assert_eq!(f.u(), &[0.2, 0.5, 0.8]);
     /// assert!(Genz::with_defaults(GenzFamily::Continuous, 0).is_err());
+    /// assert!(Genz::with_defaults(GenzFamily::Continuous, usize::MAX).is_err());
     /// ```
     pub fn with_defaults(family: GenzFamily, d: usize) -> Result<Genz> {
         if d == 0 {
             return Err(Error::invalid("d", d, "at least 1"));
         }
+        crate::error::check_vec_len::<f64>("d", d)?;
         let a = (0..d).map(|k| 1.0 + 0.5 * k as f64).collect();
         let u = if d == 1 {
             vec![0.5]

@@ -46,13 +46,16 @@ impl Polynomial {
     /// assert!((p.exact() - 2.0 / 3.0).abs() < 1e-15);
     /// assert!(Polynomial::new(2, vec![(1.0, vec![1])]).is_err());
     /// assert!(Polynomial::new(0, vec![]).is_err());
+    /// assert!(Polynomial::new(usize::MAX, vec![(1.0, vec![1])]).is_err());
     /// ```
     pub fn new(dims: usize, terms: Vec<(f64, Vec<u32>)>) -> Result<Self> {
         if dims == 0 {
             return Err(Error::invalid("dims", dims, "at least 1"));
         }
         let mut coefficients = Vec::with_capacity(terms.len());
-        let mut exponents = Vec::with_capacity(terms.len() * dims);
+        // The exponent vectors already exist, so their total length fits (terms.len() * dims
+        // need not, when they do not all have length dims).
+        let mut exponents = Vec::with_capacity(terms.iter().map(|(_, e)| e.len()).sum());
         for (k, (c, e)) in terms.into_iter().enumerate() {
             if !c.is_finite() {
                 return Err(Error::invalid(

@@ -69,17 +69,19 @@ impl SobolG {
     ///
     /// # Errors
     ///
-    /// [`Error::InvalidParameter`] naming `d` when `d == 0`.
+    /// [`Error::InvalidParameter`] naming `d` when `d == 0` or too large to store.
     ///
     /// ```
     /// use mcint::testfns::SobolG;
     /// assert_eq!(SobolG::with_defaults(4).unwrap().a(), &[0.0, 0.0, 0.5, 1.0]);
     /// assert!(SobolG::with_defaults(0).is_err());
+    /// assert!(SobolG::with_defaults(usize::MAX).is_err());
     /// ```
     pub fn with_defaults(d: usize) -> Result<Self> {
         if d == 0 {
             return Err(Error::invalid("d", d, "at least 1"));
         }
+        crate::error::check_vec_len::<f64>("d", d)?;
         SobolG::new((1..=d).map(|i| (0.5 * (i as f64 - 2.0)).max(0.0)).collect())
     }
 
