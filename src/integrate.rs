@@ -22,6 +22,8 @@ pub use partial::PartialRun;
 
 /// Points generated and evaluated together: small enough to stay in L1/L2 cache.
 const BLOCK: u64 = 1024;
+/// Chunk results held in memory at once by a run: bounds the memory of huge runs.
+const CHUNKS_IN_MEMORY: u64 = 1 << 16;
 /// Points per unit of work handed to a thread (and per partial accumulator).
 const CHUNK: u64 = 16 * BLOCK;
 /// Points per replicate when neither the caller nor the sampler's pass size says otherwise.
@@ -267,8 +269,8 @@ impl<E: Estimator> Integrator<E> {
                 return staged::run_to_tolerance(self, sampler, threads, tolerance);
             }
             let plan = Plan::new(self, sampler)?;
-            let chunks = run_chunks(&plan, sampler, &self.estimator, threads)?;
-            plan.finish(self, sampler, &chunks)
+            let folded = plan.run_folded(sampler, &self.estimator, threads)?;
+            plan.finish(self, sampler, &folded)
         })
     }
 
@@ -406,25 +408,31 @@ impl Plan {
     fn chunk_range(&self, chunk: u64) -> (u64, u64, u64) {
         let replicate = chunk / self.chunks_per_replicate;
         let first = self.offset + (chunk % self.chunks_per_replicate) * CHUNK;
-        (
-            replicate,
-            first,
-            (first + CHUNK).min(self.offset + self.samples),
-        )
+        // Saturating: a replicate may end at the very last index, u64::MAX - 1.
+        let end = self.offset.saturating_add(self.samples);
+        (replicate, first, first.saturating_add(CHUNK).min(end))
     }
 
-    /// One accumulator per replicate, merging chunks in index order.
-    fn merge_replicates(&self, chunks: &[ChunkResult]) -> Vec<Accumulator> {
-        chunks
-            .chunks(self.chunks_per_replicate as usize)
-            .map(|parts| {
-                let mut acc = Accumulator::new();
-                for part in parts {
-                    acc.merge(&part.accumulator);
-                }
-                acc
-            })
-            .collect()
+    /// Evaluates every chunk on `threads` workers, at most `CHUNKS_IN_MEMORY` at a time, and
+    /// folds the results in chunk order.
+    fn run_folded<E: Estimator>(
+        &self,
+        sampler: &dyn Sampler,
+        estimator: &E,
+        threads: usize,
+    ) -> Result<Folded> {
+        let total = self.total_chunks()?;
+        let mut folded = Folded::new(self.replicates);
+        let mut start = 0;
+        while start < total {
+            let end = start.saturating_add(CHUNKS_IN_MEMORY).min(total);
+            let results = run_chunk_range(self, sampler, estimator, threads, start..end)?;
+            for (chunk, result) in (start..end).zip(&results) {
+                folded.add(self, chunk, result);
+            }
+            start = end;
+        }
+        Ok(folded)
     }
 
     /// Fails with the first offending point when a contribution was not finite (under
@@ -432,12 +440,12 @@ impl Plan {
     fn check_finite(
         &self,
         sampler: &dyn Sampler,
-        chunks: &[ChunkResult],
-        reps: &[Accumulator],
+        folded: &Folded,
         policy: NonFinitePolicy,
     ) -> Result<()> {
+        let reps = &folded.replicates;
         let count: u64 = reps.iter().map(|r| r.non_finite()).sum();
-        let Some(first) = chunks.iter().find_map(|c| c.first_non_finite) else {
+        let Some(first) = folded.first_non_finite else {
             return Ok(());
         };
         if policy == NonFinitePolicy::Skip {
@@ -461,22 +469,16 @@ impl Plan {
         })
     }
 
-    /// The estimate from every chunk's result, in chunk order: the same bits whichever
-    /// threads, processes or checkpoints produced the chunks.
+    /// The estimate from every chunk's result, folded in chunk order: the same bits
+    /// whichever threads, processes or checkpoints produced the chunks.
     fn finish<E: Estimator>(
         &self,
         integrator: &Integrator<E>,
         sampler: &dyn Sampler,
-        chunks: &[ChunkResult],
+        folded: &Folded,
     ) -> Result<Estimate> {
-        let replicate_accumulators = self.merge_replicates(chunks);
-        self.check_finite(
-            sampler,
-            chunks,
-            &replicate_accumulators,
-            integrator.non_finite,
-        )?;
-        self.estimate(sampler.passes(), &replicate_accumulators)
+        self.check_finite(sampler, folded, integrator.non_finite)?;
+        self.estimate(sampler.passes(), &folded.replicates)
     }
 
     fn estimate(&self, passes: PassKind, reps: &[Accumulator]) -> Result<Estimate> {
@@ -530,14 +532,29 @@ struct ChunkResult {
     first_non_finite: Option<NonFinite>,
 }
 
-/// Evaluates every chunk on `threads` workers and returns the results in chunk order.
-fn run_chunks<E: Estimator>(
-    plan: &Plan,
-    sampler: &dyn Sampler,
-    estimator: &E,
-    threads: usize,
-) -> Result<Vec<ChunkResult>> {
-    run_chunk_range(plan, sampler, estimator, threads, 0..plan.total_chunks()?)
+/// Chunk results folded in chunk order: one accumulator per replicate, and the first
+/// non-finite contribution.
+struct Folded {
+    replicates: Vec<Accumulator>,
+    first_non_finite: Option<NonFinite>,
+}
+
+impl Folded {
+    fn new(replicates: u64) -> Folded {
+        Folded {
+            replicates: vec![Accumulator::new(); replicates as usize],
+            first_non_finite: None,
+        }
+    }
+
+    /// Adds the result of `chunk`; chunks must come in index order.
+    fn add(&mut self, plan: &Plan, chunk: u64, result: &ChunkResult) {
+        let replicate = (chunk / plan.chunks_per_replicate) as usize;
+        self.replicates[replicate].merge(&result.accumulator);
+        if self.first_non_finite.is_none() {
+            self.first_non_finite = result.first_non_finite;
+        }
+    }
 }
 
 /// Evaluates chunks `range` on `threads` workers and returns the results in chunk order.

@@ -1601,13 +1601,10 @@ mod integrator {
         );
     }
 
-    /// Reported, not fixed here (src/integrate.rs belongs to another task): the last chunk
-    /// of a replicate whose local indices reach `u64::MAX` computes its end as
-    /// `first + CHUNK`, which overflows; release builds then evaluate no point of that chunk
-    /// (a silently short replicate), debug builds panic in the worker and report "worker
-    /// thread = panicked".
+    /// The last chunk of a replicate whose local indices reach `u64::MAX` is evaluated (its
+    /// end was once computed as `first + CHUNK`, which overflowed: release builds evaluated
+    /// no point of it, debug builds panicked in the worker).
     #[test]
-    #[ignore = "reported bug in src/integrate.rs (Plan::chunk_range overflows near u64::MAX)"]
     fn last_chunk_near_the_end_of_the_index_range_is_evaluated() {
         let calls = AtomicU64::new(0);
         let integrator = Integrator::over_box(

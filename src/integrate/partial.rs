@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::ops::Range;
 
-use super::{ChunkResult, Integrator, Plan, run_chunk_range};
+use super::{ChunkResult, Folded, Integrator, Plan, run_chunk_range};
 use crate::estimator::Estimator;
 use crate::sampler::Sampler;
 use crate::stats::Estimate;
@@ -245,8 +245,11 @@ impl<E: Estimator> Integrator<E> {
                     format!("every chunk finished (chunk {missing} is missing)"),
                 ));
             }
-            let chunks: Vec<ChunkResult> = partial.chunks.values().copied().collect();
-            plan.finish(self, sampler, &chunks)
+            let mut folded = Folded::new(plan.replicates);
+            for (&chunk, result) in &partial.chunks {
+                folded.add(plan, chunk, result);
+            }
+            plan.finish(self, sampler, &folded)
         })
     }
 

@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 
-use super::{CHUNK, Integrator, Plan, run_chunks};
+use super::{CHUNK, Integrator, Plan};
 use crate::estimator::Estimator;
 use crate::sampler::{PassKind, Sampler};
 use crate::stats::{Accumulator, Estimate, StopReason, Tolerance, normal_quantile};
@@ -84,20 +84,9 @@ impl<E: Estimator> Stage<'_, E> {
             stride,
             chunks_per_replicate: samples.div_ceil(CHUNK),
         };
-        let chunks = run_chunks(
-            &plan,
-            self.sampler,
-            &self.integrator.estimator,
-            self.threads,
-        )?;
-        let accumulators = plan.merge_replicates(&chunks);
-        plan.check_finite(
-            self.sampler,
-            &chunks,
-            &accumulators,
-            self.integrator.non_finite,
-        )?;
-        Ok(accumulators)
+        let folded = plan.run_folded(self.sampler, &self.integrator.estimator, self.threads)?;
+        plan.check_finite(self.sampler, &folded, self.integrator.non_finite)?;
+        Ok(folded.replicates)
     }
 }
 
