@@ -86,6 +86,11 @@ impl Points {
     /// (zero or stale values), to be overwritten by the next fill. Reuses the allocation when
     /// shrinking.
     ///
+    /// # Panics
+    ///
+    /// When `dims * len` values do not fit in memory, like `Vec::resize` (use
+    /// [`Points::new`] to get an error instead).
+    ///
     /// ```
     /// let mut block = mcint::Points::new(2, 8).unwrap();
     /// block.set_len(3);
@@ -93,8 +98,13 @@ impl Points {
     /// assert_eq!(block.column(1).len(), 3);
     /// ```
     pub fn set_len(&mut self, len: usize) {
+        // Checked: a wrapped product would leave `len` and the storage out of step.
+        let values = self
+            .dims
+            .checked_mul(len)
+            .expect("Points::set_len: dims * len overflows usize");
         self.len = len;
-        self.data.resize(self.dims * len, 0.0);
+        self.data.resize(values, 0.0);
     }
 
     /// Coordinate `dim` of every point. Panics if `dim >= self.dims()`, like slice indexing.
