@@ -11,7 +11,7 @@ pub(crate) const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
 
 /// The SplitMix64 finalizer (Steele, Lea & Flood 2014; constants from Stafford's "Mix13"):
 /// a bijection on `u64` with full avalanche.
-#[inline]
+#[inline(always)]
 pub(crate) fn mix64(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
@@ -33,7 +33,7 @@ pub(crate) fn hash_words(seed: u64, words: &[u64]) -> u64 {
 }
 
 /// The top 53 bits of `bits` as a double in `[0, 1)`: exact, uniform on the 2^-53 grid.
-#[inline]
+#[inline(always)]
 pub(crate) fn unit_f64(bits: u64) -> f64 {
     (bits >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }

@@ -8,7 +8,9 @@
 //! path hold a shared lock and the one that switches holds it exclusively.
 
 use mcint::Points;
-use mcint::sampler::{Independent, Sampler, Scramble, Sobol, simd};
+use mcint::sampler::{
+    CorrelatedMultiJittered, Halton, Independent, Lattice, Sampler, Scramble, Sobol, simd,
+};
 use std::sync::RwLock;
 
 static PATH: RwLock<()> = RwLock::new(());
@@ -45,6 +47,23 @@ fn starts(len: usize, rng: &mut u64) -> Vec<u64> {
         starts.push(splitmix(rng) >> 1);
         // A random in-pass index in a random pass.
         starts.push((splitmix(rng) & !(PASS - 1)) | (splitmix(rng) >> 32));
+    }
+    starts
+}
+
+/// The lengths the other samplers are checked at (their `point` is slower than Sobol's).
+const SHORT_LENGTHS: [usize; 12] = [0, 1, 7, 8, 9, 15, 16, 17, 255, 256, 257, 1000];
+
+/// Starts for a sampler whose passes hold `pass` points: aligned and misaligned small ones,
+/// straddling and ending at pass boundaries, the last indices of the range, and random ones.
+fn starts_for_pass(len: usize, pass: u64, rng: &mut u64) -> Vec<u64> {
+    let len = len as u64;
+    let mut starts = vec![0, 1, 13, 4096 + 5];
+    starts.push((3 * pass).saturating_sub(len / 2 + 3));
+    starts.push((7 * pass).saturating_sub(len));
+    starts.push(u64::MAX - len.saturating_sub(1));
+    for _ in 0..2 {
+        starts.push(splitmix(rng) >> 1);
     }
     starts
 }
@@ -124,6 +143,55 @@ fn independent_fill_equals_point_for_every_start_length_and_dimension() {
     }
 }
 
+/// Halton under every scramble, lattices unshifted and shifted (Kuo's vector, and a user's
+/// with the most points per pass) and correlated multi-jittered patterns of several shapes:
+/// the lattice and Halton samplers checked here, with how many points their passes hold.
+fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
+    let mut all: Vec<(Box<dyn Sampler>, u64)> = Vec::new();
+    for scramble in [Scramble::None, Scramble::Permute, Scramble::Owen] {
+        let halton = Halton::new(dims, scramble, seed).unwrap();
+        all.push((Box::new(halton), Halton::PASS_SIZE));
+    }
+    for scramble in [Scramble::None, Scramble::Shift] {
+        all.push((
+            Box::new(Lattice::new(dims, scramble, seed).unwrap()),
+            1 << 20,
+        ));
+        let z = (0..dims as u64)
+            .map(|j| (j * 0x9e37_79b9 + 1) | 1)
+            .collect();
+        let wide = Lattice::with_generator(z, 52, scramble, seed).unwrap();
+        all.push((Box::new(wide), 1 << 52));
+    }
+    // Square and 1 x N grids, swap-or-not (below 2^16 points) and Feistel permutations.
+    for points in [1u64, 100, 101, 1 << 16, (1 << 20) + 7, 1 << 53] {
+        let cmj = CorrelatedMultiJittered::with_points(dims, points, seed).unwrap();
+        all.push((Box::new(cmj), points));
+    }
+    all
+}
+
+#[test]
+fn halton_lattice_and_cmj_fill_equals_point() {
+    let _shared = PATH.read().unwrap();
+    let mut rng = 4;
+    for dims in [1, 2, 3, 7, 32] {
+        for (sampler, pass) in other_samplers(dims, dims as u64 * 17 + 1) {
+            // Owen-scrambled Halton points cost microseconds each in 32 bases.
+            let lengths: &[usize] = if dims == 32 {
+                &[0, 1, 9, 17, 257]
+            } else {
+                &SHORT_LENGTHS
+            };
+            for &len in lengths {
+                for start in starts_for_pass(len, pass, &mut rng) {
+                    assert_fill_matches_point(sampler.as_ref(), start, len);
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn portable_kernels_equal_the_dispatched_ones() {
     let _exclusive = PATH.write().unwrap();
@@ -137,6 +205,7 @@ fn portable_kernels_equal_the_dispatched_ones() {
             samplers.push(Box::new(sobol));
         }
         samplers.push(Box::new(Independent::new(dims, 3).unwrap()));
+        samplers.extend(other_samplers(dims, 3).into_iter().map(|(s, _)| s));
     }
     let mut rng = 3;
     for sampler in &samplers {

@@ -22,9 +22,10 @@
 //!
 //! The shared machinery for both variants lives here.
 
-use super::permutation::Permutation;
+use super::permutation::{LANES, Permutation};
+use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, hash_words, unit_f64};
+use crate::hash::{ONE_BELOW, hash_words, mix64, unit_f64};
 use crate::{Error, Points, Result};
 
 /// Most points a pass may hold: `2^53`, beyond which the `1/N` slabs are no longer distinct
@@ -251,6 +252,14 @@ impl MjCore {
 
     pub(super) fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.dims, start, points)?;
+        if self.correlated {
+            dispatch(FillCorrelated {
+                core: self,
+                start,
+                points,
+            });
+            return Ok(());
+        }
         let len = points.len();
         let mut buffer = vec![0.0; self.dims];
         // The per-pass permutations of every pair, rebuilt in place (no allocation) when the
@@ -275,6 +284,153 @@ impl MjCore {
             }
         }
         Ok(())
+    }
+}
+
+/// Values per chunk of the correlated fill kernel (a multiple of [`LANES`]).
+const CHUNK: usize = 256;
+
+/// The correlated block fill, compiled for each instruction set by [`dispatch`]. Per run of
+/// one pass and per pair of dimensions: the cells of a chunk of points by the cell
+/// permutation over 16 indices at a time; column and row by a division done in `f64` and
+/// corrected exactly; the shared sub-column and sub-row permutations from tables of their
+/// `n + m` images when the run is at least that long, else over lanes; and the jitter hash
+/// with its seed and pass words absorbed once per run. Every step computes the integers
+/// `write_pair` does and the same final `f64` expression, so the values are bit-identical.
+struct FillCorrelated<'a> {
+    core: &'a MjCore,
+    start: u64,
+    points: &'a mut Points,
+}
+
+/// Weyl increment [`hash_words`] multiplies each absorbed word by.
+const GOLDEN: u64 = 0x9e37_79b9_7f4a_7c15;
+
+/// The images of `inputs` (each below the permutation's size) under `perm`, into `out`.
+#[inline(always)]
+fn apply_all(perm: &Permutation, inputs: &[u64], out: &mut [u64]) {
+    for (ins, outs) in inputs.chunks(LANES).zip(out.chunks_mut(LANES)) {
+        let mut lanes = [0u64; LANES];
+        lanes[..ins.len()].copy_from_slice(ins);
+        perm.apply_lanes(&mut lanes);
+        outs.copy_from_slice(&lanes[..outs.len()]);
+    }
+}
+
+/// `(c / m, c % m)` for `c < 2^53`, `m >= 1`, without an integer division (which does not
+/// vectorize): the correctly rounded `f64` quotient truncates to within one of the true
+/// one, and the remainder's sign and size say which way to correct.
+#[inline(always)]
+fn div_rem(c: u64, m: u64, m_f64: f64) -> (u64, u64) {
+    let q = (c as f64 / m_f64) as u64;
+    let r = c.wrapping_sub(q.wrapping_mul(m));
+    let low = u64::from((r as i64) < 0);
+    let high = u64::from((r as i64) >= 0 && r >= m);
+    (
+        q.wrapping_sub(low).wrapping_add(high),
+        r.wrapping_add(low.wrapping_neg() & m)
+            .wrapping_sub(high.wrapping_neg() & m),
+    )
+}
+
+impl Kernel for FillCorrelated<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let FillCorrelated {
+            core,
+            start,
+            points,
+        } = self;
+        let len = points.len();
+        let size = core.pass_size;
+        let size_f64 = size as f64;
+        let m_f64 = core.m as f64;
+        let mut inputs = [0u64; CHUNK];
+        let mut cells = [0u64; CHUNK];
+        let mut columns = [0u64; CHUNK];
+        let mut rows = [0u64; CHUNK];
+        let mut sub_columns = [0u64; CHUNK];
+        let mut sub_rows = [0u64; CHUNK];
+        let (mut column_table, mut row_table) = (Vec::new(), Vec::new());
+        let mut done = 0;
+        while done < len {
+            let index = start + done as u64;
+            let (pass, local) = (index / size, index % size);
+            let run = (len - done).min(usize::try_from(size - local).unwrap_or(usize::MAX));
+            // hash_words(seed, [pass, index, dim]) with the first two words absorbed.
+            let pass_hash = hash_words(core.seed, &[pass]);
+            let coordinate = |slab: u64, index: u64, dim: u64| {
+                let h = mix64(pass_hash ^ index.wrapping_mul(GOLDEN).wrapping_add(GOLDEN));
+                let h = mix64(h ^ dim.wrapping_mul(GOLDEN).wrapping_add(GOLDEN));
+                ((slab as f64 + unit_f64(h)) / size_f64).min(ONE_BELOW)
+            };
+            for pair in 0..core.pairs() {
+                let perms = core.pair_permutations(pass, pair);
+                let dx = 2 * pair;
+                let single = dx + 1 == core.dims;
+                let tabulate = !single && (core.m + core.n) as usize <= run;
+                if let (true, Some(column), Some(row)) = (tabulate, &perms.column, &perms.row) {
+                    let identity: Vec<u64> = (0..core.n.max(core.m)).collect();
+                    column_table.resize(core.n as usize, 0);
+                    row_table.resize(core.m as usize, 0);
+                    apply_all(column, &identity[..core.n as usize], &mut column_table);
+                    apply_all(row, &identity[..core.m as usize], &mut row_table);
+                }
+                let mut offset = 0;
+                while offset < run {
+                    let c = CHUNK.min(run - offset);
+                    let first = local + offset as u64;
+                    for (j, input) in inputs[..c].iter_mut().enumerate() {
+                        *input = first + j as u64;
+                    }
+                    apply_all(&perms.cell, &inputs[..c], &mut cells[..c]);
+                    let at = done + offset;
+                    let first_index = start + at as u64;
+                    if single {
+                        let out = &mut points.column_mut(dx)[at..at + c];
+                        for (j, (x, &cell)) in out.iter_mut().zip(&cells[..c]).enumerate() {
+                            *x = coordinate(cell, first_index + j as u64, dx as u64);
+                        }
+                        offset += c;
+                        continue;
+                    }
+                    for ((&cell, column), row) in
+                        cells[..c].iter().zip(&mut columns[..c]).zip(&mut rows[..c])
+                    {
+                        (*row, *column) = div_rem(cell, core.m, m_f64);
+                    }
+                    let (Some(column_perm), Some(row_perm)) = (&perms.column, &perms.row) else {
+                        // `pair_permutations` builds both for the correlated variant.
+                        return;
+                    };
+                    if tabulate {
+                        for (s, &row) in sub_columns[..c].iter_mut().zip(&rows[..c]) {
+                            *s = column_table[row as usize];
+                        }
+                        for (s, &column) in sub_rows[..c].iter_mut().zip(&columns[..c]) {
+                            *s = row_table[column as usize];
+                        }
+                    } else {
+                        apply_all(column_perm, &rows[..c], &mut sub_columns[..c]);
+                        apply_all(row_perm, &columns[..c], &mut sub_rows[..c]);
+                    }
+                    let out = &mut points.column_mut(dx)[at..at + c];
+                    for (j, x) in out.iter_mut().enumerate() {
+                        let slab = columns[j] * core.n + sub_columns[j];
+                        *x = coordinate(slab, first_index + j as u64, dx as u64);
+                    }
+                    let out = &mut points.column_mut(dx + 1)[at..at + c];
+                    for (j, x) in out.iter_mut().enumerate() {
+                        let slab = rows[j] * core.m + sub_rows[j];
+                        *x = coordinate(slab, first_index + j as u64, dx as u64 + 1);
+                    }
+                    offset += c;
+                }
+            }
+            done += run;
+        }
     }
 }
 
