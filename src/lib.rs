@@ -41,6 +41,7 @@ mod hash;
 mod integrate;
 pub mod pdf;
 mod points;
+pub mod points_f32;
 mod quadrature;
 pub mod quality;
 pub mod sampler;

@@ -52,6 +52,7 @@ pub use poisson_disk::PoissonDisk;
 pub use scramble::Scramble;
 pub use sobol::Sobol;
 
+use crate::points_f32::{PointsF32, to_unit_f32};
 use crate::{Error, Points, Result};
 
 /// How a sampler's points relate to each other, which decides how error bars are computed.
@@ -139,7 +140,47 @@ pub trait Sampler: Send + Sync {
         }
         Ok(())
     }
+
+    /// Writes points `start .. start + points.len()` in single precision into `points` (which
+    /// must have [`dims`](Self::dims) columns). Every value is
+    /// [`to_unit_f32`] of the `f64` coordinate
+    /// [`fill`](Self::fill) and [`point`](Self::point) give: the nearest `f32` (ties to even),
+    /// except that values that would round to 1.0 become the largest `f32` below one, so every
+    /// value is in `[0, 1)`. The default fills `f64` points in steps of 1024 and converts them;
+    /// Sobol' converts its integer words straight to `f32`, with the same result.
+    ///
+    /// ```
+    /// use mcint::points_f32::{PointsF32, to_unit_f32};
+    /// use mcint::sampler::{Halton, Sampler, Scramble};
+    /// let s = Halton::new(2, Scramble::Owen, 5).unwrap();
+    /// let mut block = PointsF32::new(2, 10).unwrap();
+    /// s.fill_f32(40, &mut block).unwrap();
+    /// let mut p = [0.0; 2];
+    /// s.point(43, &mut p).unwrap();
+    /// assert_eq!(block.get(3, 1), to_unit_f32(p[1]));
+    /// ```
+    fn fill_f32(&self, start: u64, points: &mut PointsF32) -> Result<()> {
+        check_shape(self.dims(), start, points.dims(), points.len())?;
+        let mut done = 0;
+        let mut buffer = Points::new(self.dims(), F32_STEP.min(points.len()))?;
+        while done < points.len() {
+            let n = F32_STEP.min(points.len() - done);
+            buffer.set_len(n);
+            self.fill(start + done as u64, &mut buffer)?;
+            for dim in 0..self.dims() {
+                let out = &mut points.column_mut(dim)[done..done + n];
+                for (y, &x) in out.iter_mut().zip(buffer.column(dim)) {
+                    *y = to_unit_f32(x);
+                }
+            }
+            done += n;
+        }
+        Ok(())
+    }
 }
+
+/// Points converted per step of the default [`Sampler::fill_f32`].
+const F32_STEP: usize = 1024;
 
 /// Checks that a point buffer has the sampler's dimension.
 pub(crate) fn check_point(dims: usize, out: &[f64]) -> Result<()> {
@@ -155,15 +196,20 @@ pub(crate) fn check_point(dims: usize, out: &[f64]) -> Result<()> {
 
 /// Checks that a block has the sampler's dimension and that its indices do not overflow.
 pub(crate) fn check_block(dims: usize, start: u64, points: &Points) -> Result<()> {
-    if points.dims() != dims {
+    check_shape(dims, start, points.dims(), points.len())
+}
+
+/// Checks a block of `found` columns and `len` points starting at `start`.
+pub(crate) fn check_shape(dims: usize, start: u64, found: usize, len: usize) -> Result<()> {
+    if found != dims {
         return Err(Error::DimensionMismatch {
             what: "point block",
             expected: dims,
-            found: points.dims(),
+            found,
         });
     }
     // The last index, start + len - 1, must fit (an empty block always does).
-    if points.len() > 1 && start.checked_add(points.len() as u64 - 1).is_none() {
+    if len > 1 && start.checked_add(len as u64 - 1).is_none() {
         return Err(Error::IndexOutOfRange {
             what: "last sample index of the block",
             limit: u64::MAX,
@@ -211,5 +257,9 @@ impl<S: Sampler + ?Sized> Sampler for Box<S> {
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         (**self).fill(start, points)
+    }
+
+    fn fill_f32(&self, start: u64, points: &mut PointsF32) -> Result<()> {
+        (**self).fill_f32(start, points)
     }
 }

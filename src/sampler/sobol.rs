@@ -45,8 +45,9 @@
 
 use super::owen::{OwenScramble, dimension_seed, owen_scramble_u32};
 use super::simd::{Kernel, dispatch};
-use super::{PassKind, Sampler, Scramble, check_block, check_point};
+use super::{PassKind, Sampler, Scramble, check_block, check_point, check_shape};
 use crate::hash::{hash_words, mix64};
+use crate::points_f32::{F32_BELOW_ONE, PointsF32};
 use crate::{Error, Points, Result};
 use std::fmt;
 use std::ops::BitXorAssign;
@@ -280,7 +281,7 @@ fn join_f64(word: u32, tail: u32) -> f64 {
 /// Owen-scrambles a chunk of bit-reversed words and converts them: the 32-bit hashing first
 /// (a loop of independent integer operations), then the conversion.
 #[inline(always)]
-fn owen_chunk(scramble: &OwenScramble, reversed: &[u32], out: &mut [f64]) {
+fn owen_chunk<T: Unit>(scramble: &OwenScramble, reversed: &[u32], out: &mut [T]) {
     let mut words = [0u32; CHUNK];
     let mut tails = [0u32; CHUNK];
     let (words, tails) = (&mut words[..reversed.len()], &mut tails[..reversed.len()]);
@@ -288,7 +289,7 @@ fn owen_chunk(scramble: &OwenScramble, reversed: &[u32], out: &mut [f64]) {
         (*w, *t) = owen_parts(scramble, v);
     }
     for ((x, &w), &t) in out.iter_mut().zip(words.iter()).zip(tails.iter()) {
-        *x = join_f64(w, t);
+        *x = T::join(w, t);
     }
 }
 
@@ -491,7 +492,7 @@ impl Sobol {
     /// Fills `out` with in-pass points `first..` of one pass (no index shuffle), column by
     /// column: Gray-code words into a buffer, then scramble and convert.
     #[inline(always)]
-    fn fill_run(&self, pass: u64, first: u32, out: &mut Points, offset: usize, len: usize) {
+    fn fill_run<B: Block>(&self, pass: u64, first: u32, out: &mut B, offset: usize, len: usize) {
         let pass_seed = self.pass_seed(pass);
         for (dim, directions) in self.directions.iter().enumerate() {
             let column = &mut out.column_mut(dim)[offset..offset + len];
@@ -501,18 +502,20 @@ impl Sobol {
             // bit-reversed words, which is what its hash consumes.
             match self.randomizer(pass_seed, dim) {
                 Randomizer::None => gray_column(directions, start, first, column, |w, x| {
-                    convert(w, x, unscrambled_f64)
+                    convert(w, x, B::Value::from_word)
                 }),
                 Randomizer::Xor { shift } => {
                     let wide: WideDirections = directions.map(widen);
                     gray_column(&wide, widen(start) ^ shift, first, column, |w, x| {
-                        convert(w, x, wide_f64)
+                        convert(w, x, B::Value::from_wide)
                     })
                 }
                 Randomizer::Lms { columns, shift } => {
                     let wide: WideDirections = directions.map(|v| linear(&columns, v));
                     let start = linear(&columns, start) ^ shift;
-                    gray_column(&wide, start, first, column, |w, x| convert(w, x, wide_f64))
+                    gray_column(&wide, start, first, column, |w, x| {
+                        convert(w, x, B::Value::from_wide)
+                    })
                 }
                 Randomizer::Owen { scramble } => {
                     let reversed: Directions = directions.map(u32::reverse_bits);
@@ -526,11 +529,11 @@ impl Sobol {
 
     /// Like [`fill_run`](Self::fill_run) with the index shuffle (Owen only).
     #[inline(always)]
-    fn fill_shuffled_run(
+    fn fill_shuffled_run<B: Block>(
         &self,
         pass: u64,
         first: u32,
-        out: &mut Points,
+        out: &mut B,
         offset: usize,
         len: usize,
     ) {
@@ -579,16 +582,16 @@ impl Sobol {
 }
 
 /// A fill of one pass's run of points, compiled for each instruction set by [`dispatch`].
-struct FillRun<'a> {
+struct FillRun<'a, B> {
     sobol: &'a Sobol,
     pass: u64,
     first: u32,
-    out: &'a mut Points,
+    out: &'a mut B,
     offset: usize,
     len: usize,
 }
 
-impl Kernel for FillRun<'_> {
+impl<B: Block> Kernel for FillRun<'_, B> {
     type Output = ();
 
     #[inline(always)]
@@ -675,11 +678,11 @@ fn gray_words<W: Copy + BitXorAssign>(
 /// loops do not branch on it. Chunks after the first start at multiples of `CHUNK`, so only
 /// the first and last can have unaligned groups.
 #[inline(always)]
-fn gray_column<W: Copy + Default + BitXorAssign, F: FnMut(&[W], &mut [f64])>(
+fn gray_column<W: Copy + Default + BitXorAssign, T, F: FnMut(&[W], &mut [T])>(
     directions: &[W; 32],
     start: W,
     first: u32,
-    column: &mut [f64],
+    column: &mut [T],
     mut finish: F,
 ) {
     let offsets = group_offsets(directions);
@@ -700,9 +703,82 @@ fn gray_column<W: Copy + Default + BitXorAssign, F: FnMut(&[W], &mut [f64])>(
 
 /// Converts a chunk of words one by one.
 #[inline(always)]
-fn convert<W: Copy>(words: &[W], out: &mut [f64], to_f64: impl Fn(W) -> f64) {
+fn convert<W: Copy, T>(words: &[W], out: &mut [T], to_unit: impl Fn(W) -> T) {
     for (x, &w) in out.iter_mut().zip(words) {
-        *x = to_f64(w);
+        *x = to_unit(w);
+    }
+}
+
+/// An output precision: how a 32-bit word, a 53-bit fraction or a word with its 21 tail
+/// digits becomes a coordinate. Each is the exact value, rounded once (for `f32`).
+trait Unit: Copy {
+    /// `word * 2^-32`.
+    fn from_word(word: u32) -> Self;
+    /// `bits * 2^-53`, for `bits < 2^53`.
+    fn from_wide(bits: u64) -> Self;
+    /// `(word * 2^21 + tail) * 2^-53`, for `tail < 2^21`.
+    fn join(word: u32, tail: u32) -> Self;
+}
+
+impl Unit for f64 {
+    #[inline(always)]
+    fn from_word(word: u32) -> f64 {
+        unscrambled_f64(word)
+    }
+    #[inline(always)]
+    fn from_wide(bits: u64) -> f64 {
+        wide_f64(bits)
+    }
+    #[inline(always)]
+    fn join(word: u32, tail: u32) -> f64 {
+        join_f64(word, tail)
+    }
+}
+
+/// The integer conversion rounds to nearest, ties to even, and the power-of-two scaling is
+/// exact; values that would round to 1.0 are clamped as `to_unit_f32` does.
+impl Unit for f32 {
+    #[inline(always)]
+    fn from_word(word: u32) -> f32 {
+        (word as f32 * (1.0 / 4_294_967_296.0)).min(F32_BELOW_ONE)
+    }
+    #[inline(always)]
+    fn from_wide(bits: u64) -> f32 {
+        (bits as f32 * (1.0 / 9_007_199_254_740_992.0)).min(F32_BELOW_ONE)
+    }
+    #[inline(always)]
+    fn join(word: u32, tail: u32) -> f32 {
+        Self::from_wide(u64::from(word) << EXTRA_BITS | u64::from(tail))
+    }
+}
+
+/// A block of points of either precision.
+trait Block {
+    /// The coordinate type.
+    type Value: Unit;
+    /// Points in the block.
+    fn len(&self) -> usize;
+    /// Column `dim`.
+    fn column_mut(&mut self, dim: usize) -> &mut [Self::Value];
+}
+
+impl Block for Points {
+    type Value = f64;
+    fn len(&self) -> usize {
+        Points::len(self)
+    }
+    fn column_mut(&mut self, dim: usize) -> &mut [f64] {
+        Points::column_mut(self, dim)
+    }
+}
+
+impl Block for PointsF32 {
+    type Value = f32;
+    fn len(&self) -> usize {
+        PointsF32::len(self)
+    }
+    fn column_mut(&mut self, dim: usize) -> &mut [f32] {
+        PointsF32::column_mut(self, dim)
     }
 }
 
@@ -774,6 +850,23 @@ impl Sampler for Sobol {
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.dims, start, points)?;
+        self.fill_block(start, points);
+        Ok(())
+    }
+
+    /// Converts the 32-bit words (unscrambled) or 53-bit fractions (randomized) straight to
+    /// `f32`: one rounding of the exact value, which is what converting the exact `f64`
+    /// coordinate gives, so the values equal the default's.
+    fn fill_f32(&self, start: u64, points: &mut PointsF32) -> Result<()> {
+        check_shape(self.dims, start, points.dims(), points.len())?;
+        self.fill_block(start, points);
+        Ok(())
+    }
+}
+
+impl Sobol {
+    /// Fills a checked block of either precision, split at pass boundaries.
+    fn fill_block<B: Block>(&self, start: u64, points: &mut B) {
         let len = points.len();
         let mut done = 0;
         // Split the block at pass boundaries; each run lies within one pass.
@@ -793,7 +886,6 @@ impl Sampler for Sobol {
             });
             done += n;
         }
-        Ok(())
     }
 }
 
