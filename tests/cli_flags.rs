@@ -2,28 +2,9 @@
 //! malformed number, stray argument) with one line on stderr and a non-zero exit, before
 //! doing any work.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-fn example(name: &str) -> PathBuf {
-    let mut dir = std::env::current_exe().expect("test binary path");
-    dir.pop();
-    if dir.ends_with("deps") {
-        dir.pop();
-    }
-    dir.join("examples")
-        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX))
-}
-
-fn run(name: &str, args: &[&str]) -> Output {
-    let path = example(name);
-    Command::new(&path).args(args).output().unwrap_or_else(|e| {
-        panic!(
-            "cannot run {}: {e} (build it with cargo test or cargo build --examples)",
-            path.display()
-        )
-    })
-}
+use common::run;
 
 fn assert_one_line_error(name: &str, args: &[&str], needle: &str) {
     let out = run(name, args);
