@@ -16,7 +16,9 @@
 //!   batch estimator that allocates its mapped block per call, for comparison.
 //! - `fused_vs_buffer_gaussian_5d`: the Integrator's fused path (blocks of 1024 points
 //!   generated and evaluated while in cache) against generating all 2^20 points into one
-//!   buffer (40 MiB, allocated once outside the timing) and then evaluating them.
+//!   buffer (40 MiB, allocated once outside the timing) and then evaluating them; the same
+//!   fusion by hand with a plain sum separates the cost of the memory round trip from the
+//!   Integrator's per-value accumulator (a serial Welford update).
 
 use criterion::{Criterion, SamplingMode, Throughput, criterion_group, criterion_main};
 use mcint::adaptive::{Miser, Vegas};
@@ -24,7 +26,7 @@ use mcint::estimator::{BatchUniformEstimator, Estimator};
 use mcint::pdf::UniformBox;
 use mcint::sampler::{Independent, Sampler, Scramble, Sobol};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
-use mcint::{Integrator, Points};
+use mcint::{Accumulator, Integrator, Points};
 use std::hint::black_box;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
@@ -234,10 +236,39 @@ fn fused_vs_buffer(c: &mut Criterion) {
         b.iter(|| black_box(fused_batch.run().unwrap().mean))
     });
 
+    // The same fusion by hand, with a plain sum instead of the Integrator's accumulator
+    // (a serial Welford update with a division per value): the cost of fusion alone.
+    let mut block = Points::new(DIMS, 1024).unwrap();
+    let mut block_values = vec![0.0; 1024];
+    group.bench_function("fused_blocks_then_sum_per_point", |b| {
+        b.iter(|| {
+            let (mut x, mut sum) = ([0.0; DIMS], 0.0);
+            for start in (0..BUDGET).step_by(1024) {
+                sampler.fill(start, &mut block).unwrap();
+                for i in 0..block.len() {
+                    block.copy_point(i, &mut x);
+                    sum += f(&x);
+                }
+            }
+            black_box(sum / BUDGET as f64)
+        })
+    });
+    group.bench_function("fused_blocks_then_sum_batch", |b| {
+        b.iter(|| {
+            let mut sum = 0.0;
+            for start in (0..BUDGET).step_by(1024) {
+                sampler.fill(start, &mut block).unwrap();
+                batch(&block, &mut block_values);
+                sum += block_values.iter().sum::<f64>();
+            }
+            black_box(sum / BUDGET as f64)
+        })
+    });
+
     // The whole buffer first, then the evaluation: the points make a round trip through
     // main memory (40 MiB, beyond the caches).
     let mut buffer = Points::new(DIMS, BUDGET as usize).unwrap();
-    group.bench_function("buffer_then_per_point", |b| {
+    group.bench_function("buffer_then_sum_per_point", |b| {
         b.iter(|| {
             sampler.fill(0, &mut buffer).unwrap();
             let mut x = [0.0; DIMS];
@@ -250,11 +281,21 @@ fn fused_vs_buffer(c: &mut Criterion) {
         })
     });
     let mut values = vec![0.0; BUDGET as usize];
-    group.bench_function("buffer_then_batch", |b| {
+    group.bench_function("buffer_then_sum_batch", |b| {
         b.iter(|| {
             sampler.fill(0, &mut buffer).unwrap();
             batch(&buffer, &mut values);
             black_box(values.iter().sum::<f64>() / BUDGET as f64)
+        })
+    });
+    // With the Integrator's accumulator, to compare with the fused Integrator row.
+    group.bench_function("buffer_then_accumulator_batch", |b| {
+        b.iter(|| {
+            sampler.fill(0, &mut buffer).unwrap();
+            batch(&buffer, &mut values);
+            let mut acc = Accumulator::new();
+            acc.extend(&values);
+            black_box(acc.mean())
         })
     });
     group.finish();
