@@ -1,9 +1,24 @@
 //! Sampler throughput, in values (coordinates) per second, for every named sampler against
 //! `Independent` and a plain `rand_pcg` fill, measured in the same run.
 //!
-//! `cargo bench --bench samplers`
+//! `cargo bench --bench samplers` (about 10 samples of 2 s per bench; pass criterion's
+//! `--measurement-time` and `--warm-up-time` to change that).
+//!
+//! Groups:
+//! - `fill_4d_4096`: one pass (or 4096 points) per fill, as a sampler is used per pass.
+//! - `fill_{4,32}d_2^20_blocks`: 2^20 points in fills of 4096 points into one reused block
+//!   (128 KiB at d = 4, 1 MiB at d = 32: the in-cache path the Integrator uses).
+//! - `fill_{4,32}d_2^20_whole`: the same 2^20 points in one fill of a whole buffer (32 MiB at
+//!   d = 4, 256 MiB at d = 32: bound by memory writes).
+//! - `integrate_4d_2^16`: the Integrator against a hand-written loop.
+//!
+//! The 2^20-point groups fill points `0 .. 2^20` of pass sizes at least 2^20 (2^20 itself where
+//! the sampler allows it; otherwise the nearest valid size above, listed in [`pass_for`]). The
+//! blue-noise samplers build a whole pass at once (best candidate in O(N^2), Poisson disk in at
+//! most 3 dimensions), so they fill one pass of 1024 points instead, in 4 (best candidate) and
+//! 3 (Poisson) dimensions, in both groups; their rows are named with that size.
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{Criterion, SamplingMode, Throughput, criterion_group, criterion_main};
 use mcint::Integrator;
 use mcint::Points;
 use mcint::pdf::UniformBox;
@@ -11,6 +26,7 @@ use mcint::sampler::SamplerKind;
 use rand::Rng;
 use rand_pcg::Pcg64;
 use std::hint::black_box;
+use std::time::Duration;
 
 const DIMS: usize = 4;
 /// Points per block: 4096 x 4 doubles = 128 KiB, an L2-sized block.
@@ -61,6 +77,76 @@ fn fill_benches(c: &mut Criterion) {
     group.finish();
 }
 
+/// Points per large fill test.
+const LARGE: u64 = 1 << 20;
+/// Points per in-cache block of the blocked fills.
+const IN_CACHE: u64 = 4096;
+
+/// The sampler's build arguments `(dims, pass size, points filled)` for the 2^20-point groups
+/// at `dims`, and the row name.
+fn pass_for(kind: SamplerKind, dims: usize) -> (usize, u64, u64, String) {
+    let name = kind.name().to_string();
+    let large = |pass: u64| (dims, pass, LARGE, name.clone());
+    match kind {
+        // k^dims strata: 32^4 = 2^20; at d = 32, 2^32 (k = 2) is the smallest size >= 2^20.
+        SamplerKind::Jittered if dims == 32 => large(1 << 32),
+        // p^2 and p^3 for a prime p: 1031^2 and 103^3 are the first sizes above 2^20.
+        SamplerKind::OaBose => large(1031 * 1031),
+        SamplerKind::OaBush => large(103 * 103 * 103),
+        // Built a pass at a time: one pass of 1024 points (Poisson disk in at most 3 dims).
+        SamplerKind::Poisson => (3, 1024, 1024, format!("{name}_3d_1024")),
+        SamplerKind::BestCandidate => (dims.min(4), 1024, 1024, format!("{name}_4d_1024")),
+        _ => large(LARGE),
+    }
+}
+
+fn large_fill_benches(c: &mut Criterion) {
+    for dims in [4usize, 32] {
+        for whole in [false, true] {
+            let mode = if whole { "whole" } else { "blocks" };
+            let mut group = c.benchmark_group(format!("fill_{dims}d_2^20_{mode}"));
+            group.sampling_mode(SamplingMode::Flat);
+            if !whole {
+                // Baseline: PCG-64 doubles written into the same in-cache block.
+                let mut rng = Pcg64::new(0xcafe_f00d_d15e_a5e5, 0x0a02_bdbf_7bb3_c0a7);
+                let mut block = Points::new(dims, IN_CACHE as usize).unwrap();
+                group.throughput(Throughput::Elements(dims as u64 * LARGE));
+                group.bench_function("rand_pcg_baseline", |b| {
+                    b.iter(|| {
+                        for _ in 0..LARGE / IN_CACHE {
+                            for column in block.columns_mut() {
+                                for x in column.iter_mut() {
+                                    *x =
+                                        (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+                                }
+                            }
+                            black_box(block.get(0, 0));
+                        }
+                    })
+                });
+            }
+            for kind in SamplerKind::ALL {
+                let (dims, pass, total, name) = pass_for(kind, dims);
+                let sampler = kind.build(dims, pass, 1).unwrap();
+                let block_len = if whole { total } else { total.min(IN_CACHE) };
+                let mut block = Points::new(dims, block_len as usize).unwrap();
+                group.throughput(Throughput::Elements(dims as u64 * total));
+                group.bench_function(name, |b| {
+                    b.iter(|| {
+                        let mut start = 0;
+                        while start < total {
+                            sampler.fill(start, &mut block).unwrap();
+                            black_box(block.get(0, 0));
+                            start += block_len;
+                        }
+                    })
+                });
+            }
+            group.finish();
+        }
+    }
+}
+
 fn integrate_benches(c: &mut Criterion) {
     let mut group = c.benchmark_group("integrate_4d_2^16");
     group.throughput(Throughput::Elements(1 << 16));
@@ -89,5 +175,17 @@ fn integrate_benches(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, fill_benches, integrate_benches);
+/// Short runs: 10 samples, 2 s of measurement after 1 s of warm-up per bench.
+fn short() -> Criterion {
+    Criterion::default()
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(2))
+        .warm_up_time(Duration::from_secs(1))
+}
+
+criterion_group! {
+    name = benches;
+    config = short();
+    targets = fill_benches, large_fill_benches, integrate_benches
+}
 criterion_main!(benches);

@@ -2,7 +2,7 @@
 //!
 //! ```text
 //! cargo run --release --example points -- --sampler latin --dims 2 --n 16 [--seed S] [--pass P]
-//!     [--scramble none|xor|lms|owen|permute|shift] [--strength T] [--format csv|bin|svg|png]
+//!     [--scramble none|xor|lms|owen|permute|shift] [--strength T] [--format csv|bin|sum|svg|png]
 //!     [--pairs] [--out FILE]
 //! ```
 //! `--n` is the number of points written; for samplers with fixed passes it is also the pass
@@ -12,6 +12,10 @@
 //! `--strength` to oa-bush (default 3). Samplers: independent, jittered, latin, sobol, halton,
 //! hammersley, lattice, multijitter, cmj, oa-bose, oa-bush, nrooks-multistage, poisson,
 //! best-candidate, pmj02.
+//!
+//! `--format sum` generates the points through the same batch `fill` path and prints only the
+//! sum of each coordinate (one line per dimension, `{:?}` of the f64 sum accumulated in index
+//! order), so a whole-process run measures generation alone.
 //!
 //! `--format svg` or `png` draws the first two dimensions (with `--pairs`, every pairwise
 //! projection) into `--out FILE`, whose name must end in `.svg` or `.png` accordingly.
@@ -56,11 +60,11 @@ fn run() -> Result<(), String> {
     let seed: u64 = args.get("seed", "a whole number")?.unwrap_or(0);
     let pass: u64 = args.get("pass", "a whole number")?.unwrap_or(0);
     let format: String = args
-        .get("format", "csv, bin, svg or png")?
+        .get("format", "csv, bin, svg or png, or sum")?
         .unwrap_or_else(|| "csv".into());
-    if !["csv", "bin", "svg", "png"].contains(&format.as_str()) {
+    if !["csv", "bin", "sum", "svg", "png"].contains(&format.as_str()) {
         return Err(format!(
-            "invalid --format '{format}': expected csv, bin, svg or png"
+            "invalid --format '{format}': expected csv, bin, svg or png, or sum (coordinate sums)"
         ));
     }
     let image = format == "svg" || format == "png";
@@ -131,6 +135,7 @@ fn run() -> Result<(), String> {
     // Generate in blocks through the batch path, and write row by row.
     let block_len = 4096u64;
     let mut block = Points::new(dims, 0).map_err(|e| e.to_string())?;
+    let mut sums = vec![0.0f64; dims];
     let mut written = 0u64;
     while written < n {
         let len = (n - written).min(block_len);
@@ -138,8 +143,17 @@ fn run() -> Result<(), String> {
         sampler
             .fill(start + written, &mut block)
             .map_err(|e| e.to_string())?;
-        write_block(&mut out, &block, &format).map_err(|e| format!("write failed: {e}"))?;
+        if format == "sum" {
+            add_columns(&mut sums, &block);
+        } else {
+            write_block(&mut out, &block, &format).map_err(|e| format!("write failed: {e}"))?;
+        }
         written += len;
+    }
+    if format == "sum" {
+        for sum in &sums {
+            writeln!(out, "{sum:?}").map_err(|e| format!("write failed: {e}"))?;
+        }
     }
     out.flush().map_err(|e| format!("write failed: {e}"))
 }
@@ -157,6 +171,13 @@ fn collect_columns(
     let mut block = Points::new(dims, n as usize).map_err(|e| e.to_string())?;
     sampler.fill(start, &mut block).map_err(|e| e.to_string())?;
     Ok((0..dims).map(|d| block.column(d).to_vec()).collect())
+}
+
+/// Adds each column of `block` to its running sum, in index order.
+fn add_columns(sums: &mut [f64], block: &Points) {
+    for (dim, sum) in sums.iter_mut().enumerate() {
+        *sum = block.column(dim).iter().fold(*sum, |s, &x| s + x);
+    }
 }
 
 fn write_block(out: &mut impl Write, block: &Points, format: &str) -> std::io::Result<()> {

@@ -5,6 +5,8 @@
 //! variance is `sigma^2[Y] / N` for independent samples (the seed's A.21). The uniform
 //! estimator is the seed's A.14, the importance-sampling estimator A.19; the biased but
 //! consistent estimator of A.35 is kept as a teaching example ([`ConsistentBiased`]).
+//! [`BatchUniformEstimator`] is the uniform estimator for an integrand that evaluates a whole
+//! block of points per call (`Fn(&Points, &mut [f64])`), so users can vectorize it.
 //!
 //! Importance sampling and multiple importance sampling (the seed's A.3.1):
 //! - [`ProductImportanceEstimator`]: importance sampling one known factor of `f = g h` (A.25).
@@ -16,6 +18,7 @@
 //! ([`ControlVariate`]) and with least-squares coefficients as a runner of their own
 //! ([`RegressionControlVariates`]), since those are not a per-sample contribution.
 
+mod batch_uniform;
 mod consistent_biased;
 mod control_variate;
 mod importance;
@@ -27,6 +30,7 @@ mod product_importance;
 mod regression_control;
 mod uniform;
 
+pub use batch_uniform::BatchUniformEstimator;
 pub use consistent_biased::ConsistentBiased;
 pub use control_variate::ControlVariate;
 pub use importance::ImportanceEstimator;

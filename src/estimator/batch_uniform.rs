@@ -1,0 +1,173 @@
+//! The uniform estimator over a box for a batch integrand: one call per block of points.
+
+use super::Estimator;
+use crate::Points;
+use crate::pdf::{Pdf, UniformBox};
+use std::cell::Cell;
+
+thread_local! {
+    /// Scratch block for mapping canonical points into a non-unit box, reused by every block
+    /// a thread evaluates (taken out while in use, so a nested integration gets its own).
+    static SCRATCH: Cell<Option<Points>> = const { Cell::new(None) };
+}
+
+/// `<F^N> = V (1/N) sum f(X_i)` with `X_i` uniform in a box of volume `V` (A.14), for an
+/// integrand that evaluates a whole block of points per call.
+///
+/// The integrand `f(points, out)` receives a block of domain points in structure-of-arrays
+/// layout (one contiguous column per coordinate, see [`Points`]) and must write `f(X_i)` to
+/// `out[i]` for **every** `i < points.len()` (`out.len() == points.len()`). That lets it loop
+/// over columns in unit stride, vectorize, or hand the block to other code. The
+/// [`Integrator`](crate::Integrator) calls it with blocks of up to 1024 points, generated just
+/// before, so the points are still in cache.
+///
+/// `out` is filled with NaN before each call: a value the integrand leaves unwritten is NaN,
+/// so it is caught like any other non-finite value by the run's
+/// [`NonFinitePolicy`](crate::NonFinitePolicy) (an error by default; under `Skip` such values
+/// are silently dropped and only counted).
+///
+/// The estimate has the same bits as [`UniformEstimator`](super::UniformEstimator) with the
+/// same sampler and seed, provided `f` computes each value with the same arithmetic as the
+/// per-point integrand: points are mapped into the box coordinate by coordinate exactly as
+/// [`UniformBox`] maps one point, and each value is multiplied by the volume. Over the unit
+/// cube the canonical block is passed as it is (no copy); over any other box it is mapped into
+/// a per-thread scratch block, so no block allocates.
+///
+/// ```
+/// use mcint::Points;
+/// use mcint::estimator::{BatchUniformEstimator, Estimator};
+/// use mcint::pdf::UniformBox;
+/// // f(x, y) = x + y, one column at a time.
+/// let sum = |p: &Points, out: &mut [f64]| {
+///     out.copy_from_slice(p.column(0));
+///     for (y, &x1) in out.iter_mut().zip(p.column(1)) {
+///         *y += x1;
+///     }
+/// };
+/// let e = BatchUniformEstimator::new(sum, UniformBox::new(vec![0.0; 2], vec![2.0; 2]).unwrap());
+/// let mut block = Points::new(2, 2).unwrap();
+/// block.column_mut(0).copy_from_slice(&[0.25, 0.5]);
+/// block.column_mut(1).copy_from_slice(&[0.5, 0.5]);
+/// let mut out = [0.0; 2];
+/// e.contributions(&block, &mut out);
+/// // Volume 4 times f at (0.5, 1.0) and (1.0, 1.0).
+/// assert_eq!(out, [4.0 * 1.5, 4.0 * 2.0]);
+/// ```
+#[derive(Debug, Clone)]
+pub struct BatchUniformEstimator<F> {
+    f: F,
+    domain: UniformBox,
+    /// The domain is `[0,1)^d`: canonical points need no mapping.
+    unit: bool,
+}
+
+impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchUniformEstimator<F> {
+    /// Estimates the integral of the batch integrand `f` over `domain`.
+    ///
+    /// ```
+    /// use mcint::{Points, estimator::BatchUniformEstimator, pdf::UniformBox};
+    /// let e = BatchUniformEstimator::new(|_: &Points, out: &mut [f64]| out.fill(1.0), UniformBox::unit(2).unwrap());
+    /// assert_eq!(e.domain().volume(), 1.0);
+    /// ```
+    pub fn new(f: F, domain: UniformBox) -> Self {
+        let unit =
+            domain.lo().iter().all(|&lo| lo == 0.0) && domain.hi().iter().all(|&hi| hi == 1.0);
+        BatchUniformEstimator { f, domain, unit }
+    }
+
+    /// The integration domain.
+    ///
+    /// ```
+    /// use mcint::{Points, estimator::BatchUniformEstimator, pdf::UniformBox};
+    /// let e = BatchUniformEstimator::new(|_: &Points, out: &mut [f64]| out.fill(0.0), UniformBox::unit(3).unwrap());
+    /// assert_eq!(e.domain().lo().len(), 3);
+    /// ```
+    pub fn domain(&self) -> &UniformBox {
+        &self.domain
+    }
+
+    /// Evaluates `f` on `mapped` (domain points) and scales by the volume.
+    fn evaluate(&self, mapped: &Points, out: &mut [f64]) {
+        out.fill(f64::NAN);
+        (self.f)(mapped, out);
+        let volume = self.domain.volume();
+        for y in out.iter_mut() {
+            // The per-point estimator's `volume * f`: IEEE multiplication commutes exactly.
+            *y *= volume;
+        }
+    }
+}
+
+/// Whether every coordinate is in `[+0, 1)`: then `0 + u * (1 - 0)` is `u` itself. The bit
+/// pattern of such an `f64` is below that of 1.0; negative numbers (sign bit set), 1.0 and
+/// above, and NaN are not.
+fn all_canonical(points: &Points) -> bool {
+    const ONE: u64 = 0x3ff0_0000_0000_0000;
+    (0..points.dims()).all(|d| {
+        points
+            .column(d)
+            .iter()
+            .fold(true, |ok, u| ok & (u.to_bits() < ONE))
+    })
+}
+
+/// Maps the canonical block `u` into `domain`, column by column, with the arithmetic of
+/// [`UniformBox`]'s `sample` (so every coordinate has the same bits).
+fn map_block(domain: &UniformBox, u: &Points, x: &mut Points) {
+    for (d, column) in x.columns_mut().enumerate() {
+        let (lo, hi) = (domain.lo()[d], domain.hi()[d]);
+        let top = hi.next_down();
+        for (x, &u) in column.iter_mut().zip(u.column(d)) {
+            let v = lo + u * (hi - lo);
+            *x = if v < hi { v } else { top };
+        }
+    }
+}
+
+impl<F: Fn(&Points, &mut [f64]) + Send + Sync> Estimator for BatchUniformEstimator<F> {
+    fn canonical_dims(&self) -> usize {
+        self.domain.dims()
+    }
+
+    fn domain_dims(&self) -> usize {
+        self.domain.dims()
+    }
+
+    /// One point as a block of one: allocates, so it is slow; the Integrator uses
+    /// [`contributions`](Estimator::contributions).
+    fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
+        self.domain.sample(u, x);
+        let mut block = match Points::new(x.len(), 1) {
+            Ok(block) => block,
+            // Unreachable: a box has at least one dimension.
+            Err(_) => return f64::NAN,
+        };
+        for (d, &v) in x.iter().enumerate() {
+            block.column_mut(d)[0] = v;
+        }
+        let mut out = [0.0];
+        self.evaluate(&block, &mut out);
+        out[0]
+    }
+
+    fn contributions(&self, points: &Points, out: &mut [f64]) {
+        let out = &mut out[..points.len()];
+        if self.unit && all_canonical(points) {
+            return self.evaluate(points, out);
+        }
+        let mut scratch = SCRATCH
+            .take()
+            .filter(|s| s.dims() == points.dims())
+            .or_else(|| Points::new(points.dims(), 0).ok());
+        match scratch.as_mut() {
+            Some(x) => {
+                x.set_len(points.len());
+                map_block(&self.domain, points, x);
+                self.evaluate(x, out);
+            }
+            // Unreachable: a block has at least one dimension.
+            None => out.fill(f64::NAN),
+        }
+        SCRATCH.set(scratch);
+    }
+}
