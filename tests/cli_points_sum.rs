@@ -4,49 +4,9 @@
 
 use mcint::Points;
 use mcint::sampler::SamplerKind;
-use std::path::PathBuf;
-use std::process::{Command, Output};
+mod common;
 
-/// Path of a built example next to this test binary (`target/<profile>/examples/<name>`).
-fn example(name: &str) -> PathBuf {
-    let mut dir = std::env::current_exe().expect("test binary path");
-    dir.pop(); // the test binary
-    if dir.ends_with("deps") {
-        dir.pop();
-    }
-    dir.join("examples")
-        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX))
-}
-
-fn run(name: &str, args: &[&str]) -> Output {
-    let path = example(name);
-    Command::new(&path).args(args).output().unwrap_or_else(|e| {
-        panic!(
-            "cannot run {}: {e} (build it with cargo test or cargo build --examples)",
-            path.display()
-        )
-    })
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-/// A failed run: non-zero exit and exactly one line on stderr that contains `needle`.
-fn assert_one_line_error(output: &Output, needle: &str) {
-    assert!(
-        !output.status.success(),
-        "expected failure, got success: {}",
-        stdout(output)
-    );
-    let err = stderr(output);
-    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err:?}");
-    assert!(err.contains(needle), "{err:?} does not mention {needle:?}");
-}
+use common::{assert_one_line_error, run, stderr, stdout};
 
 /// Runs `points` with `args` plus `--format format` and returns its standard output.
 fn points(args: &[&str], format: &str) -> String {
