@@ -310,11 +310,7 @@ impl<E: Estimator> Integrator<E> {
     /// Calls `work` with the sampler (the default one built if none was given) and the
     /// number of threads.
     fn with_sampler<R>(&self, work: impl FnOnce(&dyn Sampler, usize) -> Result<R>) -> Result<R> {
-        let threads = match self.threads {
-            Some(0) => return Err(Error::invalid("threads", 0, "at least 1")),
-            Some(t) => t,
-            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        };
+        let threads = crate::threads::resolve(self.threads)?;
         match &self.sampler {
             Some(s) => work(s.as_ref(), threads),
             None => {
@@ -659,11 +655,7 @@ fn run_chunk_range<E: Estimator>(
     results
         .into_iter()
         .collect::<Option<Vec<_>>>()
-        .ok_or(Error::invalid(
-            "worker thread",
-            "panicked",
-            "an integrand that does not panic",
-        ))
+        .ok_or_else(crate::threads::worker_panicked)
 }
 
 /// Per-thread buffers, allocated once.

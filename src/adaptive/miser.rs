@@ -310,11 +310,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
     /// ```
     pub fn run(&self) -> Result<Estimate> {
         let settings = self.settings()?;
-        let threads = match self.threads {
-            Some(0) => return Err(Error::invalid("threads", 0, "at least 1")),
-            Some(t) => t,
-            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        };
+        let threads = crate::threads::resolve(self.threads)?;
         let default_sampler;
         let sampler: &dyn Sampler = match &self.sampler {
             Some(s) => s.as_ref(),
@@ -639,7 +635,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
         let partials: Vec<Partial> = partials
             .into_iter()
             .collect::<Option<_>>()
-            .ok_or_else(panicked)?;
+            .ok_or_else(crate::threads::worker_panicked)?;
         let non_finite: u64 = partials.iter().map(|p| p.non_finite).sum();
         if let Some((r, first)) = partials
             .iter()
@@ -743,7 +739,9 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
                     self.region(stage, left, n_left, slot_left, depth + 1, &mut own)
                 });
                 let r = self.region(stage, right, n_right, slot_right, depth + 1, work);
-                let l = handle.join().unwrap_or_else(|_| Err(panicked()));
+                let l = handle
+                    .join()
+                    .unwrap_or_else(|_| Err(crate::threads::worker_panicked()));
                 stage.spare.fetch_add(1, Ordering::Relaxed);
                 (l, r)
             })
@@ -849,13 +847,4 @@ impl Stage {
     fn base_of(&self, slot: u64) -> u64 {
         self.base + (slot - self.base) / self.per_replicate * self.per_replicate
     }
-}
-
-/// The error for a worker thread that panicked (the integrand panicked).
-fn panicked() -> Error {
-    Error::invalid(
-        "worker thread",
-        "panicked",
-        "an integrand that does not panic",
-    )
 }

@@ -228,11 +228,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
                 format!("at least (pilot + {MIN_MAIN}) x {strata} strata = {least} evaluations"),
             ));
         }
-        let threads = match self.threads {
-            Some(0) => return Err(Error::invalid("threads", 0, "at least 1")),
-            Some(t) => t,
-            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        };
+        let threads = crate::threads::resolve(self.threads)?;
         let default_sampler;
         let sampler: &dyn Sampler = match &self.sampler {
             Some(s) => s.as_ref(),
@@ -420,14 +416,14 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
         }
         let mut by_chunk: Vec<Option<(Vec<Accumulator>, Option<NonFinite>)>> = vec![None; chunks];
         for done in finished {
-            for (chunk, stats, bad) in done.ok_or_else(panicked)? {
+            for (chunk, stats, bad) in done.ok_or_else(crate::threads::worker_panicked)? {
                 by_chunk[chunk] = Some((stats, bad));
             }
         }
         let mut all = Vec::with_capacity(strata);
         let mut first_bad = None;
         for part in by_chunk {
-            let (stats, bad) = part.ok_or_else(panicked)?;
+            let (stats, bad) = part.ok_or_else(crate::threads::worker_panicked)?;
             all.extend(stats);
             first_bad = first_bad.or(bad);
         }
@@ -546,15 +542,6 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
         chi2_dof: None,
         q_value: None,
     }
-}
-
-/// The error for a worker thread that panicked (the integrand panicked).
-fn panicked() -> Error {
-    Error::invalid(
-        "worker thread",
-        "panicked",
-        "an integrand that does not panic",
-    )
 }
 
 #[cfg(test)]

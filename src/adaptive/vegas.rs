@@ -465,11 +465,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                 "a damping exponent in [0, 1] (VEGAS+ uses 0.75)",
             ));
         }
-        let threads = match self.threads {
-            Some(0) => return Err(Error::invalid("threads", 0, "at least 1")),
-            Some(t) => t,
-            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        };
+        let threads = crate::threads::resolve(self.threads)?;
         if sampler.dims() != dims {
             return Err(Error::DimensionMismatch {
                 what: "sampler (the domain's dimensions)",
@@ -905,14 +901,6 @@ impl Drop for FailOnPanic<'_> {
     }
 }
 
-fn panicked() -> Error {
-    Error::invalid(
-        "worker thread",
-        "panicked",
-        "an integrand that does not panic",
-    )
-}
-
 /// Runs one iteration on `threads` workers; fills `training` and `next_sigf`.
 fn run_pass<F: Fn(&[f64]) -> f64 + Sync>(
     pass: &Pass<F>,
@@ -949,7 +937,7 @@ fn run_pass<F: Fn(&[f64]) -> f64 + Sync>(
         return Err(e);
     }
     if !all_joined || shared.next != chunks {
-        return Err(panicked());
+        return Err(crate::threads::worker_panicked());
     }
     Ok(shared.totals)
 }

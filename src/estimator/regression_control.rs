@@ -320,11 +320,7 @@ impl<'a, F: Fn(&[f64]) -> f64 + Send + Sync, P: Pdf> RegressionControlVariates<'
                 ),
             ));
         }
-        let threads = match self.threads {
-            Some(0) => return Err(Error::invalid("threads", 0, "at least 1")),
-            Some(t) => t,
-            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        };
+        let threads = crate::threads::resolve(self.threads)?;
         let chunks = self.run_chunks(sampler, threads)?;
         let mut total = CovarianceAccumulator::new(k + 1)?;
         for chunk in &chunks {

@@ -300,10 +300,7 @@ impl<'a> Convergence<'a> {
         F: Fn(u64, u64) -> Result<S> + Sync,
     {
         self.check_settings()?;
-        let threads = match self.threads {
-            Some(t) => t,
-            None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        };
+        let threads = self.threads.unwrap_or_else(crate::threads::available);
         // Pass 0 of every size is built here, so that a size the sampler rejects is reported
         // before any work, and always the same one (the smallest).
         let first_passes = self

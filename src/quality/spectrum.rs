@@ -287,7 +287,7 @@ fn annulus(r2: i64) -> Option<usize> {
 /// # Ok::<(), mcint::Error>(())
 /// ```
 pub fn periodogram(points: &Points, max_frequency: usize) -> Result<Periodogram> {
-    periodogram_with_threads(points, max_frequency, default_threads())
+    periodogram_with_threads(points, max_frequency, crate::threads::available())
 }
 
 /// [`periodogram`] on `threads >= 1` threads; the result is bit-identical for every thread
@@ -349,7 +349,13 @@ pub fn mean_periodogram(
     passes: usize,
     max_frequency: usize,
 ) -> Result<Periodogram> {
-    mean_periodogram_with_threads(sampler, points, passes, max_frequency, default_threads())
+    mean_periodogram_with_threads(
+        sampler,
+        points,
+        passes,
+        max_frequency,
+        crate::threads::available(),
+    )
 }
 
 /// [`mean_periodogram`] on `threads >= 1` threads; the result is bit-identical for every
@@ -427,10 +433,6 @@ pub fn mean_periodogram_with_threads(
     let scale = 1.0 / passes as f64;
     half.iter_mut().for_each(|v| *v *= scale);
     Ok(mirror(half, max_frequency, points, passes))
-}
-
-fn default_threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 /// Validates the sizes shared by every entry point.
