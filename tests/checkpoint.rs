@@ -140,3 +140,19 @@ fn accumulators_and_estimates_round_trip_through_json() {
         .to_string();
     assert!(e.contains("inconsistent accumulator"), "{e}");
 }
+
+/// Resuming a part with a gap fills the gap first and stops before chunks it already has.
+#[test]
+fn resume_fills_gaps_in_order() {
+    let integrator = sobol_replicates(1);
+    let mut part = integrator.run_part(2..4).unwrap();
+    part.merge(integrator.run_part(6..7).unwrap()).unwrap();
+    assert_eq!(part.next_missing(), Some(0));
+    integrator.resume(&mut part, 100).unwrap();
+    assert_eq!((part.chunks_done(), part.next_missing()), (5, Some(4)));
+    integrator.resume(&mut part, 100).unwrap();
+    assert_eq!(part.next_missing(), Some(7));
+    integrator.resume(&mut part, 1).unwrap();
+    assert!(part.is_complete() && part.next_missing().is_none());
+    assert_eq!(integrator.finish(&part).unwrap(), integrator.run().unwrap());
+}

@@ -131,7 +131,15 @@ impl PartialRun {
     /// assert_eq!(i.run_part(0..2).unwrap().next_missing(), Some(2));
     /// ```
     pub fn next_missing(&self) -> Option<u64> {
-        (0..self.total_chunks()).find(|c| !self.chunks.contains_key(c))
+        // The chunks are kept in order: the first gap is where a key differs from its rank.
+        let mut expected = 0;
+        for &chunk in self.chunks.keys() {
+            if chunk != expected {
+                return Some(expected);
+            }
+            expected += 1;
+        }
+        (expected < self.total_chunks()).then_some(expected)
     }
 
     /// Adds the chunks of `other`, a part of the same run with none of the same chunks.
@@ -216,9 +224,11 @@ impl<E: Estimator> Integrator<E> {
             return Ok(());
         };
         let limit = start.saturating_add(max_chunks).min(partial.total_chunks());
-        let end = (start..limit)
-            .find(|c| partial.chunks.contains_key(c))
-            .unwrap_or(limit);
+        let end = partial
+            .chunks
+            .range(start..limit)
+            .next()
+            .map_or(limit, |(&done, _)| done);
         partial.merge(self.run_part(start..end)?)
     }
 
