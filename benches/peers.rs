@@ -113,30 +113,33 @@ fn sobol_scrambles(c: &mut Criterion) {
 }
 
 fn independent(c: &mut Criterion) {
-    let mut group = c.benchmark_group("independent_4d_4096");
-    group.throughput(Throughput::Elements((DIMS * POINTS) as u64));
-    let mut block = Points::new(DIMS, POINTS).unwrap();
-    let sampler = Independent::new(DIMS, 1).unwrap();
-    group.bench_function("mcint_fill", |b| {
-        let mut start = 0u64;
-        b.iter(|| {
-            sampler.fill(start, &mut block).unwrap();
-            start += POINTS as u64;
-            black_box(block.get(0, 0))
-        })
-    });
-    let mut rng = Pcg64::new(0xcafe_f00d_d15e_a5e5, 0x0a02_bdbf_7bb3_c0a7);
-    group.bench_function("rand_pcg_raw", |b| {
-        b.iter(|| {
-            for column in block.columns_mut() {
-                for x in column.iter_mut() {
-                    *x = (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+    // Both shapes are 128 KiB blocks: 4096 points in 4-D and 512 points in 32-D.
+    for (dims, points) in [(DIMS, POINTS), (32, 512)] {
+        let mut group = c.benchmark_group(format!("independent_{dims}d_{points}"));
+        group.throughput(Throughput::Elements((dims * points) as u64));
+        let mut block = Points::new(dims, points).unwrap();
+        let sampler = Independent::new(dims, 1).unwrap();
+        group.bench_function("mcint_fill", |b| {
+            let mut start = 0u64;
+            b.iter(|| {
+                sampler.fill(start, &mut block).unwrap();
+                start += points as u64;
+                black_box(block.get(0, 0))
+            })
+        });
+        let mut rng = Pcg64::new(0xcafe_f00d_d15e_a5e5, 0x0a02_bdbf_7bb3_c0a7);
+        group.bench_function("rand_pcg_raw", |b| {
+            b.iter(|| {
+                for column in block.columns_mut() {
+                    for x in column.iter_mut() {
+                        *x = (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
+                    }
                 }
-            }
-            black_box(block.get(0, 0))
-        })
-    });
-    group.finish();
+                black_box(block.get(0, 0))
+            })
+        });
+        group.finish();
+    }
 }
 
 criterion_group!(benches, owen_sobol, sobol_scrambles, independent);

@@ -8,6 +8,8 @@ use rand_pcg::Pcg64;
 
 /// Generator copies a block fill steps in turn (see `fill`).
 const STREAMS: usize = 2;
+/// Points per run drawn into the fill's tile before they are copied to the columns.
+const TILE: usize = 32;
 /// Fewest points per copy worth the copies' jumps.
 const MIN_RUN: usize = 64;
 
@@ -96,11 +98,10 @@ impl Sampler for Independent {
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.dims, start, points)?;
-        let dims = self.dims as u128;
+        let dims = self.dims;
         let len = points.len();
         let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
-        // The stream is point-major; the block is column-major, so write with a stride. One
-        // PCG step is a serial chain of 128-bit multiplies, so the block is cut into
+        // One PCG step is a serial chain of 128-bit multiplies, so the block is cut into
         // `STREAMS` runs of points, each drawn by its own copy of the generator jumped to the
         // run's first value, and the copies are stepped in turn: independent chains the CPU
         // overlaps. Each value is still value `index * dims + dim` of the one stream.
@@ -110,12 +111,33 @@ impl Sampler for Independent {
             0
         };
         let mut rngs: [Pcg64; STREAMS] = std::array::from_fn(|_| self.origin.clone());
-        rngs[0] = self.at(u128::from(start) * dims);
+        rngs[0] = self.at(u128::from(start) * dims as u128);
         for k in 1..STREAMS {
             rngs[k] = rngs[k - 1].clone();
-            rngs[k].advance(per_stream as u128 * dims);
+            rngs[k].advance((per_stream * dims) as u128);
         }
-        for i in 0..per_stream {
+        // The stream is point-major and the block column-major. Writing a value at a time
+        // into `dims` columns that lie a multiple of 4 KiB apart makes the stores collide in
+        // the same cache sets once `dims` is large, so `TILE` points per run are drawn into a
+        // small column-major tile first and copied out as contiguous column segments.
+        let mut tile = vec![[0.0; TILE]; STREAMS * dims];
+        let whole_tiles = per_stream / TILE * TILE;
+        for done in (0..whole_tiles).step_by(TILE) {
+            for t in 0..TILE {
+                for dim in 0..dims {
+                    for (k, rng) in rngs.iter_mut().enumerate() {
+                        tile[k * dims + dim][t] = unit_f64(rng.next_u64());
+                    }
+                }
+            }
+            for (dim, column) in columns.iter_mut().enumerate() {
+                for k in 0..STREAMS {
+                    let to = k * per_stream + done;
+                    column[to..to + TILE].copy_from_slice(&tile[k * dims + dim]);
+                }
+            }
+        }
+        for i in whole_tiles..per_stream {
             for column in columns.iter_mut() {
                 for (k, rng) in rngs.iter_mut().enumerate() {
                     column[k * per_stream + i] = unit_f64(rng.next_u64());
