@@ -123,6 +123,8 @@ impl Sampler for Independent {
         let mut tile = vec![[0.0; TILE]; STREAMS * dims];
         let whole_tiles = per_stream / TILE * TILE;
         for done in (0..whole_tiles).step_by(TILE) {
+            // `t` indexes a different tile row for every (run, dimension): no single iterator.
+            #[allow(clippy::needless_range_loop)]
             for t in 0..TILE {
                 for dim in 0..dims {
                     for (k, rng) in rngs.iter_mut().enumerate() {
