@@ -18,7 +18,7 @@
 //!   generated and evaluated while in cache) against generating all 2^20 points into one
 //!   buffer (40 MiB, allocated once outside the timing) and then evaluating them; the same
 //!   fusion by hand with a plain sum separates the cost of the memory round trip from the
-//!   Integrator's per-value accumulator (a serial Welford update).
+//!   Integrator's accumulator (two passes per block of 1024 values, merged by Chan's formula).
 
 use criterion::{Criterion, SamplingMode, Throughput, criterion_group, criterion_main};
 use mcint::adaptive::{Miser, Vegas};
@@ -237,7 +237,7 @@ fn fused_vs_buffer(c: &mut Criterion) {
     });
 
     // The same fusion by hand, with a plain sum instead of the Integrator's accumulator
-    // (a serial Welford update with a division per value): the cost of fusion alone.
+    // (two passes per block and a merge): the cost of fusion alone.
     let mut block = Points::new(DIMS, 1024).unwrap();
     let mut block_values = vec![0.0; 1024];
     group.bench_function("fused_blocks_then_sum_per_point", |b| {

@@ -690,15 +690,18 @@ impl Workspace {
             sampler.fill(base + start, &mut self.points)?;
             let values = &mut self.values[..len];
             estimator.contributions(&self.points, values);
-            for (offset, &y) in values.iter().enumerate() {
-                accumulator.push(y);
-                if !y.is_finite() && first_non_finite.is_none() {
-                    first_non_finite = Some(NonFinite {
-                        replicate,
-                        index: start + offset as u64,
-                        value: y,
-                    });
-                }
+            let before = accumulator.non_finite();
+            accumulator.extend(values);
+            if accumulator.non_finite() > before && first_non_finite.is_none() {
+                first_non_finite =
+                    values
+                        .iter()
+                        .position(|y| !y.is_finite())
+                        .map(|offset| NonFinite {
+                            replicate,
+                            index: start + offset as u64,
+                            value: values[offset],
+                        });
             }
             start += len as u64;
         }

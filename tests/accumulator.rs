@@ -1,4 +1,4 @@
-//! The accumulator: Welford's update and Chan's merge agree with the sequential result for any
+//! The accumulator: Welford's update, the two-pass `extend` and Chan's merge agree with the sequential result for any
 //! split of a stream, and stay accurate where the naive `E[Y^2] - E[Y]^2` cancels.
 
 use mcint::stats::Accumulator;
@@ -17,6 +17,12 @@ fn config() -> ProptestConfig {
 fn sequential(values: &[f64]) -> Accumulator {
     let mut acc = Accumulator::new();
     acc.extend(values);
+    acc
+}
+
+fn pushed(values: &[f64]) -> Accumulator {
+    let mut acc = Accumulator::new();
+    values.iter().for_each(|&y| acc.push(y));
     acc
 }
 
@@ -67,22 +73,50 @@ proptest! {
         let acc = sequential(&values);
         let finite: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
         prop_assert_eq!(acc.non_finite() as usize, values.len() - finite.len());
-        prop_assert_eq!(acc, {
-            let mut clean = sequential(&finite);
-            let mut bad = Accumulator::new();
-            for _ in 0..acc.non_finite() { bad.push(f64::NAN); }
-            clean.merge(&bad);
-            clean
-        });
+        // The same statistics as the finite values alone, pushed one by one.
+        let clean = pushed(&finite);
+        prop_assert_eq!(acc.count(), clean.count());
+        prop_assert_eq!(acc.min(), clean.min());
+        prop_assert_eq!(acc.max(), clean.max());
+        prop_assert!(agree(acc.mean(), clean.mean(), 1.0), "{} vs {}", acc.mean(), clean.mean());
+        prop_assert!(agree(acc.m2(), clean.m2(), 1e2), "{} vs {}", acc.m2(), clean.m2());
+    }
+
+    #[test]
+    fn extend_agrees_with_pushing_value_by_value(
+        values in prop::collection::vec(-1e3..1e3f64, 0..3000),
+        offset in -1e6..1e6f64,
+    ) {
+        let values: Vec<f64> = values.iter().map(|v| v + offset).collect();
+        let (fast, slow) = (sequential(&values), pushed(&values));
+        prop_assert_eq!(fast.count(), slow.count());
+        prop_assert_eq!(fast.min(), slow.min());
+        prop_assert_eq!(fast.max(), slow.max());
+        let scale = offset.abs() + 1e3;
+        prop_assert!(agree(fast.mean(), slow.mean(), scale), "{} vs {}", fast.mean(), slow.mean());
+        prop_assert!(agree(fast.m2(), slow.m2(), values.len() as f64 * 1e6 * 1e2),
+            "{} vs {}", fast.m2(), slow.m2());
     }
 }
 
+/// Values whose sum overflows: `extend` falls back to pushing one by one and keeps a finite
+/// mean and the exact count.
+#[test]
+fn extend_survives_a_sum_that_overflows() {
+    let values = vec![f64::MAX / 2.0; 1000];
+    let acc = sequential(&values);
+    assert_eq!(acc.count(), 1000);
+    assert_eq!(acc.mean(), f64::MAX / 2.0);
+    assert_eq!(acc.m2(), 0.0);
+}
+
 /// Data with a huge mean and a small spread: the naive formula loses every digit of the
-/// variance, Welford keeps them.
+/// variance, Welford's update and the two-pass `extend` keep them.
 #[test]
 fn welford_survives_a_large_offset() {
     let values: Vec<f64> = (0..4000).map(|i| 1e9 + (i % 4) as f64).collect();
     let acc = sequential(&values);
+    assert!((pushed(&values).variance() - 5000.0 / 3999.0).abs() < 1e-6);
     // Exact sample variance of 1000 copies each of {0,1,2,3}: sum of squares 5000, n - 1 = 3999.
     assert!(
         (acc.variance() - 5000.0 / 3999.0).abs() < 1e-6,

@@ -1,6 +1,12 @@
-//! Streaming mean and variance with exact merging (Welford 1962; Chan, Golub & LeVeque 1979).
+//! Streaming mean and variance with exact merging (Welford 1962; Chan, Golub & LeVeque 1979),
+//! and two-pass summaries of whole slices (Chan, Golub & LeVeque 1983).
 
 use super::estimate::{ErrorBasis, Estimate, StopReason};
+
+/// Interleaved partial sums of [`Accumulator::extend`]: enough independent chains to fill
+/// 8 vector lanes of `f64` or hide an addition's latency; fixed, so results do not depend on
+/// the machine.
+const LANES: usize = 8;
 
 /// Count, mean and sum of squared deviations (`M2`) of a stream of values, plus min, max and
 /// a count of non-finite values (which are kept out of the moments).
@@ -79,7 +85,16 @@ impl Accumulator {
         self.max = self.max.max(y);
     }
 
-    /// Adds every value of a slice.
+    /// Adds every value of a slice: the same statistics as [`push`](Self::push)ing them one
+    /// by one, up to rounding, computed faster.
+    ///
+    /// The slice's count, minimum, maximum and sum are gathered in eight interleaved
+    /// partial results (independent chains that the CPU overlaps and the compiler vectorizes),
+    /// then its squared deviations from its own mean in a second pass, with the correction of
+    /// Chan, Golub & LeVeque (1983) for the rounding of that mean; the slice's summary is then
+    /// merged like [`merge`](Self::merge). The two-pass sums are at least as accurate as
+    /// Welford's update, and the order of operations is fixed, so the bits do not depend on the
+    /// machine. A slice whose sum overflows falls back to pushing value by value.
     ///
     /// ```
     /// let mut acc = mcint::stats::Accumulator::new();
@@ -87,9 +102,72 @@ impl Accumulator {
     /// assert_eq!(acc.mean(), 2.0);
     /// ```
     pub fn extend(&mut self, values: &[f64]) {
-        for &y in values {
-            self.push(y);
+        match Accumulator::of_slice(values) {
+            Some(summary) => self.merge(&summary),
+            None => values.iter().for_each(|&y| self.push(y)),
         }
+    }
+
+    /// The statistics of a slice by two passes, or `None` if a sum overflows.
+    fn of_slice(values: &[f64]) -> Option<Accumulator> {
+        let chunks = values.chunks_exact(LANES);
+        let rest = chunks.remainder();
+        // Pass 1: finite count, sum, min and max per lane; non-finite values are masked out
+        // (a select, not a branch, so the loop vectorizes).
+        let mut counts = [0u64; LANES];
+        let mut sums = [0.0; LANES];
+        let mut mins = [f64::INFINITY; LANES];
+        let mut maxs = [f64::NEG_INFINITY; LANES];
+        let mut first_pass = |lanes: &[f64]| {
+            for (lane, &y) in lanes.iter().enumerate() {
+                let finite = y.is_finite();
+                counts[lane] += u64::from(finite);
+                sums[lane] += if finite { y } else { 0.0 };
+                mins[lane] = mins[lane].min(if finite { y } else { f64::INFINITY });
+                maxs[lane] = maxs[lane].max(if finite { y } else { f64::NEG_INFINITY });
+            }
+        };
+        chunks.clone().for_each(&mut first_pass);
+        first_pass(rest);
+        let count: u64 = counts.iter().sum();
+        let non_finite = values.len() as u64 - count;
+        if count == 0 {
+            return Some(Accumulator {
+                non_finite,
+                ..Accumulator::new()
+            });
+        }
+        let sum: f64 = sums.iter().sum();
+        let mean = sum / count as f64;
+        if !mean.is_finite() {
+            return None;
+        }
+        // Pass 2: deviations from the slice mean, and their sum, which is zero but for the
+        // rounding of `mean`; subtracting its square over `count` corrects for that.
+        let mut squares = [0.0; LANES];
+        let mut deviations = [0.0; LANES];
+        let mut second_pass = |lanes: &[f64]| {
+            for (lane, &y) in lanes.iter().enumerate() {
+                let d = if y.is_finite() { y - mean } else { 0.0 };
+                deviations[lane] += d;
+                squares[lane] += d * d;
+            }
+        };
+        chunks.for_each(&mut second_pass);
+        second_pass(rest);
+        let deviation: f64 = deviations.iter().sum();
+        let m2 = squares.iter().sum::<f64>() - deviation * deviation / count as f64;
+        if !m2.is_finite() {
+            return None;
+        }
+        Some(Accumulator {
+            count,
+            mean,
+            m2: m2.max(0.0),
+            min: mins.iter().copied().fold(f64::INFINITY, f64::min),
+            max: maxs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            non_finite,
+        })
     }
 
     /// Combines another accumulator into this one, as if its values had been pushed here.
