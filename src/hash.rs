@@ -25,11 +25,16 @@ const GOLDEN: u64 = 0x9e37_79b9_7f4a_7c15;
 /// tuples that differ in any position give unrelated outputs.
 #[inline]
 pub(crate) fn hash_words(seed: u64, words: &[u64]) -> u64 {
-    let mut h = mix64(seed.wrapping_add(GOLDEN));
-    for &w in words {
-        h = mix64(h ^ w.wrapping_mul(GOLDEN).wrapping_add(GOLDEN));
-    }
-    h
+    words
+        .iter()
+        .fold(mix64(seed.wrapping_add(GOLDEN)), |h, &w| absorb(h, w))
+}
+
+/// One more word absorbed into a [`hash_words`] state: `hash_words(s, &[a, b])` is
+/// `absorb(hash_words(s, &[a]), b)`, so block kernels hash a shared prefix of words once.
+#[inline(always)]
+pub(crate) fn absorb(h: u64, word: u64) -> u64 {
+    mix64(h ^ word.wrapping_mul(GOLDEN).wrapping_add(GOLDEN))
 }
 
 /// The top 53 bits of `bits` as a double in `[0, 1)`: exact, uniform on the 2^-53 grid.

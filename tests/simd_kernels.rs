@@ -1,5 +1,6 @@
 //! The vectorized fill kernels (Sobol' under every scramble, with and without the index
-//! shuffle, and `Independent`) against the scalar `point` path, bit for bit: random starts and
+//! shuffle, `Independent`, Halton, lattices, correlated multi-jittered and Latin hypercube)
+//! against the scalar `point` path, bit for bit: random starts and
 //! starts near the ends of a pass (2^32) and of the index range (u64::MAX), ragged lengths
 //! around the Gray-code group (16) and chunk (256) sizes, and several dimensions. Then the
 //! portable kernels against the dispatched ones.
@@ -9,7 +10,8 @@
 
 use mcint::Points;
 use mcint::sampler::{
-    CorrelatedMultiJittered, Halton, Independent, Lattice, Sampler, Scramble, Sobol, simd,
+    CorrelatedMultiJittered, Halton, Independent, LatinHypercube, Lattice, Sampler, Scramble,
+    Sobol, simd,
 };
 use std::sync::RwLock;
 
@@ -144,7 +146,8 @@ fn independent_fill_equals_point_for_every_start_length_and_dimension() {
 }
 
 /// Halton under every scramble, lattices unshifted and shifted (Kuo's vector, and a user's
-/// with the most points per pass) and correlated multi-jittered patterns of several shapes:
+/// with the most points per pass), and correlated multi-jittered patterns and Latin
+/// hypercubes of several sizes:
 /// the lattice and Halton samplers checked here, with how many points their passes hold.
 fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
     let mut all: Vec<(Box<dyn Sampler>, u64)> = Vec::new();
@@ -167,12 +170,14 @@ fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
     for points in [1u64, 100, 101, 1 << 16, (1 << 20) + 7, 1 << 53] {
         let cmj = CorrelatedMultiJittered::with_points(dims, points, seed).unwrap();
         all.push((Box::new(cmj), points));
+        let latin = LatinHypercube::new(dims, points, seed).unwrap();
+        all.push((Box::new(latin), points));
     }
     all
 }
 
 #[test]
-fn halton_lattice_and_cmj_fill_equals_point() {
+fn halton_lattice_cmj_and_latin_fill_equals_point() {
     let _shared = PATH.read().unwrap();
     let mut rng = 4;
     for dims in [1, 2, 3, 7, 32] {

@@ -7,8 +7,9 @@
 //! the additive (one-dimensional) part of the integrand's variation.
 
 use super::permutation::Permutation;
+use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, hash_words, unit_f64};
+use crate::hash::{ONE_BELOW, absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
 
 /// `N` points per pass, one in each `1/N` slab of every coordinate.
@@ -104,21 +105,73 @@ impl Sampler for LatinHypercube {
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.dims, start, points)?;
-        for dim in 0..self.dims {
-            // A block usually lies within one pass: build each permutation once per run of
-            // indices that share a pass.
-            let mut pass = start / self.pass_size;
-            let mut permutation = self.permutation(pass, dim);
+        dispatch(FillLatin {
+            sampler: self,
+            start,
+            points,
+        });
+        Ok(())
+    }
+}
+
+/// Indices per step of the block fill kernel (a multiple of the 16 permutation lanes).
+const CHUNK: usize = 256;
+
+/// The block fill, compiled for each instruction set by [`dispatch`]. Per column and per run
+/// of indices within one pass: the slabs of a chunk of indices by the pass's permutation,
+/// 16 indices at a time (independent chains of hash rounds, vector lanes on a wide
+/// instruction set), and the jitter hash with its seed and pass words absorbed once per run.
+/// The integers and the final `f64` expression are those of `coordinate`, so the values are
+/// bit-identical to `point`.
+struct FillLatin<'a> {
+    sampler: &'a LatinHypercube,
+    start: u64,
+    points: &'a mut Points,
+}
+
+impl Kernel for FillLatin<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let FillLatin {
+            sampler,
+            start,
+            points,
+        } = self;
+        let size = sampler.pass_size;
+        let size_f64 = size as f64;
+        let len = points.len();
+        let (mut inputs, mut slabs) = ([0u64; CHUNK], [0u64; CHUNK]);
+        for dim in 0..sampler.dims {
             let column = points.column_mut(dim);
-            for (i, x) in column.iter_mut().enumerate() {
-                let index = start + i as u64;
-                if index / self.pass_size != pass {
-                    pass = index / self.pass_size;
-                    permutation = self.permutation(pass, dim);
+            let mut done = 0;
+            while done < len {
+                let index = start + done as u64;
+                let (pass, local) = (index / size, index % size);
+                let run = (len - done).min(usize::try_from(size - local).unwrap_or(usize::MAX));
+                let permutation = sampler.permutation(pass, dim);
+                // hash_words(seed, [pass, index, dim]) with the seed and pass absorbed.
+                let pass_hash = hash_words(sampler.seed, &[pass]);
+                for offset in (0..run).step_by(CHUNK) {
+                    let c = CHUNK.min(run - offset);
+                    let first = local + offset as u64;
+                    for (j, input) in inputs[..c].iter_mut().enumerate() {
+                        *input = first + j as u64;
+                    }
+                    permutation.apply_into(&inputs[..c], &mut slabs[..c]);
+                    let first_index = index + offset as u64;
+                    let out = &mut column[done + offset..done + offset + c];
+                    for (j, (x, &slab)) in out.iter_mut().zip(&slabs[..c]).enumerate() {
+                        let jitter = unit_f64(absorb(
+                            absorb(pass_hash, first_index + j as u64),
+                            dim as u64,
+                        ));
+                        *x = ((slab as f64 + jitter) / size_f64).min(ONE_BELOW);
+                    }
                 }
-                *x = self.coordinate(&permutation, index, dim);
+                done += run;
             }
         }
-        Ok(())
     }
 }

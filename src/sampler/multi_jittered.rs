@@ -22,10 +22,10 @@
 //!
 //! The shared machinery for both variants lives here.
 
-use super::permutation::{LANES, Permutation};
+use super::permutation::Permutation;
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, hash_words, mix64, unit_f64};
+use crate::hash::{ONE_BELOW, absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
 
 /// Most points a pass may hold: `2^53`, beyond which the `1/N` slabs are no longer distinct
@@ -287,7 +287,7 @@ impl MjCore {
     }
 }
 
-/// Values per chunk of the correlated fill kernel (a multiple of [`LANES`]).
+/// Values per chunk of the correlated fill kernel (a multiple of the 16 permutation lanes).
 const CHUNK: usize = 256;
 
 /// The correlated block fill, compiled for each instruction set by [`dispatch`]. Per run of
@@ -301,20 +301,6 @@ struct FillCorrelated<'a> {
     core: &'a MjCore,
     start: u64,
     points: &'a mut Points,
-}
-
-/// Weyl increment [`hash_words`] multiplies each absorbed word by.
-const GOLDEN: u64 = 0x9e37_79b9_7f4a_7c15;
-
-/// The images of `inputs` (each below the permutation's size) under `perm`, into `out`.
-#[inline(always)]
-fn apply_all(perm: &Permutation, inputs: &[u64], out: &mut [u64]) {
-    for (ins, outs) in inputs.chunks(LANES).zip(out.chunks_mut(LANES)) {
-        let mut lanes = [0u64; LANES];
-        lanes[..ins.len()].copy_from_slice(ins);
-        perm.apply_lanes(&mut lanes);
-        outs.copy_from_slice(&lanes[..outs.len()]);
-    }
 }
 
 /// `(c / m, c % m)` for `c < 2^53`, `m >= 1`, without an integer division (which does not
@@ -362,8 +348,7 @@ impl Kernel for FillCorrelated<'_> {
             // hash_words(seed, [pass, index, dim]) with the first two words absorbed.
             let pass_hash = hash_words(core.seed, &[pass]);
             let coordinate = |slab: u64, index: u64, dim: u64| {
-                let h = mix64(pass_hash ^ index.wrapping_mul(GOLDEN).wrapping_add(GOLDEN));
-                let h = mix64(h ^ dim.wrapping_mul(GOLDEN).wrapping_add(GOLDEN));
+                let h = absorb(absorb(pass_hash, index), dim);
                 ((slab as f64 + unit_f64(h)) / size_f64).min(ONE_BELOW)
             };
             for pair in 0..core.pairs() {
@@ -375,8 +360,8 @@ impl Kernel for FillCorrelated<'_> {
                     let identity: Vec<u64> = (0..core.n.max(core.m)).collect();
                     column_table.resize(core.n as usize, 0);
                     row_table.resize(core.m as usize, 0);
-                    apply_all(column, &identity[..core.n as usize], &mut column_table);
-                    apply_all(row, &identity[..core.m as usize], &mut row_table);
+                    column.apply_into(&identity[..core.n as usize], &mut column_table);
+                    row.apply_into(&identity[..core.m as usize], &mut row_table);
                 }
                 let mut offset = 0;
                 while offset < run {
@@ -385,7 +370,7 @@ impl Kernel for FillCorrelated<'_> {
                     for (j, input) in inputs[..c].iter_mut().enumerate() {
                         *input = first + j as u64;
                     }
-                    apply_all(&perms.cell, &inputs[..c], &mut cells[..c]);
+                    perms.cell.apply_into(&inputs[..c], &mut cells[..c]);
                     let at = done + offset;
                     let first_index = start + at as u64;
                     if single {
@@ -413,8 +398,8 @@ impl Kernel for FillCorrelated<'_> {
                             *s = row_table[column as usize];
                         }
                     } else {
-                        apply_all(column_perm, &rows[..c], &mut sub_columns[..c]);
-                        apply_all(row_perm, &columns[..c], &mut sub_rows[..c]);
+                        column_perm.apply_into(&rows[..c], &mut sub_columns[..c]);
+                        row_perm.apply_into(&columns[..c], &mut sub_rows[..c]);
                     }
                     let out = &mut points.column_mut(dx)[at..at + c];
                     for (j, x) in out.iter_mut().enumerate() {

@@ -152,6 +152,18 @@ impl Permutation {
         }
     }
 
+    /// The images of `inputs` (each below `n`) into `out` (as long as `inputs`), 16 lanes at
+    /// a time by [`apply_lanes`](Self::apply_lanes).
+    #[inline(always)]
+    pub(crate) fn apply_into(&self, inputs: &[u64], out: &mut [u64]) {
+        for (ins, outs) in inputs.chunks(LANES).zip(out.chunks_mut(LANES)) {
+            let mut lanes = [0u64; LANES];
+            lanes[..ins.len()].copy_from_slice(ins);
+            self.apply_lanes(&mut lanes);
+            outs.copy_from_slice(&lanes[..outs.len()]);
+        }
+    }
+
     /// [`scramble`](Self::scramble) of every lane, rounds outermost.
     #[inline(always)]
     fn scramble_lanes(&self, xs: &mut [u64; LANES]) {
