@@ -1,5 +1,5 @@
 //! The vectorized fill kernels (Sobol' under every scramble, with and without the index
-//! shuffle, `Independent`, Halton, lattices, correlated multi-jittered and Latin hypercube)
+//! shuffle, `Independent`, Halton, lattices, multi-jittered and Latin hypercube)
 //! against the scalar `point` path, bit for bit: random starts and
 //! starts near the ends of a pass (2^32) and of the index range (u64::MAX), ragged lengths
 //! around the Gray-code group (16) and chunk (256) sizes, and several dimensions. Then the
@@ -10,8 +10,8 @@
 
 use mcint::Points;
 use mcint::sampler::{
-    CorrelatedMultiJittered, Halton, Independent, LatinHypercube, Lattice, Sampler, Scramble,
-    Sobol, simd,
+    CorrelatedMultiJittered, Halton, Independent, LatinHypercube, Lattice, MultiJittered, Sampler,
+    Scramble, Sobol, simd,
 };
 use std::sync::RwLock;
 
@@ -146,9 +146,9 @@ fn independent_fill_equals_point_for_every_start_length_and_dimension() {
 }
 
 /// Halton under every scramble, lattices unshifted and shifted (Kuo's vector, and a user's
-/// with the most points per pass), and correlated multi-jittered patterns and Latin
-/// hypercubes of several sizes:
-/// the lattice and Halton samplers checked here, with how many points their passes hold.
+/// with the most points per pass), and multi-jittered patterns (correlated or not) and Latin
+/// hypercubes of several sizes: the samplers checked here, with how many points their passes
+/// hold.
 fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
     let mut all: Vec<(Box<dyn Sampler>, u64)> = Vec::new();
     for scramble in [Scramble::None, Scramble::Permute, Scramble::Owen] {
@@ -172,12 +172,14 @@ fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
         all.push((Box::new(cmj), points));
         let latin = LatinHypercube::new(dims, points, seed).unwrap();
         all.push((Box::new(latin), points));
+        let multi_jittered = MultiJittered::with_points(dims, points, seed).unwrap();
+        all.push((Box::new(multi_jittered), points));
     }
     all
 }
 
 #[test]
-fn halton_lattice_cmj_and_latin_fill_equals_point() {
+fn halton_lattice_multi_jittered_and_latin_fill_equals_point() {
     let _shared = PATH.read().unwrap();
     let mut rng = 4;
     for dims in [1, 2, 3, 7, 32] {

@@ -22,7 +22,7 @@
 //!
 //! The shared machinery for both variants lives here.
 
-use super::permutation::Permutation;
+use super::permutation::{LANES, Permutation};
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
 use crate::hash::{ONE_BELOW, absorb, hash_words, unit_f64};
@@ -252,52 +252,28 @@ impl MjCore {
 
     pub(super) fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.dims, start, points)?;
-        if self.correlated {
-            dispatch(FillCorrelated {
-                core: self,
-                start,
-                points,
-            });
-            return Ok(());
-        }
-        let len = points.len();
-        let mut buffer = vec![0.0; self.dims];
-        // The per-pass permutations of every pair, rebuilt in place (no allocation) when the
-        // block crosses into a new pass; the coordinates come from the same `write_pair` as
-        // `point` uses, so the bits agree.
-        let mut perms: Vec<PairPermutations> = Vec::with_capacity(self.pairs());
-        let mut cached_pass = None;
-        let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
-        for i in 0..len {
-            let index = start + i as u64;
-            let pass = index / self.pass_size;
-            if cached_pass != Some(pass) {
-                perms.clear();
-                perms.extend((0..self.pairs()).map(|pair| self.pair_permutations(pass, pair)));
-                cached_pass = Some(pass);
-            }
-            for (pair, p) in perms.iter().enumerate() {
-                self.write_pair(p, pass, index, pair, &mut buffer);
-            }
-            for (column, &x) in columns.iter_mut().zip(&buffer) {
-                column[i] = x;
-            }
-        }
+        dispatch(FillMultiJittered {
+            core: self,
+            start,
+            points,
+        });
         Ok(())
     }
 }
 
-/// Values per chunk of the correlated fill kernel (a multiple of the 16 permutation lanes).
+/// Values per chunk of the fill kernel (a multiple of the 16 permutation lanes).
 const CHUNK: usize = 256;
 
-/// The correlated block fill, compiled for each instruction set by [`dispatch`]. Per run of
-/// one pass and per pair of dimensions: the cells of a chunk of points by the cell
-/// permutation over 16 indices at a time; column and row by a division done in `f64` and
-/// corrected exactly; the shared sub-column and sub-row permutations from tables of their
-/// `n + m` images when the run is at least that long, else over lanes; and the jitter hash
-/// with its seed and pass words absorbed once per run. Every step computes the integers
-/// `write_pair` does and the same final `f64` expression, so the values are bit-identical.
-struct FillCorrelated<'a> {
+/// The block fill, compiled for each instruction set by [`dispatch`]. Per run of one pass and
+/// per pair of dimensions: the cells of a chunk of points by the cell permutation over 16
+/// indices at a time; column and row by a division done in `f64` and corrected exactly; for
+/// the correlated variant the shared sub-column and sub-row permutations from tables of their
+/// `n + m` images when the run is at least that long, else over lanes; for the uncorrelated
+/// one each column's and row's own permutation, built once per run and pair (see
+/// [`OwnPermutations`]); and the jitter hash with its seed and pass words absorbed once per
+/// run. Every step computes the integers `write_pair` does and the same final `f64`
+/// expression, so the values are bit-identical.
+struct FillMultiJittered<'a> {
     core: &'a MjCore,
     start: u64,
     points: &'a mut Points,
@@ -319,12 +295,85 @@ fn div_rem(c: u64, m: u64, m_f64: f64) -> (u64, u64) {
     )
 }
 
-impl Kernel for FillCorrelated<'_> {
+/// The uncorrelated variant's per-column (or per-row) permutations of one pass and pair,
+/// built on first use. Building one costs 40 hashes and 40 divisions, several times its
+/// application, so a run reuses them; the cache is only kept when the run is long next to the
+/// number of columns (else every point builds its own, as `write_pair` does).
+struct OwnPermutations {
+    role: u64,
+    /// Size of each permutation: `n` for columns, `m` for rows.
+    size: u64,
+    built: Vec<Option<Permutation>>,
+    cached: bool,
+}
+
+impl OwnPermutations {
+    fn new(role: u64, size: u64) -> Self {
+        OwnPermutations {
+            role,
+            size,
+            built: Vec::new(),
+            cached: false,
+        }
+    }
+
+    /// Forgets the permutations, for a new pass or pair with `count` of them and `run` points.
+    fn reset(&mut self, count: u64, run: usize) {
+        self.built.clear();
+        self.cached = count <= 4 * run as u64 + 1024;
+        if self.cached {
+            self.built.resize(count as usize, None);
+        }
+    }
+
+    /// The permutation of column (row) `which`, built if it is not cached.
+    #[inline(always)]
+    fn get(&mut self, core: &MjCore, (pass, pair): (u64, usize), which: u64) -> Permutation {
+        let build = || {
+            Permutation::new(
+                self.size,
+                core.permutation_seed(pass, pair, self.role, which),
+            )
+        };
+        if !self.cached {
+            return build();
+        }
+        *self.built[which as usize].get_or_insert_with(build)
+    }
+
+    /// `out[j]`: the image of `inputs[j]` under the permutation of column (row) `which[j]`,
+    /// 16 lanes at a time.
+    #[inline(always)]
+    fn apply_into(
+        &mut self,
+        core: &MjCore,
+        pass_pair: (u64, usize),
+        which: &[u64],
+        inputs: &[u64],
+        out: &mut [u64],
+    ) {
+        for ((which, inputs), out) in which
+            .chunks(LANES)
+            .zip(inputs.chunks(LANES))
+            .zip(out.chunks_mut(LANES))
+        {
+            let lanes = which.len();
+            let perms: [Permutation; LANES] =
+                std::array::from_fn(|l| self.get(core, pass_pair, which[l.min(lanes - 1)]));
+            let refs: [&Permutation; LANES] = std::array::from_fn(|l| &perms[l]);
+            let mut xs: [u64; LANES] = std::array::from_fn(|l| inputs[l.min(lanes - 1)]);
+            Permutation::apply_each(&refs, &mut xs);
+            out.copy_from_slice(&xs[..lanes]);
+        }
+    }
+}
+
+impl Kernel for FillMultiJittered<'_> {
     type Output = ();
 
     #[inline(always)]
     fn run(self) {
-        let FillCorrelated {
+        let FillMultiJittered {
             core,
             start,
             points,
@@ -340,6 +389,8 @@ impl Kernel for FillCorrelated<'_> {
         let mut sub_columns = [0u64; CHUNK];
         let mut sub_rows = [0u64; CHUNK];
         let (mut column_table, mut row_table) = (Vec::new(), Vec::new());
+        let mut own_columns = OwnPermutations::new(ROLE_COLUMN, core.n);
+        let mut own_rows = OwnPermutations::new(ROLE_ROW, core.m);
         let mut done = 0;
         while done < len {
             let index = start + done as u64;
@@ -356,6 +407,10 @@ impl Kernel for FillCorrelated<'_> {
                 let dx = 2 * pair;
                 let single = dx + 1 == core.dims;
                 let tabulate = !single && (core.m + core.n) as usize <= run;
+                if !core.correlated && !single {
+                    own_columns.reset(core.m, run);
+                    own_rows.reset(core.n, run);
+                }
                 if let (true, Some(column), Some(row)) = (tabulate, &perms.column, &perms.row) {
                     let identity: Vec<u64> = (0..core.n.max(core.m)).collect();
                     column_table.resize(core.n as usize, 0);
@@ -386,20 +441,36 @@ impl Kernel for FillCorrelated<'_> {
                     {
                         (*row, *column) = div_rem(cell, core.m, m_f64);
                     }
-                    let (Some(column_perm), Some(row_perm)) = (&perms.column, &perms.row) else {
-                        // `pair_permutations` builds both for the correlated variant.
-                        return;
-                    };
-                    if tabulate {
-                        for (s, &row) in sub_columns[..c].iter_mut().zip(&rows[..c]) {
-                            *s = column_table[row as usize];
+                    match (&perms.column, &perms.row) {
+                        (Some(_), Some(_)) if tabulate => {
+                            for (s, &row) in sub_columns[..c].iter_mut().zip(&rows[..c]) {
+                                *s = column_table[row as usize];
+                            }
+                            for (s, &column) in sub_rows[..c].iter_mut().zip(&columns[..c]) {
+                                *s = row_table[column as usize];
+                            }
                         }
-                        for (s, &column) in sub_rows[..c].iter_mut().zip(&columns[..c]) {
-                            *s = row_table[column as usize];
+                        (Some(column_perm), Some(row_perm)) => {
+                            column_perm.apply_into(&rows[..c], &mut sub_columns[..c]);
+                            row_perm.apply_into(&columns[..c], &mut sub_rows[..c]);
                         }
-                    } else {
-                        column_perm.apply_into(&rows[..c], &mut sub_columns[..c]);
-                        row_perm.apply_into(&columns[..c], &mut sub_rows[..c]);
+                        // Uncorrelated: every column and row has its own permutation.
+                        _ => {
+                            own_columns.apply_into(
+                                core,
+                                (pass, pair),
+                                &columns[..c],
+                                &rows[..c],
+                                &mut sub_columns[..c],
+                            );
+                            own_rows.apply_into(
+                                core,
+                                (pass, pair),
+                                &rows[..c],
+                                &columns[..c],
+                                &mut sub_rows[..c],
+                            );
+                        }
                     }
                     let out = &mut points.column_mut(dx)[at..at + c];
                     for (j, x) in out.iter_mut().enumerate() {
