@@ -1,17 +1,17 @@
 //! The vectorized fill kernels (Sobol' under every scramble, with and without the index
-//! shuffle, `Independent`, Halton, lattices, multi-jittered and Latin hypercube)
-//! against the scalar `point` path, bit for bit: random starts and
-//! starts near the ends of a pass (2^32) and of the index range (u64::MAX), ragged lengths
-//! around the Gray-code group (16) and chunk (256) sizes, and several dimensions. Then the
-//! portable kernels against the dispatched ones.
+//! shuffle, `Independent`, Halton, lattices, multi-jittered, Latin hypercube and orthogonal
+//! arrays) against the scalar `point` path, bit for bit: random starts and starts near the
+//! ends of a pass (2^32) and of the index range (u64::MAX), ragged lengths around the Gray-code
+//! group (16) and chunk (256) sizes, and several dimensions. Then the portable kernels against
+//! the dispatched ones.
 //!
 //! `simd::force_portable` switches the whole process, so the tests that rely on the dispatched
 //! path hold a shared lock and the one that switches holds it exclusively.
 
 use mcint::Points;
 use mcint::sampler::{
-    CorrelatedMultiJittered, Halton, Independent, LatinHypercube, Lattice, MultiJittered, Sampler,
-    Scramble, Sobol, simd,
+    CorrelatedMultiJittered, Halton, Independent, LatinHypercube, Lattice, MultiJittered, OaOffset,
+    OrthogonalArray, Sampler, Scramble, Sobol, simd,
 };
 use std::sync::RwLock;
 
@@ -146,9 +146,9 @@ fn independent_fill_equals_point_for_every_start_length_and_dimension() {
 }
 
 /// Halton under every scramble, lattices unshifted and shifted (Kuo's vector, and a user's
-/// with the most points per pass), and multi-jittered patterns (correlated or not) and Latin
-/// hypercubes of several sizes: the samplers checked here, with how many points their passes
-/// hold.
+/// with the most points per pass), multi-jittered patterns (correlated or not), Latin
+/// hypercubes and orthogonal arrays of several sizes: the samplers checked here, with how many
+/// points their passes hold.
 fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
     let mut all: Vec<(Box<dyn Sampler>, u64)> = Vec::new();
     for scramble in [Scramble::None, Scramble::Permute, Scramble::Owen] {
@@ -175,11 +175,27 @@ fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
         let multi_jittered = MultiJittered::with_points(dims, points, seed).unwrap();
         all.push((Box::new(multi_jittered), points));
     }
+    // Orthogonal arrays under every offset, strengths 2 and 3; with multi-jittered offsets a
+    // large prime too (per-symbol permutations built per point, of Feistel size).
+    for offset in OaOffset::ALL {
+        let primes: &[u64] = match offset {
+            OaOffset::MultiJittered => &[37, 65_537],
+            _ => &[37],
+        };
+        for &p in primes {
+            let bose = OrthogonalArray::bose(dims, p, offset, seed).unwrap();
+            all.push((Box::new(bose), p * p));
+        }
+        if dims <= 6 {
+            let bush = OrthogonalArray::bush(dims, 5, 3, offset, seed).unwrap();
+            all.push((Box::new(bush), 125));
+        }
+    }
     all
 }
 
 #[test]
-fn halton_lattice_multi_jittered_and_latin_fill_equals_point() {
+fn halton_lattice_stratified_and_orthogonal_array_fill_equals_point() {
     let _shared = PATH.read().unwrap();
     let mut rng = 4;
     for dims in [1, 2, 3, 7, 32] {

@@ -22,7 +22,7 @@
 //!
 //! The shared machinery for both variants lives here.
 
-use super::permutation::{LANES, Permutation};
+use super::permutation::{Permutation, PermutationCache};
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
 use crate::hash::{ONE_BELOW, absorb, hash_words, unit_f64};
@@ -269,8 +269,8 @@ const CHUNK: usize = 256;
 /// indices at a time; column and row by a division done in `f64` and corrected exactly; for
 /// the correlated variant the shared sub-column and sub-row permutations from tables of their
 /// `n + m` images when the run is at least that long, else over lanes; for the uncorrelated
-/// one each column's and row's own permutation, built once per run and pair (see
-/// [`OwnPermutations`]); and the jitter hash with its seed and pass words absorbed once per
+/// one each column's and row's own permutation, built once per run and pair and stepped 16 at
+/// a time in lockstep (a `PermutationCache`); and the jitter hash with its seed and pass words absorbed once per
 /// run. Every step computes the integers `write_pair` does and the same final `f64`
 /// expression, so the values are bit-identical.
 struct FillMultiJittered<'a> {
@@ -295,79 +295,6 @@ fn div_rem(c: u64, m: u64, m_f64: f64) -> (u64, u64) {
     )
 }
 
-/// The uncorrelated variant's per-column (or per-row) permutations of one pass and pair,
-/// built on first use. Building one costs 40 hashes and 40 divisions, several times its
-/// application, so a run reuses them; the cache is only kept when the run is long next to the
-/// number of columns (else every point builds its own, as `write_pair` does).
-struct OwnPermutations {
-    role: u64,
-    /// Size of each permutation: `n` for columns, `m` for rows.
-    size: u64,
-    built: Vec<Option<Permutation>>,
-    cached: bool,
-}
-
-impl OwnPermutations {
-    fn new(role: u64, size: u64) -> Self {
-        OwnPermutations {
-            role,
-            size,
-            built: Vec::new(),
-            cached: false,
-        }
-    }
-
-    /// Forgets the permutations, for a new pass or pair with `count` of them and `run` points.
-    fn reset(&mut self, count: u64, run: usize) {
-        self.built.clear();
-        self.cached = count <= 4 * run as u64 + 1024;
-        if self.cached {
-            self.built.resize(count as usize, None);
-        }
-    }
-
-    /// The permutation of column (row) `which`, built if it is not cached.
-    #[inline(always)]
-    fn get(&mut self, core: &MjCore, (pass, pair): (u64, usize), which: u64) -> Permutation {
-        let build = || {
-            Permutation::new(
-                self.size,
-                core.permutation_seed(pass, pair, self.role, which),
-            )
-        };
-        if !self.cached {
-            return build();
-        }
-        *self.built[which as usize].get_or_insert_with(build)
-    }
-
-    /// `out[j]`: the image of `inputs[j]` under the permutation of column (row) `which[j]`,
-    /// 16 lanes at a time.
-    #[inline(always)]
-    fn apply_into(
-        &mut self,
-        core: &MjCore,
-        pass_pair: (u64, usize),
-        which: &[u64],
-        inputs: &[u64],
-        out: &mut [u64],
-    ) {
-        for ((which, inputs), out) in which
-            .chunks(LANES)
-            .zip(inputs.chunks(LANES))
-            .zip(out.chunks_mut(LANES))
-        {
-            let lanes = which.len();
-            let perms: [Permutation; LANES] =
-                std::array::from_fn(|l| self.get(core, pass_pair, which[l.min(lanes - 1)]));
-            let refs: [&Permutation; LANES] = std::array::from_fn(|l| &perms[l]);
-            let mut xs: [u64; LANES] = std::array::from_fn(|l| inputs[l.min(lanes - 1)]);
-            Permutation::apply_each(&refs, &mut xs);
-            out.copy_from_slice(&xs[..lanes]);
-        }
-    }
-}
-
 impl Kernel for FillMultiJittered<'_> {
     type Output = ();
 
@@ -389,8 +316,7 @@ impl Kernel for FillMultiJittered<'_> {
         let mut sub_columns = [0u64; CHUNK];
         let mut sub_rows = [0u64; CHUNK];
         let (mut column_table, mut row_table) = (Vec::new(), Vec::new());
-        let mut own_columns = OwnPermutations::new(ROLE_COLUMN, core.n);
-        let mut own_rows = OwnPermutations::new(ROLE_ROW, core.m);
+        let (mut own_columns, mut own_rows) = <(PermutationCache, PermutationCache)>::default();
         let mut done = 0;
         while done < len {
             let index = start + done as u64;
@@ -456,20 +382,16 @@ impl Kernel for FillMultiJittered<'_> {
                         }
                         // Uncorrelated: every column and row has its own permutation.
                         _ => {
-                            own_columns.apply_into(
-                                core,
-                                (pass, pair),
-                                &columns[..c],
-                                &rows[..c],
-                                &mut sub_columns[..c],
-                            );
-                            own_rows.apply_into(
-                                core,
-                                (pass, pair),
-                                &rows[..c],
-                                &columns[..c],
-                                &mut sub_rows[..c],
-                            );
+                            let own = |role, size| {
+                                move |which| {
+                                    let seed = core.permutation_seed(pass, pair, role, which);
+                                    Permutation::new(size, seed)
+                                }
+                            };
+                            let (cs, rs) = (&columns[..c], &rows[..c]);
+                            let column_own = own(ROLE_COLUMN, core.n);
+                            own_columns.apply_into(cs, rs, &mut sub_columns[..c], column_own);
+                            own_rows.apply_into(rs, cs, &mut sub_rows[..c], own(ROLE_ROW, core.m));
                         }
                     }
                     let out = &mut points.column_mut(dx)[at..at + c];

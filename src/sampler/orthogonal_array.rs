@@ -31,9 +31,10 @@
 //! order of the rows (so a prefix of a pass is a random subset of it) and fresh offsets. All of
 //! them are hashed from `(seed, pass, ...)`, so any point is computed directly from its index.
 
-use super::permutation::Permutation;
+use super::permutation::{Permutation, PermutationCache};
+use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, hash_words, unit_f64};
+use crate::hash::{ONE_BELOW, absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
 use std::fmt;
 use std::str::FromStr;
@@ -136,10 +137,6 @@ const TAG_ORDER: u64 = 0x6f61_6f72;
 const TAG_SYMBOL: u64 = 0x6f61_7379;
 const TAG_STRATUM: u64 = 0x6f61_7374;
 const TAG_JITTER: u64 = 0x6f61_6a69;
-/// Above this many (column, symbol) pairs `fill` does not cache the multi-jittered
-/// permutations of a pass but builds them per point, as `point` does.
-const CACHE_LIMIT: u64 = 1 << 10;
-
 /// A randomized orthogonal array of strength `t`: `N = p^t` points per pass, and in every
 /// choice of `t` dimensions exactly one point of a pass in each cell of the `p^t` grid.
 ///
@@ -420,9 +417,9 @@ impl OrthogonalArray {
         Permutation::new(self.sub, hash_words(self.seed, &words))
     }
 
-    /// The random choices of `pass`; `cache` asks for the uncorrelated multi-jittered
-    /// permutations to be built now (when there are not too many of them).
-    fn pass_keys(&self, pass: u64, cache: bool) -> PassKeys {
+    /// The random choices of `pass` (the uncorrelated multi-jittered permutations, one per
+    /// column and symbol, are built where they are used).
+    fn pass_keys(&self, pass: u64) -> PassKeys {
         let order = Permutation::new(self.pass_size, hash_words(self.seed, &[pass, TAG_ORDER]));
         let symbols = (0..self.dims)
             .map(|c| self.symbol_permutation(pass, c))
@@ -431,14 +428,6 @@ impl OrthogonalArray {
             OaOffset::CorrelatedMultiJittered => (0..self.dims)
                 .map(|c| self.stratum_permutation(pass, c, 0))
                 .collect(),
-            OaOffset::MultiJittered
-                if cache && (self.dims as u128) * u128::from(self.p) <= u128::from(CACHE_LIMIT) =>
-            {
-                (0..self.dims)
-                    .flat_map(|c| (0..self.p).map(move |s| (c, s)))
-                    .map(|(c, s)| self.stratum_permutation(pass, c, s))
-                    .collect()
-            }
             _ => Vec::new(),
         };
         PassKeys {
@@ -470,6 +459,44 @@ impl OrthogonalArray {
         }
     }
 
+    /// The coordinate (before the cap below one) of a point with `symbol` and, for the
+    /// multi-jittered offsets, sub-stratum `stratum` in its column; `jitter` draws its jitter.
+    #[inline(always)]
+    fn coordinate(&self, symbol: u64, stratum: u64, jitter: impl FnOnce() -> f64) -> f64 {
+        match self.offset {
+            OaOffset::Centered => (symbol as f64 + 0.5) / self.p as f64,
+            OaOffset::Jittered => (symbol as f64 + jitter()) / self.p as f64,
+            OaOffset::CorrelatedMultiJittered | OaOffset::MultiJittered => {
+                // symbol * p^(t-1) + stratum < p^t = N, so no overflow.
+                let cell = symbol * self.sub + stratum;
+                (cell as f64 + jitter()) / self.pass_size as f64
+            }
+        }
+    }
+
+    /// The sub-strata of a chunk of points of `column` with `symbols` and `ranks`, as
+    /// `write_point` computes them, 16 lanes at a time (zeros for the other offsets); `own`
+    /// keeps the column's per-symbol permutations of the uncorrelated offset.
+    #[inline(always)]
+    fn strata_into(
+        &self,
+        keys: &PassKeys,
+        own: &mut PermutationCache,
+        column: usize,
+        symbols: &[u64],
+        ranks: &[u64],
+        out: &mut [u64],
+    ) {
+        match self.offset {
+            OaOffset::Centered | OaOffset::Jittered => out.fill(0),
+            OaOffset::CorrelatedMultiJittered => keys.strata[column].apply_into(ranks, out),
+            OaOffset::MultiJittered => {
+                let build = |symbol| self.stratum_permutation(keys.pass, column, symbol);
+                own.apply_into(symbols, ranks, out, build);
+            }
+        }
+    }
+
     /// Writes point `index` (which must belong to `keys.pass`) into `out`.
     fn write_point(&self, keys: &PassKeys, index: u64, out: &mut [f64]) {
         let pass = keys.pass;
@@ -491,22 +518,14 @@ impl OrthogonalArray {
                     &[pass, index, column as u64, TAG_JITTER],
                 ))
             };
-            let coordinate = match self.offset {
-                OaOffset::Centered => (symbol as f64 + 0.5) / self.p as f64,
-                OaOffset::Jittered => (symbol as f64 + jitter()) / self.p as f64,
-                OaOffset::CorrelatedMultiJittered | OaOffset::MultiJittered => {
-                    let stratum = if self.offset == OaOffset::CorrelatedMultiJittered {
-                        keys.strata[column].apply(rank)
-                    } else if keys.strata.is_empty() {
-                        self.stratum_permutation(pass, column, symbol).apply(rank)
-                    } else {
-                        keys.strata[column * self.p as usize + symbol as usize].apply(rank)
-                    };
-                    // symbol * p^(t-1) + stratum < p^t = N, so no overflow.
-                    let cell = symbol * self.sub + stratum;
-                    (cell as f64 + jitter()) / self.pass_size as f64
+            let stratum = match self.offset {
+                OaOffset::Centered | OaOffset::Jittered => 0,
+                OaOffset::CorrelatedMultiJittered => keys.strata[column].apply(rank),
+                OaOffset::MultiJittered => {
+                    self.stratum_permutation(pass, column, symbol).apply(rank)
                 }
             };
+            let coordinate = self.coordinate(symbol, stratum, jitter);
             *x = coordinate.min(ONE_BELOW);
         }
     }
@@ -540,31 +559,109 @@ impl Sampler for OrthogonalArray {
 
     fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
         check_point(self.dims, out)?;
-        let keys = self.pass_keys(index / self.pass_size, false);
+        let keys = self.pass_keys(index / self.pass_size);
         self.write_point(&keys, index, out);
         Ok(())
     }
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.dims, start, points)?;
-        let mut buffer = vec![0.0; self.dims];
-        let len = points.len();
-        let mut keys: Option<PassKeys> = None;
-        let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
-        for i in 0..len {
-            let index = start + i as u64;
-            let pass = index / self.pass_size;
-            let current = match keys.take() {
-                Some(k) if k.pass == pass => k,
-                _ => self.pass_keys(pass, true),
-            };
-            self.write_point(&current, index, &mut buffer);
-            keys = Some(current);
-            for (column, &x) in columns.iter_mut().zip(&buffer) {
-                column[i] = x;
-            }
-        }
+        dispatch(FillOrthogonalArray {
+            array: self,
+            start,
+            points,
+        });
         Ok(())
+    }
+}
+
+/// Indices per step of the block fill kernel (a multiple of the 16 permutation lanes).
+const CHUNK: usize = 256;
+
+/// The block fill, compiled for each instruction set by [`dispatch`]. Per run of indices
+/// within one pass (whose keys are built once): the rows of a chunk by the order permutation,
+/// 16 indices at a time; then per column the entries, their symbols by the column's symbol
+/// permutation over lanes, the sub-strata by the shared (correlated) permutation over lanes or
+/// by 16 different per-symbol permutations stepped in lockstep, and the jitter hash with its
+/// seed and pass absorbed once per run. The integers and the final `f64` expressions are those
+/// of `write_point`, so the values are bit-identical to `point`.
+struct FillOrthogonalArray<'a> {
+    array: &'a OrthogonalArray,
+    start: u64,
+    points: &'a mut Points,
+}
+
+impl Kernel for FillOrthogonalArray<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let FillOrthogonalArray {
+            array,
+            start,
+            points,
+        } = self;
+        let (size, p, t) = (array.pass_size, array.p, array.strength as usize);
+        let len = points.len();
+        let (mut rows, mut coefficients) = (Vec::new(), Vec::new());
+        let mut values = [0u64; CHUNK];
+        let mut ranks = [0u64; CHUNK];
+        let mut symbols = [0u64; CHUNK];
+        let mut strata = [0u64; CHUNK];
+        let mut own = PermutationCache::default();
+        let mut done = 0;
+        while done < len {
+            let index = start + done as u64;
+            let (pass, local) = (index / size, index % size);
+            let run = (len - done).min(usize::try_from(size - local).unwrap_or(usize::MAX));
+            let keys = array.pass_keys(pass);
+            // The rows of the run, and their base-p digits (lowest first): the polynomial's
+            // coefficients.
+            rows.clear();
+            rows.extend(local..local + run as u64);
+            for chunk in rows.chunks_mut(CHUNK) {
+                values[..chunk.len()].copy_from_slice(chunk);
+                keys.order.apply_into(&values[..chunk.len()], chunk);
+            }
+            coefficients.resize(run * t, 0);
+            for (&row, digits) in rows.iter().zip(coefficients.chunks_exact_mut(t)) {
+                let mut rest = row;
+                for digit in digits.iter_mut() {
+                    *digit = rest % p;
+                    rest /= p;
+                }
+            }
+            // hash_words(seed, [pass, index, column, TAG_JITTER]) with the seed and pass
+            // absorbed.
+            let pass_hash = hash_words(array.seed, &[pass]);
+            for column in 0..array.dims {
+                own.reset(p, run);
+                for offset in (0..run).step_by(CHUNK) {
+                    let c = CHUNK.min(run - offset);
+                    let chunk_rows = &rows[offset..offset + c];
+                    for (j, &row) in chunk_rows.iter().enumerate() {
+                        let digits = &coefficients[(offset + j) * t..(offset + j + 1) * t];
+                        (values[j], ranks[j]) = array.entry(digits, row, column);
+                    }
+                    keys.symbols[column].apply_into(&values[..c], &mut symbols[..c]);
+                    let (symbols, ranks) = (&symbols[..c], &ranks[..c]);
+                    array.strata_into(&keys, &mut own, column, symbols, ranks, &mut strata[..c]);
+                    let first_index = index + offset as u64;
+                    let at = done + offset;
+                    let out = &mut points.column_mut(column)[at..at + c];
+                    for (j, x) in out.iter_mut().enumerate() {
+                        let jitter = || {
+                            let h = absorb(pass_hash, first_index + j as u64);
+                            unit_f64(absorb(absorb(h, column as u64), TAG_JITTER))
+                        };
+                        *x = array
+                            .coordinate(symbols[j], strata[j], jitter)
+                            .min(ONE_BELOW);
+                    }
+                }
+            }
+            done += run;
+        }
     }
 }
 

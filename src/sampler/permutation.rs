@@ -209,6 +209,69 @@ impl Permutation {
     }
 }
 
+/// Permutations `0..count` of one family (one per column of cells, say), each built on first
+/// use and kept for the rest of a run of points. Building a permutation costs 40 hashes and
+/// 40 divisions, several times applying it, so a fill that meets the same member many times
+/// reuses it; when `count` is large next to the run, nothing is kept and every use builds its
+/// own, as the per-point path does.
+#[derive(Default)]
+pub(crate) struct PermutationCache {
+    /// Where member `which` is in `built`, `u32::MAX` while it is not built.
+    slots: Vec<u32>,
+    built: Vec<Permutation>,
+    keep: bool,
+}
+
+impl PermutationCache {
+    /// Forgets every member, for a family of `count` members that a run of `uses` points will
+    /// apply.
+    pub(crate) fn reset(&mut self, count: u64, uses: usize) {
+        self.built.clear();
+        self.slots.clear();
+        self.keep = count <= 4 * uses as u64 + 1024;
+        if self.keep {
+            self.slots.resize(count as usize, u32::MAX);
+        }
+    }
+
+    /// Member `which`, built by `build(which)` unless it is kept.
+    #[inline(always)]
+    fn get(&mut self, which: u64, build: &impl Fn(u64) -> Permutation) -> Permutation {
+        if !self.keep {
+            return build(which);
+        }
+        let slot = &mut self.slots[which as usize];
+        if *slot == u32::MAX {
+            *slot = self.built.len() as u32;
+            self.built.push(build(which));
+        }
+        self.built[*slot as usize]
+    }
+
+    /// `out[j]`: the image of `inputs[j]` under member `which[j]`, 16 lanes at a time in
+    /// lockstep ([`Permutation::apply_each`]).
+    #[inline(always)]
+    pub(crate) fn apply_into(
+        &mut self,
+        which: &[u64],
+        inputs: &[u64],
+        out: &mut [u64],
+        build: impl Fn(u64) -> Permutation,
+    ) {
+        let groups = which.chunks(LANES).zip(inputs.chunks(LANES));
+        for ((which, inputs), out) in groups.zip(out.chunks_mut(LANES)) {
+            // Short groups repeat their last lane.
+            let last = which.len() - 1;
+            let perms: [Permutation; LANES] =
+                std::array::from_fn(|l| self.get(which[l.min(last)], &build));
+            let refs: [&Permutation; LANES] = std::array::from_fn(|l| &perms[l]);
+            let mut xs: [u64; LANES] = std::array::from_fn(|l| inputs[l.min(last)]);
+            Permutation::apply_each(&refs, &mut xs);
+            out.copy_from_slice(&xs[..out.len()]);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
