@@ -1,17 +1,17 @@
-//! The vectorized fill kernels (Sobol' under every scramble, with and without the index
-//! shuffle, `Independent`, Halton, lattices, multi-jittered, Latin hypercube and orthogonal
-//! arrays) against the scalar `point` path, bit for bit: random starts and starts near the
-//! ends of a pass (2^32) and of the index range (u64::MAX), ragged lengths around the Gray-code
-//! group (16) and chunk (256) sizes, and several dimensions. Then the portable kernels against
-//! the dispatched ones.
+//! The block fill kernels (Sobol' under every scramble, with and without the index shuffle,
+//! `Independent`, Halton, lattices, multi-jittered, Latin hypercube, multi-stage N-rooks and
+//! orthogonal arrays) against the scalar `point` path, bit for bit: random starts and starts
+//! near the ends of a pass (2^32) and of the index range (u64::MAX), ragged lengths around the
+//! Gray-code group (16) and chunk (256) sizes, and several dimensions. Then the portable
+//! kernels against the dispatched ones.
 //!
 //! `simd::force_portable` switches the whole process, so the tests that rely on the dispatched
 //! path hold a shared lock and the one that switches holds it exclusively.
 
 use mcint::Points;
 use mcint::sampler::{
-    CorrelatedMultiJittered, Halton, Independent, LatinHypercube, Lattice, MultiJittered, OaOffset,
-    OrthogonalArray, Sampler, Scramble, Sobol, simd,
+    CorrelatedMultiJittered, Halton, Independent, LatinHypercube, Lattice, MultiJittered,
+    MultiStageNRooks, OaOffset, OrthogonalArray, Sampler, Scramble, Sobol, simd,
 };
 use std::sync::RwLock;
 
@@ -147,7 +147,7 @@ fn independent_fill_equals_point_for_every_start_length_and_dimension() {
 
 /// Halton under every scramble, lattices unshifted and shifted (Kuo's vector, and a user's
 /// with the most points per pass), multi-jittered patterns (correlated or not), Latin
-/// hypercubes and orthogonal arrays of several sizes: the samplers checked here, with how many
+/// hypercubes, multi-stage N-rooks patterns and orthogonal arrays of several sizes: the samplers checked here, with how many
 /// points their passes hold.
 fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
     let mut all: Vec<(Box<dyn Sampler>, u64)> = Vec::new();
@@ -174,6 +174,12 @@ fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
         all.push((Box::new(latin), points));
         let multi_jittered = MultiJittered::with_points(dims, points, seed).unwrap();
         all.push((Box::new(multi_jittered), points));
+    }
+    // Multi-stage N-rooks: small bases (one-hash shuffles), a large one (hashed permutations),
+    // and the largest pass.
+    for (base, stages) in [(2u64, 10u32), (3, 5), (13, 2), (2, 53)] {
+        let nrooks = MultiStageNRooks::with_stages(dims, base, stages, seed).unwrap();
+        all.push((Box::new(nrooks), base.pow(stages)));
     }
     // Orthogonal arrays under every offset, strengths 2 and 3; with multi-jittered offsets a
     // large prime too (per-symbol permutations built per point, of Feistel size).

@@ -283,7 +283,7 @@ struct FillMultiJittered<'a> {
 /// vectorize): the correctly rounded `f64` quotient truncates to within one of the true
 /// one, and the remainder's sign and size say which way to correct.
 #[inline(always)]
-fn div_rem(c: u64, m: u64, m_f64: f64) -> (u64, u64) {
+pub(super) fn div_rem(c: u64, m: u64, m_f64: f64) -> (u64, u64) {
     let q = (c as f64 / m_f64) as u64;
     let r = c.wrapping_sub(q.wrapping_mul(m));
     let low = u64::from((r as i64) < 0);

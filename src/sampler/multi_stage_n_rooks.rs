@@ -31,12 +31,14 @@
 //! jittered, multi-jittered or pmj02 samplers.
 
 use super::permutation::Permutation;
-use super::{PassKind, Sampler, check_dims, check_point};
-use crate::hash::{ONE_BELOW, hash_words, unit_f64};
-use crate::{Error, Result};
+use super::{PassKind, Sampler, check_block, check_dims, check_point};
+use crate::hash::{ONE_BELOW, absorb, hash_words, unit_f64};
+use crate::{Error, Points, Result};
 
 /// Largest pass size: slabs stay exactly representable in a double.
 const MAX_POINTS: u64 = 1 << 53;
+/// Most stages: base 2 and the largest pass.
+const MAX_STAGES: usize = 53;
 /// Salt for the permutation keys.
 const PERMUTATION_SALT: u64 = 0x6d73_6e72_6b70;
 /// Salt for the jitter.
@@ -171,13 +173,17 @@ impl MultiStageNRooks {
         self.stages
     }
 
-    /// Image of `digit` under the random permutation of `0..base` at tree node
-    /// (`depth`, `prefix`) of axis `dim` in pass `pass`.
-    fn permute(&self, pass: u64, dim: usize, depth: u32, prefix: u64, digit: u64) -> u64 {
-        let key = hash_words(
-            self.seed,
-            &[pass, dim as u64, u64::from(depth), prefix, PERMUTATION_SALT],
-        );
+    /// The key of the random permutation of `0..base` at tree node (`depth`, `prefix`) of the
+    /// axis whose words `[pass, dim]` are absorbed in `axis`: the hash of
+    /// `(seed, pass, dim, depth, prefix)`.
+    #[inline]
+    fn node_key(axis: u64, depth: usize, prefix: u64) -> u64 {
+        absorb(absorb(absorb(axis, depth as u64), prefix), PERMUTATION_SALT)
+    }
+
+    /// Image of `digit` under the permutation of `0..base` with `key`.
+    #[inline]
+    fn permute(&self, key: u64, digit: u64) -> u64 {
         if self.base <= SMALL_BASE {
             // Fisher-Yates driven by the mixed-radix digits of one hash; only the image of
             // `digit` is needed, but the shuffle is tiny.
@@ -197,21 +203,83 @@ impl MultiStageNRooks {
         }
     }
 
-    /// The slab (of `pass_size` per axis) of local index `local` on axis `dim`.
-    fn slab(&self, pass: u64, dim: usize, local: u64) -> u64 {
-        let mut rest = local;
-        // `used` holds the digits of `local` consumed so far (its least significant `depth`).
+    /// The slab (of `pass_size` per axis) of the local index whose base-`n` digits (least
+    /// significant first, one per stage) are `digits`, on the axis whose words are absorbed in
+    /// `axis` (see [`node_key`](Self::node_key)). `memo`, when given, holds the images of the
+    /// nodes of its first depths (see [`NodeMemo`]).
+    #[inline]
+    fn slab(&self, axis: u64, digits: &[u64], mut memo: Option<&mut NodeMemo>) -> u64 {
+        let base = self.base;
+        // `used` holds the digits of the index consumed so far (its least significant `depth`).
         let mut used = 0u64;
         let mut place = 1u64;
         let mut slab = 0u64;
-        for depth in 0..self.stages {
-            let digit = rest % self.base;
-            rest /= self.base;
-            slab = slab * self.base + self.permute(pass, dim, depth, used, digit);
+        for (depth, &digit) in digits.iter().enumerate() {
+            let permute = || self.permute(Self::node_key(axis, depth, used), digit);
+            let image = match memo.as_deref_mut() {
+                Some(memo) if depth < memo.starts.len() => {
+                    let slot =
+                        &mut memo.images[memo.starts[depth] + (used * base + digit) as usize];
+                    if *slot == u32::MAX {
+                        // Images are below base <= u32::MAX (see NodeMemo::reset).
+                        *slot = permute() as u32;
+                    }
+                    u64::from(*slot)
+                }
+                _ => permute(),
+            };
+            slab = slab * base + image;
             used += digit * place;
-            place = place.saturating_mul(self.base);
+            place = place.saturating_mul(base);
         }
         slab
+    }
+
+    /// The base-`n` digits of `local`, least significant first, one per stage.
+    fn digits(&self, mut local: u64, digits: &mut [u64; MAX_STAGES]) {
+        for digit in digits[..self.stages as usize].iter_mut() {
+            *digit = local % self.base;
+            local /= self.base;
+        }
+    }
+
+    /// Coordinate of point `index` on axis `dim` from its slab; `jitter_pass` has the seed and
+    /// the pass absorbed.
+    #[inline]
+    fn coordinate(&self, slab: u64, jitter_pass: u64, index: u64, dim: usize) -> f64 {
+        let jitter = unit_f64(absorb(
+            absorb(absorb(jitter_pass, index), dim as u64),
+            JITTER_SALT,
+        ));
+        ((slab as f64 + jitter) / self.pass_size as f64).min(ONE_BELOW)
+    }
+}
+
+/// Memoized permutation images of the shallow tree nodes of one axis and pass. A block of
+/// consecutive indices meets every node of depth `d` (there are `base^d`) at up to `base`
+/// digits, so when `base^(d+1)` is small next to the block each image is computed once
+/// instead of once per point; deeper nodes are computed per point.
+#[derive(Default)]
+struct NodeMemo {
+    /// Where the images of depth `d` start in `images`, for the memoized depths.
+    starts: Vec<usize>,
+    /// `images[starts[d] + prefix * base + digit]`, `u32::MAX` while not computed.
+    images: Vec<u32>,
+}
+
+impl NodeMemo {
+    /// Empties the memo for a run of `run` points with `base` and `stages`.
+    fn reset(&mut self, base: u64, stages: u32, run: usize) {
+        let limit = (4 * run as u64 + 1024).min(u64::from(u32::MAX));
+        self.starts.clear();
+        let (mut size, mut width) = (0u64, base);
+        while self.starts.len() < stages as usize && width <= limit {
+            self.starts.push(size as usize);
+            size += width;
+            width = width.saturating_mul(base);
+        }
+        self.images.clear();
+        self.images.resize(size as usize, u32::MAX);
     }
 }
 
@@ -275,13 +343,53 @@ impl Sampler for MultiStageNRooks {
         check_point(self.dims, out)?;
         let pass = index / self.pass_size;
         let local = index % self.pass_size;
+        let jitter_pass = hash_words(self.seed, &[pass]);
+        let mut digits = [0; MAX_STAGES];
+        self.digits(local, &mut digits);
         for (dim, x) in out.iter_mut().enumerate() {
-            let slab = self.slab(pass, dim, local);
-            let jitter = unit_f64(hash_words(
-                self.seed,
-                &[pass, index, dim as u64, JITTER_SALT],
-            ));
-            *x = ((slab as f64 + jitter) / self.pass_size as f64).min(ONE_BELOW);
+            let axis = hash_words(self.seed, &[pass, dim as u64]);
+            let slab = self.slab(axis, &digits[..self.stages as usize], None);
+            *x = self.coordinate(slab, jitter_pass, index, dim);
+        }
+        Ok(())
+    }
+
+    /// Per column and per run of indices within one pass: the shallow nodes' images memoized
+    /// (see [`NodeMemo`]), the hash words of seed, pass and axis absorbed once. The same
+    /// integers as `point`, so the same bits.
+    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
+        check_block(self.dims, start, points)?;
+        let len = points.len();
+        let mut memo = NodeMemo::default();
+        let mut done = 0;
+        while done < len {
+            let index = start + done as u64;
+            let (pass, local) = (index / self.pass_size, index % self.pass_size);
+            let size = self.pass_size - local;
+            let run = (len - done).min(usize::try_from(size).unwrap_or(usize::MAX));
+            let jitter_pass = hash_words(self.seed, &[pass]);
+            for dim in 0..self.dims {
+                memo.reset(self.base, self.stages, run);
+                let axis = hash_words(self.seed, &[pass, dim as u64]);
+                let column = &mut points.column_mut(dim)[done..done + run];
+                // The digits of consecutive indices, counted like an odometer (no division).
+                let mut digits = [0; MAX_STAGES];
+                self.digits(local, &mut digits);
+                let digits = &mut digits[..self.stages as usize];
+                for (j, x) in column.iter_mut().enumerate() {
+                    let slab = self.slab(axis, digits, Some(&mut memo));
+                    *x = self.coordinate(slab, jitter_pass, index + j as u64, dim);
+                    // The last index of a pass carries out of every digit: the run ends there.
+                    for digit in digits.iter_mut() {
+                        *digit += 1;
+                        if *digit < self.base {
+                            break;
+                        }
+                        *digit = 0;
+                    }
+                }
+            }
+            done += run;
         }
         Ok(())
     }
@@ -310,8 +418,10 @@ mod tests {
     #[test]
     fn small_base_permutations_are_bijections() {
         let s = MultiStageNRooks::with_stages(1, 7, 2, 3).unwrap();
+        let axis = hash_words(3, &[0, 0]);
         for prefix in 0..7 {
-            let mut image: Vec<u64> = (0..7).map(|d| s.permute(0, 0, 1, prefix, d)).collect();
+            let key = MultiStageNRooks::node_key(axis, 1, prefix);
+            let mut image: Vec<u64> = (0..7).map(|d| s.permute(key, d)).collect();
             image.sort_unstable();
             assert_eq!(image, (0..7).collect::<Vec<_>>());
         }
