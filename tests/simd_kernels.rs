@@ -1,6 +1,6 @@
 //! The block fill kernels (Sobol' under every scramble, with and without the index shuffle,
-//! `Independent`, Halton, lattices, multi-jittered, Latin hypercube, multi-stage N-rooks and
-//! orthogonal arrays) against the scalar `point` path, bit for bit: random starts and starts
+//! `Independent`, Halton, lattices, multi-jittered, Latin hypercube, pmj02, multi-stage N-rooks
+//! and orthogonal arrays) against the scalar `point` path, bit for bit: random starts and starts
 //! near the ends of a pass (2^32) and of the index range (u64::MAX), ragged lengths around the
 //! Gray-code group (16) and chunk (256) sizes, and several dimensions. Then the portable
 //! kernels against the dispatched ones.
@@ -11,7 +11,7 @@
 use mcint::Points;
 use mcint::sampler::{
     CorrelatedMultiJittered, Halton, Independent, LatinHypercube, Lattice, MultiJittered,
-    MultiStageNRooks, OaOffset, OrthogonalArray, Sampler, Scramble, Sobol, simd,
+    MultiStageNRooks, OaOffset, OrthogonalArray, Pmj02, Sampler, Scramble, Sobol, simd,
 };
 use std::sync::RwLock;
 
@@ -147,7 +147,7 @@ fn independent_fill_equals_point_for_every_start_length_and_dimension() {
 
 /// Halton under every scramble, lattices unshifted and shifted (Kuo's vector, and a user's
 /// with the most points per pass), multi-jittered patterns (correlated or not), Latin
-/// hypercubes, multi-stage N-rooks patterns and orthogonal arrays of several sizes: the samplers checked here, with how many
+/// hypercubes, pmj02, multi-stage N-rooks patterns and orthogonal arrays of several sizes: the samplers checked here, with how many
 /// points their passes hold.
 fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
     let mut all: Vec<(Box<dyn Sampler>, u64)> = Vec::new();
@@ -174,6 +174,11 @@ fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
         all.push((Box::new(latin), points));
         let multi_jittered = MultiJittered::with_points(dims, points, seed).unwrap();
         all.push((Box::new(multi_jittered), points));
+    }
+    // pmj02 with passes of one point (scalar), two, 32, the default 2^16 and the largest.
+    for log2 in [0u32, 1, 5, 16, 20] {
+        let pmj = Pmj02::with_max_points(dims, log2, seed).unwrap();
+        all.push((Box::new(pmj), 1 << log2));
     }
     // Multi-stage N-rooks: small bases (one-hash shuffles), a large one (hashed permutations),
     // and the largest pass.

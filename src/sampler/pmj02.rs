@@ -53,6 +53,7 @@
 //! coordinate of one more independent pair: a progressive 1-D stratified sequence, whose every
 //! prefix of `2^m` points has one point in each interval of width `2^-m`.
 
+use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
 use crate::hash::{hash_words, mix64};
 use crate::{Error, Points, Result};
@@ -312,27 +313,116 @@ impl Sampler for Pmj02 {
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.dims, start, points)?;
-        let pairs = self.dims.div_ceil(2);
-        let len = points.len();
-        let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
-        let mut buffer = vec![0.0; self.dims];
-        // Keys are rebuilt only when the block crosses into a new pass.
-        let mut keys_pass: Option<u64> = None;
-        let mut keys: Vec<PairKeys> = Vec::with_capacity(pairs);
-        for i in 0..len {
-            let index = start + i as u64;
-            let pass = index >> self.log2_max;
-            if keys_pass != Some(pass) {
-                keys.clear();
-                keys.extend((0..pairs).map(|pair| self.keys(pass, pair)));
-                keys_pass = Some(pass);
+        if self.log2_max == 0 {
+            // One point per pass: nothing to vectorize.
+            let mut buffer = vec![0.0; self.dims];
+            for i in 0..points.len() {
+                self.point(start + i as u64, &mut buffer)?;
+                for (dim, &x) in buffer.iter().enumerate() {
+                    points.column_mut(dim)[i] = x;
+                }
             }
-            self.write_point(index, &mut buffer, |pair| keys[pair]);
-            for (column, &x) in columns.iter_mut().zip(&buffer) {
-                column[i] = x;
-            }
+            return Ok(());
         }
+        dispatch(FillPmj02 {
+            sampler: self,
+            start,
+            points,
+        });
         Ok(())
+    }
+}
+
+/// Indices a step of the block fill kernel handles at once.
+const LANES: usize = 16;
+
+/// The block fill for passes of at least two points, compiled for each instruction set by
+/// [`dispatch`]. Per run of indices within one pass and per pair of dimensions, 16 indices
+/// at a time: the index scramble, the radical inverse and the Pascal-matrix word (XOR of the
+/// rows of the set bits, masked instead of branched), and both Owen scrambles, each with the
+/// digit positions outermost and the lanes innermost, so every step is a few vector
+/// instructions. The integers are those of `pair_point`, so the values are bit-identical.
+struct FillPmj02<'a> {
+    sampler: &'a Pmj02,
+    start: u64,
+    points: &'a mut Points,
+}
+
+/// Owen's scramble of the `bits`-digit words `digits`, lane by lane, as `owen_coordinate`.
+#[inline(always)]
+fn owen_lanes(digits: &[u32; LANES], bits: u32, key: u64) -> [f64; LANES] {
+    let mut scrambled = *digits;
+    for depth in 0..bits {
+        for (out, &word) in scrambled.iter_mut().zip(digits) {
+            // The `depth` digits above digit `depth` (none for the first).
+            let prefix = if depth == 0 {
+                0
+            } else {
+                word >> (bits - depth)
+            };
+            let coin = (node_hash(key, depth, prefix) >> 63) as u32;
+            *out ^= coin << (bits - 1 - depth);
+        }
+    }
+    std::array::from_fn(|l| to_unit(scrambled[l], bits, node_hash(key, bits, digits[l])))
+}
+
+impl Kernel for FillPmj02<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let FillPmj02 {
+            sampler,
+            start,
+            points,
+        } = self;
+        let bits = sampler.log2_max;
+        let mask = (1u64 << bits) - 1;
+        let len = points.len();
+        let mut done = 0;
+        while done < len {
+            let index = start + done as u64;
+            let pass = index >> bits;
+            let local = (index & mask) as u32;
+            let run = (len - done)
+                .min(usize::try_from((mask + 1) - u64::from(local)).unwrap_or(usize::MAX));
+            for pair in 0..sampler.dims.div_ceil(2) {
+                let keys = sampler.keys(pass, pair);
+                let dx = 2 * pair;
+                for offset in (0..run).step_by(LANES) {
+                    let n = LANES.min(run - offset);
+                    // Short groups repeat their last index.
+                    let first = local + offset as u32;
+                    let plain: [u32; LANES] = std::array::from_fn(|l| first + l.min(n - 1) as u32);
+                    let mut indices = plain;
+                    if let Some(key) = keys.index {
+                        for b in 0..bits {
+                            for (out, &i) in indices.iter_mut().zip(&plain) {
+                                let coin = (node_hash(key, b, i >> (b + 1)) >> 63) as u32;
+                                *out ^= coin << b;
+                            }
+                        }
+                    }
+                    let radical = indices.map(|i| i.reverse_bits() >> (32 - bits));
+                    let xs = owen_lanes(&radical, bits, keys.x);
+                    let at = done + offset;
+                    points.column_mut(dx)[at..at + n].copy_from_slice(&xs[..n]);
+                    if dx + 1 == sampler.dims {
+                        continue;
+                    }
+                    let mut words = [0u32; LANES];
+                    for (bit, &row) in PASCAL.iter().enumerate().take(bits as usize) {
+                        for (word, &i) in words.iter_mut().zip(&indices) {
+                            *word ^= row & 0u32.wrapping_sub((i >> bit) & 1);
+                        }
+                    }
+                    let ys = owen_lanes(&words.map(|w| w >> (32 - bits)), bits, keys.y);
+                    points.column_mut(dx + 1)[at..at + n].copy_from_slice(&ys[..n]);
+                }
+            }
+            done += run;
+        }
     }
 }
 
