@@ -98,16 +98,17 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchUniformEstimator<F> {
     }
 }
 
-/// Whether every coordinate is in `[+0, 1)`: then `0 + u * (1 - 0)` is `u` itself. The bit
-/// pattern of such an `f64` is below that of 1.0; negative numbers (sign bit set), 1.0 and
-/// above, and NaN are not.
+/// Whether every coordinate is in `[+0, 1)`: then `0 + u * (1 - 0)` is `u` itself. Written
+/// without early exits so that it vectorizes: a comparison below one (false for NaN and
+/// `+inf`) and the OR of all sign bits (set for negative numbers, `-0.0` and `-inf`).
 fn all_canonical(points: &Points) -> bool {
-    const ONE: u64 = 0x3ff0_0000_0000_0000;
     (0..points.dims()).all(|d| {
-        points
-            .column(d)
-            .iter()
-            .fold(true, |ok, u| ok & (u.to_bits() < ONE))
+        let (mut below_one, mut signs) = (true, 0u64);
+        for &u in points.column(d) {
+            below_one &= u < 1.0;
+            signs |= u.to_bits();
+        }
+        below_one && signs >> 63 == 0
     })
 }
 
