@@ -1,15 +1,9 @@
 //! The uniform estimator over a box for a batch integrand: one call per block of points.
 
 use super::Estimator;
+use super::box_block::{is_unit, with_mapped};
 use crate::Points;
 use crate::pdf::{Pdf, UniformBox};
-use std::cell::Cell;
-
-thread_local! {
-    /// Scratch block for mapping canonical points into a non-unit box, reused by every block
-    /// a thread evaluates (taken out while in use, so a nested integration gets its own).
-    static SCRATCH: Cell<Option<Points>> = const { Cell::new(None) };
-}
 
 /// `<F^N> = V (1/N) sum f(X_i)` with `X_i` uniform in a box of volume `V` (A.14), for an
 /// integrand that evaluates a whole block of points per call.
@@ -70,8 +64,7 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchUniformEstimator<F> {
     /// assert_eq!(e.domain().volume(), 1.0);
     /// ```
     pub fn new(f: F, domain: UniformBox) -> Self {
-        let unit =
-            domain.lo().iter().all(|&lo| lo == 0.0) && domain.hi().iter().all(|&hi| hi == 1.0);
+        let unit = is_unit(&domain);
         BatchUniformEstimator { f, domain, unit }
     }
 
@@ -94,33 +87,6 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchUniformEstimator<F> {
         for y in out.iter_mut() {
             // The per-point estimator's `volume * f`: IEEE multiplication commutes exactly.
             *y *= volume;
-        }
-    }
-}
-
-/// Whether every coordinate is in `[+0, 1)`: then `0 + u * (1 - 0)` is `u` itself. Written
-/// without early exits so that it vectorizes: a comparison below one (false for NaN and
-/// `+inf`) and the OR of all sign bits (set for negative numbers, `-0.0` and `-inf`).
-fn all_canonical(points: &Points) -> bool {
-    (0..points.dims()).all(|d| {
-        let (mut below_one, mut signs) = (true, 0u64);
-        for &u in points.column(d) {
-            below_one &= u < 1.0;
-            signs |= u.to_bits();
-        }
-        below_one && signs >> 63 == 0
-    })
-}
-
-/// Maps the canonical block `u` into `domain`, column by column, with the arithmetic of
-/// [`UniformBox`]'s `sample` (so every coordinate has the same bits).
-fn map_block(domain: &UniformBox, u: &Points, x: &mut Points) {
-    for (d, column) in x.columns_mut().enumerate() {
-        let (lo, hi) = (domain.lo()[d], domain.hi()[d]);
-        let top = hi.next_down();
-        for (x, &u) in column.iter_mut().zip(u.column(d)) {
-            let v = lo + u * (hi - lo);
-            *x = if v < hi { v } else { top };
         }
     }
 }
@@ -153,22 +119,8 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> Estimator for BatchUniformEstimat
 
     fn contributions(&self, points: &Points, out: &mut [f64]) {
         let out = &mut out[..points.len()];
-        if self.unit && all_canonical(points) {
-            return self.evaluate(points, out);
-        }
-        let mut scratch = SCRATCH
-            .take()
-            .filter(|s| s.dims() == points.dims())
-            .or_else(|| Points::new(points.dims(), 0).ok());
-        match scratch.as_mut() {
-            Some(x) => {
-                x.set_len(points.len());
-                map_block(&self.domain, points, x);
-                self.evaluate(x, out);
-            }
-            // Unreachable: a block has at least one dimension.
-            None => out.fill(f64::NAN),
-        }
-        SCRATCH.set(scratch);
+        with_mapped(&self.domain, self.unit, points, |mapped| {
+            self.evaluate(mapped, out)
+        });
     }
 }

@@ -19,6 +19,7 @@
 //! ([`RegressionControlVariates`]), since those are not a per-sample contribution.
 
 mod batch_uniform;
+mod box_block;
 mod consistent_biased;
 mod control_variate;
 mod importance;

@@ -1,6 +1,8 @@
 //! The basic Monte Carlo estimator over a box (the seed's A.14).
 
 use super::Estimator;
+use super::box_block::{is_unit, with_mapped};
+use crate::Points;
 use crate::pdf::{Pdf, UniformBox};
 
 /// `<F^N> = V (1/N) sum f(X_i)` with `X_i` uniform in a box of volume `V`: equation A.14,
@@ -19,6 +21,8 @@ use crate::pdf::{Pdf, UniformBox};
 pub struct UniformEstimator<F> {
     f: F,
     domain: UniformBox,
+    /// The domain is `[0,1)^d`: canonical points need no mapping.
+    unit: bool,
 }
 
 impl<F: Fn(&[f64]) -> f64 + Send + Sync> UniformEstimator<F> {
@@ -29,7 +33,8 @@ impl<F: Fn(&[f64]) -> f64 + Send + Sync> UniformEstimator<F> {
     /// assert_eq!(e.domain().volume(), 1.0);
     /// ```
     pub fn new(f: F, domain: UniformBox) -> Self {
-        UniformEstimator { f, domain }
+        let unit = is_unit(&domain);
+        UniformEstimator { f, domain, unit }
     }
 
     /// The integration domain.
@@ -56,5 +61,22 @@ impl<F: Fn(&[f64]) -> f64 + Send + Sync> Estimator for UniformEstimator<F> {
     fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
         self.domain.sample(u, x);
         self.domain.volume() * (self.f)(x)
+    }
+
+    /// The block is mapped into the box column by column (vectorized, and skipped over the
+    /// unit cube), then `f` is called per point; the values have the bits of
+    /// [`contribution`](Self::contribution).
+    fn contributions(&self, points: &Points, out: &mut [f64]) {
+        let volume = self.domain.volume();
+        with_mapped(&self.domain, self.unit, points, |mapped| {
+            let columns: Vec<&[f64]> = (0..mapped.dims()).map(|d| mapped.column(d)).collect();
+            let mut x = vec![0.0; columns.len()];
+            for (i, y) in out.iter_mut().enumerate().take(mapped.len()) {
+                for (slot, column) in x.iter_mut().zip(&columns) {
+                    *slot = column[i];
+                }
+                *y = volume * (self.f)(&x);
+            }
+        });
     }
 }
