@@ -40,7 +40,8 @@ const ROLE_LATIN: u64 = 0x6c61_7469; // the odd last dimension
 
 /// The permutations one pair of dimensions uses in one pass. For the correlated variant the
 /// column and row permutations are the same for every column (row) and are stored here; for
-/// the uncorrelated one they depend on the column (row) and are built per point.
+/// the uncorrelated one they depend on the column (row) and are built where they are used
+/// (per point in `point`, once per run of a block in `fill`).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct PairPermutations {
     /// Point number within the pass -> cell number (or slab, for the odd last dimension).
@@ -270,8 +271,8 @@ const CHUNK: usize = 256;
 /// the correlated variant the shared sub-column and sub-row permutations from tables of their
 /// `n + m` images when the run is at least that long, else over lanes; for the uncorrelated
 /// one each column's and row's own permutation, built once per run and pair and stepped 16 at
-/// a time in lockstep (a `PermutationCache`); and the jitter hash with its seed and pass words absorbed once per
-/// run. Every step computes the integers `write_pair` does and the same final `f64`
+/// a time in lockstep (a `PermutationCache`); and the jitter hash with its seed and pass
+/// words absorbed once per run. Every step computes the integers `write_pair` does and the same final `f64`
 /// expression, so the values are bit-identical.
 struct FillMultiJittered<'a> {
     core: &'a MjCore,
