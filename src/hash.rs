@@ -25,11 +25,24 @@ const GOLDEN: u64 = 0x9e37_79b9_7f4a_7c15;
 /// tuples that differ in any position give unrelated outputs.
 #[inline]
 pub(crate) fn hash_words(seed: u64, words: &[u64]) -> u64 {
-    let mut h = mix64(seed.wrapping_add(GOLDEN));
+    let mut h = hash_start(seed);
     for &w in words {
-        h = mix64(h ^ w.wrapping_mul(GOLDEN).wrapping_add(GOLDEN));
+        h = hash_absorb(h, w);
     }
     h
+}
+
+/// The state of [`hash_words`] after the seed: hot loops that hash many tuples with the same
+/// seed (or the same leading words) compute it once and [`hash_absorb`] the rest.
+#[inline(always)]
+pub(crate) fn hash_start(seed: u64) -> u64 {
+    mix64(seed.wrapping_add(GOLDEN))
+}
+
+/// One word absorbed into a [`hash_words`] state.
+#[inline(always)]
+pub(crate) fn hash_absorb(h: u64, word: u64) -> u64 {
+    mix64(h ^ word.wrapping_mul(GOLDEN).wrapping_add(GOLDEN))
 }
 
 /// The top 53 bits of `bits` as a double in `[0, 1)`: exact, uniform on the 2^-53 grid.
@@ -56,6 +69,8 @@ mod tests {
         assert_ne!(base, hash_words(7, &[2, 1, 3]));
         assert_ne!(base, hash_words(7, &[1, 2, 4]));
         assert_ne!(base, hash_words(7, &[1, 2, 3, 0]));
+        let split = hash_absorb(hash_absorb(hash_absorb(hash_start(7), 1), 2), 3);
+        assert_eq!(base, split);
     }
 
     #[test]

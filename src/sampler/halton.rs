@@ -20,6 +20,8 @@ use crate::hash::{ONE_BELOW, hash_words};
 use crate::{Error, Points, Result};
 use std::sync::OnceLock;
 
+mod owen_block;
+
 /// The most dimensions (prime bases) a Halton or Hammersley sampler may have.
 pub(crate) const MAX_DIMS: usize = 10_000;
 /// log2 of the points per pass of a Halton sequence.
@@ -498,6 +500,8 @@ pub(crate) struct Scratch {
     memo: Vec<u32>,
     /// One digit permutation per position that the block's indices use.
     permutations: Vec<DigitPermutation>,
+    /// Buffers of the Owen kernel.
+    owen: owen_block::OwenScratch,
 }
 
 /// Writes the coordinates of local indices `first, first + 1, ...` (one pass, all below
@@ -512,11 +516,7 @@ pub(crate) fn fill_column(
 ) {
     match scramble {
         Scramble::Permute => fill_permuted(base, key, first, out, scratch),
-        Scramble::Owen => {
-            for (x, index) in out.iter_mut().zip(first..) {
-                *x = owen_coordinate(base, key, index);
-            }
-        }
+        Scramble::Owen => owen_block::fill_owen(base, key, first, out, &mut scratch.owen),
         _ => fill_plain(base, first, out),
     }
 }
@@ -547,7 +547,9 @@ fn fill_permuted(base: &Base, key: u64, first: u64, out: &mut [f64], scratch: &m
     if memoize {
         scratch.memo.resize(table, u32::MAX);
     }
-    let Scratch { memo, permutations } = scratch;
+    let Scratch {
+        memo, permutations, ..
+    } = scratch;
     let mut image = |k: usize, digit: u64| -> u64 {
         if !memoize {
             return permutations[k].apply(digit);
