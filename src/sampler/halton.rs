@@ -56,6 +56,10 @@ pub(crate) struct Base {
     per_word: u32,
     /// `1 / b` rounded, for [`Base::split`].
     inverse: f64,
+    /// `floor(2^(63 + D) / b^K)` with `D` the bit length of `b^K`, for [`Base::to_f64`].
+    reciprocal: u64,
+    /// `D`, the bit length of `b^K`.
+    full_bits: u32,
 }
 
 impl Base {
@@ -70,13 +74,62 @@ impl Base {
             power *= base;
             per_word += 1;
         }
+        // 2^(63 + D) may exceed 2^127: divide 2^127 first, then the remainder times the
+        // rest (below 2^8, as D <= 72).
+        let full_bits = 128 - full.leading_zeros();
+        let reciprocal = if full_bits <= 64 {
+            (1u128 << (63 + full_bits)) / full
+        } else {
+            let extra = full_bits - 64;
+            (((1u128 << 127) / full) << extra) + ((((1u128 << 127) % full) << extra) / full)
+        };
         Base {
             base,
             depth,
             full,
             per_word: per_word.max(1),
             inverse: 1.0 / base as f64,
+            reciprocal: u64::try_from(reciprocal).unwrap_or(u64::MAX),
+            full_bits,
         }
+    }
+
+    /// `num / b^K` correctly rounded (ties to even) for `num < b^K`: the same value as
+    /// [`ratio_to_f64`]`(num, b^K)`, by one 64-bit multiplication in all but about 1 case in
+    /// 100.
+    ///
+    /// With `A` the bit length of `num`, its top 64 bits `t` (truncated) times the
+    /// precomputed reciprocal `r = floor(2^(63 + D) / b^K)` give, in their high 64 bits, the
+    /// real `X = num / b^K * 2^(63 + D - A)`, which lies in `(2^62, 2^64)`, from below and
+    /// within 5 units (two truncations of relative size `2^-63` and one of a unit). Shifted to
+    /// 64 significant bits (within 10 units), the top 53 bits are the mantissa and the 11 below
+    /// decide the rounding, unless they lie within the error of the halfway point (or the
+    /// value may cross into the next binade): then the exact [`ratio_to_f64`] decides.
+    #[inline]
+    fn to_f64(&self, num: u128) -> f64 {
+        debug_assert!(num < self.full);
+        if self.base == 2 {
+            // b^K = 2^53: exact.
+            return num as u64 as i64 as f64 * pow2(-53);
+        }
+        if num == 0 {
+            return 0.0;
+        }
+        let zeros = num.leading_zeros(); // A = 128 - zeros, at most 72
+        let top = ((num << zeros) >> 64) as u64;
+        let high = ((u128::from(top) * u128::from(self.reciprocal)) >> 64) as u64;
+        let normal = high.leading_zeros(); // 0 or 1
+        let high = high << normal;
+        let low = high & 0x7ff;
+        if (1024 - 10..=1024).contains(&low) || high >= u64::MAX - 32 {
+            return ratio_to_f64(num, self.full);
+        }
+        // Round half up is safe here: the value is not within the error of the halfway point.
+        let mantissa = (high >> 11) + u64::from(low > 1024);
+        // The value is mantissa * 2^-(52 + D - A + normal); mantissa may have carried to 2^53,
+        // which the addition into the exponent field absorbs.
+        let exponent = 1022 + (128 - zeros) as u64 - u64::from(self.full_bits) - u64::from(normal);
+        f64::from_bits((exponent << 52) + mantissa)
     }
 
     /// `(n / b, n % b)` for `n < 2^40`, without a hardware division (tens of cycles for a
@@ -149,6 +202,7 @@ fn pow2(exponent: i32) -> f64 {
 }
 
 /// `num / den` correctly rounded to the nearest `f64` (ties to even), for `num < den < 2^72`.
+#[inline]
 pub(crate) fn ratio_to_f64(num: u128, den: u128) -> f64 {
     if den <= u128::from(EXACT_F64) {
         // Both are exact doubles, and IEEE division rounds correctly.
@@ -165,11 +219,14 @@ pub(crate) fn ratio_to_f64(num: u128, den: u128) -> f64 {
     }
     let shift = e + 53;
     let scaled = num << shift; // below den * 2^54 < 2^126
-    // The quotient estimated in floating point is off by a few units at most (three roundings
-    // of relative size 2^-53 on a value below 2^54); fix it with the exact remainder. This
-    // avoids a software 128-bit division.
-    let mut quotient = (scaled as f64 / den as f64) as u64;
-    let mut remainder = scaled as i128 - i128::from(quotient) * den as i128;
+    // The quotient estimated in floating point: three roundings of relative size 2^-53 on a
+    // value below 2^54, so off by a few units, fixed with the exact remainder. The operands
+    // are converted through exact halves (single instructions) and the quotient is scaled by
+    // a power of two: no software 128-bit division or conversion.
+    let estimate = wide_to_f64(num) / wide_to_f64(den) * pow2(shift as i32);
+    // Through i64, whose conversions are single instructions: the values are below 2^55.
+    let mut quotient = estimate as i64 as u64;
+    let mut remainder = scaled.wrapping_sub(u128::from(quotient) * den) as i128;
     while remainder < 0 {
         quotient -= 1;
         remainder += den as i128;
@@ -182,7 +239,15 @@ pub(crate) fn ratio_to_f64(num: u128, den: u128) -> f64 {
     if quotient & 1 == 1 && (remainder != 0 || mantissa & 1 == 1) {
         mantissa += 1;
     }
-    mantissa as f64 * pow2(1 - shift as i32)
+    mantissa as i64 as f64 * pow2(1 - shift as i32)
+}
+
+/// `x < 2^72` rounded once to an `f64`, from two halves that convert exactly.
+#[inline(always)]
+fn wide_to_f64(x: u128) -> f64 {
+    let high = (x >> 32) as i64; // below 2^40
+    let low = (x as u32) as i64;
+    high as f64 * pow2(32) + low as f64
 }
 
 /// The radical inverse of `index` (below `2^40`) in base `b`, correctly rounded.
@@ -421,7 +486,7 @@ impl PermuteColumn {
             index = next;
         }
         let num = num * self.powers[self.base.depth - width] + self.tails[width];
-        ratio_to_f64(num, self.base.full).min(ONE_BELOW)
+        self.base.to_f64(num).min(ONE_BELOW)
     }
 }
 
@@ -476,7 +541,7 @@ fn owen_coordinate(base: &Base, key: u64, index: u64) -> f64 {
         k += count;
         (word_number, within) = (word_number + 1, 0);
     }
-    ratio_to_f64(num, base.full).min(ONE_BELOW)
+    base.to_f64(num).min(ONE_BELOW)
 }
 
 /// The key of one (pass, dimension) randomization of a Halton-type sampler.
@@ -575,7 +640,7 @@ fn fill_permuted(base: &Base, key: u64, first: u64, out: &mut [f64], scratch: &m
         num += u128::from(images[k]) * weights[width - 1 - k];
     }
     for (n, x) in out.iter_mut().enumerate() {
-        *x = ratio_to_f64(num, base.full).min(ONE_BELOW);
+        *x = base.to_f64(num).min(ONE_BELOW);
         if n == last_offset {
             break;
         }
@@ -838,6 +903,44 @@ mod tests {
         2 * a.abs_diff(c) <= den
     }
 
+    /// The previous [`ratio_to_f64`] (u128 to f64 conversions in software), kept as the
+    /// reference of its tests.
+    fn ratio_to_f64_reference(num: u128, den: u128) -> f64 {
+        if den <= u128::from(EXACT_F64) {
+            // Both are exact doubles, and IEEE division rounds correctly.
+            return num as f64 / den as f64;
+        }
+        if num == 0 {
+            return 0.0;
+        }
+        // Scale so that den <= num * 2^e < 2 den; then num * 2^(e+53) / den lies in [2^53, 2^54):
+        // 53 bits of quotient and one rounding bit, with the remainder as the sticky bit.
+        let mut e = num.leading_zeros() - den.leading_zeros();
+        if num << e < den {
+            e += 1;
+        }
+        let shift = e + 53;
+        let scaled = num << shift; // below den * 2^54 < 2^126
+        // The quotient estimated in floating point is off by a few units at most (three roundings
+        // of relative size 2^-53 on a value below 2^54); fix it with the exact remainder. This
+        // avoids a software 128-bit division.
+        let mut quotient = (scaled as f64 / den as f64) as u64;
+        let mut remainder = scaled as i128 - i128::from(quotient) * den as i128;
+        while remainder < 0 {
+            quotient -= 1;
+            remainder += den as i128;
+        }
+        while remainder >= den as i128 {
+            quotient += 1;
+            remainder -= den as i128;
+        }
+        let mut mantissa = quotient >> 1;
+        if quotient & 1 == 1 && (remainder != 0 || mantissa & 1 == 1) {
+            mantissa += 1;
+        }
+        mantissa as f64 * pow2(1 - shift as i32)
+    }
+
     #[test]
     fn ratio_to_f64_rounds_correctly() {
         let mut h = 1u64;
@@ -866,6 +969,101 @@ mod tests {
         );
         assert_eq!(ratio_to_f64(3, 4), 0.75);
         assert_eq!(ratio_to_f64(0, den), 0.0);
+    }
+
+    pub(super) fn ratio_reference_for_bench(num: u128, den: u128) -> f64 {
+        ratio_to_f64_reference(num, den)
+    }
+
+    #[test]
+    fn ratio_to_f64_equals_the_previous_implementation() {
+        let mut h = 11u64;
+        let mut next = || {
+            h = mix64(h.wrapping_add(0x9e37));
+            h
+        };
+        let mut dens: Vec<u128> = bases().iter().step_by(97).map(|b| b.full).collect();
+        dens.extend([(1u128 << 53) + 1, 1 << 60, 1 << 71, (1 << 72) - 1]);
+        for _ in 0..40 {
+            let bits = 54 + (next() % 18) as u32;
+            let den = (u128::from(next()) << 64 | u128::from(next())) >> (128 - bits);
+            dens.push(den | 1 << (bits - 1));
+        }
+        for &den in &dens {
+            for case in 0..3000u32 {
+                let r = next();
+                let num = match case % 6 {
+                    0 => (u128::from(r) << 64 | u128::from(next())) % den,
+                    1 => u128::from(r >> (case % 64)) % den,
+                    2 => den - 1 - u128::from(r % 1000).min(den - 1),
+                    // Close to a rounding boundary: num / den near (m + 1/2) 2^-s, and near
+                    // powers of two, where the spacing of doubles changes.
+                    3 | 4 => {
+                        let s = 54 + (r % 60) as u32;
+                        let m = if case % 6 == 3 {
+                            u128::from(next() >> 11 | 1 << 52)
+                        } else {
+                            1 << 53
+                        };
+                        let target = ((2 * m + 1) * den) >> (s + 1);
+                        (target + u128::from(r >> 62)).saturating_sub(2) % den
+                    }
+                    _ => u128::from(r % 64) % den,
+                };
+                let (fast, reference) = (ratio_to_f64(num, den), ratio_to_f64_reference(num, den));
+                assert_eq!(fast.to_bits(), reference.to_bits(), "{num} / {den}");
+            }
+        }
+        // Exact halfway cases: den a power of two above 2^53.
+        for s in 54..72u32 {
+            for m in [1u128 << 52, (1 << 53) - 1, 0x1a_bcde_f012_3457] {
+                let den = 1u128 << s;
+                let num = (2 * m + 1) << (s - 54);
+                assert_eq!(ratio_to_f64(num, den), ratio_to_f64_reference(num, den));
+            }
+        }
+    }
+
+    #[test]
+    fn reciprocal_rounding_equals_the_exact_division() {
+        let mut h = 17u64;
+        let mut next = || {
+            h = mix64(h.wrapping_add(0x51ed));
+            h
+        };
+        let (mut slow, mut total) = (0usize, 0usize);
+        for base in bases().iter().step_by(13).chain(&bases()[..40]) {
+            let full = base.full;
+            for case in 0..2000u32 {
+                let r = next();
+                let num = match case % 5 {
+                    0 => (u128::from(r) << 64 | u128::from(next())) % full,
+                    1 => u128::from(r >> (case % 64)) % full,
+                    2 => full - 1 - u128::from(r % 1000).min(full - 1),
+                    // Near a halfway point between doubles: num / b^K = (m + 1/2) 2^-s.
+                    _ => {
+                        let s = 54 + (r % 40) as u32;
+                        let m = u128::from(next() >> 11 | 1 << 52);
+                        let target = ((2 * m + 1) * full) >> (s + 1);
+                        (target + u128::from(r >> 61)).saturating_sub(4) % full
+                    }
+                };
+                let exact = ratio_to_f64(num, full);
+                assert_eq!(
+                    base.to_f64(num).to_bits(),
+                    exact.to_bits(),
+                    "{num} / {full}"
+                );
+                total += 1;
+                let x = num << num.leading_zeros() >> 64;
+                let high = ((x * u128::from(base.reciprocal)) >> 64) as u64;
+                let high = high << high.leading_zeros();
+                slow += usize::from((1014..=1024).contains(&(high & 0x7ff)));
+            }
+        }
+        // The near-halfway cases are two in five; the others take the fast path but for
+        // about 11 in 2048.
+        assert!(slow < total / 2, "{slow} of {total} on the slow path");
     }
 
     #[test]
@@ -976,5 +1174,80 @@ mod tests {
                 assert_eq!(tail, whole % b.pow(m - m / 2));
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod ratio_bench {
+    use super::*;
+
+    #[inline]
+    fn v1(num: u128, den: u128, inv: f64) -> f64 {
+        if num == 0 {
+            return 0.0;
+        }
+        let mut e = num.leading_zeros() - den.leading_zeros();
+        if num << e < den {
+            e += 1;
+        }
+        let shift = e + 53;
+        let scaled = num << shift;
+        let estimate = wide_to_f64(num) * inv * pow2(shift as i32);
+        let mut quotient = estimate as i64 as u64;
+        let mut remainder = scaled.wrapping_sub(u128::from(quotient) * den) as i128;
+        while remainder < 0 {
+            quotient -= 1;
+            remainder += den as i128;
+        }
+        while remainder >= den as i128 {
+            quotient += 1;
+            remainder -= den as i128;
+        }
+        let mut mantissa = quotient >> 1;
+        if quotient & 1 == 1 && (remainder != 0 || mantissa & 1 == 1) {
+            mantissa += 1;
+        }
+        mantissa as i64 as f64 * pow2(1 - shift as i32)
+    }
+
+    #[test]
+    #[ignore]
+    fn bench_ratio() {
+        let base = bases()[30];
+        let den = base.full;
+        let nums: Vec<u128> = (0..1u64 << 16)
+            .map(|i| u128::from(crate::hash::mix64(i)) * 7 % den)
+            .collect();
+        let mut out = vec![0.0; nums.len()];
+        let inv = 1.0 / wide_to_f64(den);
+        for _ in 0..3 {
+            let mut line = String::new();
+            for variant in 0..3 {
+                let t = std::time::Instant::now();
+                for _ in 0..100 {
+                    for (x, &n) in out.iter_mut().zip(&nums) {
+                        *x = match variant {
+                            0 => base.to_f64(n),
+                            1 => tests_ref::reference(n, std::hint::black_box(den)),
+                            _ => v1(n, den, inv),
+                        };
+                    }
+                    std::hint::black_box(&mut out);
+                }
+                let ns = t.elapsed().as_secs_f64() / (100.0 * nums.len() as f64) * 1e9;
+                line += &format!("v{variant} {ns:.2} ns  ");
+                for (&x, &n) in out.iter().zip(&nums) {
+                    assert_eq!(x.to_bits(), tests_ref::reference(n, den).to_bits());
+                }
+            }
+            println!("{line}");
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests_ref {
+    pub(super) fn reference(num: u128, den: u128) -> f64 {
+        super::tests::ratio_reference_for_bench(num, den)
     }
 }

@@ -14,7 +14,7 @@
 //! vectorizes. The sum is exact in integers whatever the order, and rounded once as in
 //! `owen_coordinate`, so the values are bit-identical.
 
-use super::{Base, MAX_DEPTH, SMALL_BASE, TAG_RHO, below, ratio_to_f64, rotate, small_permutation};
+use super::{Base, MAX_DEPTH, SMALL_BASE, TAG_RHO, below, rotate, small_permutation};
 use crate::hash::{ONE_BELOW, hash_absorb, hash_start};
 use crate::sampler::permutation::{LANES, Permutation, mod_reciprocal};
 use crate::sampler::simd::{Kernel, dispatch};
@@ -302,6 +302,6 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
             low = low * b + u64::from(image);
         }
         let num = num + u128::from(low) * low_weight;
-        *x = ratio_to_f64(num, base.full).min(ONE_BELOW);
+        *x = base.to_f64(num).min(ONE_BELOW);
     }
 }
