@@ -14,7 +14,8 @@
 //! digits as a `u128` numerator over `b^K` and round once in [`ratio_to_f64`]. Every path yields
 //! the same integers and the same single rounding, so `fill` and `point` agree bit for bit.
 
-use super::permutation::Permutation;
+use super::permutation::{LANES, Permutation};
+use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, Scramble, check_block, check_point};
 use crate::hash::{ONE_BELOW, hash_words};
 use crate::{Error, Points, Result};
@@ -105,7 +106,7 @@ impl Base {
     /// 64 significant bits (within 10 units), the top 53 bits are the mantissa and the 11 below
     /// decide the rounding, unless they lie within the error of the halfway point (or the
     /// value may cross into the next binade): then the exact [`ratio_to_f64`] decides.
-    #[inline]
+    #[inline(always)]
     fn to_f64(&self, num: u128) -> f64 {
         debug_assert!(num < self.full);
         if self.base == 2 {
@@ -586,6 +587,58 @@ pub(crate) fn fill_column(
     }
 }
 
+/// The images of the digits `from, from + 1, ..` (`count` of them, modulo `b`) under a digit
+/// permutation with a random-access `rho`, sixteen at a time, written to their slots of
+/// `images`; compiled for each instruction set by [`dispatch`].
+struct DigitImages<'a> {
+    rho: &'a Permutation,
+    base: u64,
+    zero: u64,
+    from: u64,
+    count: u64,
+    images: &'a mut [u32],
+}
+
+impl Kernel for DigitImages<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let DigitImages {
+            rho,
+            base,
+            zero,
+            from,
+            count,
+            images,
+        } = self;
+        let mut done = 0;
+        while done < count {
+            let digits: [u64; LANES] = std::array::from_fn(|j| {
+                let digit = from + done + j as u64;
+                match digit {
+                    _ if done + j as u64 >= count => 0,
+                    _ if digit >= base => digit - base,
+                    _ => digit,
+                }
+            });
+            // pi(0) = zero, pi(a) = rotate(rho(a - 1)) for a >= 1; digit 0 (and lanes past
+            // the end) take the in-range argument 0, whose image is unused.
+            let mut lanes = digits.map(|digit| digit.saturating_sub(1));
+            rho.apply_lanes(&mut lanes);
+            let used = (count - done).min(LANES as u64) as usize;
+            for (&digit, &rest) in digits[..used].iter().zip(&lanes) {
+                // Digit images are below b < 2^17.
+                images[digit as usize] = match digit {
+                    0 => zero,
+                    _ => rotate(base, zero, rest),
+                } as u32;
+            }
+            done += LANES as u64;
+        }
+    }
+}
+
 /// Block kernel for [`Scramble::Permute`]: the permutations of the digit positions in use are
 /// built once, their images memoized when the table is small next to the block, and the
 /// indices counted like an odometer, updating the numerator `sum_k pi_k(a_k) b^(K-1-k)` digit
@@ -597,9 +650,10 @@ fn fill_permuted(base: &Base, key: u64, first: u64, out: &mut [f64], scratch: &m
     };
     let column = PermuteColumn::new(*base, key);
     let b = base.base;
-    let (mut last, mut width) = (first + last_offset as u64, 0usize);
-    while last > 0 {
-        last /= b;
+    let last = first + last_offset as u64;
+    let (mut rest, mut width) = (last, 0usize);
+    while rest > 0 {
+        rest /= b;
         width += 1;
     }
     scratch.permutations.clear();
@@ -611,6 +665,24 @@ fn fill_permuted(base: &Base, key: u64, first: u64, out: &mut [f64], scratch: &m
     scratch.memo.clear();
     if memoize {
         scratch.memo.resize(table, u32::MAX);
+        // The digits a block's indices take at position k are consecutive (cyclically): find
+        // their images in lanes (one permutation, many arguments) rather than one by one.
+        let mut power = 1u64; // b^k
+        for (k, permutation) in scratch.permutations.iter().enumerate() {
+            let low = first / power;
+            let count = (last / power - low + 1).min(b);
+            if let Some(rho) = &permutation.rho {
+                dispatch(DigitImages {
+                    rho,
+                    base: b,
+                    zero: permutation.zero,
+                    from: low % b,
+                    count,
+                    images: &mut scratch.memo[k * b as usize..(k + 1) * b as usize],
+                });
+            }
+            power = power.saturating_mul(b);
+        }
     }
     let Scratch {
         memo, permutations, ..
@@ -639,13 +711,32 @@ fn fill_permuted(base: &Base, key: u64, first: u64, out: &mut [f64], scratch: &m
         images[k] = image(k, digits[k]);
         num += u128::from(images[k]) * weights[width - 1 - k];
     }
-    for (n, x) in out.iter_mut().enumerate() {
-        *x = base.to_f64(num).min(ONE_BELOW);
-        if n == last_offset {
+    if width == 0 {
+        // The block is index 0 alone.
+        out[0] = base.to_f64(num).min(ONE_BELOW);
+        return;
+    }
+    // Runs of indices that differ in digit 0 only: the rest of the numerator is shared.
+    let w0 = weights[width - 1];
+    let mut done = 0;
+    loop {
+        let high = num - u128::from(images[0]) * w0;
+        let run = ((b - digits[0]) as usize).min(out.len() - done);
+        for (x, digit) in out[done..done + run].iter_mut().zip(digits[0]..) {
+            *x = base
+                .to_f64(high + u128::from(image(0, digit)) * w0)
+                .min(ONE_BELOW);
+        }
+        done += run;
+        if done == out.len() {
             break;
         }
-        // Add one; the index stays below b^width, so the carry stops below width.
-        for k in 0..width {
+        // Digit 0 wraps to 0 and the carry adds one above; the index stays below b^width, so
+        // the carry stops below width.
+        digits[0] = 0;
+        images[0] = image(0, 0);
+        num = high + u128::from(images[0]) * w0;
+        for k in 1..width {
             let weight = weights[width - 1 - k];
             let (digit, carry) = if digits[k] + 1 < b {
                 (digits[k] + 1, false)
