@@ -383,7 +383,7 @@ impl DigitPermutation {
 
 /// `(zero + 1 + rest) mod b` for `zero < b` and `rest < b - 1`: `pi(a)` from `pi(0)` and
 /// `rho(a - 1)`.
-#[inline]
+#[inline(always)]
 fn rotate(base: u64, zero: u64, rest: u64) -> u64 {
     let image = zero + 1 + rest;
     if image >= base { image - base } else { image }

@@ -14,7 +14,7 @@
 //! vectorizes. The sum is exact in integers whatever the order, and rounded once as in
 //! `owen_coordinate`, so the values are bit-identical.
 
-use super::{Base, MAX_DEPTH, SMALL_BASE, TAG_RHO, below, rotate, small_permutation};
+use super::{Base, MAX_DEPTH, SMALL_BASE, TAG_RHO, rotate, small_permutation};
 use crate::hash::{ONE_BELOW, hash_absorb, hash_start};
 use crate::sampler::permutation::{LANES, Permutation, mod_reciprocal};
 use crate::sampler::simd::{Kernel, dispatch};
@@ -25,107 +25,190 @@ use crate::sampler::simd::{Kernel, dispatch};
 const LANE_BASE_MAX: u64 = 1 << 16;
 /// A memo slot not computed yet.
 const UNSEEN: u32 = u32::MAX;
-/// A memo slot whose image waits for its job.
-const PENDING: u32 = u32::MAX - 1;
-
-/// Where the image of a permutation job goes.
-#[derive(Debug, Clone, Copy)]
-enum Target {
-    /// Slot of the memo table.
-    Memo(usize),
-    /// Added to the numerator of block offset `.0` with weight `b^(K-1-k)`, `k = .1`.
-    Value(usize, usize),
-}
 
 /// Reusable buffers of the Owen block kernel.
 #[derive(Default)]
 pub(crate) struct OwenScratch {
     /// Memoized digit images of the shallow positions, one table after another.
     memo: Vec<u32>,
-    /// The numerators of the block.
-    nums: Vec<u128>,
-    /// Permutation jobs: keys of `rho`, arguments (then images), pi(0) and targets.
-    seeds: Vec<u64>,
-    args: Vec<u64>,
-    zeros: Vec<u64>,
-    targets: Vec<Target>,
+    /// Digit images of one deep position for the indices of a run.
+    images: Vec<u32>,
+    /// `sum_k image_k b^(w-1-k)` over the deep positions `k` of each index.
+    deep: Vec<u64>,
+    /// The tail runs of each index, one array per word of the stream.
+    tails: Vec<u64>,
 }
 
-/// Digits and residues of consecutive indices, counted like an odometer.
-struct Odometer {
-    /// `digits[k]`: digit `k` of the index, least significant first.
-    digits: [u64; MAX_DEPTH],
-    /// `residues[j] = index mod b^j`.
-    residues: [u64; MAX_DEPTH + 1],
-    /// Digits of the index (0 for index 0).
-    width: usize,
-    index: u64,
+/// The digit permutation `rho` of a base, as the kernels evaluate it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum RhoKind {
+    /// Base 2: `pi(1) = 1 - pi(0)`.
+    Two,
+    /// Fisher-Yates decoded from one hash ([`small_permutation`]).
+    Small,
+    /// Swap-or-not, in lanes ([`Permutation::apply_fresh_lanes`]).
+    Lanes,
+    /// Feistel with a cycle walk, one by one.
+    Large,
 }
 
-impl Odometer {
-    fn new(b: u64, index: u64, positions: usize) -> Self {
-        let mut odometer = Odometer {
-            digits: [0; MAX_DEPTH],
-            residues: [0; MAX_DEPTH + 1],
-            width: 0,
-            index,
-        };
-        let (mut rest, mut power) = (index, 1u64);
-        for k in 0..positions {
-            odometer.digits[k] = rest % b;
-            rest /= b;
-            odometer.residues[k + 1] = odometer.residues[k] + odometer.digits[k] * power;
-            power *= b;
-        }
-        // index mod b^j == index exactly from j = the number of digits on.
-        odometer.width = (0..=positions)
-            .find(|&j| odometer.residues[j] == index)
-            .unwrap_or(positions);
-        odometer
-    }
+/// What the kernels need of one (base, key).
+#[derive(Debug, Clone, Copy)]
+struct Nodes {
+    b: u64,
+    b_f64: f64,
+    kind: RhoKind,
+    /// `mod_reciprocal(b - 1)` for [`RhoKind::Lanes`].
+    reciprocal: u64,
+    /// [`hash_start`] of the key, and of the key of the `rho` hashes.
+    words: u64,
+    rhos: u64,
+}
 
-    /// Moves to the next index, which must stay below `b^positions`.
-    #[inline]
-    fn step(&mut self, b: u64, powers: &[u64], positions: usize) {
-        self.index += 1;
-        for k in 0..positions {
-            let residue = self.residues[k + 1] + 1;
-            self.residues[k + 1] = if residue == powers[k + 1] { 0 } else { residue };
-        }
-        for digit in &mut self.digits[..positions] {
-            if *digit + 1 < b {
-                *digit += 1;
-                break;
+impl Nodes {
+    /// The images at position `k` (stream word `word`, `scale = b^(k % m)`, `power = b^k`)
+    /// of the integers `r = first + j` (below 2^40), whose node has prefix `r mod b^k` and
+    /// whose digit is `(r / b^k) mod b`, into `images[j]`.
+    #[inline(always)]
+    fn images(&self, k: usize, word: u64, scale: u64, power: u64, first: u64, images: &mut [u32]) {
+        let Nodes {
+            b,
+            b_f64,
+            kind,
+            reciprocal,
+            words,
+            rhos,
+        } = *self;
+        let power_f64 = power as f64;
+        for (chunk, out) in images.chunks_mut(LANES).enumerate() {
+            let mut prefixes = [0u64; LANES];
+            let mut digits = [0u64; LANES];
+            let mut zeros = [0u64; LANES];
+            let mut keys = [0u64; LANES];
+            for j in 0..LANES {
+                let r = first + (chunk * LANES + j) as u64;
+                let (high, prefix) = div_rem(r, power, power_f64);
+                prefixes[j] = prefix;
+                digits[j] = div_rem(high, b, b_f64).1;
+                // pi(0): digit k of the node's stream; rho's key: a hash of the node.
+                let word = hash_absorb(words, (prefix << 6) | word);
+                zeros[j] = below_narrow(word.wrapping_mul(scale), b);
+                keys[j] = hash_absorb(rhos, (prefix << 6) | k as u64);
             }
-            *digit = 0;
-        }
-        if self.index == powers[self.width] {
-            self.width += 1;
+            // rho(digit - 1) for the non-zero digits (0 stands in for the others).
+            let mut rests = digits.map(|digit| digit.saturating_sub(1));
+            match kind {
+                RhoKind::Two => {}
+                RhoKind::Small => {
+                    for (rest, &key) in rests.iter_mut().zip(&keys) {
+                        *rest = small_permutation(key, b - 1, *rest);
+                    }
+                }
+                RhoKind::Lanes => {
+                    Permutation::apply_fresh_lanes(b - 1, reciprocal, &keys, &mut rests)
+                }
+                RhoKind::Large => {
+                    for (rest, &key) in rests.iter_mut().zip(&keys) {
+                        *rest = Permutation::new(b - 1, key).apply(*rest);
+                    }
+                }
+            }
+            for (j, image) in out.iter_mut().enumerate() {
+                let (zero, digit) = (zeros[j], digits[j]);
+                // Digit images are below b < 2^17.
+                *image = match (kind, digit) {
+                    (RhoKind::Two, _) => zero ^ digit,
+                    (_, 0) => zero,
+                    _ => rotate(b, zero, rests[j]),
+                } as u32;
+            }
         }
     }
 }
 
-/// The runs of permutation jobs, compiled for each instruction set by [`dispatch`].
-struct RhoJobs<'a> {
-    n: u64,
-    seeds: &'a [u64],
-    args: &'a mut [u64],
+/// `(c / m, c % m)` for `c < 2^52` and `1 <= m < 2^52`, without an integer division (which
+/// does not vectorize): the correctly rounded quotient, rounded to an integer by adding
+/// `2^52` (where doubles are integers) and read from its bits rather than converted (a
+/// saturating conversion does not vectorize either), is within one of the true one, and the
+/// remainder's sign and size say which way to correct.
+#[inline(always)]
+fn div_rem(c: u64, m: u64, m_f64: f64) -> (u64, u64) {
+    const SHIFTER: f64 = (1u64 << 52) as f64;
+    let q = (c as i64 as f64 / m_f64 + SHIFTER).to_bits() - SHIFTER.to_bits();
+    let r = c.wrapping_sub(q.wrapping_mul(m));
+    let low = u64::from((r as i64) < 0);
+    let high = u64::from((r as i64) >= 0 && r >= m);
+    (
+        q.wrapping_sub(low).wrapping_add(high),
+        r.wrapping_add(m & low.wrapping_neg())
+            .wrapping_sub(m & high.wrapping_neg()),
+    )
 }
 
-impl Kernel for RhoJobs<'_> {
+/// [`below`](super::below)`(x, n)` for `n <= 2^32`, from 32-bit halves whose products fit in
+/// 64 bits (and which vector units multiply): `floor((xh n 2^32 + xl n) / 2^64)` is
+/// `floor((xh n + floor(xl n / 2^32)) / 2^32)`.
+#[inline(always)]
+fn below_narrow(x: u64, n: u64) -> u64 {
+    ((x >> 32) * n + (((x & 0xffff_ffff) * n) >> 32)) >> 32
+}
+
+/// The images of one position for a run of residues, compiled for each instruction set by
+/// [`dispatch`].
+struct NodeImages<'a> {
+    nodes: &'a Nodes,
+    k: usize,
+    word: u64,
+    scale: u64,
+    power: u64,
+    first: u64,
+    images: &'a mut [u32],
+}
+
+impl Kernel for NodeImages<'_> {
     type Output = ();
 
     #[inline(always)]
     fn run(self) {
-        let RhoJobs { n, seeds, args } = self;
-        let reciprocal = mod_reciprocal(n);
-        for (seeds, args) in seeds.chunks(LANES).zip(args.chunks_mut(LANES)) {
-            let mut seed_lanes = [0u64; LANES];
-            let mut arg_lanes = [0u64; LANES];
-            seed_lanes[..seeds.len()].copy_from_slice(seeds);
-            arg_lanes[..args.len()].copy_from_slice(args);
-            Permutation::apply_fresh_lanes(n, reciprocal, &seed_lanes, &mut arg_lanes);
-            args.copy_from_slice(&arg_lanes[..args.len()]);
+        self.nodes.images(
+            self.k,
+            self.word,
+            self.scale,
+            self.power,
+            self.first,
+            self.images,
+        );
+    }
+}
+
+/// The tail runs of the indices `first + j`: the digits `k .. k + count` of each index's own
+/// stream (word `word`, `scale = b^(k % m)`, `range = b^count`), into `runs[j]`; compiled for
+/// each instruction set by [`dispatch`].
+struct TailRuns<'a> {
+    words: u64,
+    word: u64,
+    scale: u64,
+    range: u64,
+    first: u64,
+    runs: &'a mut [u64],
+}
+
+impl Kernel for TailRuns<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let TailRuns {
+            words,
+            word,
+            scale,
+            range,
+            first,
+            runs,
+        } = self;
+        for (run, index) in runs.iter_mut().zip(first..) {
+            let hash = hash_absorb(words, (index << 6) | word);
+            *run = below_narrow(hash.wrapping_mul(scale), range);
         }
     }
 }
@@ -146,7 +229,6 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         powers[positions + 1] = powers[positions] * b;
         positions += 1;
     }
-    powers[positions + 1] = powers[positions].saturating_mul(b);
     // weights[k] = b^(K-1-k), the weight of position k in the numerator over b^K.
     let mut weights = [0u128; MAX_DEPTH];
     let mut weight = 1u128;
@@ -154,28 +236,6 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         *w = weight;
         weight *= u128::from(b);
     }
-    // Shallow positions: tables of b^(k+1) slots, small next to the block.
-    let limit = 4 * out.len() as u64 + 1024;
-    let mut shallow = 0;
-    while shallow < positions && powers[shallow + 1] <= limit {
-        shallow += 1;
-    }
-    let table_start: Vec<usize> = (0..=shallow)
-        .scan(0usize, |at, k| {
-            let start = *at;
-            *at += powers[k + 1] as usize;
-            Some(start)
-        })
-        .collect();
-    s.memo.clear();
-    s.memo.resize(table_start[shallow], UNSEEN);
-    s.nums.clear();
-    s.nums.resize(out.len(), 0);
-    s.seeds.clear();
-    s.args.clear();
-    s.zeros.clear();
-    s.targets.clear();
-
     // Digit k of a stream is digit k % m of its word number k / m: floor(frac(word b^(k % m)
     // / 2^64) b) (see `stream_digits`); a run from digit k to the end of its word spells
     // floor(frac(word b^(k % m) / 2^64) b^run).
@@ -190,118 +250,166 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         run_of[k] = (m - within).min(depth - k);
         run_range[k] = b.pow(run_of[k] as u32);
     }
-    let words = hash_start(key);
-    let rhos = hash_start(key ^ TAG_RHO);
-    // pi(0) of node (k, prefix): digit k of the node's stream.
-    let zero_of = |k: usize, prefix: u64| -> u64 {
-        let word = hash_absorb(words, (prefix << 6) | word_of[k]);
-        below(word.wrapping_mul(scale_of[k]), b)
+    let nodes = Nodes {
+        b,
+        b_f64: b as f64,
+        kind: match b {
+            2 => RhoKind::Two,
+            _ if b <= SMALL_BASE => RhoKind::Small,
+            _ if b <= LANE_BASE_MAX => RhoKind::Lanes,
+            _ => RhoKind::Large,
+        },
+        reciprocal: if b <= LANE_BASE_MAX {
+            mod_reciprocal(b - 1)
+        } else {
+            0
+        },
+        words: hash_start(key),
+        rhos: hash_start(key ^ TAG_RHO),
     };
-    // The image of a non-zero digit: now for small bases, else as a job (None).
-    let mut image_of = |k: usize, prefix: u64, digit: u64, zero: u64, target: Target| {
-        if b == 2 {
-            return Some(zero ^ digit);
-        }
-        let rho_key = hash_absorb(rhos, (prefix << 6) | k as u64);
-        if b <= SMALL_BASE {
-            return Some(rotate(
-                b,
-                zero,
-                small_permutation(rho_key, b - 1, digit - 1),
-            ));
-        }
-        if b > LANE_BASE_MAX {
-            let rest = Permutation::new(b - 1, rho_key).apply(digit - 1);
-            return Some(rotate(b, zero, rest));
-        }
-        s.seeds.push(rho_key);
-        s.args.push(digit - 1);
-        s.zeros.push(zero);
-        s.targets.push(target);
-        None
+    let node_images = |k: usize, first_residue: u64, images: &mut [u32]| {
+        dispatch(NodeImages {
+            nodes: &nodes,
+            k,
+            word: word_of[k],
+            scale: scale_of[k],
+            power: powers[k],
+            first: first_residue,
+            images,
+        });
     };
 
-    // Pass 1: every position but the shallow ones, and the shallow slots the block needs.
-    let mut odometer = Odometer::new(b, first, positions);
-    for (offset, num) in s.nums.iter_mut().enumerate() {
-        if offset > 0 {
-            odometer.step(b, &powers, positions);
+    // Shallow positions: tables of b^(k+1) slots, small next to the block, holding the images
+    // of the residues index mod b^(k+1) the block meets (a cyclic range).
+    let limit = 4 * out.len() as u64 + 1024;
+    let mut shallow = 0;
+    while shallow < positions && powers[shallow + 1] <= limit {
+        shallow += 1;
+    }
+    let mut table_start = [0usize; MAX_DEPTH + 1];
+    for k in 0..shallow {
+        table_start[k + 1] = table_start[k] + powers[k + 1] as usize;
+    }
+    s.memo.clear();
+    s.memo.resize(table_start[shallow], UNSEEN);
+    for k in 0..shallow {
+        let size = powers[k + 1];
+        let table = &mut s.memo[table_start[k]..table_start[k + 1]];
+        let from = first % size;
+        let count = (last_offset as u64 + 1).min(size);
+        let straight = count.min(size - from);
+        node_images(
+            k,
+            from,
+            &mut table[from as usize..(from + straight) as usize],
+        );
+        node_images(k, 0, &mut table[..(count - straight) as usize]);
+    }
+
+    // Runs of indices with the same number of digits w: deep positions shallow .. w (a node
+    // of its own for every index), then the tail of zero digits from max(shallow, w) on, read
+    // from each index's own stream.
+    s.deep.clear();
+    s.deep.resize(out.len(), 0);
+    let mut done = 0usize;
+    let mut width = (0..=positions)
+        .find(|&j| powers[j] > first)
+        .unwrap_or(positions);
+    while done < out.len() {
+        let start = first + done as u64;
+        while powers[width] <= start {
+            width += 1;
         }
-        let Odometer {
-            digits,
-            residues,
-            width,
-            index,
-        } = &odometer;
-        for k in 0..shallow {
-            let slot = table_start[k] + residues[k + 1] as usize;
-            if s.memo[slot] == UNSEEN {
-                let zero = zero_of(k, residues[k]);
-                s.memo[slot] = match digits[k] {
-                    0 => zero as u32,
-                    digit => match image_of(k, residues[k], digit, zero, Target::Memo(slot)) {
-                        Some(image) => image as u32,
-                        None => PENDING,
-                    },
-                };
+        let end = if width < positions {
+            (powers[width] - first).min(out.len() as u64) as usize
+        } else {
+            out.len()
+        };
+        let count = end - done;
+        let deep = &mut s.deep[done..end];
+        for k in shallow..width {
+            s.images.clear();
+            s.images.resize(count, 0);
+            // Residue index mod b^(k+1) or the index itself: the same prefix and digit.
+            node_images(k, start, &mut s.images);
+            for (acc, &image) in deep.iter_mut().zip(&s.images) {
+                *acc = *acc * b + u64::from(image);
             }
         }
-        // Deep positions: a node of its own for every index.
-        for k in shallow..*width {
-            let zero = zero_of(k, residues[k]);
-            let image = match digits[k] {
-                0 => Some(zero),
-                digit => image_of(k, residues[k], digit, zero, Target::Value(offset, k)),
-            };
-            if let Some(image) = image {
-                *num += u128::from(image) * weights[k];
-            }
-        }
-        // The tail of zero digits: runs of the stream of `index` itself.
-        let mut k = shallow.max(*width);
+        let deep_weight = weights[width.max(1) - 1];
+        let mut tail_weights = [0u128; MAX_DEPTH];
+        let mut tail_count = 0;
+        let mut k = shallow.max(width);
+        s.tails.clear();
         while k < depth {
-            let word = hash_absorb(words, (index << 6) | word_of[k]);
-            let run = below(word.wrapping_mul(scale_of[k]), run_range[k]);
-            *num += u128::from(run) * weights[k + run_of[k] - 1];
+            let at = s.tails.len();
+            s.tails.resize(at + count, 0);
+            dispatch(TailRuns {
+                words: nodes.words,
+                word: word_of[k],
+                scale: scale_of[k],
+                range: run_range[k],
+                first: start,
+                runs: &mut s.tails[at..],
+            });
+            tail_weights[tail_count] = weights[k + run_of[k] - 1];
+            tail_count += 1;
             k += run_of[k];
         }
-    }
-
-    // The permutation jobs, sixteen at a time.
-    if !s.seeds.is_empty() {
-        dispatch(RhoJobs {
-            n: b - 1,
-            seeds: &s.seeds,
-            args: &mut s.args,
-        });
-        for ((&rest, &zero), &target) in s.args.iter().zip(&s.zeros).zip(&s.targets) {
-            let image = rotate(b, zero, rest);
-            match target {
-                Target::Memo(slot) => s.memo[slot] = image as u32,
-                Target::Value(offset, k) => s.nums[offset] += u128::from(image) * weights[k],
+        // The shallow positions from the tables, the sum, and the single rounding.
+        let mut odometer = Odometer::new(b, start, shallow);
+        let low_weight = if shallow == 0 {
+            0
+        } else {
+            weights[shallow - 1]
+        };
+        for (j, (x, &deep)) in out[done..end].iter_mut().zip(deep.iter()).enumerate() {
+            if j > 0 {
+                odometer.step(&powers, shallow);
             }
+            // sum_(k < shallow) image_k b^(shallow-1-k), below b^shallow: one u64 Horner sum.
+            let mut low = 0u64;
+            for k in 0..shallow {
+                let image = s.memo[table_start[k] + odometer.residues[k + 1] as usize];
+                debug_assert!(image != UNSEEN);
+                low = low * b + u64::from(image);
+            }
+            let mut num = u128::from(low) * low_weight;
+            if width > shallow {
+                num += u128::from(deep) * deep_weight;
+            }
+            for (t, &w) in tail_weights[..tail_count].iter().enumerate() {
+                num += u128::from(s.tails[t * count + j]) * w;
+            }
+            *x = base.to_f64(num).min(ONE_BELOW);
         }
+        done = end;
+    }
+}
+
+/// Residues of consecutive indices modulo `b, b^2, ..`, counted like an odometer.
+struct Odometer {
+    /// `residues[j] = index mod b^j`.
+    residues: [u64; MAX_DEPTH + 1],
+}
+
+impl Odometer {
+    fn new(b: u64, index: u64, positions: usize) -> Self {
+        let mut residues = [0u64; MAX_DEPTH + 1];
+        let mut power = 1u64;
+        for j in 1..=positions {
+            power *= b;
+            residues[j] = index % power;
+        }
+        Odometer { residues }
     }
 
-    // Pass 2: the shallow positions from the tables, then the single rounding.
-    let mut odometer = Odometer::new(b, first, positions);
-    let low_weight = if shallow == 0 {
-        0
-    } else {
-        weights[shallow - 1]
-    };
-    for (offset, (x, &num)) in out.iter_mut().zip(&s.nums).enumerate() {
-        if offset > 0 {
-            odometer.step(b, &powers, positions);
+    /// Moves to the next index.
+    #[inline]
+    fn step(&mut self, powers: &[u64], positions: usize) {
+        for j in 1..=positions {
+            let residue = self.residues[j] + 1;
+            self.residues[j] = if residue == powers[j] { 0 } else { residue };
         }
-        // sum_(k < shallow) image_k b^(shallow-1-k), below b^shallow: one u64 Horner sum.
-        let mut low = 0u64;
-        for k in 0..shallow {
-            let image = s.memo[table_start[k] + odometer.residues[k + 1] as usize];
-            debug_assert!(image < PENDING);
-            low = low * b + u64::from(image);
-        }
-        let num = num + u128::from(low) * low_weight;
-        *x = base.to_f64(num).min(ONE_BELOW);
     }
 }
