@@ -566,6 +566,8 @@ pub(crate) struct Scratch {
     memo: Vec<u32>,
     /// One digit permutation per position that the block's indices use.
     permutations: Vec<DigitPermutation>,
+    /// The numerator parts of the lowest digit positions, by their value.
+    lows: Vec<u128>,
     /// Buffers of the Owen kernel.
     owen: owen_block::OwenScratch,
 }
@@ -685,7 +687,10 @@ fn fill_permuted(base: &Base, key: u64, first: u64, out: &mut [f64], scratch: &m
         }
     }
     let Scratch {
-        memo, permutations, ..
+        memo,
+        permutations,
+        lows,
+        ..
     } = scratch;
     let mut image = |k: usize, digit: u64| -> u64 {
         if !memoize {
@@ -716,27 +721,66 @@ fn fill_permuted(base: &Base, key: u64, first: u64, out: &mut [f64], scratch: &m
         out[0] = base.to_f64(num).min(ONE_BELOW);
         return;
     }
-    // Runs of indices that differ in digit 0 only: the rest of the numerator is shared.
+    // The lowest `low` positions form a number r < b^low that runs through its values before
+    // a carry reaches the positions above, whose part of the numerator is then shared. With
+    // b^low <= 256 small next to the block, the parts of all r are tabulated (built position
+    // by position), else (low = 1) found digit by digit.
+    let mut low = 1;
+    while low < width && powers_u64(b, low + 1) <= 256.min(out.len() as u64) {
+        low += 1;
+    }
+    let size = powers_u64(b, low);
+    let tabulate = size <= out.len() as u64;
+    lows.clear();
+    if tabulate {
+        lows.push(0);
+        for k in 0..low {
+            let span = lows.len();
+            for digit in 1..b {
+                let part = u128::from(image(k, digit)) * weights[width - 1 - k];
+                for at in 0..span {
+                    let value = lows[at] + part;
+                    lows.push(value);
+                }
+            }
+            // Digit 0 of position k: add pi_k(0)'s part to the existing entries.
+            let zero = u128::from(image(k, 0)) * weights[width - 1 - k];
+            for value in &mut lows[..span] {
+                *value += zero;
+            }
+        }
+    }
+    // The part of positions below `low` of the index with these digits.
+    let mut r = 0u64;
+    let mut high = num;
+    for k in (0..low).rev() {
+        r = r * b + digits[k];
+        high -= u128::from(images[k]) * weights[width - 1 - k];
+    }
     let w0 = weights[width - 1];
     let mut done = 0;
     loop {
-        let high = num - u128::from(images[0]) * w0;
-        let run = ((b - digits[0]) as usize).min(out.len() - done);
-        for (x, digit) in out[done..done + run].iter_mut().zip(digits[0]..) {
-            *x = base
-                .to_f64(high + u128::from(image(0, digit)) * w0)
-                .min(ONE_BELOW);
+        let run = ((size - r) as usize).min(out.len() - done);
+        let outs = &mut out[done..done + run];
+        if tabulate {
+            for (x, part) in outs.iter_mut().zip(&lows[r as usize..]) {
+                *x = base.to_f64(high + part).min(ONE_BELOW);
+            }
+        } else {
+            for (x, digit) in outs.iter_mut().zip(r..) {
+                *x = base
+                    .to_f64(high + u128::from(image(0, digit)) * w0)
+                    .min(ONE_BELOW);
+            }
         }
         done += run;
         if done == out.len() {
             break;
         }
-        // Digit 0 wraps to 0 and the carry adds one above; the index stays below b^width, so
-        // the carry stops below width.
-        digits[0] = 0;
-        images[0] = image(0, 0);
-        num = high + u128::from(images[0]) * w0;
-        for k in 1..width {
+        // Positions below `low` wrap to 0 and the carry adds one above; the index stays below
+        // b^width, so the carry stops below width.
+        r = 0;
+        for k in low..width {
             let weight = weights[width - 1 - k];
             let (digit, carry) = if digits[k] + 1 < b {
                 (digits[k] + 1, false)
@@ -744,13 +788,18 @@ fn fill_permuted(base: &Base, key: u64, first: u64, out: &mut [f64], scratch: &m
                 (0, true)
             };
             let new = image(k, digit);
-            num = num + u128::from(new) * weight - u128::from(images[k]) * weight;
+            high = high + u128::from(new) * weight - u128::from(images[k]) * weight;
             (digits[k], images[k]) = (digit, new);
             if !carry {
                 break;
             }
         }
     }
+}
+
+/// `b^j` (small here).
+fn powers_u64(b: u64, j: usize) -> u64 {
+    b.saturating_pow(j as u32)
 }
 
 /// The Halton sequence in up to 10,000 dimensions, optionally randomized.
@@ -1062,10 +1111,6 @@ mod tests {
         assert_eq!(ratio_to_f64(0, den), 0.0);
     }
 
-    pub(super) fn ratio_reference_for_bench(num: u128, den: u128) -> f64 {
-        ratio_to_f64_reference(num, den)
-    }
-
     #[test]
     fn ratio_to_f64_equals_the_previous_implementation() {
         let mut h = 11u64;
@@ -1265,80 +1310,5 @@ mod tests {
                 assert_eq!(tail, whole % b.pow(m - m / 2));
             }
         }
-    }
-}
-
-#[cfg(test)]
-mod ratio_bench {
-    use super::*;
-
-    #[inline]
-    fn v1(num: u128, den: u128, inv: f64) -> f64 {
-        if num == 0 {
-            return 0.0;
-        }
-        let mut e = num.leading_zeros() - den.leading_zeros();
-        if num << e < den {
-            e += 1;
-        }
-        let shift = e + 53;
-        let scaled = num << shift;
-        let estimate = wide_to_f64(num) * inv * pow2(shift as i32);
-        let mut quotient = estimate as i64 as u64;
-        let mut remainder = scaled.wrapping_sub(u128::from(quotient) * den) as i128;
-        while remainder < 0 {
-            quotient -= 1;
-            remainder += den as i128;
-        }
-        while remainder >= den as i128 {
-            quotient += 1;
-            remainder -= den as i128;
-        }
-        let mut mantissa = quotient >> 1;
-        if quotient & 1 == 1 && (remainder != 0 || mantissa & 1 == 1) {
-            mantissa += 1;
-        }
-        mantissa as i64 as f64 * pow2(1 - shift as i32)
-    }
-
-    #[test]
-    #[ignore]
-    fn bench_ratio() {
-        let base = bases()[30];
-        let den = base.full;
-        let nums: Vec<u128> = (0..1u64 << 16)
-            .map(|i| u128::from(crate::hash::mix64(i)) * 7 % den)
-            .collect();
-        let mut out = vec![0.0; nums.len()];
-        let inv = 1.0 / wide_to_f64(den);
-        for _ in 0..3 {
-            let mut line = String::new();
-            for variant in 0..3 {
-                let t = std::time::Instant::now();
-                for _ in 0..100 {
-                    for (x, &n) in out.iter_mut().zip(&nums) {
-                        *x = match variant {
-                            0 => base.to_f64(n),
-                            1 => tests_ref::reference(n, std::hint::black_box(den)),
-                            _ => v1(n, den, inv),
-                        };
-                    }
-                    std::hint::black_box(&mut out);
-                }
-                let ns = t.elapsed().as_secs_f64() / (100.0 * nums.len() as f64) * 1e9;
-                line += &format!("v{variant} {ns:.2} ns  ");
-                for (&x, &n) in out.iter().zip(&nums) {
-                    assert_eq!(x.to_bits(), tests_ref::reference(n, den).to_bits());
-                }
-            }
-            println!("{line}");
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests_ref {
-    pub(super) fn reference(num: u128, den: u128) -> f64 {
-        super::tests::ratio_reference_for_bench(num, den)
     }
 }

@@ -162,16 +162,16 @@ impl Permutation {
     /// round when compiled for a wide instruction set (see `super::simd`). `reciprocal` is
     /// [`mod_reciprocal`]`(n)`.
     #[inline(always)]
-    pub(crate) fn apply_fresh_lanes(
+    pub(crate) fn apply_fresh_lanes<const N: usize>(
         n: u64,
         reciprocal: u64,
-        seeds: &[u64; LANES],
-        xs: &mut [u64; LANES],
+        seeds: &[u64; N],
+        xs: &mut [u64; N],
     ) {
         debug_assert!((2..SMALL).contains(&n) && reciprocal == mod_reciprocal(n));
         debug_assert!(xs.iter().all(|&x| x < n));
         // hash_words(seed, [TAG_ROUND, k]) with the first two words absorbed.
-        let mut states = [0u64; LANES];
+        let mut states = [0u64; N];
         for (state, &seed) in states.iter_mut().zip(seeds) {
             *state = hash_absorb(hash_start(seed), TAG_ROUND);
         }

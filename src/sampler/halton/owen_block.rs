@@ -16,13 +16,15 @@
 
 use super::{Base, MAX_DEPTH, SMALL_BASE, TAG_RHO, rotate, small_permutation};
 use crate::hash::{ONE_BELOW, hash_absorb, hash_start};
-use crate::sampler::permutation::{LANES, Permutation, mod_reciprocal};
+use crate::sampler::permutation::{Permutation, mod_reciprocal};
 use crate::sampler::simd::{Kernel, dispatch};
 
 /// Largest base whose digit permutation `rho` (on `b - 1` digits) is a swap-or-not shuffle,
 /// which [`Permutation::apply_fresh_lanes`] evaluates in lanes; above it `rho` is a Feistel
 /// network with a cycle walk, evaluated one by one.
 const LANE_BASE_MAX: u64 = 1 << 16;
+/// Lanes of the node kernel: 32 independent chains of swap-or-not rounds hide their latency.
+const LANES: usize = 32;
 /// A memo slot not computed yet.
 const UNSEEN: u32 = u32::MAX;
 
