@@ -371,8 +371,8 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
             }
             // sum_(k < shallow) image_k b^(shallow-1-k), below b^shallow: one u64 Horner sum.
             let mut low = 0u64;
-            for k in 0..shallow {
-                let image = s.memo[table_start[k] + odometer.residues[k + 1] as usize];
+            for (&start, &residue) in table_start[..shallow].iter().zip(&odometer.residues[1..]) {
+                let image = s.memo[start + residue as usize];
                 debug_assert!(image != UNSEEN);
                 low = low * b + u64::from(image);
             }
@@ -383,7 +383,7 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
             for (t, &w) in tail_weights[..tail_count].iter().enumerate() {
                 num += u128::from(s.tails[t * count + j]) * w;
             }
-            *x = base.to_f64(num).min(ONE_BELOW);
+            *x = base.ratio(num).min(ONE_BELOW);
         }
         done = end;
     }
@@ -399,9 +399,9 @@ impl Odometer {
     fn new(b: u64, index: u64, positions: usize) -> Self {
         let mut residues = [0u64; MAX_DEPTH + 1];
         let mut power = 1u64;
-        for j in 1..=positions {
+        for residue in &mut residues[1..=positions] {
             power *= b;
-            residues[j] = index % power;
+            *residue = index % power;
         }
         Odometer { residues }
     }
@@ -409,9 +409,12 @@ impl Odometer {
     /// Moves to the next index.
     #[inline]
     fn step(&mut self, powers: &[u64], positions: usize) {
-        for j in 1..=positions {
-            let residue = self.residues[j] + 1;
-            self.residues[j] = if residue == powers[j] { 0 } else { residue };
+        for (residue, &power) in self.residues[1..=positions].iter_mut().zip(&powers[1..]) {
+            *residue = if *residue + 1 == power {
+                0
+            } else {
+                *residue + 1
+            };
         }
     }
 }
