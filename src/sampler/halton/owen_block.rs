@@ -1,18 +1,19 @@
 //! The block kernel of Owen-scrambled Halton coordinates: the same integers as
 //! [`owen_coordinate`](super::owen_coordinate), computed once per node instead of once per
-//! index where a block shares nodes, and with the random permutations of large bases
-//! evaluated sixteen at a time.
+//! index where a block shares nodes, and column by column in lanes of 32 indices.
 //!
 //! The scrambled numerator of `index` is `sum_k pi_(k, index mod b^k)(a_k) b^(K-1-k)` over the
 //! positions `k < K`, where the image at position `k` depends on `index mod b^(k+1)` only
-//! (the prefix and the digit). In a block of consecutive indices, a position with
-//! `b^(k+1)` not much above the block length sees each of its `(prefix, digit)` pairs many
-//! times: those positions ("shallow") are memoized in a table indexed by `index mod b^(k+1)`.
-//! Deeper positions have a different prefix for every index of the block and are computed
-//! per index; the permutations of bases above 13 (a keyed swap-or-not shuffle of 40 hashed
-//! rounds) are collected as jobs and run in lanes, which hides the rounds' latency and
-//! vectorizes. The sum is exact in integers whatever the order, and rounded once as in
-//! `owen_coordinate`, so the values are bit-identical.
+//! (the prefix and the digit). In a block of consecutive indices, a position with `b^(k+1)`
+//! not much above the block length meets each of its `(prefix, digit)` pairs many times: those
+//! positions ("shallow") are memoized in a table indexed by `index mod b^(k+1)`, filled for the
+//! residues the block meets. Deeper positions have a different prefix for every index of the
+//! block and are computed per index, position by position, and the zero digits beyond the
+//! last digit of each index (the tail) word by word of its stream. Both run in lanes through
+//! `super::simd`: the hashes, the digits (by a floating-point division) and the permutations
+//! of bases above 13 (a keyed swap-or-not shuffle of 40 hashed rounds, whose latency the
+//! lanes hide) vectorize. The sum is exact in integers whatever the order, and rounded once
+//! as in `owen_coordinate`, so the values are bit-identical.
 
 use super::{Base, MAX_DEPTH, SMALL_BASE, TAG_RHO, rotate, small_permutation};
 use crate::hash::{ONE_BELOW, hash_absorb, hash_start};
@@ -415,6 +416,44 @@ impl Odometer {
             } else {
                 *residue + 1
             };
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hash::mix64;
+
+    #[test]
+    fn division_free_helpers_are_exact() {
+        let mut h = 1u64;
+        for m in [
+            1u64,
+            2,
+            3,
+            7,
+            131,
+            65_521,
+            104_729,
+            3u64.pow(25),
+            (1 << 40) - 3,
+        ] {
+            for k in 0..3000u64 {
+                h = mix64(h ^ k);
+                let near = ((h >> 24) / m * m).saturating_add(k % 3).saturating_sub(1);
+                for c in [h >> 24, near, k, (1 << 40) - 1 - k] {
+                    assert_eq!(div_rem(c, m, m as f64), (c / m, c % m), "{c} / {m}");
+                }
+            }
+        }
+        for n in [2u64, 3, 131, 65_537, 104_729, 3u64.pow(20), 1 << 32] {
+            for k in 0..3000u64 {
+                h = mix64(h ^ k);
+                for x in [h, u64::MAX - k, k] {
+                    assert_eq!(below_narrow(x, n), super::super::below(x, n), "{x} {n}");
+                }
+            }
         }
     }
 }
