@@ -282,9 +282,10 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         });
     };
 
-    // Shallow positions: tables of b^(k+1) slots, small next to the block, holding the images
-    // of the residues index mod b^(k+1) the block meets (a cyclic range).
-    let limit = 4 * out.len() as u64 + 1024;
+    // Shallow positions: tables of b^(k+1) slots, at most the block length, holding the images
+    // of the residues index mod b^(k+1) the block meets (a cyclic range). A larger table would
+    // meet each residue at most once, saving nothing over the per-index path.
+    let limit = out.len() as u64;
     let mut shallow = 0;
     while shallow < positions && powers[shallow + 1] <= limit {
         shallow += 1;
@@ -339,7 +340,6 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
                 *acc = *acc * b + u64::from(image);
             }
         }
-        let deep_weight = weights[width.max(1) - 1];
         let mut tail_weights = [0u128; MAX_DEPTH];
         let mut tail_count = 0;
         let mut k = shallow.max(width);
@@ -361,11 +361,10 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         }
         // The shallow positions from the tables, the sum, and the single rounding.
         let mut odometer = Odometer::new(b, start, shallow);
-        let low_weight = if shallow == 0 {
-            0
-        } else {
-            weights[shallow - 1]
-        };
+        // Positions below top = max(w, shallow) form one integer below b^top < 2^57, the
+        // shallow part times b^(top - shallow) plus the deep part, of weight b^(K - top).
+        let top = width.max(shallow);
+        let (deep_scale, head_weight) = (powers[top - shallow], weights[top.max(1) - 1]);
         for (j, (x, &deep)) in out[done..end].iter_mut().zip(deep.iter()).enumerate() {
             if j > 0 {
                 odometer.step(&powers, shallow);
@@ -377,10 +376,7 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
                 debug_assert!(image != UNSEEN);
                 low = low * b + u64::from(image);
             }
-            let mut num = u128::from(low) * low_weight;
-            if width > shallow {
-                num += u128::from(deep) * deep_weight;
-            }
+            let mut num = u128::from(low * deep_scale + deep) * head_weight;
             for (t, &w) in tail_weights[..tail_count].iter().enumerate() {
                 num += u128::from(s.tails[t * count + j]) * w;
             }
