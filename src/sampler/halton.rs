@@ -566,7 +566,7 @@ pub(crate) fn coordinate(scramble: Scramble, base: &Base, key: u64, index: u64) 
 /// Scratch space reused over the columns of one block.
 #[derive(Default)]
 pub(crate) struct Scratch {
-    /// Memoized digit images, `u32::MAX` where not yet computed.
+    /// The digit images a block meets, one window of digits per position.
     memo: Vec<u32>,
     /// One digit permutation per position that the block's indices use.
     permutations: Vec<DigitPermutation>,
@@ -593,15 +593,14 @@ pub(crate) fn fill_column(
     }
 }
 
-/// The images of the digits `from, from + 1, ..` (`count` of them, modulo `b`) under a digit
-/// permutation with a random-access `rho`, sixteen at a time, written to their slots of
-/// `images`; compiled for each instruction set by [`dispatch`].
+/// The images of the digits `from, from + 1, ..` (modulo `b`, one per slot of `images`) under
+/// a digit permutation with a random-access `rho`, sixteen at a time; compiled for each
+/// instruction set by [`dispatch`].
 struct DigitImages<'a> {
     rho: &'a Permutation,
     base: u64,
     zero: u64,
     from: u64,
-    count: u64,
     images: &'a mut [u32],
 }
 
@@ -615,40 +614,37 @@ impl Kernel for DigitImages<'_> {
             base,
             zero,
             from,
-            count,
             images,
         } = self;
-        let mut done = 0;
-        while done < count {
+        for (chunk, out) in images.chunks_mut(LANES).enumerate() {
             let digits: [u64; LANES] = std::array::from_fn(|j| {
-                let digit = from + done + j as u64;
+                let digit = from + (chunk * LANES + j) as u64;
+                // from < b and at most b slots: one wrap at most (lanes past the end are 0).
                 match digit {
-                    _ if done + j as u64 >= count => 0,
+                    _ if j >= out.len() => 0,
                     _ if digit >= base => digit - base,
                     _ => digit,
                 }
             });
-            // pi(0) = zero, pi(a) = rotate(rho(a - 1)) for a >= 1; digit 0 (and lanes past
-            // the end) take the in-range argument 0, whose image is unused.
+            // pi(0) = zero, pi(a) = rotate(rho(a - 1)) for a >= 1; digit 0 takes the in-range
+            // argument 0, whose image is unused.
             let mut lanes = digits.map(|digit| digit.saturating_sub(1));
             rho.apply_lanes(&mut lanes);
-            let used = (count - done).min(LANES as u64) as usize;
-            for (&digit, &rest) in digits[..used].iter().zip(&lanes) {
+            for ((image, &digit), &rest) in out.iter_mut().zip(&digits).zip(&lanes) {
                 // Digit images are below b < 2^17.
-                images[digit as usize] = match digit {
+                *image = match digit {
                     0 => zero,
                     _ => rotate(base, zero, rest),
                 } as u32;
             }
-            done += LANES as u64;
         }
     }
 }
 
 /// Block kernel for [`Scramble::Permute`]: the permutations of the digit positions in use are
-/// built once, their images memoized when the table is small next to the block, and the
-/// indices counted like an odometer, updating the numerator `sum_k pi_k(a_k) b^(K-1-k)` digit
-/// by digit. The numerator is the same integer as in [`PermuteColumn::point`] (zero digits
+/// built once, the images of the digits the block meets found up front, and the indices
+/// counted like an odometer, updating the numerator `sum_k pi_k(a_k) b^(K-1-k)` digit by
+/// digit (the lowest positions through a table of their combined parts). The numerator is the same integer as in [`PermuteColumn::point`] (zero digits
 /// map to `pi_k(0)` either way), so the values are bit-identical.
 fn fill_permuted(base: &Base, key: u64, first: u64, out: &mut [f64], scratch: &mut Scratch) {
     let Some(last_offset) = out.len().checked_sub(1) else {
@@ -666,46 +662,46 @@ fn fill_permuted(base: &Base, key: u64, first: u64, out: &mut [f64], scratch: &m
     scratch
         .permutations
         .extend((0..width).map(|k| column.permutation(k)));
-    let table = width * b as usize;
-    let memoize = table <= 4 * out.len() + 1024;
+    // The digits the block's indices take at position k are a window of consecutive ones
+    // (cyclically, at most b and at most the block length): their images are found once, in
+    // lanes (one permutation, many arguments) for the random-access permutations.
+    let mut windows = [(0usize, 0u64); MAX_DEPTH]; // (offset in memo, first digit)
     scratch.memo.clear();
-    if memoize {
-        scratch.memo.resize(table, u32::MAX);
-        // The digits a block's indices take at position k are consecutive (cyclically): find
-        // their images in lanes (one permutation, many arguments) rather than one by one.
-        let mut power = 1u64; // b^k
-        for (k, permutation) in scratch.permutations.iter().enumerate() {
-            let low = first / power;
-            let count = (last / power - low + 1).min(b);
-            if let Some(rho) = &permutation.rho {
-                dispatch(DigitImages {
-                    rho,
-                    base: b,
-                    zero: permutation.zero,
-                    from: low % b,
-                    count,
-                    images: &mut scratch.memo[k * b as usize..(k + 1) * b as usize],
-                });
+    let mut power = 1u64; // b^k
+    for (k, permutation) in scratch.permutations.iter().enumerate() {
+        let low = first / power;
+        let (from, count) = (low % b, (last / power - low + 1).min(b));
+        let at = scratch.memo.len();
+        windows[k] = (at, from);
+        scratch.memo.resize(at + count as usize, 0);
+        let images = &mut scratch.memo[at..];
+        match &permutation.rho {
+            Some(rho) => dispatch(DigitImages {
+                rho,
+                base: b,
+                zero: permutation.zero,
+                from,
+                images,
+            }),
+            None => {
+                for (image, digit) in images.iter_mut().zip(from..) {
+                    let digit = if digit >= b { digit - b } else { digit };
+                    // Digit images are below b < 2^17.
+                    *image = permutation.apply(digit) as u32;
+                }
             }
-            power = power.saturating_mul(b);
         }
+        power = power.saturating_mul(b);
     }
-    let Scratch {
-        memo,
-        permutations,
-        lows,
-        ..
-    } = scratch;
-    let mut image = |k: usize, digit: u64| -> u64 {
-        if !memoize {
-            return permutations[k].apply(digit);
-        }
-        let slot = &mut memo[k * b as usize + digit as usize];
-        if *slot == u32::MAX {
-            // Digit images are below b < 2^17.
-            *slot = permutations[k].apply(digit) as u32;
-        }
-        u64::from(*slot)
+    let Scratch { memo, lows, .. } = scratch;
+    let image = |k: usize, digit: u64| -> u64 {
+        let (at, from) = windows[k];
+        let j = if digit >= from {
+            digit - from
+        } else {
+            digit + b - from
+        };
+        u64::from(memo[at + j as usize])
     };
     // digits[k]: digit k of the index (least significant first); images[k] = pi_k(digits[k]),
     // which carries weight b^(K-1-k) in the numerator over b^K.
