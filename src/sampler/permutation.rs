@@ -45,13 +45,7 @@ pub(crate) struct Permutation {
 impl Permutation {
     /// The permutation of `0..n` selected by `seed` (any `n`, including 0 and 1).
     pub(crate) fn new(n: u64, seed: u64) -> Self {
-        let bits = 64 - n.saturating_sub(1).leading_zeros();
-        let half_bits = bits.div_ceil(2).max(1);
-        let half_mask = if half_bits == 32 {
-            u64::from(u32::MAX)
-        } else {
-            (1u64 << half_bits) - 1
-        };
+        let (half_bits, half_mask) = feistel_halves(n);
         let mut keys = [0u64; SWAP_ROUNDS];
         for (k, key) in keys.iter_mut().enumerate() {
             *key = hash_words(seed, &[TAG_ROUND, k as u64]);
@@ -110,6 +104,46 @@ impl Permutation {
                 return x;
             }
         }
+    }
+}
+
+/// The bits and mask of each half of the Feistel network on `0..n`: the smallest even power
+/// of two covering `n`.
+#[inline]
+fn feistel_halves(n: u64) -> (u32, u64) {
+    let bits = 64 - n.saturating_sub(1).leading_zeros();
+    let half_bits = bits.div_ceil(2).max(1);
+    let half_mask = if half_bits == 32 {
+        u64::from(u32::MAX)
+    } else {
+        (1u64 << half_bits) - 1
+    };
+    (half_bits, half_mask)
+}
+
+/// One application of the Feistel network to every lane, lane `j` with the round keys
+/// `keys[..][j]`, rounds outermost.
+#[inline(always)]
+fn feistel_lanes<const N: usize>(
+    keys: &[[u64; N]; FEISTEL_ROUNDS],
+    half_bits: u32,
+    half_mask: u64,
+    xs: &mut [u64; N],
+) {
+    let mut left = [0u64; N];
+    let mut right = [0u64; N];
+    for ((l, r), &x) in left.iter_mut().zip(right.iter_mut()).zip(xs.iter()) {
+        (*l, *r) = (x >> half_bits, x & half_mask);
+    }
+    for keys in keys {
+        for ((l, r), &key) in left.iter_mut().zip(right.iter_mut()).zip(keys) {
+            let mixed = *l ^ (mix64(*r ^ key) & half_mask);
+            *l = *r;
+            *r = mixed;
+        }
+    }
+    for ((x, &l), &r) in xs.iter_mut().zip(&left).zip(&right) {
+        *x = (l << half_bits) | r;
     }
 }
 
@@ -188,6 +222,38 @@ impl Permutation {
         }
     }
 
+    /// The image of `xs[j]` under `Permutation::new(n, seeds[j])`, lane by lane, for a large
+    /// domain (`n >= 2^16`, the Feistel network with a cycle walk) and each `xs[j] < n`: the
+    /// counterpart of [`apply_fresh_lanes`](Self::apply_fresh_lanes). Only the first
+    /// `FEISTEL_ROUNDS` round keys are hashed, and the walk re-applies the network to the
+    /// lanes not yet below `n`, as [`apply_lanes`](Self::apply_lanes) does.
+    #[inline(always)]
+    pub(crate) fn apply_fresh_feistel_lanes<const N: usize>(
+        n: u64,
+        seeds: &[u64; N],
+        xs: &mut [u64; N],
+    ) {
+        debug_assert!(n >= SMALL && xs.iter().all(|&x| x < n));
+        let (half_bits, half_mask) = feistel_halves(n);
+        let mut keys = [[0u64; N]; FEISTEL_ROUNDS];
+        for (j, &seed) in seeds.iter().enumerate() {
+            let state = hash_absorb(hash_start(seed), TAG_ROUND);
+            for (round, keys) in keys.iter_mut().enumerate() {
+                keys[j] = hash_absorb(state, round as u64);
+            }
+        }
+        feistel_lanes(&keys, half_bits, half_mask, xs);
+        while xs.iter().any(|&x| x >= n) {
+            let mut again = *xs;
+            feistel_lanes(&keys, half_bits, half_mask, &mut again);
+            for (x, &y) in xs.iter_mut().zip(&again) {
+                if *x >= n {
+                    *x = y;
+                }
+            }
+        }
+    }
+
     /// [`scramble`](Self::scramble) of every lane, rounds outermost.
     #[inline(always)]
     fn scramble_lanes(&self, xs: &mut [u64; LANES]) {
@@ -246,6 +312,20 @@ mod tests {
                 let expected: [u64; LANES] =
                     std::array::from_fn(|j| Permutation::new(n, seeds[j]).apply(xs[j]));
                 Permutation::apply_fresh_lanes(n, mod_reciprocal(n), &seeds, &mut xs);
+                assert_eq!(xs, expected, "n {n}");
+            }
+        }
+    }
+
+    #[test]
+    fn fresh_feistel_lanes_equal_single_permutations() {
+        for n in [1u64 << 16, 65_537, 104_728, 1 << 20, (1 << 40) + 3] {
+            for round in 0..4u64 {
+                let seeds: [u64; 32] = std::array::from_fn(|j| mix64(round * 100 + j as u64));
+                let mut xs: [u64; 32] = std::array::from_fn(|j| mix64(seeds[j] ^ 5) % n);
+                let expected: [u64; 32] =
+                    std::array::from_fn(|j| Permutation::new(n, seeds[j]).apply(xs[j]));
+                Permutation::apply_fresh_feistel_lanes(n, &seeds, &mut xs);
                 assert_eq!(xs, expected, "n {n}");
             }
         }

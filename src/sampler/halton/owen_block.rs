@@ -20,9 +20,8 @@ use crate::hash::{ONE_BELOW, hash_absorb, hash_start};
 use crate::sampler::permutation::{Permutation, mod_reciprocal};
 use crate::sampler::simd::{Kernel, dispatch};
 
-/// Largest base whose digit permutation `rho` (on `b - 1` digits) is a swap-or-not shuffle,
-/// which [`Permutation::apply_fresh_lanes`] evaluates in lanes; above it `rho` is a Feistel
-/// network with a cycle walk, evaluated one by one.
+/// Largest base whose digit permutation `rho` (on `b - 1` digits) is a swap-or-not shuffle;
+/// above it `rho` is a Feistel network with a cycle walk.
 const LANE_BASE_MAX: u64 = 1 << 16;
 /// Lanes of the node kernel: 32 independent chains of swap-or-not rounds hide their latency.
 const LANES: usize = 32;
@@ -51,7 +50,7 @@ enum RhoKind {
     Small,
     /// Swap-or-not, in lanes ([`Permutation::apply_fresh_lanes`]).
     Lanes,
-    /// Feistel with a cycle walk, one by one.
+    /// Feistel with a cycle walk, in lanes ([`Permutation::apply_fresh_feistel_lanes`]).
     Large,
 }
 
@@ -110,11 +109,7 @@ impl Nodes {
                 RhoKind::Lanes => {
                     Permutation::apply_fresh_lanes(b - 1, reciprocal, &keys, &mut rests)
                 }
-                RhoKind::Large => {
-                    for (rest, &key) in rests.iter_mut().zip(&keys) {
-                        *rest = Permutation::new(b - 1, key).apply(*rest);
-                    }
-                }
+                RhoKind::Large => Permutation::apply_fresh_feistel_lanes(b - 1, &keys, &mut rests),
             }
             for (j, image) in out.iter_mut().enumerate() {
                 let (zero, digit) = (zeros[j], digits[j]);
