@@ -868,16 +868,17 @@ fn powers_u64(b: u64, j: usize) -> u64 {
 /// the crate's hashed random-access permutation (swap-or-not shuffle or Feistel network) for
 /// larger bases.
 ///
-/// **Cost.** Measured on blocks of 4096 points (one x86-64 core with AVX-512, 10^6 points):
-/// unscrambled blocks cost about 2 ns per value (an odometer over the digits, no division).
-/// `Permute` blocks find each digit position's images once per block, sixteen at a time, and
-/// round each value by one multiplication: about 1 to 5 ns per value (d = 4 to 32). `Owen`
-/// blocks memoize the digit positions that the block's indices share; every deeper digit has
-/// a node of its own per index, so it costs a hash and, in bases above 13, a keyed
-/// 40-round permutation (about 20 ns, run in lanes of 32): about 40 ns per value at d = 4
-/// and 60 ns at d = 32, growing with the number of digits of the index beyond those of the
-/// block length. [`point`](Sampler::point) recomputes everything per call (about a
-/// microsecond per `Owen` value in large bases): use [`fill`](Sampler::fill) for
+/// **Cost.** Measured on blocks of 4096 points (one x86-64 core with AVX-512, the first 10^6
+/// points): unscrambled blocks cost about 2 ns per value (an odometer over the digits, no
+/// division). `Permute` blocks find the images of the digits each position meets once per
+/// block, sixteen at a time, and round each value by one multiplication: about 5 ns per value
+/// at d = 4 or 32 (and 40 ns at d = 10,000, where bases above the block length give every
+/// index a lowest digit of its own to permute). `Owen` blocks memoize the digit positions that the block's indices share; every
+/// deeper digit has a node of its own per index, so it costs hashes and, in bases above 13, a
+/// keyed 40-round permutation (about 20 ns, run in lanes of 32): about 40 ns per value at
+/// d = 4, 60 ns at d = 32 and 45 ns at d = 10,000, growing with the digits an index has
+/// beyond those of the block length. [`point`](Sampler::point) recomputes everything per call
+/// (about a microsecond per `Owen` value in large bases): use [`fill`](Sampler::fill) for
 /// throughput.
 ///
 /// # Passes
