@@ -83,19 +83,20 @@ impl Nodes {
         } = *self;
         let power_f64 = power as f64;
         for (chunk, out) in images.chunks_mut(LANES).enumerate() {
-            let mut prefixes = [0u64; LANES];
             let mut digits = [0u64; LANES];
             let mut zeros = [0u64; LANES];
             let mut keys = [0u64; LANES];
             for j in 0..LANES {
                 let r = first + (chunk * LANES + j) as u64;
                 let (high, prefix) = div_rem(r, power, power_f64);
-                prefixes[j] = prefix;
                 digits[j] = div_rem(high, b, b_f64).1;
-                // pi(0): digit k of the node's stream; rho's key: a hash of the node.
+                // pi(0): digit k of the node's stream; rho's key: a hash of the node (base 2
+                // needs none).
                 let word = hash_absorb(words, (prefix << 6) | word);
                 zeros[j] = below_narrow(word.wrapping_mul(scale), b);
-                keys[j] = hash_absorb(rhos, (prefix << 6) | k as u64);
+                if kind != RhoKind::Two {
+                    keys[j] = hash_absorb(rhos, (prefix << 6) | k as u64);
+                }
             }
             // rho(digit - 1) for the non-zero digits (0 stands in for the others).
             let mut rests = digits.map(|digit| digit.saturating_sub(1));
