@@ -15,7 +15,9 @@
 //! lanes hide) vectorize. The sum is exact in integers whatever the order, and rounded once
 //! as in `owen_coordinate`, so the values are bit-identical.
 
-use super::{Base, MAX_DEPTH, SMALL_BASE, TAG_RHO, rotate, small_permutation};
+#[cfg(test)]
+use super::small_permutation;
+use super::{Base, MAX_DEPTH, SMALL_BASE, TAG_RHO, rotate};
 use crate::hash::{ONE_BELOW, hash_absorb, hash_start};
 use crate::sampler::permutation::{Permutation, mod_reciprocal};
 use crate::sampler::simd::{Kernel, dispatch};
@@ -46,7 +48,7 @@ pub(crate) struct OwenScratch {
 enum RhoKind {
     /// Base 2: `pi(1) = 1 - pi(0)`.
     Two,
-    /// Fisher-Yates decoded from one hash ([`small_permutation`]).
+    /// Fisher-Yates decoded from one hash (`small_permutation`), in lanes.
     Small,
     /// Swap-or-not, in lanes ([`Permutation::apply_fresh_lanes`]).
     Lanes,
@@ -102,11 +104,7 @@ impl Nodes {
             let mut rests = digits.map(|digit| digit.saturating_sub(1));
             match kind {
                 RhoKind::Two => {}
-                RhoKind::Small => {
-                    for (rest, &key) in rests.iter_mut().zip(&keys) {
-                        *rest = small_permutation(key, b - 1, *rest);
-                    }
-                }
+                RhoKind::Small => small_permutation_lanes(b - 1, &keys, &mut rests),
                 RhoKind::Lanes => {
                     Permutation::apply_fresh_lanes(b - 1, reciprocal, &keys, &mut rests)
                 }
@@ -121,6 +119,37 @@ impl Nodes {
                     _ => rotate(b, zero, rests[j]),
                 } as u32;
             }
+        }
+    }
+}
+
+/// `small_permutation(keys[j], n, xs[j])` lane by lane (`n <= 12`), without the array
+/// of items: Fisher-Yates swaps position `j` with the choice `c_j` for `j = n-1, .., 1`, so
+/// the item that ends at position `x` started at `S_(n-1)(..(S_1(x)))`, with `S_j` the
+/// transposition of `j` and `c_j`: the choices first, then the position followed through
+/// the transpositions in reverse order, all by compares and selects.
+#[inline(always)]
+fn small_permutation_lanes(n: u64, keys: &[u64; LANES], xs: &mut [u64; LANES]) {
+    debug_assert!(n <= SMALL_BASE);
+    let mut choices = [[0u64; LANES]; SMALL_BASE as usize];
+    let mut hashes = *keys;
+    for j in (1..n).rev() {
+        for (choice, h) in choices[j as usize].iter_mut().zip(hashes.iter_mut()) {
+            // The high and low words of h * (j + 1), from 32-bit halves (j + 1 <= 12).
+            let high = ((*h >> 32) * (j + 1) + (((*h & 0xffff_ffff) * (j + 1)) >> 32)) >> 32;
+            *choice = high;
+            *h = h.wrapping_mul(j + 1);
+        }
+    }
+    for j in 1..n {
+        for (x, &choice) in xs.iter_mut().zip(&choices[j as usize]) {
+            *x = if *x == j {
+                choice
+            } else if *x == choice {
+                j
+            } else {
+                *x
+            };
         }
     }
 }
@@ -416,6 +445,20 @@ impl Odometer {
 mod tests {
     use super::*;
     use crate::hash::mix64;
+
+    #[test]
+    fn small_permutations_in_lanes_equal_fisher_yates() {
+        for n in 1..=12u64 {
+            for round in 0..200u64 {
+                let keys: [u64; LANES] = std::array::from_fn(|j| mix64(round * 64 + j as u64));
+                let mut xs: [u64; LANES] = std::array::from_fn(|j| j as u64 % n);
+                let expected: [u64; LANES] =
+                    std::array::from_fn(|j| small_permutation(keys[j], n, xs[j]));
+                small_permutation_lanes(n, &keys, &mut xs);
+                assert_eq!(xs, expected, "n {n}");
+            }
+        }
+    }
 
     #[test]
     fn division_free_helpers_are_exact() {
