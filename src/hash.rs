@@ -25,15 +25,24 @@ const GOLDEN: u64 = 0x9e37_79b9_7f4a_7c15;
 /// tuples that differ in any position give unrelated outputs.
 #[inline]
 pub(crate) fn hash_words(seed: u64, words: &[u64]) -> u64 {
-    words
-        .iter()
-        .fold(mix64(seed.wrapping_add(GOLDEN)), |h, &w| absorb(h, w))
+    let mut h = hash_start(seed);
+    for &w in words {
+        h = hash_absorb(h, w);
+    }
+    h
 }
 
-/// One more word absorbed into a [`hash_words`] state: `hash_words(s, &[a, b])` is
-/// `absorb(hash_words(s, &[a]), b)`, so block kernels hash a shared prefix of words once.
+/// The state of [`hash_words`] after the seed: hot loops that hash many tuples with the same
+/// seed (or the same leading words) compute it once and [`hash_absorb`] the rest.
 #[inline(always)]
-pub(crate) fn absorb(h: u64, word: u64) -> u64 {
+pub(crate) fn hash_start(seed: u64) -> u64 {
+    mix64(seed.wrapping_add(GOLDEN))
+}
+
+/// One word absorbed into a [`hash_words`] state: `hash_words(s, &[a, b])` is
+/// `hash_absorb(hash_words(s, &[a]), b)`, so block kernels hash a shared prefix once.
+#[inline(always)]
+pub(crate) fn hash_absorb(h: u64, word: u64) -> u64 {
     mix64(h ^ word.wrapping_mul(GOLDEN).wrapping_add(GOLDEN))
 }
 
@@ -61,6 +70,8 @@ mod tests {
         assert_ne!(base, hash_words(7, &[2, 1, 3]));
         assert_ne!(base, hash_words(7, &[1, 2, 4]));
         assert_ne!(base, hash_words(7, &[1, 2, 3, 0]));
+        let split = hash_absorb(hash_absorb(hash_absorb(hash_start(7), 1), 2), 3);
+        assert_eq!(base, split);
     }
 
     #[test]

@@ -339,6 +339,43 @@ fn fill_equals_point_bit_for_bit() {
 }
 
 #[test]
+fn scrambled_block_kernels_fill_like_points() {
+    // The block kernels memoize the digit positions whose tables are small next to the
+    // block (so the split moves with the length), compute the others per index in lanes of
+    // sixteen, split blocks where the number of digits of the index grows and where a pass
+    // ends, and evaluate the digit permutations of bases 2, 3 to 13, 17 to 65,521 and above
+    // 65,536 in four different ways. Ragged lengths around the lane count and the table
+    // sizes, at starts where the digit count changes, near the end of a pass and in later
+    // passes, all bit for bit against `point`.
+    for scramble in RANDOMIZED {
+        let halton = Halton::new(40, scramble, 91).unwrap();
+        for (start, len) in [
+            (0u64, 1usize),
+            (0, 2),
+            (1, 15),
+            (3u64.pow(10) - 7, 16),
+            (5u64.pow(8) - 9, 17),
+            (173 * 173 - 20, 33),
+            (PASS - 9, 40),
+            (2 * PASS + 13, 257),
+            (1_000_003, 1100),
+            (2u64.pow(20) - 2000, 5000),
+        ] {
+            let name = format!("halton {scramble} start {start} len {len}");
+            check_fill_matches_point(&halton, &name, start, len);
+        }
+        let hammersley = Hammersley::new(24, 3u64.pow(9), scramble, 92).unwrap();
+        check_fill_matches_point(&hammersley, "hammersley", 3u64.pow(9) - 100, 300);
+        // The largest bases (above 65,536 from dimension 6,543 on), where permutations are
+        // Feistel networks, and where a block of 40 memoizes nothing.
+        let many = Halton::new(10_000, scramble, 93).unwrap();
+        for start in [65_536 * 2 - 20, PASS - 20] {
+            check_fill_matches_point(&many, "halton d10000", start, 40);
+        }
+    }
+}
+
+#[test]
 fn large_blocks_fill_like_points() {
     // Blocks long enough for the memoized permutation tables and the odometer.
     for scramble in SCRAMBLES {

@@ -299,3 +299,32 @@ fn small_fills_equal_point() {
         assert_eq!(p[1].to_bits(), block.get(i, 1).to_bits());
     }
 }
+
+#[test]
+fn halton_kernels_in_every_base_range_equal_the_portable_ones() {
+    // The Halton block kernels run node permutations in lanes: Fisher-Yates (bases up to 13),
+    // swap-or-not (up to 65,521) and Feistel (above 65,536, from dimension 6,543 on).
+    let _exclusive = PATH.write().unwrap();
+    for scramble in [Scramble::Permute, Scramble::Owen] {
+        for (dims, start, len) in [(40, 1_000_003, 3000), (10_000, 200_000, 40)] {
+            let halton = Halton::new(dims, scramble, 5).unwrap();
+            let mut dispatched = Points::new(dims, len).unwrap();
+            let mut portable = dispatched.clone();
+            halton.fill(start, &mut dispatched).unwrap();
+            simd::force_portable(true);
+            let result = halton.fill(start, &mut portable);
+            simd::force_portable(false);
+            result.unwrap();
+            for dim in 0..dims {
+                let bits = |p: &Points| -> Vec<u64> {
+                    p.column(dim).iter().map(|x| x.to_bits()).collect()
+                };
+                assert_eq!(
+                    bits(&dispatched),
+                    bits(&portable),
+                    "{scramble} d{dims} dim {dim}"
+                );
+            }
+        }
+    }
+}

@@ -9,7 +9,7 @@
 use super::permutation::Permutation;
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, absorb, hash_words, unit_f64};
+use crate::hash::{ONE_BELOW, hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
 
 /// `N` points per pass, one in each `1/N` slab of every coordinate.
@@ -163,8 +163,8 @@ impl Kernel for FillLatin<'_> {
                     let first_index = index + offset as u64;
                     let out = &mut column[done + offset..done + offset + c];
                     for (j, (x, &slab)) in out.iter_mut().zip(&slabs[..c]).enumerate() {
-                        let jitter = unit_f64(absorb(
-                            absorb(pass_hash, first_index + j as u64),
+                        let jitter = unit_f64(hash_absorb(
+                            hash_absorb(pass_hash, first_index + j as u64),
                             dim as u64,
                         ));
                         *x = ((slab as f64 + jitter) / size_f64).min(ONE_BELOW);

@@ -25,7 +25,7 @@
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, absorb, hash_words, unit_f64};
+use crate::hash::{ONE_BELOW, hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
 
 /// Most points a pass may hold: `2^53`, beyond which the `1/N` slabs are no longer distinct
@@ -326,7 +326,7 @@ impl Kernel for FillMultiJittered<'_> {
             // hash_words(seed, [pass, index, dim]) with the first two words absorbed.
             let pass_hash = hash_words(core.seed, &[pass]);
             let coordinate = |slab: u64, index: u64, dim: u64| {
-                let h = absorb(absorb(pass_hash, index), dim);
+                let h = hash_absorb(hash_absorb(pass_hash, index), dim);
                 ((slab as f64 + unit_f64(h)) / size_f64).min(ONE_BELOW)
             };
             for pair in 0..core.pairs() {

@@ -32,7 +32,7 @@
 
 use super::permutation::Permutation;
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, absorb, hash_words, unit_f64};
+use crate::hash::{ONE_BELOW, hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
 
 /// Largest pass size: slabs stay exactly representable in a double.
@@ -178,7 +178,10 @@ impl MultiStageNRooks {
     /// `(seed, pass, dim, depth, prefix)`.
     #[inline]
     fn node_key(axis: u64, depth: usize, prefix: u64) -> u64 {
-        absorb(absorb(absorb(axis, depth as u64), prefix), PERMUTATION_SALT)
+        hash_absorb(
+            hash_absorb(hash_absorb(axis, depth as u64), prefix),
+            PERMUTATION_SALT,
+        )
     }
 
     /// Image of `digit` under the permutation of `0..base` with `key`.
@@ -247,8 +250,8 @@ impl MultiStageNRooks {
     /// the pass absorbed.
     #[inline]
     fn coordinate(&self, slab: u64, jitter_pass: u64, index: u64, dim: usize) -> f64 {
-        let jitter = unit_f64(absorb(
-            absorb(absorb(jitter_pass, index), dim as u64),
+        let jitter = unit_f64(hash_absorb(
+            hash_absorb(hash_absorb(jitter_pass, index), dim as u64),
             JITTER_SALT,
         ));
         ((slab as f64 + jitter) / self.pass_size as f64).min(ONE_BELOW)
@@ -355,8 +358,8 @@ impl Sampler for MultiStageNRooks {
     }
 
     /// Per column and per run of indices within one pass: the shallow nodes' images memoized
-    /// (see [`NodeMemo`]), the hash words of seed, pass and axis absorbed once. The same
-    /// integers as `point`, so the same bits.
+    /// (a `NodeMemo`), the hash words of seed, pass and axis absorbed once. The same integers
+    /// as `point`, so the same bits.
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.dims, start, points)?;
         let len = points.len();

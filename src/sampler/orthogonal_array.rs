@@ -34,7 +34,7 @@
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, absorb, hash_words, unit_f64};
+use crate::hash::{ONE_BELOW, hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
 use std::fmt;
 use std::str::FromStr;
@@ -651,8 +651,8 @@ impl Kernel for FillOrthogonalArray<'_> {
                     let out = &mut points.column_mut(column)[at..at + c];
                     for (j, x) in out.iter_mut().enumerate() {
                         let jitter = || {
-                            let h = absorb(pass_hash, first_index + j as u64);
-                            unit_f64(absorb(absorb(h, column as u64), TAG_JITTER))
+                            let h = hash_absorb(pass_hash, first_index + j as u64);
+                            unit_f64(hash_absorb(hash_absorb(h, column as u64), TAG_JITTER))
                         };
                         *x = array
                             .coordinate(symbols[j], strata[j], jitter)

@@ -16,7 +16,7 @@
 //! `n = 10`), and so did a Feistel network for `n < 16`; both would bias Latin hypercube
 //! estimates. The tests below check uniformity of single images and of pairs.
 
-use crate::hash::{hash_words, mix64};
+use crate::hash::{hash_absorb, hash_start, hash_words, mix64};
 
 /// Feistel rounds; six leave no detectable structure in the tests below.
 const FEISTEL_ROUNDS: usize = 6;
@@ -24,6 +24,8 @@ const FEISTEL_ROUNDS: usize = 6;
 const SMALL: u64 = 1 << 16;
 /// Swap-or-not rounds for small domains (about 2.5 log2 of the largest small `n`).
 const SWAP_ROUNDS: usize = 40;
+/// The first word of every round key's hash.
+const TAG_ROUND: u64 = 0x7065_726d;
 
 /// A permutation of `0..n` that maps any index in O(1) expected time.
 ///
@@ -43,16 +45,10 @@ pub(crate) struct Permutation {
 impl Permutation {
     /// The permutation of `0..n` selected by `seed` (any `n`, including 0 and 1).
     pub(crate) fn new(n: u64, seed: u64) -> Self {
-        let bits = 64 - n.saturating_sub(1).leading_zeros();
-        let half_bits = bits.div_ceil(2).max(1);
-        let half_mask = if half_bits == 32 {
-            u64::from(u32::MAX)
-        } else {
-            (1u64 << half_bits) - 1
-        };
+        let (half_bits, half_mask) = feistel_halves(n);
         let mut keys = [0u64; SWAP_ROUNDS];
         for (k, key) in keys.iter_mut().enumerate() {
-            *key = hash_words(seed, &[0x7065_726d, k as u64]);
+            *key = hash_words(seed, &[TAG_ROUND, k as u64]);
         }
         Permutation {
             n,
@@ -79,15 +75,7 @@ impl Permutation {
     /// hashed bit of the pair; every round is an involution, so the whole is a bijection.
     fn swap_or_not(&self, mut x: u64) -> u64 {
         for (&key, &offset) in self.keys.iter().zip(&self.offsets) {
-            // The key's high half picks the pairing offset, the whole key salts the swap bit;
-            // partner = (offset - x) mod n, with offset and x both below n.
-            // Branch-free: the swap bit is a coin flip, which a branch would mispredict half the
-            // time.
-            let wrap = u64::from(offset < x).wrapping_neg() & self.n;
-            let partner = offset.wrapping_sub(x).wrapping_add(wrap);
-            let pair = x.max(partner);
-            let swap = (mix64(pair ^ key) >> 63).wrapping_neg();
-            x ^= (x ^ partner) & swap;
+            x = swap_or_not_round(x, key, offset, self.n);
         }
         x
     }
@@ -111,6 +99,46 @@ impl Permutation {
     }
 }
 
+/// The bits and mask of each half of the Feistel network on `0..n`: the smallest even power
+/// of two covering `n`.
+#[inline]
+fn feistel_halves(n: u64) -> (u32, u64) {
+    let bits = 64 - n.saturating_sub(1).leading_zeros();
+    let half_bits = bits.div_ceil(2).max(1);
+    let half_mask = if half_bits == 32 {
+        u64::from(u32::MAX)
+    } else {
+        (1u64 << half_bits) - 1
+    };
+    (half_bits, half_mask)
+}
+
+/// One application of the Feistel network to every lane, lane `j` with the round keys
+/// `keys[..][j]`, rounds outermost.
+#[inline(always)]
+fn feistel_lanes<const N: usize>(
+    keys: &[[u64; N]; FEISTEL_ROUNDS],
+    half_bits: u32,
+    half_mask: u64,
+    xs: &mut [u64; N],
+) {
+    let mut left = [0u64; N];
+    let mut right = [0u64; N];
+    for ((l, r), &x) in left.iter_mut().zip(right.iter_mut()).zip(xs.iter()) {
+        (*l, *r) = (x >> half_bits, x & half_mask);
+    }
+    for keys in keys {
+        for ((l, r), &key) in left.iter_mut().zip(right.iter_mut()).zip(keys) {
+            let mixed = *l ^ (mix64(*r ^ key) & half_mask);
+            *l = *r;
+            *r = mixed;
+        }
+    }
+    for ((x, &l), &r) in xs.iter_mut().zip(&left).zip(&right) {
+        *x = (l << half_bits) | r;
+    }
+}
+
 /// Lanes of one batch of [`Permutation::apply_lanes`]: 16 64-bit values, two AVX-512 or four
 /// AVX2 registers, enough independent chains to hide the multiplies' latency.
 pub(crate) const LANES: usize = 16;
@@ -131,11 +159,7 @@ impl Permutation {
         if self.n < SMALL {
             for (&key, &offset) in self.keys.iter().zip(&self.offsets) {
                 for x in xs.iter_mut() {
-                    let wrap = u64::from(offset < *x).wrapping_neg() & self.n;
-                    let partner = offset.wrapping_sub(*x).wrapping_add(wrap);
-                    let pair = (*x).max(partner);
-                    let swap = (mix64(pair ^ key) >> 63).wrapping_neg();
-                    *x ^= (*x ^ partner) & swap;
+                    *x = swap_or_not_round(*x, key, offset, self.n);
                 }
             }
             return;
@@ -181,12 +205,69 @@ impl Permutation {
         debug_assert!(xs.iter().all(|&x| x < n));
         for round in 0..SWAP_ROUNDS {
             for (x, p) in xs.iter_mut().zip(perms) {
-                let (key, offset) = (p.keys[round], p.offsets[round]);
-                let wrap = u64::from(offset < *x).wrapping_neg() & n;
-                let partner = offset.wrapping_sub(*x).wrapping_add(wrap);
-                let pair = (*x).max(partner);
-                let swap = (mix64(pair ^ key) >> 63).wrapping_neg();
-                *x ^= (*x ^ partner) & swap;
+                *x = swap_or_not_round(*x, p.keys[round], p.offsets[round], n);
+            }
+        }
+    }
+
+    /// The image of `xs[j]` under `Permutation::new(n, seeds[j])`, lane by lane, for a small
+    /// domain (`2 <= n < 2^16`, the swap-or-not shuffle) and each `xs[j] < n`. Sixteen
+    /// different permutations applied once each: the round keys are hashed inside the rounds
+    /// instead of being stored, and the pairing offsets `(key >> 32) % n` are found by
+    /// multiplications only ([`fast_mod`]), so the whole is a few vector instructions per
+    /// round when compiled for a wide instruction set (see `super::simd`). `reciprocal` is
+    /// [`mod_reciprocal`]`(n)`.
+    #[inline(always)]
+    pub(crate) fn apply_fresh_lanes<const N: usize>(
+        n: u64,
+        reciprocal: u64,
+        seeds: &[u64; N],
+        xs: &mut [u64; N],
+    ) {
+        debug_assert!((2..SMALL).contains(&n) && reciprocal == mod_reciprocal(n));
+        debug_assert!(xs.iter().all(|&x| x < n));
+        // hash_words(seed, [TAG_ROUND, k]) with the first two words absorbed.
+        let mut states = [0u64; N];
+        for (state, &seed) in states.iter_mut().zip(seeds) {
+            *state = hash_absorb(hash_start(seed), TAG_ROUND);
+        }
+        for round in 0..SWAP_ROUNDS as u64 {
+            for (x, &state) in xs.iter_mut().zip(&states) {
+                let key = hash_absorb(state, round);
+                let offset = fast_mod(key >> 32, n, reciprocal);
+                *x = swap_or_not_round(*x, key, offset, n);
+            }
+        }
+    }
+
+    /// The image of `xs[j]` under `Permutation::new(n, seeds[j])`, lane by lane, for a large
+    /// domain (`n >= 2^16`, the Feistel network with a cycle walk) and each `xs[j] < n`: the
+    /// counterpart of [`apply_fresh_lanes`](Self::apply_fresh_lanes). Only the first
+    /// `FEISTEL_ROUNDS` round keys are hashed, and the walk re-applies the network to the
+    /// lanes not yet below `n`, as [`apply_lanes`](Self::apply_lanes) does.
+    #[inline(always)]
+    pub(crate) fn apply_fresh_feistel_lanes<const N: usize>(
+        n: u64,
+        seeds: &[u64; N],
+        xs: &mut [u64; N],
+    ) {
+        debug_assert!(n >= SMALL && xs.iter().all(|&x| x < n));
+        let (half_bits, half_mask) = feistel_halves(n);
+        let mut keys = [[0u64; N]; FEISTEL_ROUNDS];
+        for (j, &seed) in seeds.iter().enumerate() {
+            let state = hash_absorb(hash_start(seed), TAG_ROUND);
+            for (round, keys) in keys.iter_mut().enumerate() {
+                keys[j] = hash_absorb(state, round as u64);
+            }
+        }
+        feistel_lanes(&keys, half_bits, half_mask, xs);
+        while xs.iter().any(|&x| x >= n) {
+            let mut again = *xs;
+            feistel_lanes(&keys, half_bits, half_mask, &mut again);
+            for (x, &y) in xs.iter_mut().zip(&again) {
+                if *x >= n {
+                    *x = y;
+                }
             }
         }
     }
@@ -272,6 +353,33 @@ impl PermutationCache {
     }
 }
 
+/// One round of the swap-or-not shuffle on `0..n`: `x` is paired with `(offset - x) mod n`
+/// (`offset`, the key's high half reduced below `n`, and `x` both below `n`) and the pair is
+/// swapped or not by a hashed bit of the pair salted by the whole key. Branch-free: the swap
+/// bit is a coin flip, which a branch would mispredict half the time.
+#[inline(always)]
+fn swap_or_not_round(x: u64, key: u64, offset: u64, n: u64) -> u64 {
+    let wrap = u64::from(offset < x).wrapping_neg() & n;
+    let partner = offset.wrapping_sub(x).wrapping_add(wrap);
+    let pair = x.max(partner);
+    let swap = (mix64(pair ^ key) >> 63).wrapping_neg();
+    x ^ ((x ^ partner) & swap)
+}
+
+/// `ceil(2^64 / n)` for `2 <= n < 2^16`: the constant of [`fast_mod`].
+pub(crate) fn mod_reciprocal(n: u64) -> u64 {
+    u64::MAX / n + 1
+}
+
+/// `a % n` for `a < 2^32` and `2 <= n < 2^16` by Lemire, Kaser & Kurz's (2019) "fastmod":
+/// `floor(frac(a * ceil(2^64 / n) / 2^64) * n)`, exact in that range. The high half of the
+/// 64-by-16-bit product is assembled from two 32-bit halves, which vector units multiply.
+#[inline(always)]
+pub(crate) fn fast_mod(a: u64, n: u64, reciprocal: u64) -> u64 {
+    let fraction = reciprocal.wrapping_mul(a);
+    (((fraction >> 32) * n) + (((fraction & 0xffff_ffff) * n) >> 32)) >> 32
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -299,6 +407,53 @@ mod tests {
             let expected: [u64; LANES] = std::array::from_fn(|l| perms[l].apply(xs[l]));
             Permutation::apply_each(&refs, &mut xs);
             assert_eq!(xs, expected, "n {n}");
+        }
+    }
+
+    #[test]
+    fn fresh_lanes_equal_single_permutations() {
+        for n in [2u64, 3, 16, 130, 7918, 65_535] {
+            for round in 0..4u64 {
+                let seeds: [u64; LANES] = std::array::from_fn(|j| mix64(round * 100 + j as u64));
+                let mut xs: [u64; LANES] = std::array::from_fn(|j| mix64(seeds[j] ^ 5) % n);
+                let expected: [u64; LANES] =
+                    std::array::from_fn(|j| Permutation::new(n, seeds[j]).apply(xs[j]));
+                Permutation::apply_fresh_lanes(n, mod_reciprocal(n), &seeds, &mut xs);
+                assert_eq!(xs, expected, "n {n}");
+            }
+        }
+    }
+
+    #[test]
+    fn fresh_feistel_lanes_equal_single_permutations() {
+        for n in [1u64 << 16, 65_537, 104_728, 1 << 20, (1 << 40) + 3] {
+            for round in 0..4u64 {
+                let seeds: [u64; 32] = std::array::from_fn(|j| mix64(round * 100 + j as u64));
+                let mut xs: [u64; 32] = std::array::from_fn(|j| mix64(seeds[j] ^ 5) % n);
+                let expected: [u64; 32] =
+                    std::array::from_fn(|j| Permutation::new(n, seeds[j]).apply(xs[j]));
+                Permutation::apply_fresh_feistel_lanes(n, &seeds, &mut xs);
+                assert_eq!(xs, expected, "n {n}");
+            }
+        }
+    }
+
+    #[test]
+    fn fast_mod_is_exact() {
+        let mut h = 3u64;
+        for n in (2u64..300).chain([7918, 65_521, 65_534, 65_535]) {
+            let r = mod_reciprocal(n);
+            for k in 0..200u64 {
+                h = mix64(h ^ k);
+                for a in [
+                    h >> 32,
+                    k,
+                    u64::from(u32::MAX) - k,
+                    (h >> 40) / n * n + n - 1,
+                ] {
+                    assert_eq!(fast_mod(a, n, r), a % n, "{a} % {n}");
+                }
+            }
         }
     }
 

@@ -1,0 +1,494 @@
+//! The block kernel of Owen-scrambled Halton coordinates: the same integers as
+//! [`owen_coordinate`](super::owen_coordinate), computed once per node instead of once per
+//! index where a block shares nodes, and column by column in lanes of 32 indices.
+//!
+//! The scrambled numerator of `index` is `sum_k pi_(k, index mod b^k)(a_k) b^(K-1-k)` over the
+//! positions `k < K`, where the image at position `k` depends on `index mod b^(k+1)` only
+//! (the prefix and the digit). In a block of consecutive indices, a position with `b^(k+1)`
+//! not much above the block length meets each of its `(prefix, digit)` pairs many times: those
+//! positions ("shallow") are memoized in a table indexed by `index mod b^(k+1)`, filled for the
+//! residues the block meets. Deeper positions have a different prefix for every index of the
+//! block and are computed per index, position by position, and the zero digits beyond the
+//! last digit of each index (the tail) word by word of its stream. Both run in lanes through
+//! `super::simd`: the hashes, the digits (by a floating-point division) and the permutations
+//! of bases above 13 (a keyed swap-or-not shuffle of 40 hashed rounds, whose latency the
+//! lanes hide) vectorize. The sum is exact in integers whatever the order, and rounded once
+//! as in `owen_coordinate`, so the values are bit-identical.
+
+#[cfg(test)]
+use super::small_permutation;
+use super::{Base, MAX_DEPTH, SMALL_BASE, TAG_RHO, rotate};
+use crate::hash::{ONE_BELOW, hash_absorb, hash_start};
+use crate::sampler::permutation::{Permutation, mod_reciprocal};
+use crate::sampler::simd::{Kernel, dispatch};
+
+/// Largest base whose digit permutation `rho` (on `b - 1` digits) is a swap-or-not shuffle;
+/// above it `rho` is a Feistel network with a cycle walk.
+const LANE_BASE_MAX: u64 = 1 << 16;
+/// Lanes of the node kernel: 32 independent chains of swap-or-not rounds hide their latency.
+const LANES: usize = 32;
+/// A memo slot not computed yet.
+const UNSEEN: u32 = u32::MAX;
+
+/// Reusable buffers of the Owen block kernel.
+#[derive(Default)]
+pub(crate) struct OwenScratch {
+    /// Memoized digit images of the shallow positions, one table after another.
+    memo: Vec<u32>,
+    /// Digit images of one deep position for the indices of a run.
+    images: Vec<u32>,
+    /// `sum_k image_k b^(w-1-k)` over the deep positions `k` of each index.
+    deep: Vec<u64>,
+    /// The tail runs of each index, one array per word of the stream.
+    tails: Vec<u64>,
+}
+
+/// The digit permutation `rho` of a base, as the kernels evaluate it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum RhoKind {
+    /// Base 2: `pi(1) = 1 - pi(0)`.
+    Two,
+    /// Fisher-Yates decoded from one hash (`small_permutation`), in lanes.
+    Small,
+    /// Swap-or-not, in lanes ([`Permutation::apply_fresh_lanes`]).
+    Lanes,
+    /// Feistel with a cycle walk, in lanes ([`Permutation::apply_fresh_feistel_lanes`]).
+    Large,
+}
+
+/// What the kernels need of one (base, key).
+#[derive(Debug, Clone, Copy)]
+struct Nodes {
+    b: u64,
+    b_f64: f64,
+    kind: RhoKind,
+    /// `mod_reciprocal(b - 1)` for [`RhoKind::Lanes`].
+    reciprocal: u64,
+    /// [`hash_start`] of the key, and of the key of the `rho` hashes.
+    words: u64,
+    rhos: u64,
+}
+
+impl Nodes {
+    /// The images at position `k` (stream word `word`, `scale = b^(k % m)`, `power = b^k`)
+    /// of the integers `r = first + j` (below 2^40), whose node has prefix `r mod b^k` and
+    /// whose digit is `(r / b^k) mod b`, into `images[j]`.
+    #[inline(always)]
+    fn images(&self, k: usize, word: u64, scale: u64, power: u64, first: u64, images: &mut [u32]) {
+        let Nodes {
+            b,
+            b_f64,
+            kind,
+            reciprocal,
+            words,
+            rhos,
+        } = *self;
+        let power_f64 = power as f64;
+        for (chunk, out) in images.chunks_mut(LANES).enumerate() {
+            let mut digits = [0u64; LANES];
+            let mut zeros = [0u64; LANES];
+            let mut keys = [0u64; LANES];
+            for j in 0..LANES {
+                let r = first + (chunk * LANES + j) as u64;
+                let (high, prefix) = div_rem(r, power, power_f64);
+                digits[j] = div_rem(high, b, b_f64).1;
+                // pi(0): digit k of the node's stream; rho's key: a hash of the node (base 2
+                // needs none).
+                let word = hash_absorb(words, (prefix << 6) | word);
+                zeros[j] = below_narrow(word.wrapping_mul(scale), b);
+                if kind != RhoKind::Two {
+                    keys[j] = hash_absorb(rhos, (prefix << 6) | k as u64);
+                }
+            }
+            // rho(digit - 1) for the non-zero digits (0 stands in for the others).
+            let mut rests = digits.map(|digit| digit.saturating_sub(1));
+            match kind {
+                RhoKind::Two => {}
+                RhoKind::Small => small_permutation_lanes(b - 1, &keys, &mut rests),
+                RhoKind::Lanes => {
+                    Permutation::apply_fresh_lanes(b - 1, reciprocal, &keys, &mut rests)
+                }
+                RhoKind::Large => Permutation::apply_fresh_feistel_lanes(b - 1, &keys, &mut rests),
+            }
+            for (j, image) in out.iter_mut().enumerate() {
+                let (zero, digit) = (zeros[j], digits[j]);
+                // Digit images are below b < 2^17.
+                *image = match (kind, digit) {
+                    (RhoKind::Two, _) => zero ^ digit,
+                    (_, 0) => zero,
+                    _ => rotate(b, zero, rests[j]),
+                } as u32;
+            }
+        }
+    }
+}
+
+/// `small_permutation(keys[j], n, xs[j])` lane by lane (`n <= 12`), without the array
+/// of items: Fisher-Yates swaps position `j` with the choice `c_j` for `j = n-1, .., 1`, so
+/// the item that ends at position `x` started at `S_(n-1)(..(S_1(x)))`, with `S_j` the
+/// transposition of `j` and `c_j`: the choices first, then the position followed through
+/// the transpositions in reverse order, all by compares and selects.
+#[inline(always)]
+fn small_permutation_lanes(n: u64, keys: &[u64; LANES], xs: &mut [u64; LANES]) {
+    debug_assert!(n <= SMALL_BASE);
+    let mut choices = [[0u64; LANES]; SMALL_BASE as usize];
+    let mut hashes = *keys;
+    for j in (1..n).rev() {
+        for (choice, h) in choices[j as usize].iter_mut().zip(hashes.iter_mut()) {
+            // The high and low words of h * (j + 1), from 32-bit halves (j + 1 <= 12).
+            let high = ((*h >> 32) * (j + 1) + (((*h & 0xffff_ffff) * (j + 1)) >> 32)) >> 32;
+            *choice = high;
+            *h = h.wrapping_mul(j + 1);
+        }
+    }
+    for j in 1..n {
+        for (x, &choice) in xs.iter_mut().zip(&choices[j as usize]) {
+            *x = if *x == j {
+                choice
+            } else if *x == choice {
+                j
+            } else {
+                *x
+            };
+        }
+    }
+}
+
+/// `(c / m, c % m)` for `c < 2^52` and `1 <= m < 2^52`, without an integer division (which
+/// does not vectorize): the correctly rounded quotient, rounded to an integer by adding
+/// `2^52` (where doubles are integers) and read from its bits rather than converted (a
+/// saturating conversion does not vectorize either), is within one of the true one, and the
+/// remainder's sign and size say which way to correct.
+#[inline(always)]
+fn div_rem(c: u64, m: u64, m_f64: f64) -> (u64, u64) {
+    const SHIFTER: f64 = (1u64 << 52) as f64;
+    let q = (c as i64 as f64 / m_f64 + SHIFTER).to_bits() - SHIFTER.to_bits();
+    let r = c.wrapping_sub(q.wrapping_mul(m));
+    let low = u64::from((r as i64) < 0);
+    let high = u64::from((r as i64) >= 0 && r >= m);
+    (
+        q.wrapping_sub(low).wrapping_add(high),
+        r.wrapping_add(m & low.wrapping_neg())
+            .wrapping_sub(m & high.wrapping_neg()),
+    )
+}
+
+/// [`below`](super::below)`(x, n)` for `n <= 2^32`, from 32-bit halves whose products fit in
+/// 64 bits (and which vector units multiply): `floor((xh n 2^32 + xl n) / 2^64)` is
+/// `floor((xh n + floor(xl n / 2^32)) / 2^32)`.
+#[inline(always)]
+fn below_narrow(x: u64, n: u64) -> u64 {
+    ((x >> 32) * n + (((x & 0xffff_ffff) * n) >> 32)) >> 32
+}
+
+/// The images of one position for a run of residues, compiled for each instruction set by
+/// [`dispatch`].
+struct NodeImages<'a> {
+    nodes: &'a Nodes,
+    k: usize,
+    word: u64,
+    scale: u64,
+    power: u64,
+    first: u64,
+    images: &'a mut [u32],
+}
+
+impl Kernel for NodeImages<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        self.nodes.images(
+            self.k,
+            self.word,
+            self.scale,
+            self.power,
+            self.first,
+            self.images,
+        );
+    }
+}
+
+/// The tail runs of the indices `first + j`: the digits `k .. k + count` of each index's own
+/// stream (word `word`, `scale = b^(k % m)`, `range = b^count`), into `runs[j]`; compiled for
+/// each instruction set by [`dispatch`].
+struct TailRuns<'a> {
+    words: u64,
+    word: u64,
+    scale: u64,
+    range: u64,
+    first: u64,
+    runs: &'a mut [u64],
+}
+
+impl Kernel for TailRuns<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let TailRuns {
+            words,
+            word,
+            scale,
+            range,
+            first,
+            runs,
+        } = self;
+        for (run, index) in runs.iter_mut().zip(first..) {
+            let hash = hash_absorb(words, (index << 6) | word);
+            *run = below_narrow(hash.wrapping_mul(scale), range);
+        }
+    }
+}
+
+/// Writes the Owen-scrambled coordinates of local indices `first, first + 1, ...` (one pass,
+/// below `2^40`) in `base` for the (pass, dimension) `key`, bit-identical to
+/// [`owen_coordinate`](super::owen_coordinate).
+pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &mut OwenScratch) {
+    let Some(last_offset) = out.len().checked_sub(1) else {
+        return;
+    };
+    let (b, m, depth) = (base.base, base.per_word as usize, base.depth);
+    let last = first + last_offset as u64;
+    // powers[j] = b^j for j <= positions, the digits of `last` (b^positions <= last * b < 2^57).
+    let mut powers = [1u64; MAX_DEPTH + 2];
+    let mut positions = 0;
+    while powers[positions] <= last {
+        powers[positions + 1] = powers[positions] * b;
+        positions += 1;
+    }
+    // weights[k] = b^(K-1-k), the weight of position k in the numerator over b^K.
+    let mut weights = [0u128; MAX_DEPTH];
+    let mut weight = 1u128;
+    for w in weights[..depth].iter_mut().rev() {
+        *w = weight;
+        weight *= u128::from(b);
+    }
+    // Digit k of a stream is digit k % m of its word number k / m: floor(frac(word b^(k % m)
+    // / 2^64) b) (see `stream_digits`); a run from digit k to the end of its word spells
+    // floor(frac(word b^(k % m) / 2^64) b^run).
+    let mut word_of = [0u64; MAX_DEPTH];
+    let mut scale_of = [0u64; MAX_DEPTH];
+    let mut run_of = [0usize; MAX_DEPTH];
+    let mut run_range = [0u64; MAX_DEPTH];
+    for k in 0..depth {
+        let within = k % m;
+        word_of[k] = (k / m) as u64;
+        scale_of[k] = b.pow(within as u32);
+        run_of[k] = (m - within).min(depth - k);
+        run_range[k] = b.pow(run_of[k] as u32);
+    }
+    let nodes = Nodes {
+        b,
+        b_f64: b as f64,
+        kind: match b {
+            2 => RhoKind::Two,
+            _ if b <= SMALL_BASE => RhoKind::Small,
+            _ if b <= LANE_BASE_MAX => RhoKind::Lanes,
+            _ => RhoKind::Large,
+        },
+        reciprocal: if b <= LANE_BASE_MAX {
+            mod_reciprocal(b - 1)
+        } else {
+            0
+        },
+        words: hash_start(key),
+        rhos: hash_start(key ^ TAG_RHO),
+    };
+    let node_images = |k: usize, first_residue: u64, images: &mut [u32]| {
+        dispatch(NodeImages {
+            nodes: &nodes,
+            k,
+            word: word_of[k],
+            scale: scale_of[k],
+            power: powers[k],
+            first: first_residue,
+            images,
+        });
+    };
+
+    // Shallow positions: tables of b^(k+1) slots, at most the block length, holding the images
+    // of the residues index mod b^(k+1) the block meets (a cyclic range). A larger table would
+    // meet each residue at most once, saving nothing over the per-index path.
+    let limit = out.len() as u64;
+    let mut shallow = 0;
+    while shallow < positions && powers[shallow + 1] <= limit {
+        shallow += 1;
+    }
+    let mut table_start = [0usize; MAX_DEPTH + 1];
+    for k in 0..shallow {
+        table_start[k + 1] = table_start[k] + powers[k + 1] as usize;
+    }
+    s.memo.clear();
+    s.memo.resize(table_start[shallow], UNSEEN);
+    for k in 0..shallow {
+        let size = powers[k + 1];
+        let table = &mut s.memo[table_start[k]..table_start[k + 1]];
+        let from = first % size;
+        let count = (last_offset as u64 + 1).min(size);
+        let straight = count.min(size - from);
+        node_images(
+            k,
+            from,
+            &mut table[from as usize..(from + straight) as usize],
+        );
+        node_images(k, 0, &mut table[..(count - straight) as usize]);
+    }
+
+    // Runs of indices with the same number of digits w: deep positions shallow .. w (a node
+    // of its own for every index), then the tail of zero digits from max(shallow, w) on, read
+    // from each index's own stream.
+    s.deep.clear();
+    s.deep.resize(out.len(), 0);
+    let mut done = 0usize;
+    let mut width = (0..=positions)
+        .find(|&j| powers[j] > first)
+        .unwrap_or(positions);
+    while done < out.len() {
+        let start = first + done as u64;
+        while powers[width] <= start {
+            width += 1;
+        }
+        let end = if width < positions {
+            (powers[width] - first).min(out.len() as u64) as usize
+        } else {
+            out.len()
+        };
+        let count = end - done;
+        let deep = &mut s.deep[done..end];
+        for k in shallow..width {
+            s.images.clear();
+            s.images.resize(count, 0);
+            // Residue index mod b^(k+1) or the index itself: the same prefix and digit.
+            node_images(k, start, &mut s.images);
+            for (acc, &image) in deep.iter_mut().zip(&s.images) {
+                *acc = *acc * b + u64::from(image);
+            }
+        }
+        let mut tail_weights = [0u128; MAX_DEPTH];
+        let mut tail_count = 0;
+        let mut k = shallow.max(width);
+        s.tails.clear();
+        while k < depth {
+            let at = s.tails.len();
+            s.tails.resize(at + count, 0);
+            dispatch(TailRuns {
+                words: nodes.words,
+                word: word_of[k],
+                scale: scale_of[k],
+                range: run_range[k],
+                first: start,
+                runs: &mut s.tails[at..],
+            });
+            tail_weights[tail_count] = weights[k + run_of[k] - 1];
+            tail_count += 1;
+            k += run_of[k];
+        }
+        // The shallow positions from the tables, the sum, and the single rounding.
+        let mut odometer = Odometer::new(b, start, shallow);
+        // Positions below top = max(w, shallow) form one integer below b^top < 2^57, the
+        // shallow part times b^(top - shallow) plus the deep part, of weight b^(K - top).
+        let top = width.max(shallow);
+        let (deep_scale, head_weight) = (powers[top - shallow], weights[top.max(1) - 1]);
+        for (j, (x, &deep)) in out[done..end].iter_mut().zip(deep.iter()).enumerate() {
+            if j > 0 {
+                odometer.step(&powers, shallow);
+            }
+            // sum_(k < shallow) image_k b^(shallow-1-k), below b^shallow: one u64 Horner sum.
+            let mut low = 0u64;
+            for (&start, &residue) in table_start[..shallow].iter().zip(&odometer.residues[1..]) {
+                let image = s.memo[start + residue as usize];
+                debug_assert!(image != UNSEEN);
+                low = low * b + u64::from(image);
+            }
+            let mut num = u128::from(low * deep_scale + deep) * head_weight;
+            for (t, &w) in tail_weights[..tail_count].iter().enumerate() {
+                num += u128::from(s.tails[t * count + j]) * w;
+            }
+            *x = base.ratio(num).min(ONE_BELOW);
+        }
+        done = end;
+    }
+}
+
+/// Residues of consecutive indices modulo `b, b^2, ..`, counted like an odometer.
+struct Odometer {
+    /// `residues[j] = index mod b^j`.
+    residues: [u64; MAX_DEPTH + 1],
+}
+
+impl Odometer {
+    fn new(b: u64, index: u64, positions: usize) -> Self {
+        let mut residues = [0u64; MAX_DEPTH + 1];
+        let mut power = 1u64;
+        for residue in &mut residues[1..=positions] {
+            power *= b;
+            *residue = index % power;
+        }
+        Odometer { residues }
+    }
+
+    /// Moves to the next index.
+    #[inline]
+    fn step(&mut self, powers: &[u64], positions: usize) {
+        for (residue, &power) in self.residues[1..=positions].iter_mut().zip(&powers[1..]) {
+            *residue = if *residue + 1 == power {
+                0
+            } else {
+                *residue + 1
+            };
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::hash::mix64;
+
+    #[test]
+    fn small_permutations_in_lanes_equal_fisher_yates() {
+        for n in 1..=12u64 {
+            for round in 0..200u64 {
+                let keys: [u64; LANES] = std::array::from_fn(|j| mix64(round * 64 + j as u64));
+                let mut xs: [u64; LANES] = std::array::from_fn(|j| j as u64 % n);
+                let expected: [u64; LANES] =
+                    std::array::from_fn(|j| small_permutation(keys[j], n, xs[j]));
+                small_permutation_lanes(n, &keys, &mut xs);
+                assert_eq!(xs, expected, "n {n}");
+            }
+        }
+    }
+
+    #[test]
+    fn division_free_helpers_are_exact() {
+        let mut h = 1u64;
+        for m in [
+            1u64,
+            2,
+            3,
+            7,
+            131,
+            65_521,
+            104_729,
+            3u64.pow(25),
+            (1 << 40) - 3,
+        ] {
+            for k in 0..3000u64 {
+                h = mix64(h ^ k);
+                let near = ((h >> 24) / m * m).saturating_add(k % 3).saturating_sub(1);
+                for c in [h >> 24, near, k, (1 << 40) - 1 - k] {
+                    assert_eq!(div_rem(c, m, m as f64), (c / m, c % m), "{c} / {m}");
+                }
+            }
+        }
+        for n in [2u64, 3, 131, 65_537, 104_729, 3u64.pow(20), 1 << 32] {
+            for k in 0..3000u64 {
+                h = mix64(h ^ k);
+                for x in [h, u64::MAX - k, k] {
+                    assert_eq!(below_narrow(x, n), super::super::below(x, n), "{x} {n}");
+                }
+            }
+        }
+    }
+}
