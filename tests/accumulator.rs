@@ -1,5 +1,6 @@
-//! The accumulator: Welford's update, the two-pass `extend` and Chan's merge agree with the sequential result for any
-//! split of a stream, and stay accurate where the naive `E[Y^2] - E[Y]^2` cancels.
+//! The accumulator: Welford's update, the two-pass `extend` and Chan's merge agree with the
+//! sequential result for any split of a stream, and stay accurate where the naive `E[Y^2] - E[Y]^2`
+//! cancels.
 
 use mcint::stats::Accumulator;
 use proptest::prelude::*;

@@ -145,10 +145,10 @@ fn independent_fill_equals_point_for_every_start_length_and_dimension() {
     }
 }
 
-/// Halton under every scramble, lattices unshifted and shifted (Kuo's vector, and a user's
-/// with the most points per pass), multi-jittered patterns (correlated or not), Latin
-/// hypercubes, pmj02, multi-stage N-rooks patterns and orthogonal arrays of several sizes: the samplers checked here, with how many
-/// points their passes hold.
+/// Halton under every scramble, lattices unshifted and shifted (Kuo's vector, and a user's with the
+/// most points per pass), multi-jittered patterns (correlated or not), Latin hypercubes, pmj02,
+/// multi-stage N-rooks patterns and orthogonal arrays of several sizes: the samplers checked here,
+/// with how many points their passes hold.
 fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
     let mut all: Vec<(Box<dyn Sampler>, u64)> = Vec::new();
     for scramble in [Scramble::None, Scramble::Permute, Scramble::Owen] {

@@ -641,11 +641,12 @@ impl Kernel for DigitImages<'_> {
     }
 }
 
-/// Block kernel for [`Scramble::Permute`]: the permutations of the digit positions in use are
-/// built once, the images of the digits the block meets found up front, and the indices
-/// counted like an odometer, updating the numerator `sum_k pi_k(a_k) b^(K-1-k)` digit by
-/// digit (the lowest positions through a table of their combined parts). The numerator is the same integer as in [`PermuteColumn::point`] (zero digits
-/// map to `pi_k(0)` either way), so the values are bit-identical.
+/// Block kernel for [`Scramble::Permute`]: the permutations of the digit positions in use are built
+/// once, the images of the digits the block meets found up front, and the indices counted like an
+/// odometer, updating the numerator `sum_k pi_k(a_k) b^(K-1-k)` digit by digit (the lowest
+/// positions through a table of their combined parts). The numerator is the same integer as in
+/// [`PermuteColumn::point`] (zero digits map to `pi_k(0)` either way), so the values are
+/// bit-identical.
 fn fill_permuted(base: &Base, key: u64, first: u64, out: &mut [f64], scratch: &mut Scratch) {
     let Some(last_offset) = out.len().checked_sub(1) else {
         return;
@@ -870,16 +871,15 @@ fn powers_u64(b: u64, j: usize) -> u64 {
 ///
 /// **Cost.** Measured on blocks of 4096 points (one x86-64 core with AVX-512, the first 10^6
 /// points): unscrambled blocks cost about 2 ns per value (an odometer over the digits, no
-/// division). `Permute` blocks find the images of the digits each position meets once per
-/// block, sixteen at a time, and round each value by one multiplication: about 5 ns per value
-/// at d = 4 or 32 (and 40 ns at d = 10,000, where bases above the block length give every
-/// index a lowest digit of its own to permute). `Owen` blocks memoize the digit positions that the block's indices share; every
-/// deeper digit has a node of its own per index, so it costs hashes and, in bases above 13, a
-/// keyed 40-round permutation (about 20 ns, run in lanes of 32): about 40 ns per value at
-/// d = 4, 60 ns at d = 32 and 45 ns at d = 10,000, growing with the digits an index has
-/// beyond those of the block length. [`point`](Sampler::point) recomputes everything per call
-/// (about a microsecond per `Owen` value in large bases): use [`fill`](Sampler::fill) for
-/// throughput.
+/// division). `Permute` blocks find the images of the digits each position meets once per block,
+/// sixteen at a time, and round each value by one multiplication: about 5 ns per value at d = 4 or
+/// 32 (and 40 ns at d = 10,000, where bases above the block length give every index a lowest digit
+/// of its own to permute). `Owen` blocks memoize the digit positions that the block's indices
+/// share; every deeper digit has a node of its own per index, so it costs hashes and, in bases
+/// above 13, a keyed 40-round permutation (about 20 ns, run in lanes of 32): about 40 ns per value
+/// at d = 4, 60 ns at d = 32 and 45 ns at d = 10,000, growing with the digits an index has beyond
+/// those of the block length. [`point`](Sampler::point) recomputes everything per call (about a
+/// microsecond per `Owen` value in large bases): use [`fill`](Sampler::fill) for throughput.
 ///
 /// # Passes
 ///

@@ -265,15 +265,15 @@ impl MjCore {
 /// Values per chunk of the fill kernel (a multiple of the 16 permutation lanes).
 const CHUNK: usize = 256;
 
-/// The block fill, compiled for each instruction set by [`dispatch`]. Per run of one pass and
-/// per pair of dimensions: the cells of a chunk of points by the cell permutation over 16
-/// indices at a time; column and row by a division done in `f64` and corrected exactly; for
-/// the correlated variant the shared sub-column and sub-row permutations from tables of their
-/// `n + m` images when the run is at least that long, else over lanes; for the uncorrelated
-/// one each column's and row's own permutation, built once per run and pair and stepped 16 at
-/// a time in lockstep (a `PermutationCache`); and the jitter hash with its seed and pass
-/// words absorbed once per run. Every step computes the integers `write_pair` does and the same final `f64`
-/// expression, so the values are bit-identical.
+/// The block fill, compiled for each instruction set by [`dispatch`]. Per run of one pass and per
+/// pair of dimensions: the cells of a chunk of points by the cell permutation over 16 indices at a
+/// time; column and row by a division done in `f64` and corrected exactly; for the correlated
+/// variant the shared sub-column and sub-row permutations from tables of their `n + m` images when
+/// the run is at least that long, else over lanes; for the uncorrelated one each column's and row's
+/// own permutation, built once per run and pair and stepped 16 at a time in lockstep (a
+/// `PermutationCache`); and the jitter hash with its seed and pass words absorbed once per run.
+/// Every step computes the integers `write_pair` does and the same final `f64` expression, so the
+/// values are bit-identical.
 struct FillMultiJittered<'a> {
     core: &'a MjCore,
     start: u64,
