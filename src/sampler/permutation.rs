@@ -368,6 +368,10 @@ fn swap_or_not_round(x: u64, key: u64, offset: u64, n: u64) -> u64 {
 
 /// `ceil(2^64 / n)` for `2 <= n < 2^16`: the constant of [`fast_mod`].
 pub(crate) fn mod_reciprocal(n: u64) -> u64 {
+    debug_assert!(
+        (2..SMALL).contains(&n),
+        "mod_reciprocal needs 2 <= n < 2^16, got {n}"
+    );
     u64::MAX / n + 1
 }
 

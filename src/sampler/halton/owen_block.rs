@@ -287,7 +287,8 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
             _ if b <= LANE_BASE_MAX => RhoKind::Lanes,
             _ => RhoKind::Large,
         },
-        reciprocal: if b <= LANE_BASE_MAX {
+        // Only the lane permutations (13 < b <= LANE_BASE_MAX, so 2 <= b - 1 < 2^16) use it.
+        reciprocal: if b > SMALL_BASE && b <= LANE_BASE_MAX {
             mod_reciprocal(b - 1)
         } else {
             0
