@@ -4,6 +4,7 @@
 mod common;
 
 use common::{assert_one_line_error, run, stderr, stdout};
+use mcint::sampler::SamplerKind;
 
 #[test]
 fn points_csv_round_trips_and_matches_the_library() {
@@ -1052,23 +1053,8 @@ fn gallery_draws_every_sampler_and_an_index() {
     );
     assert!(out.status.success(), "{}", stderr(&out));
     let index = std::fs::read_to_string(dir.join("index.html")).unwrap();
-    for name in [
-        "independent",
-        "jittered",
-        "latin",
-        "sobol",
-        "halton",
-        "hammersley",
-        "lattice",
-        "multijitter",
-        "cmj",
-        "oa-bose",
-        "oa-bush",
-        "nrooks-multistage",
-        "poisson",
-        "best-candidate",
-        "pmj02",
-    ] {
+    // Every named sampler, so a sampler added to the crate is checked here too.
+    for name in SamplerKind::ALL.map(SamplerKind::name) {
         let image = std::fs::read_to_string(dir.join(format!("{name}.svg"))).unwrap();
         assert!(image.starts_with("<svg"), "{name}");
         assert!(

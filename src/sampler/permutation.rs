@@ -380,8 +380,15 @@ pub(crate) fn mod_reciprocal(n: u64) -> u64 {
 /// 64-by-16-bit product is assembled from two 32-bit halves, which vector units multiply.
 #[inline(always)]
 pub(crate) fn fast_mod(a: u64, n: u64, reciprocal: u64) -> u64 {
-    let fraction = reciprocal.wrapping_mul(a);
-    (((fraction >> 32) * n) + (((fraction & 0xffff_ffff) * n) >> 32)) >> 32
+    below_narrow(reciprocal.wrapping_mul(a), n)
+}
+
+/// `floor(x n / 2^64)` for `n <= 2^32` (a 64-bit fraction `x / 2^64` scaled to `0..n`), from
+/// 32-bit halves whose products fit in 64 bits (and which vector units multiply):
+/// `floor((xh n 2^32 + xl n) / 2^64)` is `floor((xh n + floor(xl n / 2^32)) / 2^32)`.
+#[inline(always)]
+pub(crate) fn below_narrow(x: u64, n: u64) -> u64 {
+    ((x >> 32) * n + (((x & 0xffff_ffff) * n) >> 32)) >> 32
 }
 
 #[cfg(test)]

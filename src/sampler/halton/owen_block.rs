@@ -19,7 +19,7 @@
 use super::small_permutation;
 use super::{Base, MAX_DEPTH, SMALL_BASE, TAG_RHO, rotate};
 use crate::hash::{ONE_BELOW, hash_absorb, hash_start};
-use crate::sampler::permutation::{Permutation, mod_reciprocal};
+use crate::sampler::permutation::{Permutation, below_narrow, mod_reciprocal};
 use crate::sampler::simd::{Kernel, dispatch};
 
 /// Largest base whose digit permutation `rho` (on `b - 1` digits) is a swap-or-not shuffle;
@@ -171,14 +171,6 @@ fn div_rem(c: u64, m: u64, m_f64: f64) -> (u64, u64) {
         r.wrapping_add(m & low.wrapping_neg())
             .wrapping_sub(m & high.wrapping_neg()),
     )
-}
-
-/// [`below`](super::below)`(x, n)` for `n <= 2^32`, from 32-bit halves whose products fit in
-/// 64 bits (and which vector units multiply): `floor((xh n 2^32 + xl n) / 2^64)` is
-/// `floor((xh n + floor(xl n / 2^32)) / 2^32)`.
-#[inline(always)]
-fn below_narrow(x: u64, n: u64) -> u64 {
-    ((x >> 32) * n + (((x & 0xffff_ffff) * n) >> 32)) >> 32
 }
 
 /// The images of one position for a run of residues, compiled for each instruction set by
