@@ -315,22 +315,21 @@ impl PermutationCache {
         }
     }
 
-    /// Member `which`, built by `build(which)` unless it is kept.
+    /// Where member `which` is in `built`, building it by `build(which)` on first use (only
+    /// while members are kept).
     #[inline(always)]
-    fn get(&mut self, which: u64, build: &impl Fn(u64) -> Permutation) -> Permutation {
-        if !self.keep {
-            return build(which);
-        }
+    fn slot(&mut self, which: u64, build: &impl Fn(u64) -> Permutation) -> usize {
         let slot = &mut self.slots[which as usize];
         if *slot == u32::MAX {
             *slot = self.built.len() as u32;
             self.built.push(build(which));
         }
-        self.built[*slot as usize]
+        *slot as usize
     }
 
     /// `out[j]`: the image of `inputs[j]` under member `which[j]`, 16 lanes at a time in
-    /// lockstep ([`Permutation::apply_each`]).
+    /// lockstep ([`Permutation::apply_each`]). Kept members are referred to where they are
+    /// stored, not copied per use.
     #[inline(always)]
     pub(crate) fn apply_into(
         &mut self,
@@ -343,11 +342,17 @@ impl PermutationCache {
         for ((which, inputs), out) in groups.zip(out.chunks_mut(LANES)) {
             // Short groups repeat their last lane.
             let last = which.len() - 1;
-            let perms: [Permutation; LANES] =
-                std::array::from_fn(|l| self.get(which[l.min(last)], &build));
-            let refs: [&Permutation; LANES] = std::array::from_fn(|l| &perms[l]);
+            let member = |l: usize| which[l.min(last)];
             let mut xs: [u64; LANES] = std::array::from_fn(|l| inputs[l.min(last)]);
-            Permutation::apply_each(&refs, &mut xs);
+            if self.keep {
+                let slots: [usize; LANES] = std::array::from_fn(|l| self.slot(member(l), &build));
+                let refs: [&Permutation; LANES] = std::array::from_fn(|l| &self.built[slots[l]]);
+                Permutation::apply_each(&refs, &mut xs);
+            } else {
+                let perms: [Permutation; LANES] = std::array::from_fn(|l| build(member(l)));
+                let refs: [&Permutation; LANES] = std::array::from_fn(|l| &perms[l]);
+                Permutation::apply_each(&refs, &mut xs);
+            }
             out.copy_from_slice(&xs[..out.len()]);
         }
     }
