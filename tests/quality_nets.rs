@@ -6,7 +6,6 @@ use mcint::quality::{elementary_intervals_balanced, shape_balanced, t_value};
 use mcint::sampler::{
     Hammersley, Independent, Jittered, LatinHypercube, Pmj02, Sampler, Scramble, Sobol,
 };
-use std::time::Instant;
 
 /// Points `start .. start + n` of a sampler.
 fn block(sampler: &dyn Sampler, start: u64, n: usize) -> Points {
@@ -138,12 +137,7 @@ fn sobol_in_three_dimensions_matches_brute_force() {
 #[test]
 fn sobol_in_eight_dimensions() {
     let points = block(&Sobol::new(8, Scramble::None, 0).unwrap(), 0, 1 << 10);
-    let start = Instant::now();
     let t = t_value(&points).unwrap();
-    println!(
-        "t of 2^10 8-D Sobol' points: {t} ({:.3} s)",
-        start.elapsed().as_secs_f64()
-    );
     assert!(t > 0 && t < 10);
     assert!(elementary_intervals_balanced(&points, t).unwrap().is_net());
     assert!(
@@ -337,17 +331,13 @@ fn bad_input_is_an_error() {
     assert_eq!(t_value(&Points::new(5, 1).unwrap()).unwrap(), 0);
 }
 
-/// The sizes the brief asks to be fast: printed for the record, with a loose bound.
+/// The largest sizes the brief asks for, 2^16 points in 2-D: a (0, 16, 2)-net and random
+/// points, which are no better than a (16, 16, 2)-net. `cargo bench --bench quality` times
+/// them.
 #[test]
-fn t_value_is_fast_enough() {
+fn t_value_of_2_16_points_in_2d() {
     let points = block(&Sobol::new(2, Scramble::Owen, 1).unwrap(), 0, 1 << 16);
-    let start = Instant::now();
     assert_eq!(t_value(&points).unwrap(), 0);
-    let two_d = start.elapsed().as_secs_f64();
     let random = block(&Independent::new(2, 1).unwrap(), 0, 1 << 16);
-    let start = Instant::now();
     assert_eq!(t_value(&random).unwrap(), 16);
-    let random_time = start.elapsed().as_secs_f64();
-    println!("t_value of 2^16 2-D points: Sobol' {two_d:.3} s, independent {random_time:.4} s");
-    assert!(two_d < 5.0);
 }

@@ -680,14 +680,10 @@ mod samplers {
 
     #[test]
     fn multi_jittered_with_points_near_2_53_finishes() {
-        // The largest prime below 2^53 walks all of sqrt(2^53) divisors: slow but finite.
-        let started = std::time::Instant::now();
+        // The largest prime below 2^53 walks all of sqrt(2^53) divisors: about 9.5e7 trial
+        // divisions, finite.
         let s = MultiJittered::with_points(2, (1 << 53) - 111, 0).unwrap();
         assert_eq!(s.m(), 1);
-        eprintln!(
-            "MultiJittered::with_points(2^53 - 111): {:?}",
-            started.elapsed()
-        );
     }
 }
 

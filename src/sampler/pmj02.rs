@@ -493,13 +493,10 @@ mod tests {
     }
 
     #[test]
-    fn pmj02_full_pass_of_2_16_points_is_a_net_and_fast() {
+    fn pmj02_full_pass_of_2_16_points_is_a_net() {
         let s = Pmj02::new(2, 3).unwrap();
         let mut block = Points::new(2, 1 << 16).unwrap();
-        let started = std::time::Instant::now();
         s.fill(1 << 16, &mut block).unwrap();
-        let elapsed = started.elapsed();
-        eprintln!("pmj02: 2^16 points in 2-D took {elapsed:?}");
         let points: Vec<(f64, f64)> = (0..block.len())
             .map(|i| (block.get(i, 0), block.get(i, 1)))
             .collect();
