@@ -55,6 +55,26 @@ pub enum Error {
         /// The canonical point `u` in `[0,1)^k` that produced it.
         first_point: Vec<f64>,
     },
+    /// The integrand, or a function the run calls on its behalf (a pdf, a control, a
+    /// sampler), panicked; the run stopped and reports the panic here instead of unwinding
+    /// through the caller.
+    IntegrandPanicked {
+        /// The panic message.
+        message: String,
+        /// The replicate (or iteration, stratum or pass, where the method has those) of the
+        /// chunk of work that panicked.
+        replicate: u64,
+        /// The first sample index of that chunk (within its replicate).
+        first_index: u64,
+    },
+    /// An operation that this type does not support (for example inverting a warp that has
+    /// no inverse).
+    Unsupported {
+        /// The operation, as the API spells it.
+        operation: &'static str,
+        /// The type or value that does not support it, and what to use instead if anything.
+        reason: String,
+    },
 }
 
 impl Error {
@@ -125,6 +145,18 @@ impl fmt::Display for Error {
                  {first_index} of replicate {first_replicate}, canonical point {first_point:?} \
                  (the integrand is not finite there, or the pdf is zero where the integrand is not)"
             ),
+            Error::IntegrandPanicked {
+                message,
+                replicate,
+                first_index,
+            } => write!(
+                f,
+                "the integrand panicked in the work starting at sample {first_index} of \
+                 replicate {replicate}: {message}"
+            ),
+            Error::Unsupported { operation, reason } => {
+                write!(f, "{operation} is not supported: {reason}")
+            }
         }
     }
 }

@@ -35,6 +35,7 @@
 #![warn(missing_docs)]
 
 pub mod adaptive;
+mod engine;
 mod error;
 pub mod estimator;
 mod hash;

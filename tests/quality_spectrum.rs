@@ -369,5 +369,8 @@ fn a_typical_spectrum_has_the_same_bits_on_one_and_two_threads() {
     let sampler = Independent::new(2, 1).unwrap();
     let one = mean_periodogram_with_threads(&sampler, 1024, 16, 64, 1).unwrap();
     assert_eq!(one.size(), 129);
-    assert_eq!(one, mean_periodogram_with_threads(&sampler, 1024, 16, 64, 2).unwrap());
+    assert_eq!(
+        one,
+        mean_periodogram_with_threads(&sampler, 1024, 16, 64, 2).unwrap()
+    );
 }

@@ -4,7 +4,9 @@
 use std::collections::BTreeMap;
 use std::ops::Range;
 
-use super::{ChunkResult, Folded, Integrator, Plan, run_chunk_range};
+use super::Integrator;
+use super::plan::{CHUNKS_IN_MEMORY, ChunkResult, Chunks, Folded, Plan};
+use crate::engine::Executor;
 use crate::estimator::Estimator;
 use crate::sampler::Sampler;
 use crate::stats::Estimate;
@@ -186,7 +188,7 @@ impl<E: Estimator> Integrator<E> {
     /// assert!(i.run_part(3..5).is_err()); // only 4 chunks
     /// ```
     pub fn run_part(&self, range: Range<u64>) -> Result<PartialRun> {
-        self.with_plan(|plan, sampler, threads| {
+        self.with_plan(|plan, sampler, executor| {
             let total = plan.total_chunks()?;
             if range.start >= range.end || range.end > total {
                 return Err(Error::invalid(
@@ -195,10 +197,19 @@ impl<E: Estimator> Integrator<E> {
                     format!("a non-empty range within 0..{total}"),
                 ));
             }
-            let results = run_chunk_range(plan, sampler, &self.estimator, threads, range.clone())?;
+            let job = Chunks {
+                plan,
+                sampler,
+                estimator: &self.estimator,
+            };
+            let mut chunks = BTreeMap::new();
+            executor.run(&job, range, CHUNKS_IN_MEMORY, |chunk, result| {
+                chunks.insert(chunk, result);
+                Ok(())
+            })?;
             Ok(PartialRun {
                 layout: Layout::of(plan, sampler)?,
-                chunks: range.zip(results).collect(),
+                chunks,
             })
         })
     }
@@ -259,16 +270,16 @@ impl<E: Estimator> Integrator<E> {
             for (&chunk, result) in &partial.chunks {
                 folded.add(plan, chunk, result);
             }
-            plan.finish(self, sampler, &folded)
+            plan.estimate(sampler, &folded, self.config.non_finite)
         })
     }
 
-    /// Calls `work` with the plan of a fixed-budget run, the sampler and the thread count.
+    /// Calls `work` with the plan of a fixed-budget run, the sampler and the executor.
     fn with_plan<R>(
         &self,
-        work: impl FnOnce(&Plan, &dyn Sampler, usize) -> Result<R>,
+        work: impl FnOnce(&Plan, &dyn Sampler, &Executor) -> Result<R>,
     ) -> Result<R> {
-        if self.tolerance.is_some() {
+        if self.config.tolerance.is_some() {
             return Err(Error::invalid(
                 "tolerance",
                 "set",
@@ -276,9 +287,9 @@ impl<E: Estimator> Integrator<E> {
                  checkpoint fixed-budget runs)",
             ));
         }
-        self.with_sampler(|sampler, threads| {
-            let plan = Plan::new(self, sampler)?;
-            work(&plan, sampler, threads)
-        })
+        let sampler = self.run_sampler()?;
+        let executor = self.config.executor()?;
+        let plan = Plan::new(self.config.samples, self.config.replicates, &*sampler)?;
+        work(&plan, &*sampler, &executor)
     }
 }

@@ -1,9 +1,9 @@
 //! Runs of the [`Integrator`] that stop at a [`Tolerance`]: a two-stage rule for independent
-//! points, and doubling with fixed replicates for randomized QMC and stratified points.
+//! points, and doubling with fixed replicates for randomized QMC and stratified points, both
+//! judged by the engine's [`Stopping`] rule.
 
-use std::time::Instant;
-
-use super::{CHUNK, Integrator, Plan};
+use super::{Integrator, Plan};
+use crate::engine::{DEFAULT_REPLICATES, Executor, Stopping, require_randomized};
 use crate::estimator::Estimator;
 use crate::sampler::{PassKind, Sampler};
 use crate::stats::{Accumulator, Estimate, StopReason, Tolerance, normal_quantile};
@@ -13,11 +13,6 @@ use crate::{Error, Result};
 const DEFAULT_PILOT: u64 = 4096;
 /// Inflation of the pilot's standard deviation when sizing the main stage.
 const SD_INFLATION: f64 = 1.1;
-/// Replicates of a randomized run to a tolerance when the caller gives none.
-const DEFAULT_REPLICATES: u64 = 16;
-/// Inflation of the replicates' standard error in a randomized run to a tolerance (QMCPy's
-/// `CubQMCCLT` inflates by the same 1.2 by default).
-const RQMC_INFLATION: f64 = 1.2;
 /// First points per replicate of a doubling run when the sampler has no pass size.
 const DEFAULT_FIRST_STAGE: u64 = 1024;
 
@@ -25,19 +20,16 @@ const DEFAULT_FIRST_STAGE: u64 = 1024;
 pub(super) fn run_to_tolerance<E: Estimator>(
     integrator: &Integrator<E>,
     sampler: &dyn Sampler,
-    threads: usize,
+    executor: &Executor,
     tolerance: &Tolerance,
 ) -> Result<Estimate> {
-    let dims = integrator.estimator.canonical_dims();
-    if sampler.dims() != dims {
-        return Err(Error::DimensionMismatch {
-            what: "sampler (the estimator's canonical points)",
-            expected: dims,
-            found: sampler.dims(),
-        });
-    }
-    if !sampler.is_randomized() {
-        return Err(Error::invalid(
+    require_randomized(
+        sampler,
+        "a run to a tolerance compares an error bar with the tolerance, and the passes of an \
+         unrandomized sampler give none",
+    )
+    .map_err(|_| {
+        Error::invalid(
             "tolerance",
             "requested",
             format!(
@@ -45,18 +37,18 @@ pub(super) fn run_to_tolerance<E: Estimator>(
                  with a tolerance; choose a scramble)",
                 sampler.name()
             ),
-        ));
-    }
-    let started = Instant::now();
+        )
+    })?;
     let stage = Stage {
         integrator,
         sampler,
-        threads,
+        executor,
+        stopping: Stopping::new(tolerance),
     };
     if sampler.passes() == PassKind::Independent {
-        two_stage(&stage, tolerance, started)
+        two_stage(&stage)
     } else {
-        doubling(&stage, tolerance, started)
+        doubling(&stage)
     }
 }
 
@@ -64,7 +56,8 @@ pub(super) fn run_to_tolerance<E: Estimator>(
 struct Stage<'a, E> {
     integrator: &'a Integrator<E>,
     sampler: &'a dyn Sampler,
-    threads: usize,
+    executor: &'a Executor,
+    stopping: Stopping<'a>,
 }
 
 impl<E: Estimator> Stage<'_, E> {
@@ -77,48 +70,22 @@ impl<E: Estimator> Stage<'_, E> {
         offset: u64,
         samples: u64,
     ) -> Result<Vec<Accumulator>> {
-        let plan = Plan {
-            samples,
-            offset,
-            replicates,
-            stride,
-            chunks_per_replicate: samples.div_ceil(CHUNK),
-        };
-        let folded = plan.run_folded(self.sampler, &self.integrator.estimator, self.threads)?;
-        plan.check_finite(self.sampler, &folded, self.integrator.non_finite)?;
+        let plan = Plan::stage(replicates, stride, offset, samples)?;
+        let folded = plan.run_folded(self.executor, self.sampler, &self.integrator.estimator)?;
+        plan.check_finite(self.sampler, &folded, self.integrator.config.non_finite)?;
         Ok(folded.replicates)
     }
 }
 
-/// Why the run should stop before spending `next` more evaluations, if it should.
-fn limit_reached(
-    tolerance: &Tolerance,
-    started: Instant,
-    used: u64,
-    next: u64,
-) -> Option<StopReason> {
-    if tolerance
-        .time()
-        .is_some_and(|limit| started.elapsed() >= limit)
-    {
-        return Some(StopReason::TimeLimit);
-    }
-    if used
-        .checked_add(next)
-        .is_none_or(|total| total > tolerance.evaluation_limit())
-    {
-        return Some(StopReason::MaxEvaluations);
-    }
-    None
-}
-
 /// Independent points: a pilot sizes a fresh main stage (extended if it still misses).
-fn two_stage<E: Estimator>(
-    stage: &Stage<'_, E>,
-    tolerance: &Tolerance,
-    started: Instant,
-) -> Result<Estimate> {
-    let pilot_size = stage.integrator.samples.unwrap_or(DEFAULT_PILOT).max(2);
+fn two_stage<E: Estimator>(stage: &Stage<'_, E>) -> Result<Estimate> {
+    let tolerance = stage.stopping.tolerance();
+    let pilot_size = stage
+        .integrator
+        .config
+        .samples
+        .unwrap_or(DEFAULT_PILOT)
+        .max(2);
     if pilot_size > tolerance.evaluation_limit() {
         return Err(Error::invalid(
             "max_evals",
@@ -147,7 +114,7 @@ fn two_stage<E: Estimator>(
             }
         };
         let more = needed.saturating_sub(main.count()).max(1);
-        let more = match limit_reached(tolerance, started, used, more) {
+        let more = match stage.stopping.limit(used, more) {
             None => more,
             Some(StopReason::MaxEvaluations) => {
                 let left = tolerance.evaluation_limit() - used;
@@ -162,7 +129,7 @@ fn two_stage<E: Estimator>(
         main.merge(&part);
         used += more;
         stages += 1;
-        if main.count() >= 2 && tolerance.is_met(&main.estimate()) {
+        if main.count() >= 2 && stage.stopping.judge(main.estimate()).1 {
             break StopReason::ToleranceMet;
         }
         sd = main.variance().sqrt();
@@ -172,23 +139,19 @@ fn two_stage<E: Estimator>(
     let source = if main.count() >= 2 { &main } else { &pilot };
     let mut estimate = source.estimate();
     estimate.evaluations = used;
-    finish(&mut estimate, tolerance, stop, stages);
+    stage.stopping.finish(&mut estimate, stop, stages);
     Ok(estimate)
 }
 
 /// Randomized QMC and stratified points: `R` replicates, doubling the points of each until
-/// the Student-t interval over the replicates, with the standard error inflated by
-/// [`RQMC_INFLATION`], meets the tolerance.
-///
-/// The inflation guards against two ways the plain interval covers less often than it
-/// says: replicate means of scrambled nets at small sizes are not normal, and stopping the
-/// first time the spread looks small favours runs whose spread is small by chance.
-fn doubling<E: Estimator>(
-    stage: &Stage<'_, E>,
-    tolerance: &Tolerance,
-    started: Instant,
-) -> Result<Estimate> {
-    let replicates = stage.integrator.replicates.unwrap_or(DEFAULT_REPLICATES);
+/// the judged interval over the replicates meets the tolerance.
+fn doubling<E: Estimator>(stage: &Stage<'_, E>) -> Result<Estimate> {
+    let tolerance = stage.stopping.tolerance();
+    let replicates = stage
+        .integrator
+        .config
+        .replicates
+        .unwrap_or(DEFAULT_REPLICATES);
     if replicates < 2 {
         return Err(Error::invalid(
             "replicates",
@@ -198,13 +161,7 @@ fn doubling<E: Estimator>(
     }
     let limit = tolerance.evaluation_limit();
     let (first, stride) = first_stage_and_stride(stage, replicates, limit)?;
-    (replicates - 1)
-        .checked_mul(stride)
-        .and_then(|s| s.checked_add(stride))
-        .ok_or(Error::IndexOutOfRange {
-            what: "sample index of the last replicate",
-            limit: u64::MAX,
-        })?;
+    Plan::stage(replicates, stride, 0, stride)?;
     let mut accumulators = vec![Accumulator::new(); replicates as usize];
     let (mut done, mut next) = (0u64, first);
     let mut stages = 0;
@@ -214,7 +171,7 @@ fn doubling<E: Estimator>(
             break StopReason::MaxEvaluations;
         }
         let cost = (next - done).saturating_mul(replicates);
-        if let Some(reason) = limit_reached(tolerance, started, done * replicates, cost) {
+        if let Some(reason) = stage.stopping.limit(done * replicates, cost) {
             // The first stage always runs within the evaluation limit, whatever the time.
             if stages > 0 || cost > limit {
                 break reason;
@@ -226,12 +183,8 @@ fn doubling<E: Estimator>(
         }
         done = next;
         stages += 1;
-        let means: Vec<f64> = accumulators.iter().map(Accumulator::mean).collect();
-        let mut current = Estimate::from_replicates(&means, done)?;
-        current.non_finite = accumulators.iter().map(Accumulator::non_finite).sum();
-        current.n = accumulators.iter().map(Accumulator::count).sum();
-        current.std_error = current.std_error.map(|s| s * RQMC_INFLATION);
-        let met = tolerance.is_met(&current);
+        let current = Estimate::from_replicate_accumulators(&accumulators)?;
+        let (current, met) = stage.stopping.judge(current);
         estimate = Some(current);
         if met {
             break StopReason::ToleranceMet;
@@ -248,7 +201,7 @@ fn doubling<E: Estimator>(
             ),
         )
     })?;
-    finish(&mut estimate, tolerance, stop, stages);
+    stage.stopping.finish(&mut estimate, stop, stages);
     Ok(estimate)
 }
 
@@ -258,9 +211,10 @@ fn first_stage_and_stride<E: Estimator>(
     replicates: u64,
     limit: u64,
 ) -> Result<(u64, u64)> {
+    let samples = stage.integrator.config.samples;
     match stage.sampler.passes() {
         PassKind::Fixed { size } => {
-            let first = stage.integrator.samples.unwrap_or(size);
+            let first = samples.unwrap_or(size);
             if first == 0 || !first.is_multiple_of(size) {
                 return Err(Error::invalid(
                     "samples",
@@ -276,10 +230,7 @@ fn first_stage_and_stride<E: Estimator>(
             Ok((first, most.max(first)))
         }
         PassKind::Extensible { max } => {
-            let first = stage
-                .integrator
-                .samples
-                .unwrap_or(DEFAULT_FIRST_STAGE.min(max));
+            let first = samples.unwrap_or(DEFAULT_FIRST_STAGE.min(max));
             if first == 0 || first > max {
                 return Err(Error::invalid(
                     "samples",
@@ -294,10 +245,4 @@ fn first_stage_and_stride<E: Estimator>(
         }
         PassKind::Independent => unreachable!("independent points take the two-stage rule"),
     }
-}
-
-fn finish(estimate: &mut Estimate, tolerance: &Tolerance, stop: StopReason, stages: u64) {
-    estimate.stop = stop;
-    estimate.converged = Some(tolerance.is_met(estimate));
-    estimate.iterations = stages;
 }

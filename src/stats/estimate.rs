@@ -1,5 +1,6 @@
 //! [`Estimate`]: an integral estimate with an honest error bar.
 
+use super::accumulator::Accumulator;
 use super::student_t::student_t_quantile;
 use crate::{Error, Result};
 
@@ -139,6 +140,28 @@ impl Estimate {
             chi2_dof: None,
             q_value: None,
         })
+    }
+
+    /// The estimate from independent replicates, each accumulated in full: as
+    /// [`from_replicates`](Self::from_replicates) on their means, with `n` the finite
+    /// contributions, `non_finite` those left out and `evaluations` all of them.
+    ///
+    /// ```
+    /// use mcint::stats::{Accumulator, Estimate};
+    /// let mut a = Accumulator::new();
+    /// a.extend(&[1.0, 3.0, f64::NAN]);
+    /// let mut b = Accumulator::new();
+    /// b.extend(&[3.0, 5.0, 4.0]);
+    /// let e = Estimate::from_replicate_accumulators(&[a, b]).unwrap();
+    /// assert_eq!((e.mean, e.n, e.non_finite, e.evaluations), (3.0, 5, 1, 6));
+    /// ```
+    pub fn from_replicate_accumulators(replicates: &[Accumulator]) -> Result<Self> {
+        let means: Vec<f64> = replicates.iter().map(Accumulator::mean).collect();
+        let mut estimate = Estimate::from_replicates(&means, 0)?;
+        estimate.n = replicates.iter().map(Accumulator::count).sum();
+        estimate.non_finite = replicates.iter().map(Accumulator::non_finite).sum();
+        estimate.evaluations = estimate.n + estimate.non_finite;
+        Ok(estimate)
     }
 
     /// Variance of the estimate, `std_error^2`.

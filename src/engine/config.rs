@@ -1,0 +1,116 @@
+//! [`RunConfig`]: the settings every runner shares, and the checks of a run's sampler.
+
+use std::ops::Deref;
+
+use super::Executor;
+use crate::integrate::NonFinitePolicy;
+use crate::sampler::{Independent, PassKind, Sampler};
+use crate::stats::Tolerance;
+use crate::{Error, Result};
+
+/// What every runner is told the same way: where points come from (and with which seed),
+/// on how many threads, how many points, until when, and what to do with non-finite values.
+/// Each runner keeps one and exposes the setters of `run_settings!`.
+#[derive(Default)]
+pub(crate) struct RunConfig {
+    sampler: Option<Box<dyn Sampler>>,
+    seed: Option<u64>,
+    pub(crate) threads: Option<usize>,
+    /// Points per replicate (or per iteration, for iterative methods).
+    pub(crate) samples: Option<u64>,
+    /// Independent replicates (or passes).
+    pub(crate) replicates: Option<u64>,
+    pub(crate) tolerance: Option<Tolerance>,
+    pub(crate) non_finite: NonFinitePolicy,
+}
+
+impl RunConfig {
+    /// Uses `sampler`, reseeded with the seed set so far, if any.
+    pub(crate) fn set_sampler(&mut self, mut sampler: Box<dyn Sampler>) {
+        if let Some(seed) = self.seed {
+            sampler.reseed(seed);
+        }
+        self.sampler = Some(sampler);
+    }
+
+    /// Sets the seed, and reseeds the sampler given so far, if any.
+    pub(crate) fn set_seed(&mut self, seed: u64) {
+        self.seed = Some(seed);
+        if let Some(sampler) = self.sampler.as_mut() {
+            sampler.reseed(seed);
+        }
+    }
+
+    /// The seed set, if any.
+    pub(crate) fn seed(&self) -> Option<u64> {
+        self.seed
+    }
+
+    /// The executor of the thread setting.
+    pub(crate) fn executor(&self) -> Result<Executor> {
+        Executor::new(self.threads)
+    }
+
+    /// The run's sampler, checked to have `dims` dimensions (`what` names them in the
+    /// error): the one given, or independent points with the seed (0 if none was set).
+    pub(crate) fn sampler(&self, dims: usize, what: &'static str) -> Result<RunSampler<'_>> {
+        let sampler = match &self.sampler {
+            Some(s) => RunSampler::Given(s.as_ref()),
+            None => RunSampler::Default(Independent::new(dims, self.seed.unwrap_or(0))?),
+        };
+        if sampler.dims() != dims {
+            return Err(Error::DimensionMismatch {
+                what,
+                expected: dims,
+                found: sampler.dims(),
+            });
+        }
+        Ok(sampler)
+    }
+}
+
+/// A run's sampler: the caller's, or the default one built for the run.
+pub(crate) enum RunSampler<'a> {
+    Given(&'a (dyn Sampler + 'static)),
+    Default(Independent),
+}
+
+impl Deref for RunSampler<'_> {
+    type Target = dyn Sampler;
+
+    fn deref(&self) -> &(dyn Sampler + 'static) {
+        match self {
+            RunSampler::Given(s) => *s,
+            RunSampler::Default(s) => s,
+        }
+    }
+}
+
+/// Refuses an unrandomized sampler for `method`, which needs fresh randomness (`purpose`
+/// says for what).
+pub(crate) fn require_randomized(sampler: &dyn Sampler, purpose: &str) -> Result<()> {
+    if sampler.is_randomized() {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        "sampler",
+        sampler.name(),
+        format!("a randomized sampler ({purpose}; choose a scramble)"),
+    ))
+}
+
+/// Refuses a sampler with fixed passes, whose single points are not uniform on their own,
+/// for `method`; independent points and extensible (randomized) sequences are accepted.
+pub(crate) fn require_uniform_points(sampler: &dyn Sampler, method: &str) -> Result<()> {
+    if let PassKind::Fixed { .. } = sampler.passes() {
+        return Err(Error::invalid(
+            "sampler",
+            sampler.name(),
+            format!(
+                "a sampler with independent or extensible passes for {method} (a single point \
+                 of a fixed pass is not uniform on its own)"
+            ),
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,302 @@
+//! [`Executor`]: the crate's one parallel executor.
+//!
+//! Work is cut into numbered chunks that do not depend on the thread count. Chunks run on a
+//! rayon pool of the requested size, a window at a time, and their outputs are handed to the
+//! caller's fold strictly in chunk order, so every sum (and hence every bit of a result) is
+//! the same for any number of threads. A panic in a chunk is caught there and becomes one
+//! [`Error::IntegrandPanicked`] naming the chunk's first sample and the panic message; of
+//! several errors in a window, the one of the lowest chunk is reported, so errors too are
+//! independent of the thread count.
+//!
+//! Nested use (an integrand that itself integrates) runs on the pool it is already on:
+//! rayon's work stealing then shares the outer run's threads instead of starting more.
+
+use std::any::Any;
+use std::ops::Range;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::{Arc, Mutex, PoisonError};
+
+use rayon::prelude::*;
+use rayon::{ThreadPool, ThreadPoolBuilder};
+
+use crate::{Error, Result};
+
+/// Work cut into numbered chunks, each evaluated with a per-thread scratch space.
+pub(crate) trait ChunkJob: Sync {
+    /// Buffers a thread reuses from chunk to chunk.
+    type Scratch;
+    /// What one chunk produces.
+    type Output: Send;
+
+    /// A fresh scratch space.
+    fn scratch(&self) -> Result<Self::Scratch>;
+
+    /// Evaluates chunk `chunk`.
+    fn run(&self, scratch: &mut Self::Scratch, chunk: u64) -> Result<Self::Output>;
+
+    /// Where a chunk starts, as `(replicate, first sample index)` (an iteration, stratum or
+    /// pass in place of the replicate where the method has those): named by the error of a
+    /// panic in the chunk.
+    fn origin(&self, chunk: u64) -> (u64, u64);
+}
+
+/// Runs [`ChunkJob`]s on a fixed number of threads.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Executor {
+    threads: usize,
+}
+
+impl Executor {
+    /// An executor for a `.threads(..)` setting: at least 1; `None` means all available.
+    pub(crate) fn new(threads: Option<usize>) -> Result<Executor> {
+        let threads = match threads {
+            Some(0) => return Err(Error::invalid("threads", 0, "at least 1")),
+            Some(t) => t,
+            None => available_threads(),
+        };
+        Ok(Executor { threads })
+    }
+
+    /// The number of threads.
+    pub(crate) fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// Evaluates chunks `chunks` of `job`, at most `window` at a time (which bounds the
+    /// outputs held in memory), and hands each output to `fold` in chunk order. Stops at the
+    /// first error, in chunk order, of a job or of `fold`.
+    pub(crate) fn run<J: ChunkJob>(
+        &self,
+        job: &J,
+        chunks: Range<u64>,
+        window: u64,
+        mut fold: impl FnMut(u64, J::Output) -> Result<()>,
+    ) -> Result<()> {
+        let window = window.max(1);
+        let mut start = chunks.start;
+        while start < chunks.end {
+            let end = start.saturating_add(window).min(chunks.end);
+            for (chunk, output) in (start..end).zip(self.window(job, start..end)?) {
+                fold(chunk, output)?;
+            }
+            start = end;
+        }
+        Ok(())
+    }
+
+    /// The outputs of chunks `chunks`, in order.
+    fn window<J: ChunkJob>(&self, job: &J, chunks: Range<u64>) -> Result<Vec<J::Output>> {
+        let one = |scratch: &mut J::Scratch, chunk: u64| {
+            guarded(job.origin(chunk), || job.run(scratch, chunk))
+        };
+        if self.threads == 1 {
+            let mut scratch = job.scratch()?;
+            return chunks.map(|chunk| one(&mut scratch, chunk)).collect();
+        }
+        let first = chunks.start;
+        let len = usize::try_from(chunks.end - first).map_err(|_| Error::IndexOutOfRange {
+            what: "chunks in one window",
+            limit: usize::MAX as u64,
+        })?;
+        let outputs: Vec<Result<J::Output>> = self.install(|| {
+            (0..len)
+                .into_par_iter()
+                .map_init(
+                    || job.scratch(),
+                    |scratch, offset| match scratch {
+                        Ok(scratch) => one(scratch, first + offset as u64),
+                        Err(e) => Err(e.clone()),
+                    },
+                )
+                .collect()
+        });
+        outputs.into_iter().collect()
+    }
+
+    /// Runs `a` and `b`, in parallel where threads allow, each with panics caught (reported
+    /// at `origin`). Meant for recursive work inside a chunk of [`run`](Self::run).
+    pub(crate) fn join<A: Send, B: Send>(
+        &self,
+        origin: (u64, u64),
+        a: impl FnOnce() -> Result<A> + Send,
+        b: impl FnOnce() -> Result<B> + Send,
+    ) -> (Result<A>, Result<B>) {
+        if self.threads == 1 {
+            return (guarded(origin, a), guarded(origin, b));
+        }
+        self.install(|| rayon::join(|| guarded(origin, a), || guarded(origin, b)))
+    }
+
+    /// Runs `op` on this executor's pool, or on the pool the caller is already a worker of.
+    fn install<R: Send>(&self, op: impl FnOnce() -> R + Send) -> R {
+        if rayon::current_thread_index().is_some() {
+            return op();
+        }
+        match pool(self.threads) {
+            Some(pool) => pool.install(op),
+            // No threads could be started: the work still gets done, on this one.
+            None => op(),
+        }
+    }
+}
+
+/// The number of threads the machine offers (1 if it cannot tell).
+pub(crate) fn available_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The pool of `threads` workers, built on first use and kept for the process (one per
+/// thread count a program asks for).
+fn pool(threads: usize) -> Option<Arc<ThreadPool>> {
+    static POOLS: Mutex<Vec<(usize, Arc<ThreadPool>)>> = Mutex::new(Vec::new());
+    let mut pools = POOLS.lock().unwrap_or_else(PoisonError::into_inner);
+    if let Some((_, pool)) = pools.iter().find(|(n, _)| *n == threads) {
+        return Some(Arc::clone(pool));
+    }
+    let pool = ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("mcint-worker-{i}"))
+        .build()
+        .ok()?;
+    let pool = Arc::new(pool);
+    pools.push((threads, Arc::clone(&pool)));
+    Some(pool)
+}
+
+/// Runs `work`, turning a panic into the error of a panic at `origin`.
+fn guarded<T>(origin: (u64, u64), work: impl FnOnce() -> Result<T>) -> Result<T> {
+    catch_unwind(AssertUnwindSafe(work)).unwrap_or_else(|payload| Err(panicked(origin, payload)))
+}
+
+/// The error for a panic caught in the chunk that starts at `origin`.
+fn panicked((replicate, first_index): (u64, u64), payload: Box<dyn Any + Send>) -> Error {
+    let message = if let Some(s) = payload.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "(a panic without a message)".to_string()
+    };
+    Error::IntegrandPanicked {
+        message,
+        replicate,
+        first_index,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Squares of `0..n`, chunk by chunk; panics at chunk `bad`.
+    struct Squares {
+        bad: Option<u64>,
+    }
+
+    impl ChunkJob for Squares {
+        type Scratch = Vec<u64>;
+        type Output = u64;
+
+        fn scratch(&self) -> Result<Vec<u64>> {
+            Ok(Vec::new())
+        }
+
+        fn run(&self, scratch: &mut Vec<u64>, chunk: u64) -> Result<u64> {
+            assert!(Some(chunk) != self.bad, "chunk {chunk} is bad");
+            scratch.push(chunk);
+            Ok(chunk * chunk)
+        }
+
+        fn origin(&self, chunk: u64) -> (u64, u64) {
+            (chunk / 10, chunk * 100)
+        }
+    }
+
+    #[test]
+    fn outputs_arrive_in_chunk_order_for_any_thread_count() {
+        for threads in [1, 2, 3, 8] {
+            let executor = Executor::new(Some(threads)).unwrap();
+            let mut seen = Vec::new();
+            executor
+                .run(&Squares { bad: None }, 5..105, 7, |chunk, out| {
+                    seen.push((chunk, out));
+                    Ok(())
+                })
+                .unwrap();
+            let expected: Vec<(u64, u64)> = (5..105).map(|c| (c, c * c)).collect();
+            assert_eq!(seen, expected, "{threads} threads");
+        }
+    }
+
+    #[test]
+    fn a_panic_becomes_one_error_naming_the_chunk_and_the_message() {
+        for threads in [1, 2, 4] {
+            let executor = Executor::new(Some(threads)).unwrap();
+            let err = executor
+                .run(&Squares { bad: Some(42) }, 0..100, 16, |_, _| Ok(()))
+                .unwrap_err();
+            assert_eq!(
+                err,
+                Error::IntegrandPanicked {
+                    message: "chunk 42 is bad".to_string(),
+                    replicate: 4,
+                    first_index: 4200,
+                },
+                "{threads} threads"
+            );
+        }
+    }
+
+    #[test]
+    fn fold_errors_stop_the_run() {
+        let executor = Executor::new(Some(2)).unwrap();
+        let mut folded = 0;
+        let err = executor.run(&Squares { bad: None }, 0..100, 10, |chunk, _| {
+            folded += 1;
+            if chunk == 15 {
+                return Err(Error::invalid("chunk", chunk, "not 15"));
+            }
+            Ok(())
+        });
+        assert!(err.is_err());
+        assert_eq!(folded, 16);
+    }
+
+    #[test]
+    fn join_catches_panics_and_nested_runs_use_the_outer_pool() {
+        let executor = Executor::new(Some(2)).unwrap();
+        let (a, b) = executor.join((1, 2), || Ok(1), || -> Result<u32> { panic!("right") });
+        assert_eq!(a.unwrap(), 1);
+        assert!(
+            matches!(b, Err(Error::IntegrandPanicked { ref message, .. }) if message == "right")
+        );
+        // A run inside a run: the inner one sees the outer pool's worker index.
+        let mut inner_on_pool = Vec::new();
+        let outer = Squares { bad: None };
+        executor.run(&outer, 0..4, 4, |_, _| Ok(())).unwrap();
+        executor
+            .join(
+                (0, 0),
+                || {
+                    let mut sum = 0;
+                    Executor::new(Some(3))?.run(&outer, 0..10, 10, |_, out| {
+                        sum += out;
+                        Ok(())
+                    })?;
+                    Ok((sum, rayon::current_thread_index().is_some()))
+                },
+                || Ok(()),
+            )
+            .0
+            .map(|r| inner_on_pool.push(r))
+            .unwrap();
+        assert_eq!(inner_on_pool, vec![(285, true)]);
+    }
+
+    #[test]
+    fn zero_threads_are_refused() {
+        let err = Executor::new(Some(0)).unwrap_err();
+        assert_eq!(err.to_string(), "invalid threads = 0: expected at least 1");
+        assert!(Executor::new(None).unwrap().threads() >= 1);
+    }
+}

@@ -1,0 +1,20 @@
+//! The run engine under every method: one parallel executor, one run configuration, one
+//! stopping rule.
+//!
+//! * [`Executor`]: fixed chunks of work on a rayon pool, outputs folded in chunk order (the
+//!   same bits for any thread count), panics caught once and reported as one error, nested
+//!   runs sharing the outer run's threads.
+//! * [`RunConfig`] and `run_settings!`: the sampler (with its default and reseeding), seed,
+//!   threads, points, replicates, tolerance and non-finite policy that every runner's builder
+//!   holds, with setters written once.
+//! * [`Stopping`]: when a run to a tolerance stops, and with which interval.
+
+mod config;
+mod executor;
+mod settings;
+mod stopping;
+
+pub(crate) use config::{RunConfig, RunSampler, require_randomized, require_uniform_points};
+pub(crate) use executor::{ChunkJob, Executor, available_threads};
+pub(crate) use settings::run_settings;
+pub(crate) use stopping::{DEFAULT_REPLICATES, Stopping};

@@ -1,0 +1,350 @@
+//! [`Plan`]: which sample indices each replicate of an [`Integrator`](super::Integrator) run
+//! uses, cut into fixed chunks that the [`Executor`] evaluates and folds in chunk order.
+
+use super::{CHUNK, DEFAULT_SAMPLES, NonFinitePolicy};
+use crate::engine::{ChunkJob, Executor, require_randomized};
+use crate::estimator::Estimator;
+use crate::sampler::{PassKind, Sampler};
+use crate::stats::{Accumulator, Estimate};
+use crate::{Error, Points, Result};
+
+/// Points generated and evaluated together: small enough to stay in L1/L2 cache.
+const BLOCK: u64 = 1024;
+/// Chunk results held in memory at once by a run: bounds the memory of huge runs.
+pub(super) const CHUNKS_IN_MEMORY: u64 = 1 << 16;
+
+/// The index layout of one run: which sample indices each replicate uses.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Plan {
+    /// Points per replicate in this run.
+    pub(super) samples: u64,
+    /// Local index (within each replicate) of the first point of this run: later stages of
+    /// a run to a tolerance continue where the earlier ones stopped.
+    pub(super) offset: u64,
+    pub(super) replicates: u64,
+    /// Distance between the first indices of consecutive replicates.
+    pub(super) stride: u64,
+    pub(super) chunks_per_replicate: u64,
+}
+
+impl Plan {
+    /// The plan of a fixed-budget run of `samples` points (default: the pass size, or `2^16`)
+    /// in each of `replicates` replicates (default 1) of `sampler`.
+    pub(super) fn new(
+        samples: Option<u64>,
+        replicates: Option<u64>,
+        sampler: &dyn Sampler,
+    ) -> Result<Plan> {
+        let replicates = replicates.unwrap_or(1);
+        if replicates == 0 {
+            return Err(Error::invalid("replicates", 0, "at least 1"));
+        }
+        if replicates > 1 {
+            require_randomized(
+                sampler,
+                "independent replicates, whose spread is the error bar, need a randomized \
+                 sampler: the passes of an unrandomized one repeat each other",
+            )
+            .map_err(|_| {
+                Error::invalid(
+                    "replicates",
+                    replicates,
+                    format!(
+                        "1 for the unrandomized {} sampler (its passes repeat each other; \
+                         choose a scramble to get independent replicates and an error bar)",
+                        sampler.name()
+                    ),
+                )
+            })?;
+        }
+        let passes = sampler.passes();
+        let samples = samples.unwrap_or(match passes {
+            PassKind::Fixed { size } => size,
+            _ => DEFAULT_SAMPLES,
+        });
+        if samples == 0 {
+            return Err(Error::invalid(
+                "samples",
+                0,
+                "at least 1 point per replicate",
+            ));
+        }
+        let stride = match passes {
+            PassKind::Independent => samples,
+            PassKind::Fixed { size } => {
+                if !samples.is_multiple_of(size) {
+                    let below = samples / size * size;
+                    let nearest = if below == 0 {
+                        format!("{size}")
+                    } else {
+                        format!("{below} or {}", below.saturating_add(size))
+                    };
+                    return Err(Error::invalid(
+                        "samples",
+                        samples,
+                        format!(
+                            "a multiple of the {} sampler's pass size {size} (nearest: {nearest})",
+                            sampler.name()
+                        ),
+                    ));
+                }
+                samples
+            }
+            PassKind::Extensible { max } => {
+                if samples > max {
+                    return Err(Error::invalid(
+                        "samples",
+                        samples,
+                        format!(
+                            "at most {max} points per replicate for the {} sampler",
+                            sampler.name()
+                        ),
+                    ));
+                }
+                max
+            }
+        };
+        Plan::stage(replicates, stride, 0, samples)
+    }
+
+    /// Points `offset .. offset + samples` of each of `replicates` replicates, `stride` apart.
+    pub(super) fn stage(replicates: u64, stride: u64, offset: u64, samples: u64) -> Result<Plan> {
+        (replicates - 1)
+            .checked_mul(stride)
+            .and_then(|s| s.checked_add(offset))
+            .and_then(|s| s.checked_add(samples))
+            .ok_or(Error::IndexOutOfRange {
+                what: "sample index of the last replicate",
+                limit: u64::MAX,
+            })?;
+        let plan = Plan {
+            samples,
+            offset,
+            replicates,
+            stride,
+            chunks_per_replicate: samples.div_ceil(CHUNK),
+        };
+        plan.total_chunks()?;
+        Ok(plan)
+    }
+
+    pub(super) fn total_chunks(&self) -> Result<u64> {
+        self.replicates
+            .checked_mul(self.chunks_per_replicate)
+            .ok_or(Error::IndexOutOfRange {
+                what: "number of work chunks",
+                limit: u64::MAX,
+            })
+    }
+
+    /// Replicate number and the range of local indices (within the replicate) of a chunk.
+    fn chunk_range(&self, chunk: u64) -> (u64, u64, u64) {
+        let replicate = chunk / self.chunks_per_replicate;
+        let first = self.offset + (chunk % self.chunks_per_replicate) * CHUNK;
+        // Saturating: a replicate may end at the very last index, u64::MAX - 1.
+        let end = self.offset.saturating_add(self.samples);
+        (replicate, first, first.saturating_add(CHUNK).min(end))
+    }
+
+    /// Evaluates every chunk and folds the results in chunk order.
+    pub(super) fn run_folded<E: Estimator>(
+        &self,
+        executor: &Executor,
+        sampler: &dyn Sampler,
+        estimator: &E,
+    ) -> Result<Folded> {
+        let job = Chunks {
+            plan: self,
+            sampler,
+            estimator,
+        };
+        let mut folded = Folded::new(self.replicates);
+        executor.run(
+            &job,
+            0..self.total_chunks()?,
+            CHUNKS_IN_MEMORY,
+            |chunk, r| {
+                folded.add(self, chunk, &r);
+                Ok(())
+            },
+        )?;
+        Ok(folded)
+    }
+
+    /// Fails with the first offending point when a contribution was not finite (under
+    /// [`NonFinitePolicy::Skip`], only when a replicate has no finite contribution left).
+    pub(super) fn check_finite(
+        &self,
+        sampler: &dyn Sampler,
+        folded: &Folded,
+        policy: NonFinitePolicy,
+    ) -> Result<()> {
+        let reps = &folded.replicates;
+        let count: u64 = reps.iter().map(|r| r.non_finite()).sum();
+        let Some(first) = folded.first_non_finite else {
+            return Ok(());
+        };
+        if policy == NonFinitePolicy::Skip {
+            return match reps.iter().position(|r| r.count() == 0) {
+                None => Ok(()),
+                Some(replicate) => Err(Error::invalid(
+                    "integrand",
+                    format!("non-finite at every point of replicate {replicate}"),
+                    "at least one finite contribution per replicate, even when skipping",
+                )),
+            };
+        }
+        let mut point = vec![0.0; sampler.dims()];
+        sampler.point(first.replicate * self.stride + first.index, &mut point)?;
+        Err(Error::NonFiniteContribution {
+            count,
+            first_index: first.index,
+            first_replicate: first.replicate,
+            first_value: first.value,
+            first_point: point,
+        })
+    }
+
+    /// The estimate from the folded chunks of a complete run: the same bits whichever
+    /// threads, processes or checkpoints produced the chunks.
+    pub(super) fn estimate(
+        &self,
+        sampler: &dyn Sampler,
+        folded: &Folded,
+        policy: NonFinitePolicy,
+    ) -> Result<Estimate> {
+        self.check_finite(sampler, folded, policy)?;
+        let reps = &folded.replicates;
+        if sampler.passes() == PassKind::Independent {
+            // Independent points: all samples are iid, so the per-sample variance is honest.
+            let mut all = Accumulator::new();
+            for r in reps {
+                all.merge(r);
+            }
+            let mut estimate = all.estimate();
+            estimate.replicates = self.replicates;
+            return Ok(estimate);
+        }
+        Estimate::from_replicate_accumulators(reps)
+    }
+}
+
+/// Where the first non-finite contribution of a chunk occurred.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub(super) struct NonFinite {
+    replicate: u64,
+    index: u64,
+    /// NaN or an infinity, serialized by its bits (JSON has no form for them).
+    #[cfg_attr(feature = "serde", serde(with = "f64_bits"))]
+    value: f64,
+}
+
+/// Serializes an `f64` as its IEEE-754 bits, so NaN and infinities survive any format.
+#[cfg(feature = "serde")]
+mod f64_bits {
+    pub fn serialize<S: serde::Serializer>(value: &f64, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_u64(value.to_bits())
+    }
+
+    pub fn deserialize<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        let bits: u64 = serde::Deserialize::deserialize(d)?;
+        Ok(f64::from_bits(bits))
+    }
+}
+
+/// What one chunk of work produced.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub(super) struct ChunkResult {
+    accumulator: Accumulator,
+    first_non_finite: Option<NonFinite>,
+}
+
+/// Chunk results folded in chunk order: one accumulator per replicate, and the first
+/// non-finite contribution.
+pub(super) struct Folded {
+    pub(super) replicates: Vec<Accumulator>,
+    first_non_finite: Option<NonFinite>,
+}
+
+impl Folded {
+    pub(super) fn new(replicates: u64) -> Folded {
+        Folded {
+            replicates: vec![Accumulator::new(); replicates as usize],
+            first_non_finite: None,
+        }
+    }
+
+    /// Adds the result of `chunk`; chunks must come in index order.
+    pub(super) fn add(&mut self, plan: &Plan, chunk: u64, result: &ChunkResult) {
+        let replicate = (chunk / plan.chunks_per_replicate) as usize;
+        self.replicates[replicate].merge(&result.accumulator);
+        if self.first_non_finite.is_none() {
+            self.first_non_finite = result.first_non_finite;
+        }
+    }
+}
+
+/// The chunks of one plan, as work for the [`Executor`].
+pub(super) struct Chunks<'a, E> {
+    pub(super) plan: &'a Plan,
+    pub(super) sampler: &'a dyn Sampler,
+    pub(super) estimator: &'a E,
+}
+
+/// Per-thread buffers, allocated once.
+pub(super) struct Workspace {
+    points: Points,
+    values: Vec<f64>,
+}
+
+impl<E: Estimator> ChunkJob for Chunks<'_, E> {
+    type Scratch = Workspace;
+    type Output = ChunkResult;
+
+    fn scratch(&self) -> Result<Workspace> {
+        Ok(Workspace {
+            points: Points::new(self.sampler.dims(), BLOCK as usize)?,
+            values: vec![0.0; BLOCK as usize],
+        })
+    }
+
+    fn run(&self, work: &mut Workspace, chunk: u64) -> Result<ChunkResult> {
+        let (replicate, first, end) = self.plan.chunk_range(chunk);
+        let base = replicate * self.plan.stride;
+        let mut accumulator = Accumulator::new();
+        let mut first_non_finite = None;
+        let mut start = first;
+        while start < end {
+            let len = (end - start).min(BLOCK) as usize;
+            work.points.set_len(len);
+            self.sampler.fill(base + start, &mut work.points)?;
+            let values = &mut work.values[..len];
+            self.estimator.contributions(&work.points, values);
+            let before = accumulator.non_finite();
+            accumulator.extend(values);
+            if accumulator.non_finite() > before && first_non_finite.is_none() {
+                first_non_finite =
+                    values
+                        .iter()
+                        .position(|y| !y.is_finite())
+                        .map(|offset| NonFinite {
+                            replicate,
+                            index: start + offset as u64,
+                            value: values[offset],
+                        });
+            }
+            start += len as u64;
+        }
+        Ok(ChunkResult {
+            accumulator,
+            first_non_finite,
+        })
+    }
+
+    fn origin(&self, chunk: u64) -> (u64, u64) {
+        let (replicate, first, _) = self.plan.chunk_range(chunk);
+        (replicate, first)
+    }
+}
