@@ -67,7 +67,7 @@ fn methods() -> [(&'static str, Method); 4] {
         ("vegas_plus", |f| {
             Vegas::new(f, unit())
                 .stratified(true)
-                .evaluations_per_iteration(BUDGET / 8)
+                .samples(BUDGET / 8)
                 .warmup(3)
                 .iterations(5)
                 .seed(1)

@@ -13,7 +13,7 @@ use mcint::{Error, Estimate};
 fn genz_run(g: &Genz, stratified: bool, evaluations: u64, seed: u64) -> Estimate {
     Vegas::new(|x: &[f64]| g.eval(x), UniformBox::unit(g.dims()).unwrap())
         .stratified(stratified)
-        .evaluations_per_iteration(evaluations)
+        .samples(evaluations)
         .seed(seed)
         .run()
         .unwrap()
@@ -100,7 +100,7 @@ fn vegas_plus_beats_vegas_on_separated_peaks() {
     let run = |stratified: bool| {
         Vegas::new(three_peaks, UniformBox::unit(4).unwrap())
             .stratified(stratified)
-            .evaluations_per_iteration(20_000)
+            .samples(20_000)
             .warmup(10)
             .iterations(10)
             .seed(5)
@@ -130,7 +130,7 @@ fn the_grid_adapts_to_a_peak() {
     let run = |alpha: f64| {
         Vegas::new(|x: &[f64]| g.eval(x), UniformBox::unit(3).unwrap())
             .alpha(alpha)
-            .evaluations_per_iteration(10_000)
+            .samples(10_000)
             .seed(2)
             .run()
             .unwrap()
@@ -157,7 +157,7 @@ fn warmup_iterations_are_not_in_the_estimate() {
     let g = Genz::with_defaults(GenzFamily::Gaussian, 3).unwrap();
     let run = |warmup: u64, iterations: u64| {
         Vegas::new(|x: &[f64]| g.eval(x), UniformBox::unit(3).unwrap())
-            .evaluations_per_iteration(5_000)
+            .samples(5_000)
             .warmup(warmup)
             .iterations(iterations)
             .seed(9)
@@ -192,7 +192,7 @@ fn warmup_iterations_are_not_in_the_estimate() {
 fn chi2_per_dof_is_near_one_on_a_smooth_function() {
     let g = Genz::with_defaults(GenzFamily::Oscillatory, 4).unwrap();
     let e = Vegas::new(|x: &[f64]| g.eval(x), UniformBox::unit(4).unwrap())
-        .evaluations_per_iteration(5_000)
+        .samples(5_000)
         .iterations(50)
         .seed(4)
         .run()
@@ -215,7 +215,7 @@ fn results_are_bit_identical_for_1_2_and_3_threads() {
             let run = |threads: usize| {
                 let v = Vegas::new(|x: &[f64]| g.eval(x), UniformBox::unit(4).unwrap())
                     .stratified(stratified)
-                    .evaluations_per_iteration(50_001)
+                    .samples(50_001)
                     .warmup(2)
                     .iterations(3)
                     .seed(13)
@@ -246,7 +246,7 @@ fn owen_scrambled_sobol_points_are_accepted_and_accurate() {
             let e = Vegas::new(|x: &[f64]| g.eval(x), UniformBox::unit(5).unwrap())
                 .sampler(Sobol::new(5, Scramble::Owen, 0).unwrap())
                 .stratified(stratified)
-                .evaluations_per_iteration(16_384)
+                .samples(16_384)
                 .seed(21)
                 .run()
                 .unwrap();
@@ -266,7 +266,7 @@ fn a_fixed_pass_sampler_works_without_stratification() {
     let e = Vegas::new(|x: &[f64]| g.eval(x), UniformBox::unit(2).unwrap())
         .sampler(Jittered::new(2, 50, 0).unwrap())
         .stratified(false)
-        .evaluations_per_iteration(5_000)
+        .samples(5_000)
         .seed(1)
         .run()
         .unwrap();
@@ -286,7 +286,7 @@ fn ninety_five_percent_intervals_cover_the_exact_value_about_95_percent_of_the_t
     let covers = (0..200)
         .filter(|&seed| {
             let e = Vegas::new(|x: &[f64]| g.eval(x), UniformBox::unit(5).unwrap())
-                .evaluations_per_iteration(4_000)
+                .samples(4_000)
                 .seed(seed)
                 .threads(1)
                 .run()
@@ -333,7 +333,7 @@ fn limits_stop_the_run_with_the_right_reason() {
     // The evaluation limit: stop before an iteration that would not fit.
     let limit = 100_000;
     let e = Vegas::new(f, unit())
-        .evaluations_per_iteration(10_000)
+        .samples(10_000)
         .warmup(2)
         .iterations(1000)
         .tolerance(unreachable.max_evaluations(limit).unwrap())
@@ -406,10 +406,7 @@ fn bad_settings_are_errors_that_name_the_setting() {
     let v = || Vegas::new(f, UniformBox::unit(2).unwrap());
     let message = |r: Result<Estimate, Error>| r.unwrap_err().to_string();
     for (name, result) in [
-        (
-            "evaluations_per_iteration",
-            v().evaluations_per_iteration(1).run(),
-        ),
+        ("samples", v().samples(1).run()),
         ("iterations", v().iterations(0).run()),
         ("grid_increments", v().grid_increments(1).run()),
         ("grid_increments", v().grid_increments(usize::MAX).run()),
@@ -428,10 +425,10 @@ fn bad_settings_are_errors_that_name_the_setting() {
             v().sampler(Jittered::new(2, 4, 0).unwrap()).run(),
         ),
         (
-            "evaluations_per_iteration",
+            "samples",
             v().sampler(Jittered::new(2, 4, 0).unwrap())
                 .stratified(false)
-                .evaluations_per_iteration(1000)
+                .samples(1000)
                 .run(),
         ),
         (
@@ -501,7 +498,7 @@ fn a_panicking_integrand_is_an_error_not_a_hang() {
             },
             UniformBox::unit(2).unwrap(),
         )
-        .evaluations_per_iteration(100_000)
+        .samples(100_000)
         .threads(threads)
         .run();
         assert!(result.unwrap_err().to_string().contains("panicked"));

@@ -140,12 +140,10 @@ fn method_observations() -> Result<Vec<Observation>> {
 
     let vegas = Vegas::new(f, unit()?)
         .stratified(false)
-        .evaluations_per_iteration(4000)
+        .samples(4000)
         .seed(7);
     pin("vegas", &vegas.run()?);
-    let vegas_plus = Vegas::new(f, unit()?)
-        .evaluations_per_iteration(4000)
-        .seed(8);
+    let vegas_plus = Vegas::new(f, unit()?).samples(4000).seed(8);
     pin("vegas+", &vegas_plus.run()?);
 
     let miser = Miser::new(f, unit()?).evaluations(1 << 14).seed(9);

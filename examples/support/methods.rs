@@ -100,7 +100,7 @@ impl AdaptiveRun<'_> {
                     .stratified(self.method == Method::VegasPlus)
                     .seed(self.seed);
                 if let Some(n) = self.n {
-                    vegas = vegas.evaluations_per_iteration(n);
+                    vegas = vegas.samples(n);
                 }
                 if let Some(t) = self.threads {
                     vegas = vegas.threads(t);

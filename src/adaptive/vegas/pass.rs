@@ -1,0 +1,335 @@
+//! One VEGAS iteration as chunks of work for the engine's executor: each chunk maps its
+//! points through the grid, evaluates them and sums them per hypercube, and the chunks' sums
+//! are folded in chunk order, so sums, training data and allocations (and hence the result)
+//! are bit-identical for any number of threads.
+
+use super::moments::{Moments, ShiftedSums, cube_result};
+use super::strata::{Allocation, ChunkStart, Strata};
+use crate::adaptive::VegasGrid;
+use crate::engine::{ChunkJob, Executor};
+use crate::sampler::Sampler;
+use crate::{Points, Result};
+
+/// Points drawn from the sampler at once.
+const BLOCK: usize = 512;
+/// Chunk outputs (each with a copy of the grid's training data) held in memory at once.
+const WINDOW: u64 = 64;
+
+/// Everything one iteration's chunks share.
+pub(super) struct Pass<'a, F> {
+    pub(super) f: &'a F,
+    pub(super) sampler: &'a dyn Sampler,
+    pub(super) grid: &'a VegasGrid,
+    pub(super) strata: &'a Strata,
+    pub(super) allocation: Allocation<'a>,
+    pub(super) chunks: &'a [ChunkStart],
+    pub(super) total: u64,
+    /// The iteration's number (warm-up included), named by errors.
+    pub(super) iteration: u64,
+    /// Sampler index of the iteration's first point.
+    pub(super) base: u64,
+    pub(super) beta: f64,
+    /// Whether `sigma_h^beta` is recorded for the next allocation (VEGAS+).
+    pub(super) allocating: bool,
+}
+
+/// The iteration's sums, built chunk by chunk in order.
+#[derive(Default)]
+pub(super) struct Totals {
+    pub(super) mean: f64,
+    pub(super) variance: f64,
+    /// The hypercube that straddles the last merged chunk's end.
+    open: Moments,
+    pub(super) non_finite: u64,
+    /// Index within the iteration and value of the first non-finite `J f`.
+    pub(super) first_non_finite: Option<(u64, f64)>,
+}
+
+impl<F: Fn(&[f64]) -> f64 + Sync> Pass<'_, F> {
+    /// Runs the iteration: its sums, with the grid's training data added to `training` and
+    /// each hypercube's `sigma_h^beta` written to `next_sigf` (when allocating).
+    pub(super) fn run(
+        &self,
+        executor: &Executor,
+        training: &mut [f64],
+        next_sigf: &mut [f64],
+    ) -> Result<Totals> {
+        let mut totals = Totals::default();
+        executor.run(self, 0..self.chunks.len() as u64, WINDOW, |_, out| {
+            totals.merge(&out, self, training, next_sigf);
+            Ok(())
+        })?;
+        Ok(totals)
+    }
+}
+
+impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for Pass<'_, F> {
+    type Scratch = Scratch;
+    type Output = ChunkOutput;
+
+    fn scratch(&self) -> Result<Scratch> {
+        Scratch::new(self)
+    }
+
+    fn run(&self, scratch: &mut Scratch, chunk: u64) -> Result<ChunkOutput> {
+        let mut out = ChunkOutput::new(self);
+        scratch.run_chunk(self, chunk as usize, &mut out)?;
+        Ok(out)
+    }
+
+    fn origin(&self, chunk: u64) -> (u64, u64) {
+        (self.iteration, self.chunks[chunk as usize].index)
+    }
+}
+
+impl Totals {
+    /// Adds one chunk's results; chunks arrive in index order.
+    fn merge<F>(
+        &mut self,
+        out: &ChunkOutput,
+        pass: &Pass<F>,
+        training: &mut [f64],
+        next_sigf: &mut [f64],
+    ) {
+        if let Some(head) = &out.head {
+            self.open.merge(head);
+            if out.head_ends {
+                let (mean, variance, sigf) =
+                    cube_result(&self.open, pass.strata.cube_volume, pass.beta);
+                self.mean += mean;
+                self.variance += variance;
+                if let Some(slot) = next_sigf.get_mut(out.start_cube as usize) {
+                    *slot = sigf;
+                }
+                self.open = Moments::default();
+            }
+        }
+        self.mean += out.closed_mean;
+        self.variance += out.closed_variance;
+        if !next_sigf.is_empty() {
+            let first = out.first_closed as usize;
+            next_sigf[first..first + out.closed_sigf.len()].copy_from_slice(&out.closed_sigf);
+        }
+        if let Some(tail) = out.tail {
+            self.open = tail;
+        }
+        for (sum, &part) in training.iter_mut().zip(&out.training) {
+            *sum += part;
+        }
+        self.non_finite += out.non_finite;
+        if self.first_non_finite.is_none() {
+            self.first_non_finite = out.first_non_finite;
+        }
+    }
+}
+
+/// What one chunk contributes, merged in chunk order.
+pub(super) struct ChunkOutput {
+    /// Training data of the grid, as [`VegasGrid`] lays it out.
+    training: Vec<f64>,
+    start_cube: u64,
+    /// The piece of a hypercube begun in an earlier chunk, and whether it ends here.
+    head: Option<Moments>,
+    head_ends: bool,
+    /// Hypercubes begun and ended in this chunk, from `first_closed` on.
+    first_closed: u64,
+    closed_mean: f64,
+    closed_variance: f64,
+    closed_sigf: Vec<f64>,
+    /// The hypercube begun here that continues in the next chunk.
+    tail: Option<Moments>,
+    non_finite: u64,
+    first_non_finite: Option<(u64, f64)>,
+}
+
+impl ChunkOutput {
+    fn new<F>(pass: &Pass<F>) -> ChunkOutput {
+        ChunkOutput {
+            training: vec![0.0; 2 * pass.grid.cells()],
+            start_cube: 0,
+            head: None,
+            head_ends: false,
+            first_closed: 0,
+            closed_mean: 0.0,
+            closed_variance: 0.0,
+            closed_sigf: Vec::new(),
+            tail: None,
+            non_finite: 0,
+            first_non_finite: None,
+        }
+    }
+
+    /// Clears the results for chunk `start`.
+    fn reset(&mut self, start: &ChunkStart) {
+        self.training.fill(0.0);
+        self.start_cube = start.cube;
+        self.head = None;
+        self.head_ends = false;
+        self.first_closed = if start.offset > 0 {
+            start.cube + 1
+        } else {
+            start.cube
+        };
+        self.closed_mean = 0.0;
+        self.closed_variance = 0.0;
+        self.closed_sigf.clear();
+        self.tail = None;
+        self.non_finite = 0;
+        self.first_non_finite = None;
+    }
+
+    /// Records a hypercube that ends in this chunk.
+    fn close_cube<F>(&mut self, sums: &ShiftedSums, continued: bool, pass: &Pass<F>) {
+        let moments = sums.moments();
+        if continued {
+            self.head = Some(moments);
+            self.head_ends = true;
+            return;
+        }
+        let (mean, variance, sigf) = cube_result(&moments, pass.strata.cube_volume, pass.beta);
+        self.closed_mean += mean;
+        self.closed_variance += variance;
+        if pass.allocating {
+            self.closed_sigf.push(sigf);
+        }
+    }
+}
+
+/// Per-worker buffers, allocated once per iteration.
+pub(super) struct Scratch {
+    points: Points,
+    /// The block's points, one row per point.
+    rows: Vec<f64>,
+    x: Vec<f64>,
+    cells: Vec<usize>,
+    /// Coordinates of the current hypercube, as integers and as floats.
+    coords: Vec<u64>,
+    coords_f: Vec<f64>,
+}
+
+impl Scratch {
+    fn new<F>(pass: &Pass<F>) -> Result<Scratch> {
+        let dims = pass.grid.dims();
+        Ok(Scratch {
+            points: Points::new(dims, BLOCK)?,
+            rows: vec![0.0; dims * BLOCK],
+            x: vec![0.0; dims],
+            cells: vec![0; dims],
+            coords: vec![0; dims],
+            coords_f: vec![0.0; dims],
+        })
+    }
+
+    /// Sets the coordinates of hypercube `cube` (axis 0 varies fastest).
+    fn set_coords(&mut self, mut cube: u64, strata: &Strata) {
+        for ((c, cf), &s) in self
+            .coords
+            .iter_mut()
+            .zip(self.coords_f.iter_mut())
+            .zip(&strata.per_axis)
+        {
+            *c = cube % s;
+            *cf = *c as f64;
+            cube /= s;
+        }
+    }
+
+    /// Steps to the next hypercube, like an odometer.
+    fn next_coords(&mut self, strata: &Strata) {
+        for ((c, cf), &s) in self
+            .coords
+            .iter_mut()
+            .zip(self.coords_f.iter_mut())
+            .zip(&strata.per_axis)
+        {
+            *c += 1;
+            if *c < s {
+                *cf = *c as f64;
+                return;
+            }
+            *c = 0;
+            *cf = 0.0;
+        }
+    }
+
+    /// Evaluates chunk `chunk` into `out`.
+    fn run_chunk<F: Fn(&[f64]) -> f64>(
+        &mut self,
+        pass: &Pass<F>,
+        chunk: usize,
+        out: &mut ChunkOutput,
+    ) -> Result<()> {
+        let start = pass.chunks[chunk];
+        let end = pass.chunks.get(chunk + 1).map_or(pass.total, |c| c.index);
+        let dims = self.x.len();
+        let grid = pass.grid;
+        let strata = pass.strata;
+        out.reset(&start);
+
+        let mut cube = start.cube;
+        self.set_coords(cube, strata);
+        let mut cube_n = pass.allocation.evaluations(cube);
+        let mut remaining = cube_n - start.offset;
+        let mut continued = start.offset > 0;
+        // Each point's share of y-space volume weights its training data, so that the
+        // per-increment averages of (J f)^2 are consistent under any allocation.
+        let mut share = strata.cube_volume / cube_n as f64;
+        let mut sums = ShiftedSums::default();
+
+        let mut index = start.index;
+        while index < end {
+            let len = (end - index).min(BLOCK as u64) as usize;
+            self.points.set_len(len);
+            pass.sampler.fill(pass.base + index, &mut self.points)?;
+            for d in 0..dims {
+                for (j, &u) in self.points.column(d).iter().enumerate() {
+                    self.rows[j * dims + d] = u;
+                }
+            }
+            for j in 0..len {
+                if remaining == 0 {
+                    out.close_cube(&sums, continued, pass);
+                    continued = false;
+                    sums = ShiftedSums::default();
+                    cube += 1;
+                    self.next_coords(strata);
+                    cube_n = pass.allocation.evaluations(cube);
+                    remaining = cube_n;
+                    share = strata.cube_volume / cube_n as f64;
+                }
+                remaining -= 1;
+                let u = &self.rows[j * dims..(j + 1) * dims];
+                let mut jacobian = 1.0;
+                for (d, &u) in u.iter().enumerate() {
+                    let y = (self.coords_f[d] + u) * strata.inverse[d];
+                    let (x, factor, cell) = grid.map_axis(d, y);
+                    self.x[d] = x;
+                    self.cells[d] = cell;
+                    jacobian *= factor;
+                }
+                let v = jacobian * (pass.f)(&self.x);
+                if !v.is_finite() {
+                    out.non_finite += 1;
+                    out.first_non_finite.get_or_insert((index + j as u64, v));
+                    continue;
+                }
+                sums.push(v);
+                let weighted = v * v * share;
+                for &cell in &self.cells {
+                    out.training[2 * cell] += weighted;
+                    out.training[2 * cell + 1] += share;
+                }
+            }
+            index += len as u64;
+        }
+        if remaining == 0 {
+            out.close_cube(&sums, continued, pass);
+        } else if continued {
+            out.head = Some(sums.moments());
+            out.head_ends = false;
+        } else {
+            out.tail = Some(sums.moments());
+        }
+        Ok(())
+    }
+}
