@@ -71,7 +71,7 @@ fn to_tolerance(c: &mut Criterion) {
             b.iter(|| {
                 let e = Miser::new(integrand, unit())
                     .sampler(Sobol::new(DIMS, Scramble::Owen, 0).unwrap())
-                    .evaluations(1 << 16)
+                    .samples(1 << 12)
                     .tolerance(tolerance())
                     .seed(next_seed())
                     .threads(1)

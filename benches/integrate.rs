@@ -78,7 +78,7 @@ fn methods() -> [(&'static str, Method); 4] {
         }),
         ("miser", |f| {
             Miser::new(f, unit())
-                .evaluations(BUDGET)
+                .samples(BUDGET / 16)
                 .seed(1)
                 .threads(1)
                 .run()

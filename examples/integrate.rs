@@ -27,7 +27,7 @@
 //! default with 16 replicates; `vegas` and `vegas-plus` are VEGAS without and with adaptive
 //! stratification (`--n` evaluations per iteration, default 10^4, after 5 warm-up
 //! iterations; 10 iterations, or as many as a tolerance needs), `miser` is MISER (`--n`
-//! evaluations in all, default 2^18, over `--replicates` independent runs, default 16). The
+//! evaluations per replicate, default 2^14, in `--replicates` independent runs, default 16). The
 //! adaptive methods take their uniform points from `--sampler` (default `independent`) and
 //! accept only `--estimator uniform`. `--tol-abs` and/or `--tol-rel` make the run stop once the 95%
 //! half-width is at most `max(tol-abs, tol-rel * |estimate|)` (then `--n` is the first stage:

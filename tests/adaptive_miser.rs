@@ -19,7 +19,7 @@ fn genz_families_in_2_and_5_dimensions_are_within_5_standard_errors() {
     for d in [2, 5] {
         for family in GenzFamily::ALL {
             let g = Genz::with_defaults(family, d).unwrap();
-            let e = miser(&g).evaluations(1 << 18).seed(11).run().unwrap();
+            let e = miser(&g).samples(1 << 14).seed(11).run().unwrap();
             let se = e.std_error.unwrap();
             let z = (e.mean - g.exact()) / se;
             assert!(z.abs() < 5.0, "{family} d={d}: z = {z:.2}, {e:?}");
@@ -61,7 +61,7 @@ fn beats_plain_monte_carlo_on_a_discontinuous_and_a_peaked_integrand() {
     let n = 1u64 << 18;
     for (g, g_sq) in [(&disc, &disc_sq), (&peak, &peak_sq)] {
         let plain = plain_variance(g, g_sq) / n as f64;
-        let e = miser(g).evaluations(n).seed(5).run().unwrap();
+        let e = miser(g).samples(n / 16).seed(5).run().unwrap();
         let ratio = plain / e.variance().unwrap();
         // Over 200 seeds MISER's variance at this budget is 69 (discontinuous) and 53 (peak)
         // times smaller than plain Monte Carlo's. The replicate variance is sigma^2 chi2_15/15,
@@ -82,7 +82,7 @@ fn replicate_intervals_cover_the_exact_integral() {
     let g = Genz::with_defaults(GenzFamily::Discontinuous, 2).unwrap();
     let (mut in95, mut in99) = (0, 0);
     for seed in 0..200 {
-        let e = miser(&g).evaluations(1 << 16).seed(seed).run().unwrap();
+        let e = miser(&g).samples(1 << 12).seed(seed).run().unwrap();
         let (lo, hi) = e.confidence_interval(0.95).unwrap().unwrap();
         in95 += usize::from(lo <= g.exact() && g.exact() <= hi);
         let (lo, hi) = e.confidence_interval(0.99).unwrap().unwrap();
@@ -100,7 +100,7 @@ fn results_are_bit_identical_for_any_thread_count() {
     for replicates in [2, 5] {
         let run = |threads| {
             miser(&g)
-                .evaluations(1 << 20)
+                .samples((1 << 20) / replicates)
                 .replicates(replicates)
                 .dither(0.1)
                 .seed(3)
@@ -113,14 +113,14 @@ fn results_are_bit_identical_for_any_thread_count() {
         assert_eq!(one, run(3));
     }
     // The seed matters, and the sampler's seed is overridden by `seed`.
-    let a = miser(&g).evaluations(1 << 14).seed(1).run().unwrap();
+    let a = miser(&g).samples(1 << 10).seed(1).run().unwrap();
     let b = miser(&g)
         .sampler(Independent::new(3, 99).unwrap())
-        .evaluations(1 << 14)
+        .samples(1 << 10)
         .seed(1)
         .run()
         .unwrap();
-    let c = miser(&g).evaluations(1 << 14).seed(2).run().unwrap();
+    let c = miser(&g).samples(1 << 10).seed(2).run().unwrap();
     assert_eq!(a, b);
     assert_ne!(a.mean, c.mean);
 }
@@ -132,7 +132,7 @@ fn owen_scrambled_sobol_points_are_accepted_and_accurate() {
         let run = |threads| {
             miser(&g)
                 .sampler(Sobol::new(5, Scramble::Owen, 0).unwrap())
-                .evaluations(1 << 18)
+                .samples(1 << 14)
                 .seed(21)
                 .threads(threads)
                 .run()
@@ -147,7 +147,7 @@ fn owen_scrambled_sobol_points_are_accepted_and_accurate() {
     let g = Genz::with_defaults(GenzFamily::ProductPeak, 2).unwrap();
     let e = miser(&g)
         .sampler(Pmj02::with_max_points(2, 4, 0).unwrap())
-        .evaluations(1 << 16)
+        .samples(1 << 12)
         .seed(2)
         .run()
         .unwrap();
@@ -171,7 +171,7 @@ fn tolerance_stops_the_run_for_the_right_reason() {
     let tol = Tolerance::absolute(2e-4).unwrap();
     let e = miser(&g)
         .tolerance(tol)
-        .evaluations(1 << 12)
+        .samples(1 << 8)
         .seed(4)
         .run()
         .unwrap();
@@ -192,7 +192,7 @@ fn tolerance_stops_the_run_for_the_right_reason() {
         .unwrap();
     let e = miser(&g)
         .tolerance(tight)
-        .evaluations(4096)
+        .samples(256)
         .seed(4)
         .run()
         .unwrap();
@@ -224,8 +224,7 @@ fn bad_parameters_are_errors_that_name_the_field() {
     let g = Genz::with_defaults(GenzFamily::Gaussian, 2).unwrap();
     let message = |m: Miser<_>| m.run().unwrap_err().to_string();
     let cases: Vec<(String, &str)> = vec![
-        (message(miser(&g).evaluations(0)), "evaluations"),
-        (message(miser(&g).evaluations(15)), "evaluations"),
+        (message(miser(&g).samples(0)), "samples"),
         (message(miser(&g).replicates(0)), "replicates"),
         (message(miser(&g).replicates(1 << 21)), "replicates"),
         (
@@ -275,7 +274,7 @@ fn bad_parameters_are_errors_that_name_the_field() {
         |x: &[f64]| if x[0] < 0.5 { f64::NAN } else { 1.0 },
         UniformBox::unit(2).unwrap(),
     )
-    .evaluations(1 << 12)
+    .samples(1 << 8)
     .run()
     .unwrap_err()
     .to_string();
@@ -288,17 +287,17 @@ fn boundary_settings_still_give_correct_answers() {
     // estimate unbiased; only its variance changes.
     let g = Genz::with_defaults(GenzFamily::ProductPeak, 3).unwrap();
     let settings: Vec<Miser<_>> = vec![
-        miser(&g).evaluations(16 * 3),
-        miser(&g).alpha(0.0).evaluations(1 << 16),
-        miser(&g).dither(0.4).evaluations(1 << 16),
+        miser(&g).samples(3),
+        miser(&g).alpha(0.0).samples(1 << 12),
+        miser(&g).dither(0.4).samples(1 << 12),
         miser(&g)
             .explore_fraction(0.9)
             .min_points(2)
-            .evaluations(1 << 16),
+            .samples(1 << 12),
         miser(&g)
             .min_points(2)
             .min_points_per_bisection(6)
-            .evaluations(1 << 14),
+            .samples(1 << 10),
     ];
     for (i, m) in settings.into_iter().enumerate() {
         let e = m.seed(8).run().unwrap();

@@ -46,7 +46,7 @@ fn reusing_the_pilot_is_biased_and_the_two_stage_estimate_is_not() {
             .map(|seed| {
                 TwoStage::new(sparse_spikes, UniformBox::unit(2).unwrap(), 8)
                     .pilot(4)
-                    .total(64 * 40)
+                    .samples(64 * 40)
                     .reuse_pilot(reuse)
                     .seed(seed)
                     .run()
@@ -93,7 +93,7 @@ fn neyman_allocation_beats_plain_monte_carlo_where_the_variance_is_uneven() {
     for seed in 0..50 {
         let e = TwoStage::new(|x: &[f64]| peak.eval(x), UniformBox::unit(2).unwrap(), 16)
             .pilot(4)
-            .total(total)
+            .samples(total)
             .seed(seed)
             .run()
             .unwrap();
@@ -128,7 +128,7 @@ fn results_are_bit_identical_for_any_thread_count_and_sampler_choices_work() {
     let run = |threads, sobol: bool| {
         let t = TwoStage::new(|x: &[f64]| g.eval(x), UniformBox::unit(3).unwrap(), 12)
             .pilot(4)
-            .total(40_000)
+            .samples(40_000)
             .threads(threads);
         let t = if sobol {
             t.sampler(Sobol::new(3, Scramble::Owen, 0).unwrap())
@@ -148,7 +148,7 @@ fn results_are_bit_identical_for_any_thread_count_and_sampler_choices_work() {
     // `seed` overrides the sampler's own seed.
     let with_sampler = TwoStage::new(|x: &[f64]| g.eval(x), UniformBox::unit(3).unwrap(), 12)
         .pilot(4)
-        .total(40_000)
+        .samples(40_000)
         .sampler(Independent::new(3, 1234).unwrap())
         .seed(17)
         .run()
@@ -166,8 +166,8 @@ fn bad_parameters_are_errors_that_name_the_field() {
         (message(TwoStage::new(f, unit(), 5000)), "strata_per_axis"),
         (message(TwoStage::new(f, unit(), 4).pilot(1)), "pilot"),
         (
-            message(TwoStage::new(f, unit(), 4).pilot(2).total(63)),
-            "total",
+            message(TwoStage::new(f, unit(), 4).pilot(2).samples(63)),
+            "samples",
         ),
         (message(TwoStage::new(f, unit(), 4).threads(0)), "threads"),
         (
@@ -191,7 +191,7 @@ fn bad_parameters_are_errors_that_name_the_field() {
     assert_eq!(
         TwoStage::new(f, unit(), 4)
             .pilot(2)
-            .total(64)
+            .samples(64)
             .run()
             .unwrap()
             .evaluations,

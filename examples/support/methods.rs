@@ -70,8 +70,8 @@ pub struct AdaptiveRun<'a> {
     pub method: Method,
     pub f: &'a Genz,
     pub sampler: Box<dyn Sampler>,
-    /// `--n`: evaluations per iteration (VEGAS) or of the whole run (MISER; with a
-    /// tolerance, of the first stage).
+    /// `--n`: evaluations per iteration (VEGAS) or per replicate (MISER; with a tolerance, of
+    /// the first stage).
     pub n: Option<u64>,
     /// `--replicates` (MISER only).
     pub replicates: Option<u64>,
@@ -115,7 +115,7 @@ impl AdaptiveRun<'_> {
                     .sampler(self.sampler)
                     .seed(self.seed);
                 if let Some(n) = self.n {
-                    miser = miser.evaluations(n);
+                    miser = miser.samples(n);
                 }
                 if let Some(r) = self.replicates {
                     miser = miser.replicates(r);

@@ -25,30 +25,26 @@
 //! replicate means are independent and identically distributed, so their Student-t interval
 //! with `R - 1` degrees of freedom is honest ([`Estimate::from_replicates`]).
 
-pub(super) mod batch;
-
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
-use std::time::Instant;
-
-use batch::{BLOCK, Batches, Cell};
-
+use super::batches::{BLOCK, Batches};
+use super::cell::Cell;
+use crate::engine::{
+    ChunkJob, DEFAULT_REPLICATES, Executor, RunConfig, Stopping, require_uniform_points,
+    run_settings,
+};
 use crate::hash::hash_words;
+use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
-use crate::sampler::{Independent, Sampler};
-use crate::stats::{Estimate, StopReason, Tolerance};
+use crate::stats::{Estimate, StopReason};
 use crate::{Error, Points, Result};
 
-/// Evaluations of a run without [`Miser::evaluations`].
-const DEFAULT_EVALUATIONS: u64 = 1 << 18;
-/// Replicates of a run without [`Miser::replicates`].
-const DEFAULT_REPLICATES: u64 = 16;
+/// Points per replicate of a run without [`Miser::samples`].
+const DEFAULT_SAMPLES: u64 = 1 << 14;
 /// The most replicates a run may have (their results are kept in memory).
 const MAX_REPLICATES: u64 = 1 << 20;
 /// A region this deep is integrated as a leaf, which bounds the recursion (and the stack)
 /// even for a tiny `explore_fraction`; typical trees are a few dozen levels deep.
 const MAX_DEPTH: u32 = 512;
-/// Both halves need this many points before a spare thread takes one of them.
+/// Both halves need this many points before they are offered to other threads.
 const SPLIT_MIN: u64 = 1 << 14;
 /// Separates MISER's coin flips from every other use of the seed.
 const TAG: u64 = 0x004d_4953_4552;
@@ -62,17 +58,19 @@ const TAG: u64 = 0x004d_4953_4552;
 /// large subregions, are units of work whose points and decisions depend only on their
 /// place in the plan, and partial results are added in a fixed order.
 ///
-/// With a [`Tolerance`], the run starts with [`evaluations`](Self::evaluations) and doubles
-/// the evaluations per replicate, each stage a fresh, independent run, until the 95%
-/// half-width meets the tolerance or a limit stops it; the estimate is the last stage's (`n`
-/// its evaluations, exploration included) and `evaluations` counts every stage.
+/// With a [`tolerance`](Self::tolerance), the run starts with [`samples`](Self::samples) per
+/// replicate and doubles them, each stage a fresh, independent run, until the 95% half-width
+/// meets the tolerance or a limit stops it; the estimate is the last stage's (`n` its
+/// evaluations, exploration included) and `evaluations` counts every stage. As for the
+/// Integrator's replicates, the standard error of a run to a tolerance is inflated by 1.2
+/// against optional stopping.
 ///
 /// ```
 /// use mcint::{adaptive::Miser, pdf::UniformBox};
 /// // A sharp peak: the integral of exp(-50 |x - c|^2) over the unit square is about pi/50.
 /// let f = |x: &[f64]| (-50.0 * ((x[0] - 0.5).powi(2) + (x[1] - 0.5).powi(2))).exp();
 /// let e = Miser::new(f, UniformBox::unit(2).unwrap())
-///     .evaluations(1 << 16)
+///     .samples(1 << 12)
 ///     .seed(1)
 ///     .run()
 ///     .unwrap();
@@ -83,23 +81,18 @@ const TAG: u64 = 0x004d_4953_4552;
 pub struct Miser<F> {
     f: F,
     domain: UniformBox,
-    sampler: Option<Box<dyn Sampler>>,
-    evaluations: u64,
-    tolerance: Option<Tolerance>,
+    config: RunConfig,
     explore_fraction: f64,
     min_points: Option<u64>,
     min_points_per_bisection: Option<u64>,
     dither: f64,
     alpha: f64,
-    replicates: u64,
-    seed: Option<u64>,
-    threads: Option<usize>,
 }
 
 impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
     /// MISER for `f` over a box, with GSL's defaults: `explore_fraction` 0.1,
     /// `min_points` `16 d`, `min_points_per_bisection` `32 min_points`, `alpha` 2, no dither;
-    /// and 16 replicates, `2^18` evaluations, independent points, all threads.
+    /// and 16 replicates of `2^14` points, independent points, all threads.
     ///
     /// ```
     /// use mcint::{adaptive::Miser, pdf::UniformBox};
@@ -110,72 +103,34 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
         Miser {
             f,
             domain,
-            sampler: None,
-            evaluations: DEFAULT_EVALUATIONS,
-            tolerance: None,
+            config: RunConfig::default(),
             explore_fraction: 0.1,
             min_points: None,
             min_points_per_bisection: None,
             dither: 0.0,
             alpha: 2.0,
-            replicates: DEFAULT_REPLICATES,
-            seed: None,
-            threads: None,
         }
     }
 
-    /// The source of uniform points: independent points or an extensible randomized sequence
-    /// (scrambled Sobol', Halton, lattice, ...) whose dimension equals the domain's. Samplers
-    /// with fixed-size passes are refused by [`run`](Self::run). A seed set with
-    /// [`seed`](Self::seed) overrides the sampler's.
-    ///
-    /// ```
-    /// use mcint::{adaptive::Miser, pdf::UniformBox, sampler::{Scramble, Sobol}};
-    /// let e = Miser::new(|x: &[f64]| x[0] * x[1], UniformBox::unit(2).unwrap())
-    ///     .sampler(Sobol::new(2, Scramble::Owen, 3).unwrap())
-    ///     .evaluations(1 << 14)
-    ///     .run()
-    ///     .unwrap();
-    /// assert!((e.mean - 0.25).abs() < 5.0 * e.std_error.unwrap());
-    /// ```
-    pub fn sampler(mut self, sampler: impl Sampler + 'static) -> Self {
-        let mut boxed: Box<dyn Sampler> = Box::new(sampler);
-        if let Some(seed) = self.seed {
-            boxed.reseed(seed);
-        }
-        self.sampler = Some(boxed);
-        self
+    run_settings! {
+        setup: "use mcint::{adaptive::Miser, pdf::UniformBox};\n\
+                const DIMS: usize = 2;\n\
+                let runner = || Miser::new(|x: &[f64]| (x[0] * x[1]).exp(), UniformBox::unit(DIMS).unwrap()).samples(2048);",
+        run: ".run().unwrap()";
+        sampler, seed, threads, tolerance, non_finite
     }
 
-    /// Total integrand evaluations of a fixed run, exploration included (default `2^18`),
-    /// shared equally by the replicates (the remainder of `n / replicates` is not used); with a
-    /// tolerance, the evaluations of the first stage.
+    /// Integrand evaluations per replicate, exploration included (at least 1; default
+    /// `2^14`); with a tolerance, those of the first stage.
     ///
     /// ```
     /// use mcint::{adaptive::Miser, pdf::UniformBox};
     /// let e = Miser::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap())
-    ///     .evaluations(1000).replicates(8).run().unwrap();
+    ///     .samples(125).replicates(8).run().unwrap();
     /// assert_eq!(e.n, 1000);
     /// ```
-    pub fn evaluations(mut self, n: u64) -> Self {
-        self.evaluations = n;
-        self
-    }
-
-    /// Run in stages, doubling the evaluations per replicate, until `tolerance` is met or its
-    /// evaluation or time limit stops the run ([`Estimate::stop`] says which).
-    ///
-    /// ```
-    /// use mcint::{adaptive::Miser, pdf::UniformBox, stats::{StopReason, Tolerance}};
-    /// let e = Miser::new(|x: &[f64]| x[0] * x[0], UniformBox::unit(1).unwrap())
-    ///     .tolerance(Tolerance::absolute(1e-4).unwrap())
-    ///     .evaluations(1 << 12)
-    ///     .run()
-    ///     .unwrap();
-    /// assert_eq!((e.stop, e.converged), (StopReason::ToleranceMet, Some(true)));
-    /// ```
-    pub fn tolerance(mut self, tolerance: Tolerance) -> Self {
-        self.tolerance = Some(tolerance);
+    pub fn samples(mut self, n: u64) -> Self {
+        self.config.samples = Some(n);
         self
     }
 
@@ -260,39 +215,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
     /// assert_eq!(e.std_error, None);
     /// ```
     pub fn replicates(mut self, replicates: u64) -> Self {
-        self.replicates = replicates;
-        self
-    }
-
-    /// The seed of every random choice: the sampler's randomization and MISER's coin flips.
-    /// The same seed gives the same result.
-    ///
-    /// ```
-    /// use mcint::{adaptive::Miser, pdf::UniformBox};
-    /// let run = |s| Miser::new(|x: &[f64]| x[0].sin(), UniformBox::unit(1).unwrap())
-    ///     .evaluations(4096).seed(s).run().unwrap().mean;
-    /// assert_eq!(run(1), run(1));
-    /// assert_ne!(run(1), run(2));
-    /// ```
-    pub fn seed(mut self, seed: u64) -> Self {
-        self.seed = Some(seed);
-        if let Some(sampler) = self.sampler.as_mut() {
-            sampler.reseed(seed);
-        }
-        self
-    }
-
-    /// Number of worker threads (at least 1; default: all available). The result does not
-    /// depend on it.
-    ///
-    /// ```
-    /// use mcint::{adaptive::Miser, pdf::UniformBox};
-    /// let run = |t| Miser::new(|x: &[f64]| x[0].exp(), UniformBox::unit(1).unwrap())
-    ///     .evaluations(1 << 16).replicates(2).threads(t).run().unwrap();
-    /// assert_eq!(run(1), run(3));
-    /// ```
-    pub fn threads(mut self, threads: usize) -> Self {
-        self.threads = Some(threads);
+        self.config.replicates = Some(replicates);
         self
     }
 
@@ -310,36 +233,33 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
     /// ```
     pub fn run(&self) -> Result<Estimate> {
         let settings = self.settings()?;
-        let threads = crate::threads::resolve(self.threads)?;
-        let default_sampler;
-        let sampler: &dyn Sampler = match &self.sampler {
-            Some(s) => s.as_ref(),
-            None => {
-                default_sampler = Independent::new(self.domain.dims(), self.seed.unwrap_or(0))?;
-                &default_sampler
-            }
-        };
-        let batches = Batches::new(sampler, &self.domain, "MISER")?;
+        let executor = self.config.executor()?;
+        let sampler = self
+            .config
+            .sampler(self.domain.dims(), "sampler (the dimension of the domain)")?;
+        require_uniform_points(&*sampler, "MISER, which draws batches of any size")?;
         let run = Run {
             f: &self.f,
             domain: &self.domain,
-            batches,
+            batches: Batches::new(&*sampler, "MISER")?,
             settings,
-            seed: self.seed.unwrap_or_else(|| sampler.seed()),
+            seed: self.config.seed().unwrap_or_else(|| sampler.seed()),
+            executor,
+            skip_non_finite: self.config.non_finite == NonFinitePolicy::Skip,
         };
-
-        let r = self.replicates;
-        let first_stage = match &self.tolerance {
-            Some(t) => self.evaluations.min(t.evaluation_limit()),
-            None => self.evaluations,
-        };
-        let mut per_replicate = first_stage / r;
+        let r = settings.replicates;
+        let mut per_replicate = self.config.samples.unwrap_or(DEFAULT_SAMPLES);
+        let stopping = self.config.tolerance.as_ref().map(Stopping::new);
+        if let Some(stopping) = &stopping {
+            // The first stage fits the evaluation limit, if any stage does.
+            per_replicate = per_replicate.min(stopping.tolerance().evaluation_limit() / r);
+        }
         if per_replicate == 0 {
-            let (name, value) = match &self.tolerance {
-                Some(t) if t.evaluation_limit() < self.evaluations => {
+            let (name, value) = match &self.config.tolerance {
+                Some(t) if self.config.samples.is_none_or(|n| n > 0) => {
                     ("max_evals", t.evaluation_limit())
                 }
-                _ => ("evaluations", self.evaluations),
+                _ => ("samples", 0),
             };
             return Err(Error::invalid(
                 name,
@@ -348,62 +268,48 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
             ));
         }
 
-        let start = Instant::now();
         let mut spent: u64 = 0;
         let mut next_slot: u64 = 0;
         let mut stage: u64 = 0;
         loop {
             stage += 1;
             let stage_evaluations = per_replicate * r;
-            let means = run.stage(per_replicate, r, next_slot, threads)?;
+            let estimate = run.stage(per_replicate, r, next_slot)?;
             spent = spent.saturating_add(stage_evaluations);
             next_slot += stage_evaluations;
-            let mut estimate = Estimate::from_replicates(&means, per_replicate)?;
-            estimate.evaluations = spent;
-            estimate.iterations = stage;
-            let Some(tolerance) = &self.tolerance else {
-                estimate.stop = StopReason::Budget;
+            let Some(stopping) = &stopping else {
                 return Ok(estimate);
             };
-            let stop = if tolerance.is_met(&estimate) {
+            let (mut estimate, met) = stopping.judge(estimate);
+            estimate.evaluations = spent;
+            let next = per_replicate.checked_mul(2 * r).unwrap_or(u64::MAX);
+            let stop = if met {
                 Some(StopReason::ToleranceMet)
-            } else if tolerance
-                .time()
-                .is_some_and(|limit| start.elapsed() >= limit)
-            {
-                Some(StopReason::TimeLimit)
-            } else if per_replicate
-                .checked_mul(2 * r)
-                .and_then(|next| spent.checked_add(next))
-                .is_none_or(|total| total > tolerance.evaluation_limit())
-            {
-                Some(StopReason::MaxEvaluations)
             } else {
-                None
+                stopping.limit(spent, next)
             };
             if let Some(stop) = stop {
-                estimate.stop = stop;
-                estimate.converged = Some(stop == StopReason::ToleranceMet);
+                stopping.finish(&mut estimate, stop, stage);
                 return Ok(estimate);
             }
             per_replicate *= 2;
         }
     }
 
-    /// Validates the settings and fills in the defaults that depend on the dimension.
     fn settings(&self) -> Result<Settings> {
         let dims = self.domain.dims();
-        if !(1..=MAX_REPLICATES).contains(&self.replicates) {
+        let replicates = self.config.replicates.unwrap_or(DEFAULT_REPLICATES);
+        if !(1..=MAX_REPLICATES).contains(&replicates) {
             return Err(Error::invalid(
                 "replicates",
-                self.replicates,
+                replicates,
                 format!("1 to {MAX_REPLICATES}"),
             ));
         }
-        if self.replicates < 2 && self.tolerance.is_some() {
+        if replicates < 2 && self.config.tolerance.is_some() {
             return Err(Error::invalid(
                 "replicates",
-                self.replicates,
+                replicates,
                 "at least 2 with a tolerance (the error bar comes from the replicates)",
             ));
         }
@@ -443,6 +349,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
         }
         Ok(Settings {
             dims,
+            replicates,
             explore_fraction: f,
             min_points,
             min_bisect,
@@ -456,6 +363,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
 #[derive(Debug, Clone, Copy)]
 struct Settings {
     dims: usize,
+    replicates: u64,
     explore_fraction: f64,
     min_points: u64,
     min_bisect: u64,
@@ -471,6 +379,9 @@ struct Run<'a, F> {
     batches: Batches<'a>,
     settings: Settings,
     seed: u64,
+    executor: Executor,
+    /// Leave NaN and infinite values out (counted) instead of failing.
+    skip_non_finite: bool,
 }
 
 /// Where a replicate's first non-finite value occurred.
@@ -551,23 +462,17 @@ impl HalfSums {
     }
 }
 
-/// The slots of one stage's replicates, and the spare threads its regions may take.
+/// The slots of one stage's replicates.
 struct Stage {
+    /// First slot of the stage.
     base: u64,
     per_replicate: u64,
-    spare: AtomicUsize,
 }
 
 impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
-    /// Runs `replicates` independent MISER replicates of `per_replicate` evaluations each,
-    /// using the slots from `base` on, and returns their estimates in replicate order.
-    fn stage(
-        &self,
-        per_replicate: u64,
-        replicates: u64,
-        base: u64,
-        threads: usize,
-    ) -> Result<Vec<f64>> {
+    /// One stage: `replicates` independent MISER runs of `per_replicate` evaluations each,
+    /// from slot `base` on, as one estimate from the replicates.
+    fn stage(&self, per_replicate: u64, replicates: u64, base: u64) -> Result<Estimate> {
         let needed = per_replicate
             .checked_mul(replicates)
             .and_then(|n| n.checked_add(base));
@@ -577,70 +482,26 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
                 limit: self.batches.slots(),
             });
         }
-        let workers = threads.min(usize::try_from(replicates).unwrap_or(usize::MAX));
-        let stage = Stage {
-            base,
-            per_replicate,
-            spare: AtomicUsize::new(threads - workers),
+        let stage = StageJob {
+            run: self,
+            stage: Stage {
+                base,
+                per_replicate,
+            },
         };
-        let next = AtomicU64::new(0);
-        let failed = AtomicBool::new(false);
-        let first_error: Mutex<Option<Error>> = Mutex::new(None);
-        let fail = |e: Error| {
-            failed.store(true, Ordering::Relaxed);
-            if let Ok(mut slot) = first_error.lock() {
-                slot.get_or_insert(e);
-            }
-        };
-
-        let finished: Vec<Option<Vec<(u64, Partial)>>> = std::thread::scope(|scope| {
-            let handles: Vec<_> = (0..workers)
-                .map(|_| {
-                    scope.spawn(|| {
-                        let mut done = Vec::new();
-                        match Workspace::new(self.settings.dims) {
-                            Ok(mut work) => loop {
-                                let r = next.fetch_add(1, Ordering::Relaxed);
-                                if r >= replicates || failed.load(Ordering::Relaxed) {
-                                    break;
-                                }
-                                let slot = base + r * per_replicate;
-                                let cell = Cell::unit(self.settings.dims);
-                                match self.region(&stage, cell, per_replicate, slot, 0, &mut work) {
-                                    Ok(partial) => done.push((r, partial)),
-                                    Err(e) => {
-                                        fail(e);
-                                        break;
-                                    }
-                                }
-                            },
-                            Err(e) => fail(e),
-                        }
-                        // Out of replicates: this thread may now take subregions of others.
-                        stage.spare.fetch_add(1, Ordering::Relaxed);
-                        done
-                    })
-                })
-                .collect();
-            handles.into_iter().map(|h| h.join().ok()).collect()
-        });
-
-        if let Some(e) = first_error.into_inner().ok().flatten() {
-            return Err(e);
-        }
-        let mut partials: Vec<Option<Partial>> = vec![None; replicates as usize];
-        for (r, partial) in finished.into_iter().flatten().flatten() {
-            partials[r as usize] = Some(partial);
-        }
-        let partials: Vec<Partial> = partials
-            .into_iter()
-            .collect::<Option<_>>()
-            .ok_or_else(crate::threads::worker_panicked)?;
+        let mut partials = Vec::with_capacity(replicates as usize);
+        // Every replicate at once: their results are small.
+        self.executor
+            .run(&stage, 0..replicates, replicates, |_, p| {
+                partials.push(p);
+                Ok(())
+            })?;
         let non_finite: u64 = partials.iter().map(|p| p.non_finite).sum();
-        if let Some((r, first)) = partials
-            .iter()
-            .enumerate()
-            .find_map(|(r, p)| p.first.as_ref().map(|first| (r, first)))
+        if !self.skip_non_finite
+            && let Some((r, first)) = partials
+                .iter()
+                .enumerate()
+                .find_map(|(r, p)| p.first.as_ref().map(|first| (r, first)))
         {
             return Err(Error::NonFiniteContribution {
                 count: non_finite,
@@ -651,7 +512,10 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
             });
         }
         let volume = self.domain.volume();
-        Ok(partials.iter().map(|p| volume * p.integral).collect())
+        let means: Vec<f64> = partials.iter().map(|p| volume * p.integral).collect();
+        let mut estimate = Estimate::from_replicates(&means, per_replicate)?;
+        estimate.non_finite = non_finite;
+        Ok(estimate)
     }
 
     /// MISER on one region with `budget` evaluations, drawing its batches from slot `slot` on.
@@ -726,25 +590,20 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
         let slot_left = slot + explore;
         let slot_right = slot_left + n_left;
 
-        let take_thread = n_left >= SPLIT_MIN
-            && n_right >= SPLIT_MIN
-            && stage
-                .spare
-                .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| n.checked_sub(1))
-                .is_ok();
-        let (l, r) = if take_thread {
-            std::thread::scope(|scope| {
-                let handle = scope.spawn(|| {
+        let (l, r) = if n_left >= SPLIT_MIN && n_right >= SPLIT_MIN {
+            // Large halves are offered to other threads; the tree fixes the order of the sum.
+            let origin = (stage.replicate_of(slot), slot - stage.base_of(slot));
+            self.executor.join(
+                origin,
+                || {
                     let mut own = Workspace::new(s.dims)?;
                     self.region(stage, left, n_left, slot_left, depth + 1, &mut own)
-                });
-                let r = self.region(stage, right, n_right, slot_right, depth + 1, work);
-                let l = handle
-                    .join()
-                    .unwrap_or_else(|_| Err(crate::threads::worker_panicked()));
-                stage.spare.fetch_add(1, Ordering::Relaxed);
-                (l, r)
-            })
+                },
+                || {
+                    let mut own = Workspace::new(s.dims)?;
+                    self.region(stage, right, n_right, slot_right, depth + 1, &mut own)
+                },
+            )
         } else {
             let l = self.region(stage, left, n_left, slot_left, depth + 1, work);
             let r = self.region(stage, right, n_right, slot_right, depth + 1, work);
@@ -835,14 +694,47 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
             }
             k += len as u64;
         }
-        if n > 0 {
-            partial.integral = cell.volume() * (sum / n as f64);
+        // The finite values only (all of them, unless non-finite ones are skipped).
+        let finite = n - partial.non_finite;
+        if finite > 0 {
+            partial.integral = cell.volume() * (sum / finite as f64);
         }
         Ok(partial)
     }
 }
 
+/// The replicates of one stage, as work for the executor: chunk `r` is replicate `r`.
+struct StageJob<'a, 'b, F> {
+    run: &'a Run<'b, F>,
+    stage: Stage,
+}
+
+impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StageJob<'_, '_, F> {
+    type Scratch = Workspace;
+    type Output = Partial;
+
+    fn scratch(&self) -> Result<Workspace> {
+        Workspace::new(self.run.settings.dims)
+    }
+
+    fn run(&self, work: &mut Workspace, r: u64) -> Result<Partial> {
+        let slot = self.stage.base + r * self.stage.per_replicate;
+        let cell = Cell::unit(self.run.settings.dims);
+        self.run
+            .region(&self.stage, cell, self.stage.per_replicate, slot, 0, work)
+    }
+
+    fn origin(&self, r: u64) -> (u64, u64) {
+        (r, 0)
+    }
+}
+
 impl Stage {
+    /// The replicate that slot `slot` belongs to.
+    fn replicate_of(&self, slot: u64) -> u64 {
+        (slot - self.base) / self.per_replicate
+    }
+
     /// The first slot of the replicate that owns `slot`.
     fn base_of(&self, slot: u64) -> u64 {
         self.base + (slot - self.base) / self.per_replicate * self.per_replicate

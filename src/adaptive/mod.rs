@@ -8,6 +8,8 @@
 //! the thread count, stops at a [`Tolerance`](crate::stats::Tolerance) or a fixed budget, and
 //! returns the crate's [`Estimate`](crate::stats::Estimate).
 
+mod batches;
+mod cell;
 mod miser;
 mod two_stage;
 mod vegas;

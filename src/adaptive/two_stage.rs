@@ -19,18 +19,17 @@
 //! dilute that value, while a stratum whose pilot saw only small values keeps them at full
 //! weight, so rare large values are systematically under-counted.
 
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-
-use super::miser::batch::{BLOCK, Batches, Cell};
+use super::batches::{BLOCK, Batches};
+use super::cell::Cell;
+use crate::engine::{ChunkJob, Executor, RunConfig, require_uniform_points, run_settings};
+use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
-use crate::sampler::{Independent, Sampler};
 use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason};
 use crate::{Error, Points, Result};
 
 /// Pilot points per stratum without [`TwoStage::pilot`].
 const DEFAULT_PILOT: u64 = 8;
-/// Without [`TwoStage::total`], the total is this many times the pilot.
+/// Without [`TwoStage::samples`], the total is this many times the pilot.
 const DEFAULT_TOTAL_PER_PILOT: u64 = 4;
 /// Second-stage points every stratum gets whatever its pilot showed.
 const MIN_MAIN: u64 = 2;
@@ -52,7 +51,7 @@ const STRATA_PER_CHUNK: usize = 64;
 /// let f = |x: &[f64]| (-200.0 * ((x[0] - 0.9).powi(2) + (x[1] - 0.9).powi(2))).exp();
 /// let e = TwoStage::new(f, UniformBox::unit(2).unwrap(), 8)
 ///     .pilot(8)
-///     .total(20_000)
+///     .samples(20_000)
 ///     .seed(5)
 ///     .run()
 ///     .unwrap();
@@ -66,11 +65,8 @@ pub struct TwoStage<F> {
     domain: UniformBox,
     strata_per_axis: usize,
     pilot: u64,
-    total: Option<u64>,
     reuse_pilot: bool,
-    sampler: Option<Box<dyn Sampler>>,
-    seed: Option<u64>,
-    threads: Option<usize>,
+    config: RunConfig,
 }
 
 impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
@@ -90,12 +86,17 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
             domain,
             strata_per_axis,
             pilot: DEFAULT_PILOT,
-            total: None,
             reuse_pilot: false,
-            sampler: None,
-            seed: None,
-            threads: None,
+            config: RunConfig::default(),
         }
+    }
+
+    run_settings! {
+        setup: "use mcint::{adaptive::TwoStage, pdf::UniformBox};\n\
+                const DIMS: usize = 2;\n\
+                let runner = || TwoStage::new(|x: &[f64]| (x[0] * x[1]).exp(), UniformBox::unit(DIMS).unwrap(), 8).samples(4096);",
+        run: ".run().unwrap()";
+        sampler, seed, threads, non_finite
     }
 
     /// Pilot points per stratum (at least 2, for a standard deviation; default 8).
@@ -111,17 +112,17 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
         self
     }
 
-    /// Total evaluations, pilot included (at least `(pilot + 2)` per stratum; default
-    /// `4 pilot` per stratum).
+    /// Total evaluations of the run (its one replicate), pilot included (at least
+    /// `(pilot + 2)` per stratum; default `4 pilot` per stratum).
     ///
     /// ```
     /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
-    /// let run = |n| TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap(), 4).pilot(2).total(n).run();
+    /// let run = |n| TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap(), 4).pilot(2).samples(n).run();
     /// assert_eq!(run(100).unwrap().evaluations, 100);
-    /// assert!(run(15).unwrap_err().to_string().contains("total"));
+    /// assert!(run(15).unwrap_err().to_string().contains("samples"));
     /// ```
-    pub fn total(mut self, evaluations: u64) -> Self {
-        self.total = Some(evaluations);
+    pub fn samples(mut self, evaluations: u64) -> Self {
+        self.config.samples = Some(evaluations);
         self
     }
 
@@ -133,64 +134,11 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
     /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
     /// // For a linear integrand the pilot's spread says nothing about its mean, so no bias shows.
     /// let e = TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap(), 4)
-    ///     .reuse_pilot(true).total(4000).run().unwrap();
+    ///     .reuse_pilot(true).samples(4000).run().unwrap();
     /// assert!((e.mean - 0.5).abs() < 5.0 * e.std_error.unwrap());
     /// ```
     pub fn reuse_pilot(mut self, reuse: bool) -> Self {
         self.reuse_pilot = reuse;
-        self
-    }
-
-    /// The source of uniform points: independent points or an extensible randomized sequence
-    /// whose dimension equals the domain's. A seed set with [`seed`](Self::seed) overrides the
-    /// sampler's.
-    ///
-    /// ```
-    /// use mcint::{adaptive::TwoStage, pdf::UniformBox, sampler::{Scramble, Sobol}};
-    /// let e = TwoStage::new(|x: &[f64]| x[0] * x[1], UniformBox::unit(2).unwrap(), 4)
-    ///     .sampler(Sobol::new(2, Scramble::Owen, 1).unwrap())
-    ///     .total(4096)
-    ///     .run()
-    ///     .unwrap();
-    /// assert!((e.mean - 0.25).abs() < 5.0 * e.std_error.unwrap());
-    /// ```
-    pub fn sampler(mut self, sampler: impl Sampler + 'static) -> Self {
-        let mut boxed: Box<dyn Sampler> = Box::new(sampler);
-        if let Some(seed) = self.seed {
-            boxed.reseed(seed);
-        }
-        self.sampler = Some(boxed);
-        self
-    }
-
-    /// The seed of the sampler's randomization; the same seed gives the same result.
-    ///
-    /// ```
-    /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
-    /// let run = |s| TwoStage::new(|x: &[f64]| x[0].sin(), UniformBox::unit(1).unwrap(), 4)
-    ///     .seed(s).run().unwrap().mean;
-    /// assert_eq!(run(3), run(3));
-    /// assert_ne!(run(3), run(4));
-    /// ```
-    pub fn seed(mut self, seed: u64) -> Self {
-        self.seed = Some(seed);
-        if let Some(sampler) = self.sampler.as_mut() {
-            sampler.reseed(seed);
-        }
-        self
-    }
-
-    /// Number of worker threads (at least 1; default: all available). The result does not
-    /// depend on it.
-    ///
-    /// ```
-    /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
-    /// let run = |t| TwoStage::new(|x: &[f64]| x[0].exp(), UniformBox::unit(2).unwrap(), 32)
-    ///     .threads(t).run().unwrap();
-    /// assert_eq!(run(1), run(3));
-    /// ```
-    pub fn threads(mut self, threads: usize) -> Self {
-        self.threads = Some(threads);
         self
     }
 
@@ -216,28 +164,27 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
             ));
         }
         let least = strata.saturating_mul(self.pilot + MIN_MAIN);
-        let total = self.total.unwrap_or_else(|| {
+        let total = self.config.samples.unwrap_or_else(|| {
             strata
                 .saturating_mul(self.pilot)
                 .saturating_mul(DEFAULT_TOTAL_PER_PILOT)
         });
         if total < least {
             return Err(Error::invalid(
-                "total",
+                "samples",
                 total,
                 format!("at least (pilot + {MIN_MAIN}) x {strata} strata = {least} evaluations"),
             ));
         }
-        let threads = crate::threads::resolve(self.threads)?;
-        let default_sampler;
-        let sampler: &dyn Sampler = match &self.sampler {
-            Some(s) => s.as_ref(),
-            None => {
-                default_sampler = Independent::new(dims, self.seed.unwrap_or(0))?;
-                &default_sampler
-            }
-        };
-        let batches = Batches::new(sampler, &self.domain, "two-stage sampling")?;
+        let executor = self.config.executor()?;
+        let sampler = self
+            .config
+            .sampler(dims, "sampler (the dimension of the domain)")?;
+        require_uniform_points(
+            &*sampler,
+            "two-stage sampling, which draws batches of any size",
+        )?;
+        let batches = Batches::new(&*sampler, "two-stage sampling")?;
         if total > batches.slots() {
             return Err(Error::IndexOutOfRange {
                 what: "evaluations of the sampler's stream (sample indices or passes)",
@@ -250,11 +197,13 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
             domain: &self.domain,
             batches,
             per_axis: self.strata_per_axis,
+            executor,
+            skip_non_finite: self.config.non_finite == NonFinitePolicy::Skip,
         };
 
         // Stage 1: the pilot, stratum j at slots j * pilot ...
         let pilot = self.pilot;
-        let pilot_stats = grid.sample_strata(strata, threads, |j| (j as u64 * pilot, pilot))?;
+        let pilot_stats = grid.sample_strata(strata, &|j| (j as u64 * pilot, pilot))?;
         let main_base = strata as u64 * pilot;
         let counts = neyman_allocation(&pilot_stats, total - main_base);
 
@@ -265,7 +214,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
             starts.push(next);
             next += n;
         }
-        let main_stats = grid.sample_strata(strata, threads, |j| (starts[j], counts[j]))?;
+        let main_stats = grid.sample_strata(strata, &|j| (starts[j], counts[j]))?;
 
         let used: Vec<Accumulator> = if self.reuse_pilot {
             pilot_stats
@@ -317,6 +266,9 @@ struct Grid<'a, F> {
     domain: &'a UniformBox,
     batches: Batches<'a>,
     per_axis: usize,
+    executor: Executor,
+    /// Leave NaN and infinite values out (counted) instead of failing.
+    skip_non_finite: bool,
 }
 
 /// Per-thread buffers.
@@ -346,88 +298,27 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
 
     /// Samples every stratum `j` with the batch `batch(j) = (first slot, points)` and returns
     /// the per-stratum statistics in stratum order (each computed in index order, so the
-    /// result does not depend on how strata are shared among threads).
+    /// result does not depend on the thread count).
     fn sample_strata(
         &self,
         strata: usize,
-        threads: usize,
-        batch: impl Fn(usize) -> (u64, u64) + Sync,
+        batch: &(dyn Fn(usize) -> (u64, u64) + Sync),
     ) -> Result<Vec<Accumulator>> {
-        let chunks = strata.div_ceil(STRATA_PER_CHUNK);
-        let next = AtomicUsize::new(0);
-        let failed = AtomicBool::new(false);
-        let first_error: Mutex<Option<Error>> = Mutex::new(None);
-        let workers = threads.min(chunks).max(1);
-        let dims = self.domain.dims();
-
-        type Done = Vec<(usize, Vec<Accumulator>, Option<NonFinite>)>;
-        let finished: Vec<Option<Done>> = std::thread::scope(|scope| {
-            let handles: Vec<_> = (0..workers)
-                .map(|_| {
-                    scope.spawn(|| {
-                        let mut done = Vec::new();
-                        let fail = |e: Error| {
-                            failed.store(true, Ordering::Relaxed);
-                            if let Ok(mut slot) = first_error.lock() {
-                                slot.get_or_insert(e);
-                            }
-                        };
-                        let mut work = match Points::new(dims, BLOCK) {
-                            Ok(points) => Workspace {
-                                points,
-                                unit: vec![0.0; dims],
-                                x: vec![0.0; dims],
-                            },
-                            Err(e) => {
-                                fail(e);
-                                return done;
-                            }
-                        };
-                        loop {
-                            let chunk = next.fetch_add(1, Ordering::Relaxed);
-                            if chunk >= chunks || failed.load(Ordering::Relaxed) {
-                                break;
-                            }
-                            let first = chunk * STRATA_PER_CHUNK;
-                            let last = (first + STRATA_PER_CHUNK).min(strata);
-                            let mut stats = Vec::with_capacity(last - first);
-                            let mut bad = None;
-                            for j in first..last {
-                                let (slot, n) = batch(j);
-                                match self.sample_stratum(j, slot, n, &mut work, &mut bad) {
-                                    Ok(acc) => stats.push(acc),
-                                    Err(e) => {
-                                        fail(e);
-                                        return done;
-                                    }
-                                }
-                            }
-                            done.push((chunk, stats, bad));
-                        }
-                        done
-                    })
-                })
-                .collect();
-            handles.into_iter().map(|h| h.join().ok()).collect()
-        });
-
-        if let Some(e) = first_error.into_inner().ok().flatten() {
-            return Err(e);
-        }
-        let mut by_chunk: Vec<Option<(Vec<Accumulator>, Option<NonFinite>)>> = vec![None; chunks];
-        for done in finished {
-            for (chunk, stats, bad) in done.ok_or_else(crate::threads::worker_panicked)? {
-                by_chunk[chunk] = Some((stats, bad));
-            }
-        }
+        let job = StrataJob {
+            grid: self,
+            strata,
+            batch,
+        };
+        let chunks = strata.div_ceil(STRATA_PER_CHUNK) as u64;
         let mut all = Vec::with_capacity(strata);
         let mut first_bad = None;
-        for part in by_chunk {
-            let (stats, bad) = part.ok_or_else(crate::threads::worker_panicked)?;
-            all.extend(stats);
-            first_bad = first_bad.or(bad);
-        }
-        if let Some((stratum, index, value, point)) = first_bad {
+        self.executor
+            .run(&job, 0..chunks, chunks, |_, (stats, bad)| {
+                all.extend(stats);
+                first_bad = first_bad.take().or(bad);
+                Ok(())
+            })?;
+        if let Some((stratum, index, value, point)) = first_bad.filter(|_| !self.skip_non_finite) {
             return Err(Error::NonFiniteContribution {
                 count: all.iter().map(|a| a.non_finite()).sum(),
                 first_index: index,
@@ -472,6 +363,45 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
 /// the pilot standard deviations (all strata have the same volume), rounded by largest
 /// remainders so that the counts add up to `main` exactly. With no spread anywhere the rest
 /// is shared equally.
+/// Chunks of strata, as work for the executor: chunk `c` samples strata
+/// `c * STRATA_PER_CHUNK ..`, each with its batch.
+struct StrataJob<'a, 'b, F> {
+    grid: &'a Grid<'b, F>,
+    strata: usize,
+    batch: &'a (dyn Fn(usize) -> (u64, u64) + Sync),
+}
+
+impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StrataJob<'_, '_, F> {
+    type Scratch = Workspace;
+    type Output = (Vec<Accumulator>, Option<NonFinite>);
+
+    fn scratch(&self) -> Result<Workspace> {
+        let dims = self.grid.domain.dims();
+        Ok(Workspace {
+            points: Points::new(dims, BLOCK)?,
+            unit: vec![0.0; dims],
+            x: vec![0.0; dims],
+        })
+    }
+
+    fn run(&self, work: &mut Workspace, chunk: u64) -> Result<Self::Output> {
+        let first = chunk as usize * STRATA_PER_CHUNK;
+        let last = (first + STRATA_PER_CHUNK).min(self.strata);
+        let mut bad = None;
+        let stats = (first..last)
+            .map(|j| {
+                let (slot, n) = (self.batch)(j);
+                self.grid.sample_stratum(j, slot, n, work, &mut bad)
+            })
+            .collect::<Result<_>>()?;
+        Ok((stats, bad))
+    }
+
+    fn origin(&self, chunk: u64) -> (u64, u64) {
+        (chunk * STRATA_PER_CHUNK as u64, 0)
+    }
+}
+
 fn neyman_allocation(pilot: &[Accumulator], main: u64) -> Vec<u64> {
     let strata = pilot.len();
     let free = main - MIN_MAIN * strata as u64;

@@ -102,10 +102,10 @@ pub(crate) fn require_randomized(sampler: &dyn Sampler, purpose: &str) -> Result
 /// Refuses a sampler with fixed passes, whose single points are not uniform on their own,
 /// for `method`; independent points and extensible (randomized) sequences are accepted.
 pub(crate) fn require_uniform_points(sampler: &dyn Sampler, method: &str) -> Result<()> {
-    if let PassKind::Fixed { .. } = sampler.passes() {
+    if let PassKind::Fixed { size } = sampler.passes() {
         return Err(Error::invalid(
             "sampler",
-            sampler.name(),
+            format!("{} (fixed passes of {size} points)", sampler.name()),
             format!(
                 "a sampler with independent or extensible passes for {method} (a single point \
                  of a fixed pass is not uniform on its own)"

@@ -1,4 +1,4 @@
-//! Batches of uniform points for adaptive methods that sample many sub-boxes separately.
+//! [`Batches`]: batches of uniform points for adaptive methods that sample many sub-boxes separately.
 //!
 //! An adaptive method draws its points in batches (one per exploration, leaf or stratum) whose
 //! sizes depend on what it has learned. Every batch must be independent of every other and
@@ -18,7 +18,7 @@
 //! arbitrary size would be a partial pass, which is not uniformly distributed for every
 //! construction.
 
-use crate::pdf::{Pdf, UniformBox};
+use crate::engine::require_randomized;
 use crate::sampler::{PassKind, Sampler};
 use crate::{Error, Points, Result};
 
@@ -34,28 +34,13 @@ pub(in crate::adaptive) struct Batches<'a> {
 
 impl<'a> Batches<'a> {
     /// Checks that `sampler` can feed `method` (named in messages) over `domain`.
-    pub(in crate::adaptive) fn new(
-        sampler: &'a dyn Sampler,
-        domain: &UniformBox,
-        method: &str,
-    ) -> Result<Self> {
-        if sampler.dims() != domain.dims() {
-            return Err(Error::DimensionMismatch {
-                what: "sampler (the dimension of the domain)",
-                expected: domain.dims(),
-                found: sampler.dims(),
-            });
-        }
-        if !sampler.is_randomized() {
-            return Err(Error::invalid(
-                "sampler",
-                sampler.name(),
-                format!(
-                    "a randomized sampler for {method} (an unscrambled sequence repeats the same \
-                     points in every batch; choose a scramble)"
-                ),
-            ));
-        }
+    pub(in crate::adaptive) fn new(sampler: &'a dyn Sampler, method: &str) -> Result<Self> {
+        require_randomized(
+            sampler,
+            &format!(
+                "{method} needs independent batches, and an unscrambled sequence repeats the same points in every batch"
+            ),
+        )?;
         let slot_size = match sampler.passes() {
             PassKind::Independent => 1,
             PassKind::Extensible { max } if max > 0 => max,
@@ -118,45 +103,6 @@ impl<'a> Batches<'a> {
     }
 }
 
-/// An axis-aligned sub-box of the unit cube: the region an adaptive method is working on, in
-/// coordinates relative to the domain.
-#[derive(Debug, Clone, PartialEq)]
-pub(in crate::adaptive) struct Cell {
-    pub(in crate::adaptive) lo: Vec<f64>,
-    pub(in crate::adaptive) hi: Vec<f64>,
-}
-
-impl Cell {
-    /// The whole unit cube.
-    pub(in crate::adaptive) fn unit(dims: usize) -> Cell {
-        Cell {
-            lo: vec![0.0; dims],
-            hi: vec![1.0; dims],
-        }
-    }
-
-    /// Volume as a fraction of the domain's.
-    pub(in crate::adaptive) fn volume(&self) -> f64 {
-        self.lo.iter().zip(&self.hi).map(|(l, h)| h - l).product()
-    }
-
-    /// Maps point `i` of a block of canonical points into the cell (`unit`, relative to the
-    /// domain) and on into the domain (`x`).
-    pub(in crate::adaptive) fn place(
-        &self,
-        points: &Points,
-        i: usize,
-        domain: &UniformBox,
-        unit: &mut [f64],
-        x: &mut [f64],
-    ) {
-        for (dim, ((u, &lo), &hi)) in unit.iter_mut().zip(&self.lo).zip(&self.hi).enumerate() {
-            *u = lo + points.get(i, dim) * (hi - lo);
-        }
-        domain.sample(unit, x);
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -177,7 +123,7 @@ mod tests {
     #[test]
     fn independent_slots_are_sample_indices() {
         let sampler = Independent::new(2, 3).unwrap();
-        let batches = Batches::new(&sampler, &UniformBox::unit(2).unwrap(), "test").unwrap();
+        let batches = Batches::new(&sampler, "test").unwrap();
         assert_eq!(batches.slots(), u64::MAX);
         let mut points = Points::new(2, 8).unwrap();
         assert_eq!(batches.fill(10, 3, 5, &mut points).unwrap(), 5);
@@ -190,7 +136,7 @@ mod tests {
         // Passes of 4 points: point 6 of the batch at slot 7 is point 2 of pass 8, and the
         // block stops at the end of that pass.
         let sampler = Pmj02::with_max_points(2, 2, 1).unwrap();
-        let batches = Batches::new(&sampler, &UniformBox::unit(2).unwrap(), "test").unwrap();
+        let batches = Batches::new(&sampler, "test").unwrap();
         assert_eq!(batches.slots(), u64::MAX / 4);
         let mut points = Points::new(2, 8).unwrap();
         assert_eq!(batches.fill(7, 6, 10, &mut points).unwrap(), 2);
@@ -203,33 +149,11 @@ mod tests {
     }
 
     #[test]
-    fn fixed_passes_unscrambled_sequences_and_wrong_dimensions_are_refused() {
-        let unit = UniformBox::unit(2).unwrap();
+    fn fixed_passes_and_unscrambled_sequences_are_refused() {
         let jittered = Jittered::new(2, 2, 0).unwrap();
         let plain = Sobol::new(2, Scramble::None, 0).unwrap();
-        let wide = Independent::new(3, 0).unwrap();
-        for sampler in [&jittered as &dyn Sampler, &plain, &wide] {
-            assert!(
-                Batches::new(sampler, &unit, "test").is_err(),
-                "{}",
-                sampler.name()
-            );
+        for sampler in [&jittered as &dyn Sampler, &plain] {
+            assert!(Batches::new(sampler, "test").is_err(), "{}", sampler.name());
         }
-    }
-
-    #[test]
-    fn cells_place_points_inside_and_measure_their_volume() {
-        let cell = Cell {
-            lo: vec![0.5, 0.0],
-            hi: vec![1.0, 0.25],
-        };
-        assert_eq!(cell.volume(), 0.125);
-        let domain = UniformBox::new(vec![0.0, 0.0], vec![2.0, 4.0]).unwrap();
-        let mut points = Points::new(2, 1).unwrap();
-        points.column_mut(0)[0] = 0.5;
-        points.column_mut(1)[0] = 0.5;
-        let (mut unit, mut x) = ([0.0; 2], [0.0; 2]);
-        cell.place(&points, 0, &domain, &mut unit, &mut x);
-        assert_eq!((unit, x), ([0.75, 0.125], [1.5, 0.5]));
     }
 }
