@@ -22,7 +22,7 @@ mod support;
 
 use mcint::estimator::{
     ControlVariate, Estimator, ImportanceEstimator, MisHeuristic, MultiSampleMis, OneSampleMis,
-    ProductImportanceEstimator, RegressionControlVariates, UniformEstimator,
+    ProductImportanceEstimator, UniformEstimator,
 };
 use mcint::pdf::{Exponential, Linear, Mixture, Pdf, TruncatedNormal, UniformBox};
 use mcint::sampler::{Antithetic, Independent};
@@ -239,12 +239,12 @@ fn control_variates(t: &Table) -> mcint::Result<()> {
         ("control 1 + x, least-squares coefficient", 1),
         ("controls 1 + x and x^2, least squares", 2),
     ] {
-        let mut runner = RegressionControlVariates::new(f, unit()?).control(g, 1.5);
+        let mut runner = Integrator::with_controls(f, unit()?).control(g, 1.5);
         if controls == 2 {
             runner = runner.control(|x: &[f64]| x[0] * x[0], 1.0 / 3.0);
         }
-        let result = runner.samples(t.n).seed(t.seed).run()?;
-        t.row(name, (result.estimate, 1), &mut first);
+        let estimate = runner.samples(t.n).seed(t.seed).run()?;
+        t.row(name, (estimate, 1), &mut first);
     }
     // Antithetic pairs are dependent: each pair is one replicate, so the error bar comes
     // from the spread of pair means.

@@ -15,6 +15,7 @@ use crate::{Points, Result};
 
 mod non_finite;
 mod partial;
+mod pilot;
 mod plan;
 mod staged;
 
@@ -200,12 +201,46 @@ impl<E: Estimator> Integrator<E> {
     pub fn run(&self) -> Result<Estimate> {
         let sampler = self.run_sampler()?;
         let executor = self.config.executor()?;
-        if let Some(tolerance) = &self.config.tolerance {
-            return staged::run_to_tolerance(self, &*sampler, &executor, tolerance);
+        self.with_estimator(&executor, |estimator, pilot_evaluations| {
+            let cost = estimator.evaluations_per_contribution();
+            let mut estimate = match &self.config.tolerance {
+                Some(tolerance) => staged::run_to_tolerance(
+                    estimator,
+                    &self.config,
+                    &*sampler,
+                    &executor,
+                    tolerance,
+                )?,
+                None => {
+                    let plan = Plan::new(self.config.samples, self.config.replicates, &*sampler)?;
+                    let folded = plan.run_folded(&executor, &*sampler, estimator)?;
+                    plan.estimate(&*sampler, &folded, self.config.non_finite)?
+                }
+            };
+            estimate.evaluations = estimate
+                .evaluations
+                .saturating_mul(cost)
+                .saturating_add(pilot_evaluations);
+            Ok(estimate)
+        })
+    }
+
+    /// Calls `work` with the estimator of the main run, and the evaluations its pilot stage
+    /// spent: the estimator itself, or the one it fits to its pilot (see
+    /// [`Estimator::pilot`]).
+    fn with_estimator<R>(
+        &self,
+        executor: &crate::engine::Executor,
+        work: impl FnOnce(&dyn Estimator, u64) -> Result<R>,
+    ) -> Result<R> {
+        match self.estimator.pilot() {
+            None => work(&self.estimator, 0),
+            Some(pilot) => {
+                let (summary, spent) = pilot::run(pilot, &self.estimator, &self.config, executor)?;
+                let fitted = pilot.fitted(&summary)?;
+                work(&*fitted, spent)
+            }
         }
-        let plan = Plan::new(self.config.samples, self.config.replicates, &*sampler)?;
-        let folded = plan.run_folded(&executor, &*sampler, &self.estimator)?;
-        plan.estimate(&*sampler, &folded, self.config.non_finite)
     }
 
     /// The run's sampler, checked against the estimator's canonical dimension.

@@ -48,7 +48,6 @@ pub mod quality;
 pub mod sampler;
 pub mod stats;
 pub mod testfns;
-mod threads;
 
 pub use error::{Error, Result};
 pub use estimator::Estimator;

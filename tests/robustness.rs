@@ -1109,14 +1109,13 @@ mod pdfs {
 
 mod estimators {
     use super::*;
-    use mcint::Points;
     use mcint::estimator::{
         ConsistentBiased, ControlVariate, Estimator, ImportanceEstimator, MisHeuristic,
-        MultiSampleMis, OneSampleMis, ProductImportanceEstimator, RegressionControlVariates,
-        UniformEstimator,
+        MultiSampleMis, OneSampleMis, ProductImportanceEstimator, UniformEstimator,
     };
     use mcint::pdf::{Exponential, Pdf, UniformBox, UniformInterval};
     use mcint::sampler::{Independent, LatinHypercube};
+    use mcint::{Integrator, Points};
 
     /// A pdf on the unit interval (consumes one canonical coordinate).
     fn unit_pdf() -> Box<dyn Pdf> {
@@ -1302,15 +1301,17 @@ mod estimators {
         #![proptest_config(config(48, 0x7e9))]
 
         #[test]
-        fn regression_control_variates(
-            samples in prop::sample::select(vec![0u64, 1, 2, 3, 4, 5, 100, 5000]),
+        fn control_variates_fitted_on_a_pilot(
+            pilot in prop::sample::select(vec![0u64, 1, 2, 3, 4, 5, 100, 5000]),
+            samples in prop::sample::select(vec![0u64, 1, 16, 1000]),
             threads in prop::option::of(prop::sample::select(vec![0usize, 1, 2, usize::MAX])),
             integrals in prop::collection::vec(prop_oneof![Just(0.5), real()], 0..3),
             sampler in 0..3usize,
             seed in any::<u64>(),
         ) {
             let k = integrals.len();
-            let mut run = RegressionControlVariates::new(|x: &[f64]| x[0] * x[0], UniformBox::unit(1).unwrap())
+            let mut run = Integrator::with_controls(|x: &[f64]| x[0] * x[0], UniformBox::unit(1).unwrap())
+                .pilot(pilot)
                 .samples(samples)
                 .seed(seed);
             for (j, &integral) in integrals.iter().enumerate() {
@@ -1327,8 +1328,10 @@ mod estimators {
             };
             let valid = k >= 1
                 && integrals.iter().all(|g| g.is_finite())
-                && sampler == 0
-                && samples >= k as u64 + 2
+                && sampler != 1
+                && pilot >= k as u64 + 2
+                && samples >= 1
+                && (sampler != 2 || samples % 16 == 0)
                 && threads != Some(0);
             let result = run.run();
             if !valid {
@@ -1336,9 +1339,9 @@ mod estimators {
             } else if integrals.iter().all(|g| g.abs() <= 1e300) {
                 prop_assert!(result.is_ok(), "{:?}", result.as_ref().err());
             }
-            check(result, &["controls", "control integral", "sampler", "samples", "threads"], |r| {
-                assert!(r.estimate.mean.is_finite());
-                assert_eq!(r.coefficients.len(), k);
+            check(result, &["controls", "control integral", "sampler", "samples", "pilot points", "threads"], |e| {
+                assert!(e.mean.is_finite());
+                assert_eq!(e.evaluations, e.n + pilot);
             });
         }
     }

@@ -4,7 +4,7 @@
 //! Pinned: the first two points of both the first and the second pass of every named sampler
 //! (and every scramble each accepts) for two seeds, and the `mean` / `std_error` bits with the
 //! counts of fixed-seed runs of every method: plain, importance, RQMC, stratified, both runs to
-//! a tolerance, VEGAS, VEGAS+, MISER (fixed and to a tolerance), TwoStage, regression control
+//! a tolerance, VEGAS, VEGAS+, MISER (fixed and to a tolerance), TwoStage, control
 //! variates, a checkpointed run, a convergence study and a mean periodogram.
 //!
 //! A change that alters any of them must say so in its commit message and update the table on
@@ -12,7 +12,6 @@
 //! and paste the printed table over [`PINS`] (a failing run prints it too).
 
 use mcint::adaptive::{Miser, TwoStage, Vegas};
-use mcint::estimator::RegressionControlVariates;
 use mcint::pdf::{Pdf1d, ProductPdf, TruncatedNormal, UniformBox};
 use mcint::quality::{Convergence, mean_periodogram_with_threads};
 use mcint::sampler::{Jittered, PassKind, Sampler, SamplerKind, Scramble, Sobol};
@@ -93,6 +92,7 @@ fn method_observations() -> Result<Vec<Observation>> {
     let g = genz(GenzFamily::Gaussian, 3);
     let f = |x: &[f64]| g.eval(x);
     let unit = || UniformBox::unit(3);
+    let unit2 = || UniformBox::unit(2);
     let mut out: Vec<Observation> = Vec::new();
     let mut pin = |label: &str, e: &Estimate| out.push((label.to_string(), estimate_bits(e)));
 
@@ -159,16 +159,21 @@ fn method_observations() -> Result<Vec<Observation>> {
         .seed(11);
     pin("two-stage", &two_stage.run()?);
 
-    let control = RegressionControlVariates::new(|x: &[f64]| x[0].exp() * x[1], unit()?)
+    let control = Integrator::with_controls(|x: &[f64]| x[0].exp() * x[1], unit2()?)
         .control(|x: &[f64]| x[0], 0.5)
         .control(|x: &[f64]| x[1], 0.5)
+        .pilot(2000)
         .samples(20_000)
-        .seed(12)
-        .run()?;
-    pin("regression control variates", &control.estimate);
+        .seed(12);
+    pin("control variates", &control.run()?);
     out.push((
-        "regression control variates: coefficients".to_string(),
-        control.coefficients.iter().map(|c| c.to_bits()).collect(),
+        "control variates: coefficients".to_string(),
+        control
+            .fit()?
+            .coefficients
+            .iter()
+            .map(|c| c.to_bits())
+            .collect(),
     ));
     Ok(out)
 }
@@ -349,8 +354,8 @@ const PINS: &[(&str, &[u64])] = &[
     ("miser", &[0x3fdc6ab0d0ae6488, 0x3f659e229cb4cb14, 0x0000000000004000, 0x0000000000004000, 0x0000000000000001]),
     ("miser to tolerance", &[0x3fdc9f25c41df7e0, 0x3f003e64892a9c26, 0x0000000001000000, 0x0000000001fc0000, 0x0000000000000007]),
     ("two-stage", &[0x3fdc97db99c083bf, 0x3f4348ab5aacba38, 0x0000000000004d20, 0x0000000000004e20, 0x0000000000000002]),
-    ("regression control variates", &[0x3feb746948c45d09, 0x3f50c2f0ac88b6e4, 0x0000000000004e20, 0x0000000000004e20, 0x0000000000000001]),
-    ("regression control variates: coefficients", &[0x3feaf3ab5a382419, 0x3ffb7113dbf29986]),
+    ("control variates", &[0x3feb7330db9965e5, 0x3f50c84009c1528d, 0x0000000000004e20, 0x00000000000055f0, 0x0000000000000001]),
+    ("control variates: coefficients", &[0x3feba2386655738b, 0x3ffbd6001a8b7756]),
     ("convergence study", &[0x3f83db2ba3b88382, 0x3f632d1b69732dc0, 0x3f4cb3794ee57184, 0xbf39756ebee25800, 0x3f2b2b59bc649f42, 0xbf03bbc2e5a02000, 0xbff630bf778d37fa]),
     ("mean periodogram", &[0x3fddbf5bb72d0496, 0x3fe15fd94c5a40c0, 0x3fc61fee5650d016, 0x3f8f65989fbdbc24, 0x3f5260740c4e089c, 0x3f9d36032e4411cd, 0x3fc98da99ed08b5c, 0x3fcb64d768d8d3d5, 0x3fe64d5949c75d38, 0x3fd7453a801ea41d, 0x3fbeaf0787fdd5c7, 0x3fa64abb2e887f36, 0x3fa65ea067b08d2c, 0x3f2f069cfc7651be, 0x3fa022e47efad9d3, 0x3fb018decc905f17, 0x3fba58062f2466bd, 0x3fd0e6313af0288a, 0x3fb7d1f18fbca8ba, 0x3fb670b3a53ce8d1, 0x3f9a9aa1e059df4a, 0x3f7dd3472c84eafd, 0x3f29a9b1ab1f4d9e, 0x3f805afecb8baf1b, 0x3f9552fef6add2da, 0x3faef8f936b75882, 0x3fa31a2a8909a4cf, 0x3fa1fe7e70ece96b, 0x3f8775e756316db7, 0x3f9a09eb7d47a057, 0x3f55404637cb6aad, 0x3f072d255d372ab3, 0x3f567b59b48cc19e, 0x3f994a129d8020e1, 0x3fa2bddc600856a8, 0x3faa5749f92449f1, 0x3f37b9e6a4b21e8e, 0x3f21553e2eb7f961, 0x3f2badb59b9962d6, 0x3f0851acdeaac6cc, 0x4070000000000000, 0x3f0851acdeaac6cc, 0x3f2badb59b9962d6, 0x3f21553e2eb7f961, 0x3f37b9e6a4b21e8e, 0x3faa5749f92449f1, 0x3fa2bddc600856a8, 0x3f994a129d8020e1, 0x3f567b59b48cc19e, 0x3f072d255d372ab3, 0x3f55404637cb6aad, 0x3f9a09eb7d47a057, 0x3f8775e756316db7, 0x3fa1fe7e70ece96b, 0x3fa31a2a8909a4cf, 0x3faef8f936b75882, 0x3f9552fef6add2da, 0x3f805afecb8baf1b, 0x3f29a9b1ab1f4d9e, 0x3f7dd3472c84eafd, 0x3f9a9aa1e059df4a, 0x3fb670b3a53ce8d1, 0x3fb7d1f18fbca8ba, 0x3fd0e6313af0288a, 0x3fba58062f2466bd, 0x3fb018decc905f17, 0x3fa022e47efad9d3, 0x3f2f069cfc7651be, 0x3fa65ea067b08d2c, 0x3fa64abb2e887f36, 0x3fbeaf0787fdd5c7, 0x3fd7453a801ea41d, 0x3fe64d5949c75d38, 0x3fcb64d768d8d3d5, 0x3fc98da99ed08b5c, 0x3f9d36032e4411cd, 0x3f5260740c4e089c, 0x3f8f65989fbdbc24, 0x3fc61fee5650d016, 0x3fe15fd94c5a40c0, 0x3fddbf5bb72d0496]),
 ];

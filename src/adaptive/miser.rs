@@ -282,7 +282,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
             };
             let (mut estimate, met) = stopping.judge(estimate);
             estimate.evaluations = spent;
-            let next = per_replicate.checked_mul(2 * r).unwrap_or(u64::MAX);
+            let next = per_replicate.saturating_mul(2 * r);
             let stop = if met {
                 Some(StopReason::ToleranceMet)
             } else {

@@ -40,6 +40,9 @@ pub(crate) trait ChunkJob: Sync {
     fn origin(&self, chunk: u64) -> (u64, u64);
 }
 
+/// The most threads started per available core, whatever a run asks for.
+const MAX_THREADS_PER_CORE: usize = 4;
+
 /// Runs [`ChunkJob`]s on a fixed number of threads.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Executor {
@@ -48,10 +51,12 @@ pub(crate) struct Executor {
 
 impl Executor {
     /// An executor for a `.threads(..)` setting: at least 1; `None` means all available.
+    /// More than [`MAX_THREADS_PER_CORE`] per available core are not started (the result is
+    /// the same for any count, and more would only contend).
     pub(crate) fn new(threads: Option<usize>) -> Result<Executor> {
         let threads = match threads {
             Some(0) => return Err(Error::invalid("threads", 0, "at least 1")),
-            Some(t) => t,
+            Some(t) => t.min(MAX_THREADS_PER_CORE * available_threads()),
             None => available_threads(),
         };
         Ok(Executor { threads })
@@ -294,9 +299,11 @@ mod tests {
     }
 
     #[test]
-    fn zero_threads_are_refused() {
+    fn zero_threads_are_refused_and_huge_counts_capped() {
         let err = Executor::new(Some(0)).unwrap_err();
         assert_eq!(err.to_string(), "invalid threads = 0: expected at least 1");
         assert!(Executor::new(None).unwrap().threads() >= 1);
+        let most = MAX_THREADS_PER_CORE * available_threads();
+        assert_eq!(Executor::new(Some(usize::MAX)).unwrap().threads(), most);
     }
 }

@@ -9,8 +9,8 @@
 //! `Var[f/pdf] - 2 beta Cov[f/pdf, g/pdf] + beta^2 Var[g/pdf]`, smallest at
 //! `beta* = Cov[f/pdf, g/pdf] / Var[g/pdf]`, where it is `(1 - rho^2) Var[f/pdf]` (Lavenberg &
 //! Welch 1981; Glasserman 2004, section 4.1; Owen, *Monte Carlo theory, methods and examples*,
-//! section 8.9). Estimating `beta*` from the same samples is the regression estimator,
-//! [`RegressionControlVariates`](super::RegressionControlVariates).
+//! section 8.9). Estimating `beta*` on a pilot, for one or several controls, is
+//! [`ControlVariates`](super::ControlVariates).
 
 use super::Estimator;
 use crate::pdf::Pdf;
@@ -26,8 +26,9 @@ use crate::{Error, Result};
 /// Since `beta` is fixed, every contribution has expectation `F` and the estimator is unbiased
 /// with any sampler; it works with [`Integrator`](crate::Integrator) as is, including
 /// stratified and quasi-Monte Carlo samplers with replicates. A coefficient estimated from a
-/// separate pilot run keeps that property; one estimated from the same samples does not (see
-/// [`RegressionControlVariates`](super::RegressionControlVariates)).
+/// separate pilot run keeps that property (which is how
+/// [`ControlVariates`](super::ControlVariates) fits its coefficients); one estimated from the
+/// same samples does not.
 ///
 /// Where `f - beta g` is zero the contribution is `beta G` whatever the pdf (no `0/0`); where
 /// the pdf is zero but `f - beta g` is not, the contribution is infinite or NaN, which the

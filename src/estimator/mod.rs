@@ -14,33 +14,36 @@
 //!   1995), weighted by a [`MisHeuristic`] (balance, power, maximum, cutoff) or any
 //!   [`MisWeighting`].
 //!
-//! Control variates (A.26-A.29) come with a known coefficient as an estimator
-//! ([`ControlVariate`]) and with least-squares coefficients as a runner of their own
-//! ([`RegressionControlVariates`]), since those are not a per-sample contribution.
+//! Control variates (A.26-A.29) come with a known coefficient ([`ControlVariate`]) and with
+//! least-squares coefficients fitted on a pilot stage that the
+//! [`Integrator`](crate::Integrator) runs before the main one ([`ControlVariates`], through
+//! [`PilotFit`]).
 
 mod batch_uniform;
 mod box_block;
 mod consistent_biased;
 mod control_variate;
+mod control_variates;
 mod importance;
 mod mis_heuristic;
 mod mis_weighting;
 mod multi_sample_mis;
 mod one_sample_mis;
+mod pilot;
 mod product_importance;
-mod regression_control;
 mod uniform;
 
 pub use batch_uniform::BatchUniformEstimator;
 pub use consistent_biased::ConsistentBiased;
 pub use control_variate::ControlVariate;
+pub use control_variates::{ControlFit, ControlVariates};
 pub use importance::ImportanceEstimator;
 pub use mis_heuristic::MisHeuristic;
 pub use mis_weighting::MisWeighting;
 pub use multi_sample_mis::MultiSampleMis;
 pub use one_sample_mis::OneSampleMis;
+pub use pilot::PilotFit;
 pub use product_importance::ProductImportanceEstimator;
-pub use regression_control::{ControlVariateEstimate, RegressionControlVariates};
 pub use uniform::UniformEstimator;
 
 use crate::Points;
@@ -80,6 +83,37 @@ pub trait Estimator: Send + Sync {
             *y = self.contribution(&u, &mut x);
         }
     }
+
+    /// Integrand evaluations one contribution costs (default 1; a multi-sample MIS
+    /// contribution evaluates the integrand once per sample of every technique), so that runs
+    /// report, and limit, true evaluation counts.
+    ///
+    /// ```
+    /// use mcint::estimator::{Estimator, UniformEstimator};
+    /// use mcint::pdf::UniformBox;
+    /// let e = UniformEstimator::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap());
+    /// assert_eq!(e.evaluations_per_contribution(), 1);
+    /// ```
+    fn evaluations_per_contribution(&self) -> u64 {
+        1
+    }
+
+    /// The pilot stage this estimator fits itself to before the main run, if any (default
+    /// none): the [`Integrator`](crate::Integrator) runs it first and integrates with the
+    /// fitted estimator it returns.
+    ///
+    /// ```
+    /// use mcint::estimator::{ControlVariates, Estimator, UniformEstimator};
+    /// use mcint::pdf::UniformBox;
+    /// let plain = UniformEstimator::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap());
+    /// assert!(plain.pilot().is_none());
+    /// let cv = ControlVariates::new(|x: &[f64]| x[0].exp(), UniformBox::unit(1).unwrap())
+    ///     .control(|x: &[f64]| x[0], 0.5);
+    /// assert!(cv.pilot().is_some());
+    /// ```
+    fn pilot(&self) -> Option<&dyn PilotFit> {
+        None
+    }
 }
 
 impl<E: Estimator + ?Sized> Estimator for &E {
@@ -98,6 +132,14 @@ impl<E: Estimator + ?Sized> Estimator for &E {
     fn contributions(&self, points: &Points, out: &mut [f64]) {
         (**self).contributions(points, out)
     }
+
+    fn evaluations_per_contribution(&self) -> u64 {
+        (**self).evaluations_per_contribution()
+    }
+
+    fn pilot(&self) -> Option<&dyn PilotFit> {
+        (**self).pilot()
+    }
 }
 
 impl<E: Estimator + ?Sized> Estimator for Box<E> {
@@ -115,5 +157,13 @@ impl<E: Estimator + ?Sized> Estimator for Box<E> {
 
     fn contributions(&self, points: &Points, out: &mut [f64]) {
         (**self).contributions(points, out)
+    }
+
+    fn evaluations_per_contribution(&self) -> u64 {
+        (**self).evaluations_per_contribution()
+    }
+
+    fn pilot(&self) -> Option<&dyn PilotFit> {
+        (**self).pilot()
     }
 }

@@ -169,6 +169,10 @@ impl<F: Fn(&[f64]) -> f64 + Send + Sync, W: MisWeighting> Estimator for MultiSam
         self.canonical_dims
     }
 
+    fn evaluations_per_contribution(&self) -> u64 {
+        self.samples_per_contribution() as u64
+    }
+
     fn domain_dims(&self) -> usize {
         self.dims
     }

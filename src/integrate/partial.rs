@@ -197,15 +197,17 @@ impl<E: Estimator> Integrator<E> {
                     format!("a non-empty range within 0..{total}"),
                 ));
             }
-            let job = Chunks {
-                plan,
-                sampler,
-                estimator: &self.estimator,
-            };
             let mut chunks = BTreeMap::new();
-            executor.run(&job, range, CHUNKS_IN_MEMORY, |chunk, result| {
-                chunks.insert(chunk, result);
-                Ok(())
+            self.with_estimator(executor, |estimator, _| {
+                let job = Chunks {
+                    plan,
+                    sampler,
+                    estimator,
+                };
+                executor.run(&job, range, CHUNKS_IN_MEMORY, |chunk, result| {
+                    chunks.insert(chunk, result);
+                    Ok(())
+                })
             })?;
             Ok(PartialRun {
                 layout: Layout::of(plan, sampler)?,

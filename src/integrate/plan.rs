@@ -147,11 +147,11 @@ impl Plan {
     }
 
     /// Evaluates every chunk and folds the results in chunk order.
-    pub(super) fn run_folded<E: Estimator>(
+    pub(super) fn run_folded(
         &self,
         executor: &Executor,
         sampler: &dyn Sampler,
-        estimator: &E,
+        estimator: &dyn Estimator,
     ) -> Result<Folded> {
         let job = Chunks {
             plan: self,
@@ -287,10 +287,10 @@ impl Folded {
 }
 
 /// The chunks of one plan, as work for the [`Executor`].
-pub(super) struct Chunks<'a, E> {
+pub(super) struct Chunks<'a> {
     pub(super) plan: &'a Plan,
     pub(super) sampler: &'a dyn Sampler,
-    pub(super) estimator: &'a E,
+    pub(super) estimator: &'a dyn Estimator,
 }
 
 /// Per-thread buffers, allocated once.
@@ -299,7 +299,7 @@ pub(super) struct Workspace {
     values: Vec<f64>,
 }
 
-impl<E: Estimator> ChunkJob for Chunks<'_, E> {
+impl ChunkJob for Chunks<'_> {
     type Scratch = Workspace;
     type Output = ChunkResult;
 

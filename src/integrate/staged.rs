@@ -2,8 +2,8 @@
 //! points, and doubling with fixed replicates for randomized QMC and stratified points, both
 //! judged by the engine's [`Stopping`] rule.
 
-use super::{Integrator, Plan};
-use crate::engine::{DEFAULT_REPLICATES, Executor, Stopping, require_randomized};
+use super::Plan;
+use crate::engine::{DEFAULT_REPLICATES, Executor, RunConfig, Stopping, require_randomized};
 use crate::estimator::Estimator;
 use crate::sampler::{PassKind, Sampler};
 use crate::stats::{Accumulator, Estimate, StopReason, Tolerance, normal_quantile};
@@ -16,9 +16,11 @@ const SD_INFLATION: f64 = 1.1;
 /// First points per replicate of a doubling run when the sampler has no pass size.
 const DEFAULT_FIRST_STAGE: u64 = 1024;
 
-/// Runs `integrator` until `tolerance` is met or a limit is reached.
-pub(super) fn run_to_tolerance<E: Estimator>(
-    integrator: &Integrator<E>,
+/// Integrates with `estimator` until `tolerance` is met or a limit is reached. Counts are of
+/// contributions; the caller turns them into integrand evaluations.
+pub(super) fn run_to_tolerance(
+    estimator: &dyn Estimator,
+    config: &RunConfig,
     sampler: &dyn Sampler,
     executor: &Executor,
     tolerance: &Tolerance,
@@ -40,10 +42,12 @@ pub(super) fn run_to_tolerance<E: Estimator>(
         )
     })?;
     let stage = Stage {
-        integrator,
+        estimator,
+        config,
         sampler,
         executor,
         stopping: Stopping::new(tolerance),
+        cost: estimator.evaluations_per_contribution().max(1),
     };
     if sampler.passes() == PassKind::Independent {
         two_stage(&stage)
@@ -53,14 +57,30 @@ pub(super) fn run_to_tolerance<E: Estimator>(
 }
 
 /// What every stage of one run shares.
-struct Stage<'a, E> {
-    integrator: &'a Integrator<E>,
+struct Stage<'a> {
+    estimator: &'a dyn Estimator,
+    config: &'a RunConfig,
     sampler: &'a dyn Sampler,
     executor: &'a Executor,
     stopping: Stopping<'a>,
+    /// Integrand evaluations per contribution.
+    cost: u64,
 }
 
-impl<E: Estimator> Stage<'_, E> {
+impl Stage<'_> {
+    /// Why the run should stop before `next` more contributions, `used` spent so far.
+    fn limit(&self, used: u64, next: u64) -> Option<StopReason> {
+        self.stopping.limit(
+            used.saturating_mul(self.cost),
+            next.saturating_mul(self.cost),
+        )
+    }
+
+    /// The evaluation limit, in contributions.
+    fn contribution_limit(&self) -> u64 {
+        self.stopping.tolerance().evaluation_limit() / self.cost
+    }
+
     /// Accumulators of points `offset .. offset + samples` of each of `replicates`
     /// replicates, `stride` apart.
     fn run(
@@ -71,26 +91,24 @@ impl<E: Estimator> Stage<'_, E> {
         samples: u64,
     ) -> Result<Vec<Accumulator>> {
         let plan = Plan::stage(replicates, stride, offset, samples)?;
-        let folded = plan.run_folded(self.executor, self.sampler, &self.integrator.estimator)?;
-        plan.check_finite(self.sampler, &folded, self.integrator.config.non_finite)?;
+        let folded = plan.run_folded(self.executor, self.sampler, self.estimator)?;
+        plan.check_finite(self.sampler, &folded, self.config.non_finite)?;
         Ok(folded.replicates)
     }
 }
 
 /// Independent points: a pilot sizes a fresh main stage (extended if it still misses).
-fn two_stage<E: Estimator>(stage: &Stage<'_, E>) -> Result<Estimate> {
+fn two_stage(stage: &Stage<'_>) -> Result<Estimate> {
     let tolerance = stage.stopping.tolerance();
-    let pilot_size = stage
-        .integrator
-        .config
-        .samples
-        .unwrap_or(DEFAULT_PILOT)
-        .max(2);
-    if pilot_size > tolerance.evaluation_limit() {
+    let pilot_size = stage.config.samples.unwrap_or(DEFAULT_PILOT).max(2);
+    if pilot_size > stage.contribution_limit() {
         return Err(Error::invalid(
             "max_evals",
             tolerance.evaluation_limit(),
-            format!("at least the pilot's {pilot_size} evaluations"),
+            format!(
+                "at least the pilot's {} evaluations",
+                pilot_size.saturating_mul(stage.cost)
+            ),
         ));
     }
     // Replicate 0 only: the pilot takes indices 0 .. pilot, the main stage what follows.
@@ -114,10 +132,10 @@ fn two_stage<E: Estimator>(stage: &Stage<'_, E>) -> Result<Estimate> {
             }
         };
         let more = needed.saturating_sub(main.count()).max(1);
-        let more = match stage.stopping.limit(used, more) {
+        let more = match stage.limit(used, more) {
             None => more,
             Some(StopReason::MaxEvaluations) => {
-                let left = tolerance.evaluation_limit() - used;
+                let left = stage.contribution_limit().saturating_sub(used);
                 if left == 0 {
                     break StopReason::MaxEvaluations;
                 }
@@ -145,13 +163,9 @@ fn two_stage<E: Estimator>(stage: &Stage<'_, E>) -> Result<Estimate> {
 
 /// Randomized QMC and stratified points: `R` replicates, doubling the points of each until
 /// the judged interval over the replicates meets the tolerance.
-fn doubling<E: Estimator>(stage: &Stage<'_, E>) -> Result<Estimate> {
+fn doubling(stage: &Stage<'_>) -> Result<Estimate> {
     let tolerance = stage.stopping.tolerance();
-    let replicates = stage
-        .integrator
-        .config
-        .replicates
-        .unwrap_or(DEFAULT_REPLICATES);
+    let replicates = stage.config.replicates.unwrap_or(DEFAULT_REPLICATES);
     if replicates < 2 {
         return Err(Error::invalid(
             "replicates",
@@ -159,7 +173,7 @@ fn doubling<E: Estimator>(stage: &Stage<'_, E>) -> Result<Estimate> {
             "at least 2 for a run to a tolerance (the error bar comes from their spread)",
         ));
     }
-    let limit = tolerance.evaluation_limit();
+    let limit = stage.contribution_limit();
     let (first, stride) = first_stage_and_stride(stage, replicates, limit)?;
     Plan::stage(replicates, stride, 0, stride)?;
     let mut accumulators = vec![Accumulator::new(); replicates as usize];
@@ -171,7 +185,7 @@ fn doubling<E: Estimator>(stage: &Stage<'_, E>) -> Result<Estimate> {
             break StopReason::MaxEvaluations;
         }
         let cost = (next - done).saturating_mul(replicates);
-        if let Some(reason) = stage.stopping.limit(done * replicates, cost) {
+        if let Some(reason) = stage.limit(done * replicates, cost) {
             // The first stage always runs within the evaluation limit, whatever the time.
             if stages > 0 || cost > limit {
                 break reason;
@@ -194,10 +208,10 @@ fn doubling<E: Estimator>(stage: &Stage<'_, E>) -> Result<Estimate> {
     let mut estimate = estimate.ok_or_else(|| {
         Error::invalid(
             "max_evals",
-            limit,
+            tolerance.evaluation_limit(),
             format!(
                 "at least {} evaluations ({replicates} replicates of {first} points)",
-                replicates.saturating_mul(first)
+                replicates.saturating_mul(first).saturating_mul(stage.cost)
             ),
         )
     })?;
@@ -206,12 +220,8 @@ fn doubling<E: Estimator>(stage: &Stage<'_, E>) -> Result<Estimate> {
 }
 
 /// Points per replicate of the first stage, and the distance between replicates.
-fn first_stage_and_stride<E: Estimator>(
-    stage: &Stage<'_, E>,
-    replicates: u64,
-    limit: u64,
-) -> Result<(u64, u64)> {
-    let samples = stage.integrator.config.samples;
+fn first_stage_and_stride(stage: &Stage<'_>, replicates: u64, limit: u64) -> Result<(u64, u64)> {
+    let samples = stage.config.samples;
     match stage.sampler.passes() {
         PassKind::Fixed { size } => {
             let first = samples.unwrap_or(size);

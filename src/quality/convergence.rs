@@ -41,9 +41,8 @@
 //! other point counts in the list.
 
 use std::fmt;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::mpsc;
 
+use crate::engine::{ChunkJob, RunConfig, run_settings};
 use crate::hash::hash_words;
 use crate::sampler::{PassKind, Sampler};
 use crate::testfns::TestFunction;
@@ -163,8 +162,7 @@ pub struct Convergence<'a> {
     integrand: &'a dyn TestFunction,
     sizes: Vec<u64>,
     passes: u64,
-    seed: u64,
-    threads: Option<usize>,
+    config: RunConfig,
     progress: Option<&'a dyn Fn(u64, u64)>,
 }
 
@@ -174,8 +172,8 @@ impl fmt::Debug for Convergence<'_> {
             .field("integrand", &self.integrand.name())
             .field("sizes", &self.sizes)
             .field("passes", &self.passes)
-            .field("seed", &self.seed)
-            .field("threads", &self.threads)
+            .field("seed", &self.config.seed())
+            .field("threads", &self.config.threads)
             .field("progress", &self.progress.is_some())
             .finish()
     }
@@ -196,10 +194,17 @@ impl<'a> Convergence<'a> {
             integrand,
             sizes: sizes.to_vec(),
             passes: DEFAULT_PASSES,
-            seed: 0,
-            threads: None,
+            config: RunConfig::default(),
             progress: None,
         }
+    }
+
+    run_settings! {
+        setup: "use mcint::{quality::Convergence, sampler::Independent, testfns::GraphicsIntegrand};\n\
+                const DIMS: usize = 2;\n\
+                let runner = || Convergence::new(&GraphicsIntegrand::Disk, &[16, 64]).passes(4);",
+        run: ".run(|_n, seed| Independent::new(DIMS, seed)).unwrap()";
+        seed, threads
     }
 
     /// Independent passes `R` per point count (at least 2; default 32). The slope's standard
@@ -214,38 +219,6 @@ impl<'a> Convergence<'a> {
     /// ```
     pub fn passes(mut self, passes: u64) -> Self {
         self.passes = passes;
-        self
-    }
-
-    /// The seed from which every pass's seed is hashed (default 0).
-    ///
-    /// ```
-    /// use mcint::quality::Convergence;
-    /// use mcint::sampler::Independent;
-    /// use mcint::testfns::GraphicsIntegrand;
-    /// let run = |seed| Convergence::new(&GraphicsIntegrand::Disk, &[16, 64]).seed(seed)
-    ///     .run(|_n, s| Independent::new(2, s)).unwrap().slope;
-    /// assert_eq!(run(1), run(1));
-    /// assert_ne!(run(1), run(2));
-    /// ```
-    pub fn seed(mut self, seed: u64) -> Self {
-        self.seed = seed;
-        self
-    }
-
-    /// Number of worker threads (at least 1; default: all available). The result does not
-    /// depend on it.
-    ///
-    /// ```
-    /// use mcint::quality::Convergence;
-    /// use mcint::sampler::Independent;
-    /// use mcint::testfns::GraphicsIntegrand;
-    /// let run = |t| Convergence::new(&GraphicsIntegrand::Gaussian, &[16, 64, 256]).threads(t)
-    ///     .run(|_n, s| Independent::new(2, s)).unwrap();
-    /// assert_eq!(run(1), run(3));
-    /// ```
-    pub fn threads(mut self, threads: usize) -> Self {
-        self.threads = Some(threads);
         self
     }
 
@@ -300,7 +273,6 @@ impl<'a> Convergence<'a> {
         F: Fn(u64, u64) -> Result<S> + Sync,
     {
         self.check_settings()?;
-        let threads = self.threads.unwrap_or_else(crate::threads::available);
         // Pass 0 of every size is built here, so that a size the sampler rejects is reported
         // before any work, and always the same one (the smallest).
         let first_passes = self
@@ -309,7 +281,7 @@ impl<'a> Convergence<'a> {
             .map(|&n| self.plan().build(&sampler, n, 0))
             .collect::<Result<Vec<S>>>()?;
         let sampler_name = first_passes[0].name().to_string();
-        let errors = self.run_passes(&sampler, &first_passes, threads)?;
+        let errors = self.run_passes(&sampler, &first_passes)?;
         let points = self
             .sizes
             .iter()
@@ -344,7 +316,7 @@ impl<'a> Convergence<'a> {
     fn plan(&self) -> PassPlan<'a> {
         PassPlan {
             integrand: self.integrand,
-            seed: self.seed,
+            seed: self.config.seed().unwrap_or(0),
         }
     }
 
@@ -370,29 +342,20 @@ impl<'a> Convergence<'a> {
                 "at least 2 independent passes per point count, to measure a spread",
             ));
         }
-        if self.threads == Some(0) {
-            return Err(Error::invalid("threads", 0, "at least 1"));
-        }
         Ok(())
     }
 
     /// The signed errors of every pass, `errors[k][r]` for size `k` and pass `r`.
-    fn run_passes<S, F>(
-        &self,
-        factory: &F,
-        first_passes: &[S],
-        threads: usize,
-    ) -> Result<Vec<Vec<f64>>>
+    fn run_passes<S, F>(&self, factory: &F, first_passes: &[S]) -> Result<Vec<Vec<f64>>>
     where
         S: Sampler,
         F: Fn(u64, u64) -> Result<S> + Sync,
     {
-        let too_many = || Error::IndexOutOfRange {
-            what: "number of passes times point counts",
+        let executor = self.config.executor()?;
+        let passes = usize::try_from(self.passes).map_err(|_| Error::IndexOutOfRange {
+            what: "number of passes",
             limit: usize::MAX as u64,
-        };
-        let passes = usize::try_from(self.passes).map_err(|_| too_many())?;
-        let total_items = self.sizes.len().checked_mul(passes).ok_or_else(too_many)?;
+        })?;
         // Largest sizes first: the long jobs start early, so the workers finish together.
         let order: Vec<(usize, u64)> = (0..self.sizes.len())
             .rev()
@@ -401,80 +364,69 @@ impl<'a> Convergence<'a> {
         let total_points = self.sizes.iter().fold(0u64, |sum, &n| {
             sum.saturating_add(n.saturating_mul(self.passes))
         });
-        let next = AtomicUsize::new(0);
-        let failed = AtomicBool::new(false);
+        let job = PassJobs {
+            plan: self.plan(),
+            factory,
+            first_passes,
+            sizes: &self.sizes,
+            order: &order,
+        };
         let mut errors = vec![vec![0.0; passes]; self.sizes.len()];
-        let mut first_failure: Option<((usize, u64), Error)> = None;
-        let workers = threads.min(total_items);
-        let (plan, sizes) = (self.plan(), &self.sizes);
-        let integrand = plan.integrand;
-
-        std::thread::scope(|scope| {
-            let (sender, receiver) = mpsc::channel::<((usize, u64), Result<f64>)>();
-            for _ in 0..workers {
-                let sender = sender.clone();
-                let (next, failed, order) = (&next, &failed, &order);
-                scope.spawn(move || {
-                    let mut block = match Points::new(integrand.dims(), BLOCK) {
-                        Ok(block) => block,
-                        Err(e) => {
-                            failed.store(true, Ordering::Relaxed);
-                            let _ = sender.send(((0, 0), Err(e)));
-                            return;
-                        }
-                    };
-                    loop {
-                        let item = next.fetch_add(1, Ordering::Relaxed);
-                        if item >= order.len() || failed.load(Ordering::Relaxed) {
-                            return;
-                        }
-                        let (k, r) = order[item];
-                        let n = sizes[k];
-                        let error = if r == 0 {
-                            pass_error(&first_passes[k], integrand, n, r, &mut block)
-                        } else {
-                            plan.build(factory, n, r)
-                                .and_then(|s| pass_error(&s, integrand, n, r, &mut block))
-                        };
-                        if error.is_err() {
-                            failed.store(true, Ordering::Relaxed);
-                        }
-                        if sender.send(((k, r), error)).is_err() {
-                            return;
-                        }
-                    }
-                });
+        let mut done = 0u64;
+        // A few items per thread at a time, so the progress callback is told often.
+        let window = 4 * executor.threads() as u64;
+        executor.run(&job, 0..order.len() as u64, window, |item, error| {
+            let (k, r) = order[item as usize];
+            errors[k][r as usize] = error;
+            done = done.saturating_add(self.sizes[k]);
+            if let Some(progress) = self.progress {
+                progress(done, total_points);
             }
-            drop(sender);
-            let mut done = 0u64;
-            for ((k, r), error) in receiver {
-                match error {
-                    Ok(e) => {
-                        errors[k][r as usize] = e;
-                        done = done.saturating_add(self.sizes[k]);
-                        if let Some(progress) = self.progress {
-                            progress(done, total_points);
-                        }
-                    }
-                    // Of several failures, report the one of the smallest size and pass,
-                    // whichever thread met it first.
-                    Err(e) => {
-                        if first_failure.as_ref().is_none_or(|(at, _)| (k, r) < *at) {
-                            first_failure = Some(((k, r), e));
-                        }
-                    }
-                }
-            }
-        });
-        match first_failure {
-            Some((_, e)) => Err(e),
-            None => Ok(errors),
-        }
+            Ok(())
+        })?;
+        Ok(errors)
     }
 }
 
-/// What a worker needs to build and check the sampler of one pass (the study's settings
-/// without the progress callback, which stays on the calling thread).
+/// Every (size, pass) of a study, as work for the executor: item `i` is `order[i]`.
+struct PassJobs<'a, S, F> {
+    plan: PassPlan<'a>,
+    factory: &'a F,
+    first_passes: &'a [S],
+    sizes: &'a [u64],
+    order: &'a [(usize, u64)],
+}
+
+impl<S, F> ChunkJob for PassJobs<'_, S, F>
+where
+    S: Sampler,
+    F: Fn(u64, u64) -> Result<S> + Sync,
+{
+    type Scratch = Points;
+    type Output = f64;
+
+    fn scratch(&self) -> Result<Points> {
+        Points::new(self.plan.integrand.dims(), BLOCK)
+    }
+
+    fn run(&self, block: &mut Points, item: u64) -> Result<f64> {
+        let (k, r) = self.order[item as usize];
+        let n = self.sizes[k];
+        let integrand = self.plan.integrand;
+        if r == 0 {
+            pass_error(&self.first_passes[k], integrand, n, r, block)
+        } else {
+            let sampler = self.plan.build(self.factory, n, r)?;
+            pass_error(&sampler, integrand, n, r, block)
+        }
+    }
+
+    fn origin(&self, item: u64) -> (u64, u64) {
+        let (_, r) = self.order[item as usize];
+        (r, 0)
+    }
+}
+
 #[derive(Clone, Copy)]
 struct PassPlan<'a> {
     integrand: &'a dyn TestFunction,

@@ -21,6 +21,7 @@
 //! thread with a fixed order of summation, so the result does not depend on the number of
 //! threads, and passes are added in pass order.
 
+use crate::engine::{ChunkJob, Executor, available_threads};
 use crate::sampler::{PassKind, Sampler};
 use crate::{Error, Points, Result};
 use std::f64::consts::TAU;
@@ -287,7 +288,7 @@ fn annulus(r2: i64) -> Option<usize> {
 /// # Ok::<(), mcint::Error>(())
 /// ```
 pub fn periodogram(points: &Points, max_frequency: usize) -> Result<Periodogram> {
-    periodogram_with_threads(points, max_frequency, crate::threads::available())
+    periodogram_with_threads(points, max_frequency, available_threads())
 }
 
 /// [`periodogram`] on `threads >= 1` threads; the result is bit-identical for every thread
@@ -349,13 +350,7 @@ pub fn mean_periodogram(
     passes: usize,
     max_frequency: usize,
 ) -> Result<Periodogram> {
-    mean_periodogram_with_threads(
-        sampler,
-        points,
-        passes,
-        max_frequency,
-        crate::threads::available(),
-    )
+    mean_periodogram_with_threads(sampler, points, passes, max_frequency, available_threads())
 }
 
 /// [`mean_periodogram`] on `threads >= 1` threads; the result is bit-identical for every
@@ -479,6 +474,7 @@ fn add_half_periodogram(
     threads: usize,
     half: &mut [f64],
 ) -> Result<()> {
+    let executor = Executor::new(Some(threads))?;
     let (xs, ys) = (points.column(0), points.column(1));
     for (dim, column) in [xs, ys].into_iter().enumerate() {
         if let Some(i) = column.iter().position(|v| !v.is_finite()) {
@@ -500,55 +496,41 @@ fn add_half_periodogram(
     let back_im: Vec<f64> = step_im.iter().map(|&s| -s).collect();
     let row_len = 2 * max_frequency + 1;
     let rows = max_frequency + 1;
-    let workers = threads.min(rows);
-    let norm = 1.0 / points.len() as f64;
     let steps = Steps {
         ys,
         re: &step_re,
         im: &step_im,
         back_im: &back_im,
         max_frequency,
-        norm,
+        norm: 1.0 / points.len() as f64,
     };
-    // Worker w computes rows w, w + workers, ...; each row is the same computation whichever
-    // worker does it.
-    let computed: Vec<Vec<(usize, Vec<f64>)>> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..workers)
-            .map(|w| {
-                let steps = &steps;
-                scope.spawn(move || {
-                    let mut scratch = Scratch::new(steps.ys.len());
-                    (w..rows)
-                        .step_by(workers)
-                        .map(|ky| {
-                            let mut row = vec![0.0; row_len];
-                            steps.row(ky, &mut scratch, &mut row);
-                            (ky, row)
-                        })
-                        .collect()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| h.join().unwrap_or_default())
-            .collect()
-    });
-    let mut done = 0;
-    for (ky, row) in computed.into_iter().flatten() {
+    // Each row is the same computation whichever thread does it, and rows are added in order.
+    executor.run(&steps, 0..rows as u64, rows as u64, |ky, row| {
+        let ky = ky as usize;
         for (sum, v) in half[ky * row_len..(ky + 1) * row_len].iter_mut().zip(row) {
             *sum += v;
         }
-        done += 1;
+        Ok(())
+    })
+}
+
+impl ChunkJob for Steps<'_> {
+    type Scratch = Scratch;
+    type Output = Vec<f64>;
+
+    fn scratch(&self) -> Result<Scratch> {
+        Ok(Scratch::new(self.ys.len()))
     }
-    if done != rows {
-        // Only a panic in a worker (a bug) can get here.
-        return Err(Error::IndexOutOfRange {
-            what: "periodogram rows computed",
-            limit: done as u64,
-        });
+
+    fn run(&self, scratch: &mut Scratch, ky: u64) -> Result<Vec<f64>> {
+        let mut row = vec![0.0; 2 * self.max_frequency + 1];
+        self.row(ky as usize, scratch, &mut row);
+        Ok(row)
     }
-    Ok(())
+
+    fn origin(&self, ky: u64) -> (u64, u64) {
+        (0, ky)
+    }
 }
 
 /// The per-point data every row needs.
