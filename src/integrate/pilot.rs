@@ -167,7 +167,7 @@ where
     ///     .fit()
     ///     .unwrap();
     /// assert!((fit.coefficients[0] - 2.0).abs() < 1e-12);
-    /// assert!(fit.variance_reduction < 1e-20);
+    /// assert!(fit.variance_reduction < 1e-12);
     /// ```
     pub fn fit(&self) -> Result<ControlFit> {
         let executor = self.config.executor()?;
