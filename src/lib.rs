@@ -15,6 +15,14 @@
 //! * [`Integrator`]: the front door; runs blocks on threads, with results that do not depend
 //!   on the thread count, and error bars from independent replicates wherever the points are
 //!   not independent.
+//! * [`adaptive`]: VEGAS/VEGAS+, MISER and two-stage stratified sampling.
+//!
+//! Every runner sits on one crate-private engine: an executor that cuts a run into fixed
+//! chunks, evaluates them on a rayon pool and folds their results in chunk order (so results
+//! are bit-identical for any thread count, and a panic becomes
+//! [`Error::IntegrandPanicked`]); one run configuration whose setters (`sampler`, `seed`,
+//! `threads`, `tolerance`, `non_finite`) every builder shares; and one stopping rule that
+//! every run to a [`Tolerance`](stats::Tolerance) asks when to stop and with which interval.
 //! * [`testfns`]: the Genz families and other integrands with known integrals.
 //!
 //! ```
