@@ -176,6 +176,7 @@ fn field(err: Error) -> String {
     match err {
         Error::InvalidParameter { name, .. } => name.to_string(),
         Error::DimensionMismatch { what, .. } => what.split(' ').next().unwrap().to_string(),
+        Error::Unsupported { operation, .. } => operation.to_string(),
         other => panic!("unexpected error {other}"),
     }
 }

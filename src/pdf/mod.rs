@@ -100,11 +100,14 @@ pub trait Pdf: Send + Sync {
     /// Maps `x` back to the canonical point `u` with `sample(u) == x`, where the warp has an
     /// inverse; the default reports that it does not.
     fn invert(&self, _x: &[f64], _u: &mut [f64]) -> Result<()> {
-        Err(Error::invalid(
-            "invert",
-            "called",
-            "a pdf whose warp has an inverse",
-        ))
+        Err(Error::Unsupported {
+            operation: "invert",
+            reason: format!(
+                "the warp of {} has no inverse (a pdf that maps canonical points one to one \
+                 does: the 1-D, product, disk, sphere and table pdfs)",
+                std::any::type_name::<Self>()
+            ),
+        })
     }
 }
 
