@@ -46,6 +46,7 @@ pub mod adaptive;
 mod engine;
 mod error;
 pub mod estimator;
+mod float;
 mod hash;
 mod integrate;
 pub mod pdf;

@@ -12,8 +12,9 @@
 //! estimator `f(i) / p_i` for a sum `sum_i f(i)`.
 
 use super::Pdf;
-use super::piecewise_constant::{ONE_BELOW, check_weights, into_canonical};
+use super::piecewise_constant::{check_weights, into_canonical};
 use crate::Result;
+use crate::float::ONE_BELOW;
 
 /// One of the `n` equal bins: the bin's own outcome below `threshold`, `alias` above it.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -9,10 +9,9 @@
 //! the weights `f/p` stay bounded even where the proposal misses the integrand.
 
 use super::{Pdf, UniformBox};
+use crate::float::ONE_BELOW;
 use crate::{Error, Result};
 
-/// The largest canonical coordinate, `1 - 2^-53`.
-const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
 /// Canonical dimensions whose remapped point fits on the stack when sampling.
 const STACK_DIMS: usize = 16;
 

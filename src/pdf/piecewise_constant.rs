@@ -9,10 +9,8 @@
 //! implementation.
 
 use super::{Pdf1d, check_interval};
+use crate::float::ONE_BELOW;
 use crate::{Error, Result};
-
-/// The largest canonical coordinate, `1 - 2^-53`.
-pub(super) const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
 
 /// `u` moved into `[0, 1)` (NaN to 0), so that a table lookup cannot leave the table or land
 /// on a cell of zero weight even for input outside the documented range.

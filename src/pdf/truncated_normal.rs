@@ -1,13 +1,12 @@
 //! The normal density truncated to an interval, sampled by its exact inverse cdf.
 
 use super::Pdf1d;
+use crate::float::ONE_BELOW;
 use crate::quadrature::gauss_kronrod;
 use crate::stats::{normal_cdf, normal_quantile, normal_sf};
 use crate::{Error, Result};
 use std::f64::consts::PI;
 
-/// The largest double below one.
-const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
 /// The smallest positive double (subnormal): upper-tail probabilities go down to 1e-300 times
 /// `1 - u`, below `f64::MIN_POSITIVE`.
 const SMALLEST_POSITIVE: f64 = 5e-324;

@@ -14,12 +14,10 @@
 //! `x` and `y` near `+z` instead of from `1 - z`.
 
 use super::Pdf;
+use crate::float::ONE_BELOW;
 use crate::{Error, Result};
 use core::f64::consts::{PI, TAU};
 use glam::{DVec2, DVec3};
-
-/// The largest `f64` below one: the top of the canonical range `[0, 1)`.
-const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
 
 /// The direction, in the cap's own frame (axis `+z`), of the canonical point `u` for a cap of
 /// height `h = 1 - cos theta_max` whose complement has height `g = 1 + cos theta_max`.

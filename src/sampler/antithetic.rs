@@ -11,7 +11,7 @@
 //! section 8.2).
 
 use super::{PassKind, Sampler, check_block, check_point};
-use crate::hash::ONE_BELOW;
+use crate::float::ONE_BELOW;
 use crate::{Error, Points, Result};
 
 /// The reflection `u -> (1 - 2^-53) - u` used by [`Antithetic`].

@@ -21,7 +21,8 @@
 use super::permutation::{LANES, Permutation};
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, Scramble, check_block, check_point};
-use crate::hash::{ONE_BELOW, hash_words};
+use crate::float::ONE_BELOW;
+use crate::hash::hash_words;
 use crate::{Error, Points, Result};
 use std::sync::OnceLock;
 

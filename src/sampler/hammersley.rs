@@ -10,7 +10,8 @@ use super::halton::{
     PASS_SIZE, SCRAMBLES, Scratch, bases, check_halton_dims, column_key, coordinate, fill_column,
 };
 use super::{PassKind, Sampler, Scramble, check_block, check_point};
-use crate::hash::{ONE_BELOW, hash_words, mix64, unit_f64};
+use crate::float::ONE_BELOW;
+use crate::hash::{hash_words, mix64, unit_f64};
 use crate::{Error, Points, Result};
 
 /// Hash tag of the Hammersley randomizations.

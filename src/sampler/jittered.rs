@@ -7,7 +7,8 @@
 //! (in 2D: `N^-1` and `N^-0.75`), not the "`sigma ∝ 1/N`" the seed states in general.
 
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, hash_words, unit_f64};
+use crate::float::ONE_BELOW;
+use crate::hash::{hash_words, unit_f64};
 use crate::{Error, Points, Result};
 
 /// One uniform point in each of the `k^d` cells of a regular grid, per pass.

@@ -9,7 +9,8 @@
 use super::permutation::Permutation;
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, hash_absorb, hash_words, unit_f64};
+use crate::float::ONE_BELOW;
+use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
 
 /// `N` points per pass, one in each `1/N` slab of every coordinate.

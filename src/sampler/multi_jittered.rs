@@ -25,7 +25,8 @@
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, hash_absorb, hash_words, unit_f64};
+use crate::float::ONE_BELOW;
+use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
 
 /// Most points a pass may hold: `2^53`, beyond which the `1/N` slabs are no longer distinct

@@ -32,7 +32,8 @@
 
 use super::permutation::Permutation;
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, hash_absorb, hash_words, unit_f64};
+use crate::float::ONE_BELOW;
+use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
 
 /// Largest pass size: slabs stay exactly representable in a double.

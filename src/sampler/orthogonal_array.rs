@@ -34,7 +34,8 @@
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
-use crate::hash::{ONE_BELOW, hash_absorb, hash_words, unit_f64};
+use crate::float::ONE_BELOW;
+use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
 use std::fmt;
 use std::str::FromStr;

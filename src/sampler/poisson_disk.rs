@@ -44,7 +44,8 @@ use rand_pcg::Pcg64;
 
 use super::torus_grid::TorusGrid;
 use super::{PassKind, Sampler, check_block, check_point};
-use crate::hash::{ONE_BELOW, hash_words, unit_f64};
+use crate::float::ONE_BELOW;
+use crate::hash::{hash_words, unit_f64};
 use crate::{Error, Points, Result};
 
 /// Largest supported dimension. Making the set maximal is what limits it: a gap-filling cell

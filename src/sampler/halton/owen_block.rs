@@ -18,7 +18,8 @@
 #[cfg(test)]
 use super::small_permutation;
 use super::{Base, MAX_DEPTH, SMALL_BASE, TAG_RHO, rotate};
-use crate::hash::{ONE_BELOW, hash_absorb, hash_start};
+use crate::float::ONE_BELOW;
+use crate::hash::{hash_absorb, hash_start};
 use crate::sampler::permutation::{Permutation, below_narrow, mod_reciprocal};
 use crate::sampler::simd::{Kernel, dispatch};
 
