@@ -18,6 +18,7 @@
 //! path yields the same integers and the same single rounding, so `fill` and `point` agree bit
 //! for bit.
 
+use super::number_theory::primes_below;
 use super::permutation::{LANES, Permutation};
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, Scramble, check_block, check_point};
@@ -165,21 +166,11 @@ impl Base {
 pub(crate) fn bases() -> &'static [Base] {
     static BASES: OnceLock<Vec<Base>> = OnceLock::new();
     BASES.get_or_init(|| {
-        let mut composite = vec![false; SIEVE_BOUND];
-        let mut primes = Vec::with_capacity(MAX_DIMS);
-        for n in 2..SIEVE_BOUND {
-            if composite[n] {
-                continue;
-            }
-            primes.push(Base::new(n as u64));
-            if primes.len() == MAX_DIMS {
-                break;
-            }
-            for multiple in (n * n..SIEVE_BOUND).step_by(n) {
-                composite[multiple] = true;
-            }
-        }
-        primes
+        primes_below(SIEVE_BOUND)
+            .into_iter()
+            .take(MAX_DIMS)
+            .map(Base::new)
+            .collect()
     })
 }
 

@@ -6,6 +6,7 @@
 //! about `N^(-1/2 - 1/d)` for smooth integrands and `N^(-1/2 - 1/(2d))` across discontinuities
 //! (in 2D: `N^-1` and `N^-0.75`), not the "`sigma ∝ 1/N`" the seed states in general.
 
+use super::number_theory::integer_root;
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_words, unit_f64};
@@ -83,7 +84,7 @@ impl Jittered {
         // Beyond u32 dimensions only k = 1 has a power that fits in 64 bits (2^dims does
         // not), so 1 is the only valid size.
         let powers = u32::try_from(dims).unwrap_or(u32::MAX);
-        let root = integer_root(points, dims);
+        let root = integer_root(points, powers);
         if root > 0 && root.checked_pow(powers) == Some(points) {
             return Jittered::new(dims, root, seed);
         }
@@ -126,27 +127,6 @@ impl Jittered {
             *x = ((digit as f64 + jitter) / strata).min(ONE_BELOW);
         }
     }
-}
-
-/// Largest `r` with `r^d <= n` (0 for `n = 0`).
-fn integer_root(n: u64, d: usize) -> u64 {
-    if n == 0 {
-        return 0;
-    }
-    let d32 = u32::try_from(d).unwrap_or(u32::MAX);
-    // Start from the floating-point root and correct the rounding in either direction.
-    let mut r = (n as f64).powf(1.0 / d as f64).round() as u64;
-    while r > 1 && r.checked_pow(d32).is_none_or(|p| p > n) {
-        r -= 1;
-    }
-    while r
-        .checked_add(1)
-        .and_then(|next| next.checked_pow(d32))
-        .is_some_and(|p| p <= n)
-    {
-        r += 1;
-    }
-    r.max(1)
 }
 
 impl Sampler for Jittered {
@@ -195,7 +175,7 @@ impl Sampler for Jittered {
 
 #[cfg(test)]
 mod tests {
-    use super::{Jittered, integer_root};
+    use super::Jittered;
 
     #[test]
     fn one_stratum_fits_any_dimension() {
@@ -210,16 +190,5 @@ mod tests {
             assert!(err.ends_with("(nearest valid: 1)"), "{err}");
             assert!(Jittered::new(dims, 2, 0).is_err());
         }
-    }
-
-    #[test]
-    fn integer_root_is_exact_at_and_around_powers() {
-        assert_eq!(integer_root(1, 3), 1);
-        assert_eq!(integer_root(63, 2), 7);
-        assert_eq!(integer_root(64, 2), 8);
-        assert_eq!(integer_root(65, 2), 8);
-        assert_eq!(integer_root(u64::MAX, 1), u64::MAX);
-        assert_eq!(integer_root(u64::MAX, 2), u32::MAX as u64);
-        assert_eq!(integer_root(u64::MAX, 64), 1);
     }
 }

@@ -23,6 +23,7 @@ mod lattice;
 mod multi_jittered;
 mod multi_stage_n_rooks;
 mod named;
+mod number_theory;
 mod orthogonal_array;
 pub(crate) mod owen;
 pub(crate) mod permutation;

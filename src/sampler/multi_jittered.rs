@@ -22,6 +22,7 @@
 //!
 //! The shared machinery for both variants lives here.
 
+use super::number_theory::integer_root;
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
@@ -418,15 +419,7 @@ impl Kernel for FillMultiJittered<'_> {
 ///
 /// Walks down from `floor(sqrt(points))`: at most `2^26.5` steps for `points <= 2^53`.
 fn squarest_divisor(points: u64) -> u64 {
-    let mut m = (points as f64).sqrt() as u64;
-    // Correct the floating-point root in either direction.
-    while m > 1 && m.checked_mul(m).is_none_or(|sq| sq > points) {
-        m -= 1;
-    }
-    while (m + 1).checked_mul(m + 1).is_some_and(|sq| sq <= points) {
-        m += 1;
-    }
-    let mut m = m.max(1);
+    let mut m = integer_root(points, 2).max(1);
     while !points.is_multiple_of(m) {
         m -= 1;
     }

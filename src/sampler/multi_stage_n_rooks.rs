@@ -30,6 +30,7 @@
 //! What the construction does not give: joint (multi-axis) stratification; for that use
 //! jittered, multi-jittered or pmj02 samplers.
 
+use super::number_theory::integer_root;
 use super::permutation::Permutation;
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
 use crate::float::ONE_BELOW;
@@ -287,18 +288,6 @@ impl NodeMemo {
     }
 }
 
-/// `floor(x^(1/k))` for `k >= 2`.
-fn integer_root(x: u64, k: u32) -> u64 {
-    let mut r = (x as f64).powf(1.0 / f64::from(k)).round() as u64;
-    while r > 0 && r.checked_pow(k).is_none_or(|p| p > x) {
-        r -= 1;
-    }
-    while (r + 1).checked_pow(k).is_some_and(|p| p <= x) {
-        r += 1;
-    }
-    r
-}
-
 /// The largest valid size `n^k <= points` and the smallest one `>= points`, if any, where
 /// valid means `n >= 2`, `k >= 2` and at most 2^53.
 fn nearest_powers(points: u64) -> (Option<u64>, Option<u64>) {
@@ -402,14 +391,6 @@ impl Sampler for MultiStageNRooks {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn integer_roots_are_exact() {
-        assert_eq!(integer_root(26, 3), 2);
-        assert_eq!(integer_root(27, 3), 3);
-        assert_eq!(integer_root(u64::MAX, 2), u64::from(u32::MAX));
-        assert_eq!(integer_root(1 << 53, 53), 2);
-    }
 
     #[test]
     fn nearest_powers_bracket_the_request() {

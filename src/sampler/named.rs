@@ -1,6 +1,6 @@
 //! Choosing a sampler by name, as configuration files and the example binaries do.
 
-use super::orthogonal_array::is_prime;
+use super::number_theory::prime_root;
 use super::{
     BestCandidate, CorrelatedMultiJittered, Halton, Hammersley, Independent, Jittered,
     LatinHypercube, Lattice, MultiJittered, MultiStageNRooks, OaOffset, OrthogonalArray, Pmj02,
@@ -239,13 +239,10 @@ impl SamplerKind {
 /// a power of a number that is not prime: the caller gave `points`, not `p`).
 fn bush_with_points(dims: usize, points: u64, strength: u32, seed: u64) -> Result<OrthogonalArray> {
     let offset = OaOffset::MultiJittered;
-    if strength > 0 && strength <= 64 {
-        let root = (points as f64).powf(1.0 / f64::from(strength)).round() as u64;
-        for p in root.saturating_sub(1)..=root.saturating_add(1) {
-            if is_prime(p) && p.checked_pow(strength) == Some(points) {
-                return OrthogonalArray::bush(dims, p, strength, offset, seed);
-            }
-        }
+    if strength > 0
+        && let Some(p) = prime_root(points, strength)
+    {
+        return OrthogonalArray::bush(dims, p, strength, offset, seed);
     }
     OrthogonalArray::with_points(dims, points, strength, offset, seed)
 }

@@ -31,6 +31,9 @@
 //! order of the rows (so a prefix of a pass is a random subset of it) and fresh offsets. All of
 //! them are hashed from `(seed, pass, ...)`, so any point is computed directly from its index.
 
+use super::number_theory::{
+    integer_root, is_prime, max_exponent, next_prime, polynomial_mod, previous_prime, prime_root,
+};
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
@@ -302,18 +305,16 @@ impl OrthogonalArray {
         if strength == 0 {
             return Err(Error::invalid("strength", 0, "at least 1"));
         }
-        let root = integer_root(points, strength);
-        if root >= 2
-            && is_prime(root)
-            && root.checked_pow(strength) == Some(points)
-            && fits(dims, root, strength)
+        if let Some(p) = prime_root(points, strength)
+            && fits(dims, p, strength)
         {
             return if strength == 2 {
-                OrthogonalArray::bose(dims, root, offset, seed)
+                OrthogonalArray::bose(dims, p, offset, seed)
             } else {
-                OrthogonalArray::bush(dims, root, strength, offset, seed)
+                OrthogonalArray::bush(dims, p, strength, offset, seed)
             };
         }
+        let root = integer_root(points, strength);
         let Some(smallest) = smallest_prime_fitting(dims, strength) else {
             return Err(Error::invalid(
                 "points",
@@ -446,14 +447,10 @@ impl OrthogonalArray {
     fn entry(&self, coefficients: &[u64], row: u64, column: usize) -> (u64, u64) {
         match self.evaluation_point(column) {
             Some(at) => {
-                let (at, p) = (u128::from(at), u128::from(self.p));
-                let value = coefficients
-                    .iter()
-                    .rev()
-                    .fold(0u128, |acc, &c| (acc * at + u128::from(c)) % p);
+                let value = polynomial_mod(coefficients, at, self.p);
                 // Given the value, the higher digits determine the lowest one, so they rank
                 // the row among those holding this symbol.
-                (value as u64, row / self.p)
+                (value, row / self.p)
             }
             // The leading coefficient; the lower digits rank the row.
             None => (coefficients[coefficients.len() - 1], row % self.sub),
@@ -702,127 +699,9 @@ fn check_prime(p: u64) -> Result<()> {
     ))
 }
 
-/// The largest `t` with `p^t` in a `u64` (`p >= 2`).
-fn max_exponent(p: u64) -> u32 {
-    let mut t = 0;
-    let mut power = 1u64;
-    while let Some(next) = power.checked_mul(p) {
-        power = next;
-        t += 1;
-    }
-    t
-}
-
-/// Largest `r` with `r^t <= n` (0 for `n = 0`), `t >= 1`.
-fn integer_root(n: u64, t: u32) -> u64 {
-    if t == 1 || n <= 1 {
-        return n;
-    }
-    let within = |r: u64| r.checked_pow(t).is_some_and(|power| power <= n);
-    // The floating-point root is within a few units; correct it both ways.
-    let mut r = (n as f64).powf(1.0 / f64::from(t)) as u64;
-    while r > 0 && !within(r) {
-        r -= 1;
-    }
-    while within(r + 1) {
-        r += 1;
-    }
-    r
-}
-
-/// `a * b mod m` without overflow.
-fn mul_mod(a: u64, b: u64, m: u64) -> u64 {
-    (u128::from(a) * u128::from(b) % u128::from(m)) as u64
-}
-
-/// `base^exp mod m` by squaring.
-fn pow_mod(mut base: u64, mut exp: u64, m: u64) -> u64 {
-    let mut result = 1 % m;
-    base %= m;
-    while exp > 0 {
-        if exp & 1 == 1 {
-            result = mul_mod(result, base, m);
-        }
-        base = mul_mod(base, base, m);
-        exp >>= 1;
-    }
-    result
-}
-
-/// Deterministic Miller-Rabin: the first twelve primes as bases decide every `u64`
-/// (Jaeschke 1993; Sorenson & Webster 2015).
-pub(super) fn is_prime(n: u64) -> bool {
-    const BASES: [u64; 12] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37];
-    if n < 2 {
-        return false;
-    }
-    for &b in &BASES {
-        if n.is_multiple_of(b) {
-            return n == b;
-        }
-    }
-    let shift = (n - 1).trailing_zeros();
-    let odd = (n - 1) >> shift;
-    BASES.iter().all(|&a| {
-        let mut x = pow_mod(a, odd, n);
-        if x == 1 || x == n - 1 {
-            return true;
-        }
-        for _ in 1..shift {
-            x = mul_mod(x, x, n);
-            if x == n - 1 {
-                return true;
-            }
-        }
-        false
-    })
-}
-
-/// The smallest prime `>= n`, if one fits in a `u64`.
-fn next_prime(n: u64) -> Option<u64> {
-    (n.max(2)..=u64::MAX).find(|&q| is_prime(q))
-}
-
-/// The largest prime `<= n`, if any.
-fn previous_prime(n: u64) -> Option<u64> {
-    (2..=n).rev().find(|&q| is_prime(q))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn primality_matches_trial_division_and_known_large_primes() {
-        let trial = |n: u64| {
-            n >= 2
-                && (2..n)
-                    .take_while(|d| d * d <= n)
-                    .all(|d| !n.is_multiple_of(d))
-        };
-        for n in 0..5000 {
-            assert_eq!(is_prime(n), trial(n), "{n}");
-        }
-        assert!(is_prime(4_294_967_291)); // largest prime below 2^32
-        assert!(is_prime(18_446_744_073_709_551_557)); // largest prime below 2^64
-        assert!(!is_prime(3_215_031_751)); // strong pseudoprime to bases 2, 3, 5, 7
-        assert!(!is_prime(u64::MAX));
-        assert_eq!(next_prime(18_446_744_073_709_551_558), None);
-        assert_eq!(previous_prime(1), None);
-    }
-
-    #[test]
-    fn integer_root_is_exact_at_and_around_powers() {
-        assert_eq!(integer_root(48, 2), 6);
-        assert_eq!(integer_root(49, 2), 7);
-        assert_eq!(integer_root(124, 3), 4);
-        assert_eq!(integer_root(125, 3), 5);
-        assert_eq!(integer_root(u64::MAX, 2), u64::from(u32::MAX));
-        assert_eq!(integer_root(u64::MAX, 64), 1);
-        assert_eq!(integer_root(0, 3), 0);
-        assert_eq!(max_exponent(2), 63);
-        assert_eq!(max_exponent(3), 40);
-    }
 
     /// Every pair (Bose) or triple (Bush, t = 3) of columns holds each tuple once, and
     /// (value, rank) identifies the row in every column.
