@@ -33,15 +33,14 @@ use std::sync::Arc;
 
 use rand_pcg::Pcg64;
 
-use super::poisson_disk::{
-    MAX_ARRAY_DIMS, PassCache, check_supported_dims, fill_from_passes, pass_rng, random_shift,
-    torus_dist2, uniform,
-};
-use super::{PassKind, Sampler, check_point};
+use super::pass_cache::{PassCache, fill_from_passes, point_from_passes};
+use super::pass_rng::{pass_rng, uniform};
+use super::torus::{MAX_TORUS_DIMS, random_shift, torus_dist2};
+use super::{PassKind, Sampler, check_block, check_point, check_supported_dims};
 use crate::{Error, Points, Result};
 
 /// Largest supported dimension.
-const MAX_DIMS: usize = MAX_ARRAY_DIMS;
+const MAX_DIMS: usize = MAX_TORUS_DIMS;
 /// Largest number of points per pass (the build is quadratic in it).
 const MAX_POINTS: u64 = 1 << 14;
 /// Mitchell's candidate factor: point `i` is the best of `CANDIDATE_FACTOR * i + 1`
@@ -146,14 +145,12 @@ impl Sampler for BestCandidate {
 
     fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
         check_point(self.dims, out)?;
-        let (pass, i) = (index / self.pass_size, (index % self.pass_size) as usize);
-        let data = self.pass_points(pass);
-        out.copy_from_slice(&data[i * self.dims..(i + 1) * self.dims]);
+        point_from_passes(self.pass_size, index, out, |pass| self.pass_points(pass));
         Ok(())
     }
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
-        super::check_block(self.dims, start, points)?;
+        check_block(self.dims, start, points)?;
         fill_from_passes(self.dims, self.pass_size, start, points, |pass| {
             self.pass_points(pass)
         });
@@ -173,7 +170,7 @@ struct Grid {
     /// Cell `c` holds its points at `coords[c * capacity * dims ..]`, point-major.
     coords: Vec<f64>,
     /// `shells[rho]`: the cell offsets at Chebyshev distance exactly `rho`.
-    shells: Vec<Vec<[i64; MAX_ARRAY_DIMS]>>,
+    shells: Vec<Vec<[i64; MAX_TORUS_DIMS]>>,
     /// Distances computed by searches so far: the work of a build, counted so that a test can
     /// bound it without timing the machine.
     distances: u64,
@@ -200,8 +197,8 @@ impl Grid {
         grid
     }
 
-    fn cell_coords(&self, x: &[f64]) -> [i64; MAX_ARRAY_DIMS] {
-        let mut c = [0i64; MAX_ARRAY_DIMS];
+    fn cell_coords(&self, x: &[f64]) -> [i64; MAX_TORUS_DIMS] {
+        let mut c = [0i64; MAX_TORUS_DIMS];
         for (slot, &v) in c.iter_mut().zip(x) {
             *slot = ((v * self.m as f64) as i64).clamp(0, self.m as i64 - 1);
         }
@@ -210,7 +207,7 @@ impl Grid {
 
     /// Row-major index of the cell with (possibly out-of-range, periodic) coordinates `c`.
     #[inline]
-    fn cell_index(&self, c: &[i64; MAX_ARRAY_DIMS]) -> usize {
+    fn cell_index(&self, c: &[i64; MAX_TORUS_DIMS]) -> usize {
         let m = self.m as i64;
         c[..self.dims].iter().rev().fold(0usize, |acc, &v| {
             // Offsets rarely leave [-m, 2m): avoid the division of `rem_euclid` then.
@@ -253,7 +250,7 @@ impl Grid {
             let width = (2 * r + 1) as usize;
             let mut shell = Vec::new();
             for k in 0..width.pow(self.dims as u32) {
-                let mut o = [0i64; MAX_ARRAY_DIMS];
+                let mut o = [0i64; MAX_TORUS_DIMS];
                 let mut rest = k;
                 for slot in o.iter_mut().take(self.dims) {
                     *slot = (rest % width) as i64 - r;
@@ -324,8 +321,8 @@ fn build_pass_counting(dims: usize, n: usize, seed: u64, pass: u64) -> (Vec<f64>
     let mut grid = Grid::new(dims, 1, 4, &points);
     let mut rebuild_at = 2;
     let mut distances = 0;
-    let mut candidate = [0.0; MAX_ARRAY_DIMS];
-    let mut best = [0.0; MAX_ARRAY_DIMS];
+    let mut candidate = [0.0; MAX_TORUS_DIMS];
+    let mut best = [0.0; MAX_TORUS_DIMS];
     for i in 0..n {
         if i >= rebuild_at {
             distances += grid.distances;

@@ -26,6 +26,8 @@ mod named;
 mod number_theory;
 mod orthogonal_array;
 pub(crate) mod owen;
+mod pass_cache;
+mod pass_rng;
 pub(crate) mod permutation;
 mod pmj02;
 mod poisson_disk;
@@ -33,6 +35,7 @@ mod scramble;
 #[doc(hidden)]
 pub mod simd;
 mod sobol;
+mod torus;
 mod torus_grid;
 
 pub use antithetic::{Antithetic, reflect};
@@ -223,6 +226,14 @@ pub(crate) fn check_shape(dims: usize, start: u64, found: usize, len: usize) -> 
 pub(crate) fn check_dims(dims: usize) -> Result<()> {
     if dims == 0 {
         return Err(Error::invalid("dims", dims, "at least 1"));
+    }
+    Ok(())
+}
+
+/// Validates a dimension count given to a constructor that supports at most `max`.
+pub(crate) fn check_supported_dims(dims: usize, max: usize) -> Result<()> {
+    if dims == 0 || dims > max {
+        return Err(Error::invalid("dims", dims, format!("1 ..= {max}")));
     }
     Ok(())
 }

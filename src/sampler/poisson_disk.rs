@@ -34,18 +34,20 @@
 //! their spread gives an honest error bar.
 //!
 //! The whole pass must be built before any of its points is known, so the samplers in this
-//! module build a pass once, keep the last few built passes in a small cache (see
-//! `PassCache`), and serve points from it by index.
+//! module build a pass once, keep the last few built passes in a small cache (`PassCache`, in
+//! `pass_cache.rs`, shared with the best-candidate sampler), and serve points from it by index.
 
-use std::sync::{Arc, Mutex, OnceLock, PoisonError};
+use std::sync::Arc;
 
-use rand_core::Rng;
 use rand_pcg::Pcg64;
 
+use super::pass_cache::{PassCache, fill_from_passes, point_from_passes};
+use super::pass_rng::{below, pass_rng, uniform};
+use super::torus::{MAX_TORUS_DIMS, random_shift, torus_dist2, torus_gap, wrap};
 use super::torus_grid::TorusGrid;
-use super::{PassKind, Sampler, check_block, check_point};
+use super::{PassKind, Sampler, check_block, check_point, check_supported_dims};
 use crate::float::ONE_BELOW;
-use crate::hash::{hash_words, unit_f64};
+use crate::hash::hash_words;
 use crate::{Error, Points, Result};
 
 /// Largest supported dimension. Making the set maximal is what limits it: a gap-filling cell
@@ -54,8 +56,6 @@ use crate::{Error, Points, Result};
 /// points take 0.07 s in 2-D, 0.36 s in 3-D and 4.9 s in 4-D, while in 5-D even 256 points
 /// took 9 s and 1024 points 36 s, so 5-D and above are not offered.
 const MAX_DIMS: usize = 4;
-/// Room for coordinates in fixed-size arrays (shared with the best-candidate sampler).
-pub(super) const MAX_ARRAY_DIMS: usize = 4;
 /// Largest number of points per pass.
 const MAX_POINTS: u64 = 1 << 20;
 /// Largest expected size of a maximal set (which `with_radius` may ask for).
@@ -283,9 +283,7 @@ impl Sampler for PoissonDisk {
 
     fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
         check_point(self.dims, out)?;
-        let (pass, i) = (index / self.pass_size, (index % self.pass_size) as usize);
-        let data = self.pass_points(pass);
-        out.copy_from_slice(&data[i * self.dims..(i + 1) * self.dims]);
+        point_from_passes(self.pass_size, index, out, |pass| self.pass_points(pass));
         Ok(())
     }
 
@@ -296,41 +294,6 @@ impl Sampler for PoissonDisk {
         });
         Ok(())
     }
-}
-
-/// Copies points `start ..` from cached passes (point-major) into a column-major block,
-/// fetching each pass once per run of indices that share it.
-pub(super) fn fill_from_passes(
-    dims: usize,
-    pass_size: u64,
-    start: u64,
-    points: &mut Points,
-    mut pass_points: impl FnMut(u64) -> Arc<[f64]>,
-) {
-    let len = points.len();
-    let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
-    let mut i = 0;
-    while i < len {
-        let index = start + i as u64;
-        let (pass, offset) = (index / pass_size, index % pass_size);
-        let run = ((pass_size - offset) as usize).min(len - i);
-        let data = pass_points(pass);
-        let first = offset as usize;
-        for (dim, column) in columns.iter_mut().enumerate() {
-            for (k, x) in column[i..i + run].iter_mut().enumerate() {
-                *x = data[(first + k) * dims + dim];
-            }
-        }
-        i += run;
-    }
-}
-
-/// Errors unless `1 <= dims <= max`.
-pub(super) fn check_supported_dims(dims: usize, max: usize) -> Result<()> {
-    if dims == 0 || dims > max {
-        return Err(Error::invalid("dims", dims, format!("1 ..= {max}")));
-    }
-    Ok(())
 }
 
 /// Points per unit volume times `V_d(r / 2)` in our maximal sets.
@@ -369,66 +332,12 @@ fn radius_for_count(dims: usize, expected: f64) -> f64 {
     2.0 * half
 }
 
-/// The generator of pass `pass` for purpose `tag`: PCG-64 with hashed state and stream.
-pub(super) fn pass_rng(seed: u64, pass: u64, tag: u64) -> Pcg64 {
-    let word = |w: u64| u128::from(hash_words(seed, &[pass, tag, w]));
-    Pcg64::new((word(0) << 64) | word(1), (word(2) << 64) | word(3))
-}
-
-/// A uniform double in `[0, 1)`.
-#[inline]
-pub(super) fn uniform(rng: &mut Pcg64) -> f64 {
-    unit_f64(rng.next_u64())
-}
-
-/// A uniform integer in `0..n` (`n >= 1`), by multiply-shift (bias below `n / 2^64`).
-#[inline]
-pub(super) fn below(rng: &mut Pcg64, n: usize) -> usize {
-    ((u128::from(rng.next_u64()) * n as u128) >> 64) as usize
-}
-
-/// Periodic distance between two coordinates in `[0, 1)`.
-#[inline]
-pub(super) fn torus_gap(a: f64, b: f64) -> f64 {
-    let d = (a - b).abs();
-    d.min(1.0 - d)
-}
-
-/// Squared toroidal distance between two points.
-#[inline]
-pub(super) fn torus_dist2(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(&x, &y)| {
-            let g = torus_gap(x, y);
-            g * g
-        })
-        .sum()
-}
-
-/// `x` modulo 1, in `[0, 1)`.
-#[inline]
-pub(super) fn wrap(x: f64) -> f64 {
-    let y = x - x.floor();
-    if y < 1.0 { y } else { 0.0 }
-}
-
-/// Translates every point (point-major) by one uniform random vector, modulo 1.
-pub(super) fn random_shift(dims: usize, points: &mut [f64], rng: &mut Pcg64) {
-    let shift: Vec<f64> = (0..dims).map(|_| uniform(rng)).collect();
-    for point in points.chunks_exact_mut(dims) {
-        for (x, s) in point.iter_mut().zip(&shift) {
-            *x = wrap(*x + s).min(ONE_BELOW);
-        }
-    }
-}
-
 /// One maximal set: Bridson's algorithm, then gap filling; point-major, not yet shuffled.
 fn maximal_set(dims: usize, radius: f64, rng: &mut Pcg64) -> Vec<f64> {
     let mut grid = TorusGrid::new(dims, radius);
     let r2 = radius * radius;
     let mut near: Vec<u32> = Vec::new();
-    let mut x = [0.0; MAX_ARRAY_DIMS];
+    let mut x = [0.0; MAX_TORUS_DIMS];
     let x = &mut x[..dims];
     // Whether `x` is at least `r` from every point (gathering its neighbours into `near`).
     let clear = |grid: &TorusGrid, x: &[f64], near: &mut Vec<u32>| {
@@ -477,9 +386,9 @@ fn maximal_set(dims: usize, radius: f64, rng: &mut Pcg64) -> Vec<f64> {
     // when it is at least r from every point), and splits the cell into 2^d children, of
     // which those not inside one ball go on to the next round.
     let m = grid.cells_per_axis() as u64;
-    let mut cells: Vec<[u64; MAX_ARRAY_DIMS]> = (0..m.pow(dims as u32))
+    let mut cells: Vec<[u64; MAX_TORUS_DIMS]> = (0..m.pow(dims as u32))
         .map(|k| {
-            let mut c = [0u64; MAX_ARRAY_DIMS];
+            let mut c = [0u64; MAX_TORUS_DIMS];
             let mut rest = k;
             for v in c.iter_mut().take(dims) {
                 *v = rest % m;
@@ -489,7 +398,7 @@ fn maximal_set(dims: usize, radius: f64, rng: &mut Pcg64) -> Vec<f64> {
         })
         .collect();
     let mut side = 1.0 / m as f64;
-    let mut centre = [0.0; MAX_ARRAY_DIMS];
+    let mut centre = [0.0; MAX_TORUS_DIMS];
     for level in 0..=MAX_REFINEMENTS {
         if cells.is_empty() {
             break;
@@ -510,7 +419,7 @@ fn maximal_set(dims: usize, radius: f64, rng: &mut Pcg64) -> Vec<f64> {
                 continue;
             }
             for k in 0..1u64 << dims {
-                let mut child = [0u64; MAX_ARRAY_DIMS];
+                let mut child = [0u64; MAX_TORUS_DIMS];
                 for j in 0..dims {
                     child[j] = 2 * c[j] + ((k >> j) & 1);
                     centre[j] = (child[j] as f64 + 0.5) * side / 2.0;
@@ -530,14 +439,14 @@ fn maximal_set(dims: usize, radius: f64, rng: &mut Pcg64) -> Vec<f64> {
 /// the cell's centre in `centre`).
 fn cell_near(
     grid: &TorusGrid,
-    c: &[u64; MAX_ARRAY_DIMS],
+    c: &[u64; MAX_TORUS_DIMS],
     side: f64,
     radius: f64,
-    centre: &mut [f64; MAX_ARRAY_DIMS],
+    centre: &mut [f64; MAX_TORUS_DIMS],
     near: &mut Vec<u32>,
 ) {
     let dims = grid.dims();
-    let (mut lo, mut hi) = ([0.0; MAX_ARRAY_DIMS], [0.0; MAX_ARRAY_DIMS]);
+    let (mut lo, mut hi) = ([0.0; MAX_TORUS_DIMS], [0.0; MAX_TORUS_DIMS]);
     for j in 0..dims {
         lo[j] = c[j] as f64 * side;
         hi[j] = lo[j] + side;
@@ -601,79 +510,6 @@ fn build_pass(dims: usize, radius: f64, needed: usize, seed: u64, pass: u64) -> 
     }
 }
 
-/// A slot that one thread builds and every thread then shares.
-type Slot = Arc<OnceLock<Arc<[f64]>>>;
-
-/// The last few built passes, keyed by `(seed, pass)`, least recently used first.
-///
-/// Lookups hold the lock only to find or create a slot; the build itself runs in
-/// [`OnceLock::get_or_init`] outside the lock, so threads building different passes run in
-/// parallel while threads wanting the same pass wait for one build. The capacity is the
-/// number of available threads (at least 2, at most 8), so that workers on different passes
-/// do not evict each other's passes. A poisoned lock (a panic elsewhere while it was held)
-/// is recovered: the list is always in a valid state.
-pub(super) struct PassCache {
-    capacity: usize,
-    entries: Mutex<Vec<(u64, u64, Slot)>>,
-}
-
-impl PassCache {
-    pub(super) fn new() -> Self {
-        let capacity = std::thread::available_parallelism()
-            .map_or(2, |n| n.get())
-            .clamp(2, 8);
-        PassCache {
-            capacity,
-            entries: Mutex::new(Vec::new()),
-        }
-    }
-
-    /// The pass `(seed, pass)`, built by `build` if it is not cached.
-    pub(super) fn get_or_build(
-        &self,
-        seed: u64,
-        pass: u64,
-        build: impl FnOnce() -> Vec<f64>,
-    ) -> Arc<[f64]> {
-        let slot = {
-            let mut entries = self.entries.lock().unwrap_or_else(PoisonError::into_inner);
-            match entries.iter().position(|e| e.0 == seed && e.1 == pass) {
-                Some(at) => {
-                    let entry = entries.remove(at);
-                    let slot = Arc::clone(&entry.2);
-                    entries.push(entry);
-                    slot
-                }
-                None => {
-                    if entries.len() >= self.capacity {
-                        entries.remove(0);
-                    }
-                    let slot = Slot::default();
-                    entries.push((seed, pass, Arc::clone(&slot)));
-                    slot
-                }
-            }
-        };
-        Arc::clone(slot.get_or_init(|| Arc::from(build())))
-    }
-
-    /// Drops every cached pass.
-    pub(super) fn clear(&mut self) {
-        self.entries
-            .get_mut()
-            .unwrap_or_else(PoisonError::into_inner)
-            .clear();
-    }
-}
-
-impl std::fmt::Debug for PassCache {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("PassCache")
-            .field("capacity", &self.capacity)
-            .finish_non_exhaustive()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -703,20 +539,5 @@ mod tests {
         for n in [1u64, 2, 10, 1000, 123_456] {
             assert_eq!(count_for_expected(expected_needed(n as f64) + 1e-9), n);
         }
-    }
-
-    #[test]
-    fn cache_recovers_from_a_poisoned_lock() {
-        let cache = PassCache::new();
-        let _ = std::thread::scope(|s| {
-            s.spawn(|| {
-                let _guard = cache.entries.lock();
-                panic!("poison the lock");
-            })
-            .join()
-        });
-        assert!(cache.entries.is_poisoned());
-        assert_eq!(&*cache.get_or_build(1, 2, || vec![0.5]), &[0.5]);
-        assert_eq!(&*cache.get_or_build(1, 2, || vec![0.25]), &[0.5]);
     }
 }

@@ -8,6 +8,8 @@
 //! point), so any number of points may share a cell. Coordinates wrap around, as distances
 //! on the torus do.
 
+use super::torus::MAX_TORUS_DIMS;
+
 /// Marks the end of a cell's list.
 const END: u32 = u32::MAX;
 
@@ -78,15 +80,15 @@ impl TorusGrid {
         out.clear();
         let m = self.m as i64;
         // Per axis: the first cell (possibly negative, wrapped below) and how many follow.
-        let mut first = [0i64; super::poisson_disk::MAX_ARRAY_DIMS];
-        let mut count = [0i64; super::poisson_disk::MAX_ARRAY_DIMS];
+        let mut first = [0i64; MAX_TORUS_DIMS];
+        let mut count = [0i64; MAX_TORUS_DIMS];
         for j in 0..self.dims {
             let a = ((lo[j] - reach) * m as f64).floor() as i64;
             let b = ((hi[j] + reach) * m as f64).floor() as i64;
             first[j] = a;
             count[j] = (b - a + 1).min(m);
         }
-        let mut step = [0i64; super::poisson_disk::MAX_ARRAY_DIMS];
+        let mut step = [0i64; MAX_TORUS_DIMS];
         'cells: loop {
             let cell = (0..self.dims).rev().fold(0usize, |acc, j| {
                 acc * self.m + (first[j] + step[j]).rem_euclid(m) as usize

@@ -1,0 +1,143 @@
+//! Passes that are built whole: a small cache of the last built passes, shared by threads,
+//! and the copies from a cached pass (point-major) into points and blocks.
+//!
+//! A Poisson-disk or best-candidate pass is known only once all of its points are placed, so
+//! these samplers build a pass on first use, keep it here, and serve points from it by index.
+
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
+
+use crate::Points;
+
+/// A slot that one thread builds and every thread then shares.
+type Slot = Arc<OnceLock<Arc<[f64]>>>;
+
+/// The last few built passes, keyed by `(seed, pass)`, least recently used first.
+///
+/// Lookups hold the lock only to find or create a slot; the build itself runs in
+/// [`OnceLock::get_or_init`] outside the lock, so threads building different passes run in
+/// parallel while threads wanting the same pass wait for one build. The capacity is the
+/// number of available threads (at least 2, at most 8), so that workers on different passes
+/// do not evict each other's passes. A poisoned lock (a panic elsewhere while it was held)
+/// is recovered: the list is always in a valid state.
+pub(super) struct PassCache {
+    capacity: usize,
+    entries: Mutex<Vec<(u64, u64, Slot)>>,
+}
+
+impl PassCache {
+    pub(super) fn new() -> Self {
+        let capacity = std::thread::available_parallelism()
+            .map_or(2, |n| n.get())
+            .clamp(2, 8);
+        PassCache {
+            capacity,
+            entries: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// The pass `(seed, pass)`, built by `build` if it is not cached.
+    pub(super) fn get_or_build(
+        &self,
+        seed: u64,
+        pass: u64,
+        build: impl FnOnce() -> Vec<f64>,
+    ) -> Arc<[f64]> {
+        let slot = {
+            let mut entries = self.entries.lock().unwrap_or_else(PoisonError::into_inner);
+            match entries.iter().position(|e| e.0 == seed && e.1 == pass) {
+                Some(at) => {
+                    let entry = entries.remove(at);
+                    let slot = Arc::clone(&entry.2);
+                    entries.push(entry);
+                    slot
+                }
+                None => {
+                    if entries.len() >= self.capacity {
+                        entries.remove(0);
+                    }
+                    let slot = Slot::default();
+                    entries.push((seed, pass, Arc::clone(&slot)));
+                    slot
+                }
+            }
+        };
+        Arc::clone(slot.get_or_init(|| Arc::from(build())))
+    }
+
+    /// Drops every cached pass.
+    pub(super) fn clear(&mut self) {
+        self.entries
+            .get_mut()
+            .unwrap_or_else(PoisonError::into_inner)
+            .clear();
+    }
+}
+
+impl std::fmt::Debug for PassCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PassCache")
+            .field("capacity", &self.capacity)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Copies point `index` (of pass `index / pass_size`) from its cached pass into `out`
+/// (`out.len()` is the dimension).
+pub(super) fn point_from_passes(
+    pass_size: u64,
+    index: u64,
+    out: &mut [f64],
+    pass_points: impl FnOnce(u64) -> Arc<[f64]>,
+) {
+    let dims = out.len();
+    let (pass, i) = (index / pass_size, (index % pass_size) as usize);
+    let data = pass_points(pass);
+    out.copy_from_slice(&data[i * dims..(i + 1) * dims]);
+}
+
+/// Copies points `start ..` from cached passes (point-major) into a column-major block,
+/// fetching each pass once per run of indices that share it.
+pub(super) fn fill_from_passes(
+    dims: usize,
+    pass_size: u64,
+    start: u64,
+    points: &mut Points,
+    mut pass_points: impl FnMut(u64) -> Arc<[f64]>,
+) {
+    let len = points.len();
+    let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
+    let mut i = 0;
+    while i < len {
+        let index = start + i as u64;
+        let (pass, offset) = (index / pass_size, index % pass_size);
+        let run = ((pass_size - offset) as usize).min(len - i);
+        let data = pass_points(pass);
+        let first = offset as usize;
+        for (dim, column) in columns.iter_mut().enumerate() {
+            for (k, x) in column[i..i + run].iter_mut().enumerate() {
+                *x = data[(first + k) * dims + dim];
+            }
+        }
+        i += run;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cache_recovers_from_a_poisoned_lock() {
+        let cache = PassCache::new();
+        let _ = std::thread::scope(|s| {
+            s.spawn(|| {
+                let _guard = cache.entries.lock();
+                panic!("poison the lock");
+            })
+            .join()
+        });
+        assert!(cache.entries.is_poisoned());
+        assert_eq!(&*cache.get_or_build(1, 2, || vec![0.5]), &[0.5]);
+        assert_eq!(&*cache.get_or_build(1, 2, || vec![0.25]), &[0.5]);
+    }
+}
