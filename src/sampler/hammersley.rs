@@ -1,12 +1,13 @@
 //! Hammersley point sets (Hammersley 1960): a Halton sequence (Halton 1960) with `i / N` as
 //! first coordinate.
 //!
-//! The Halton coordinates reuse the kernels of `halton.rs`, with the same randomizations:
-//! random digit permutations (Braaten & Weller 1979; Faure & Tezuka 2002) and nested uniform
-//! scrambling (Owen 1995). The first coordinate gets a Cranley-Patterson rotation (Cranley &
-//! Patterson 1976). The public [`Hammersley`] documents the choices.
+//! The Halton coordinates come from the radical-inverse engine in `radical_inverse.rs`, with the
+//! same randomizations as Halton's: random digit permutations (Braaten & Weller 1979; Faure &
+//! Tezuka 2002) and nested uniform scrambling (Owen 1995). The first coordinate gets a
+//! Cranley-Patterson rotation (Cranley & Patterson 1976). The public [`Hammersley`] documents
+//! the choices.
 
-use super::halton::{
+use super::radical_inverse::{
     PASS_SIZE, SCRAMBLES, Scratch, bases, check_halton_dims, column_key, coordinate, fill_column,
 };
 use super::{PassKind, Sampler, Scramble, check_block, check_point};
@@ -76,7 +77,7 @@ impl Hammersley {
     /// assert!(Hammersley::new(Hammersley::MAX_DIMS, 16, Scramble::None, 0).is_ok());
     /// assert!(Hammersley::new(Hammersley::MAX_DIMS + 1, 16, Scramble::None, 0).is_err());
     /// ```
-    pub const MAX_DIMS: usize = super::halton::MAX_DIMS;
+    pub const MAX_DIMS: usize = super::radical_inverse::MAX_DIMS;
 
     /// The most points per pass, `2^40`, as for a pass of [`Halton`](super::Halton).
     ///

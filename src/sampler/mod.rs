@@ -31,6 +31,7 @@ mod pass_rng;
 pub(crate) mod permutation;
 mod pmj02;
 mod poisson_disk;
+mod radical_inverse;
 mod scramble;
 #[doc(hidden)]
 pub mod simd;

@@ -1,5 +1,5 @@
-//! The block kernel of Owen-scrambled Halton coordinates: the same integers as
-//! [`owen_coordinate`](super::owen_coordinate), computed once per node instead of once per
+//! The block kernel of Owen-scrambled radical inverses: the same integers as
+//! [`owen_coordinate`](super::owen::owen_coordinate), computed once per node instead of once per
 //! index where a block shares nodes, and column by column in lanes of 32 indices.
 //!
 //! The scrambled numerator of `index` is `sum_k pi_(k, index mod b^k)(a_k) b^(K-1-k)` over the
@@ -15,9 +15,10 @@
 //! lanes hide) vectorize. The sum is exact in integers whatever the order, and rounded once
 //! as in `owen_coordinate`, so the values are bit-identical.
 
+use super::base::{Base, MAX_DEPTH};
 #[cfg(test)]
-use super::small_permutation;
-use super::{Base, MAX_DEPTH, SMALL_BASE, TAG_RHO, rotate};
+use super::digit_permutation::small_permutation;
+use super::digit_permutation::{SMALL_BASE, TAG_RHO, rotate};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_start};
 use crate::sampler::permutation::{Permutation, below_narrow, mod_reciprocal};
@@ -236,7 +237,7 @@ impl Kernel for TailRuns<'_> {
 
 /// Writes the Owen-scrambled coordinates of local indices `first, first + 1, ...` (one pass,
 /// below `2^40`) in `base` for the (pass, dimension) `key`, bit-identical to
-/// [`owen_coordinate`](super::owen_coordinate).
+/// [`owen_coordinate`](super::owen::owen_coordinate).
 pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &mut OwenScratch) {
     let Some(last_offset) = out.len().checked_sub(1) else {
         return;
@@ -480,7 +481,11 @@ mod tests {
             for k in 0..3000u64 {
                 h = mix64(h ^ k);
                 for x in [h, u64::MAX - k, k] {
-                    assert_eq!(below_narrow(x, n), super::super::below(x, n), "{x} {n}");
+                    assert_eq!(
+                        below_narrow(x, n),
+                        super::super::digit_permutation::below(x, n),
+                        "{x} {n}"
+                    );
                 }
             }
         }
