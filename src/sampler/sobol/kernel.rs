@@ -1,0 +1,333 @@
+//! The block kernel of the Sobol' sampler: for each dimension, the Gray-code words of a chunk
+//! of consecutive indices (one XOR per word, Antonov & Saleev 1979), then the scramble and the
+//! conversion in loops without loop-carried dependencies, compiled per instruction set by
+//! `super::simd`. The words and conversions are those of `Sobol::point`, so the values are
+//! bit-identical.
+
+use super::directions::Directions;
+use super::randomizer::{Randomizer, WideDirections, linear, owen_parts, widen};
+use super::unit::Unit;
+use super::{PASS_BITS, Sobol};
+use crate::Points;
+use crate::points_f32::PointsF32;
+use crate::sampler::owen::OwenScramble;
+use crate::sampler::simd::{Kernel, dispatch};
+use std::ops::BitXorAssign;
+
+/// Block length for the word buffers of the fill kernels (a power of two).
+const CHUNK_BITS: u32 = 8;
+const CHUNK: usize = 1 << CHUNK_BITS;
+
+/// Below this many points of one aligned chunk, the shuffled kernel computes words directly
+/// instead of generating the whole chunk by Gray code.
+const SHUFFLE_DIRECT_BELOW: usize = 32;
+
+/// Indices per aligned Gray-code group (a power of two dividing `CHUNK`): within an aligned
+/// group the words are the group's first word XOR a per-column table, with no serial chain.
+const GROUP: usize = 16;
+
+/// XOR of the direction words selected by the set bits of `bits` (the Gray code of an index).
+#[inline]
+pub(super) fn direct(directions: &Directions, mut bits: u32) -> u32 {
+    let mut word = 0;
+    while bits != 0 {
+        word ^= directions[bits.trailing_zeros() as usize];
+        bits &= bits - 1;
+    }
+    word
+}
+
+/// Gray code of an in-pass index.
+#[inline]
+pub(super) fn gray(i: u32) -> u32 {
+    i ^ (i >> 1)
+}
+
+/// Owen-scrambles a chunk of bit-reversed words and converts them: the 32-bit hashing first
+/// (a loop of independent integer operations), then the conversion.
+#[inline(always)]
+fn owen_chunk<T: Unit>(scramble: &OwenScramble, reversed: &[u32], out: &mut [T]) {
+    let mut words = [0u32; CHUNK];
+    let mut tails = [0u32; CHUNK];
+    let (words, tails) = (&mut words[..reversed.len()], &mut tails[..reversed.len()]);
+    for ((w, t), &v) in words.iter_mut().zip(tails.iter_mut()).zip(reversed) {
+        (*w, *t) = owen_parts(scramble, v);
+    }
+    for ((x, &w), &t) in out.iter_mut().zip(words.iter()).zip(tails.iter()) {
+        *x = T::join(w, t);
+    }
+}
+
+impl Sobol {
+    /// Fills a checked block of either precision, split at pass boundaries.
+    pub(super) fn fill_block<B: Block>(&self, start: u64, points: &mut B) {
+        let len = points.len();
+        let mut done = 0;
+        // Split the block at pass boundaries; each run lies within one pass.
+        while done < len {
+            let index = start + done as u64;
+            let pass = index >> PASS_BITS;
+            let first = index as u32;
+            let room = (1u64 << PASS_BITS) - u64::from(first);
+            let n = (len - done).min(usize::try_from(room).unwrap_or(usize::MAX));
+            dispatch(FillRun {
+                sobol: self,
+                pass,
+                first,
+                out: points,
+                offset: done,
+                len: n,
+            });
+            done += n;
+        }
+    }
+
+    /// Fills `out` with in-pass points `first..` of one pass (no index shuffle), column by
+    /// column: Gray-code words into a buffer, then scramble and convert.
+    #[inline(always)]
+    fn fill_run<B: Block>(&self, pass: u64, first: u32, out: &mut B, offset: usize, len: usize) {
+        let pass_seed = self.pass_seed(pass);
+        for (dim, directions) in self.directions.iter().enumerate() {
+            let column = &mut out.column_mut(dim)[offset..offset + len];
+            let start = direct(directions, gray(first));
+            // Dispatch once per column. The shift and the matrix scramble are linear, so they
+            // fold into 53-bit start and direction words; Owen runs the Gray code on
+            // bit-reversed words, which is what its hash consumes.
+            match self.randomizer(pass_seed, dim) {
+                Randomizer::None => gray_column(directions, start, first, column, |w, x| {
+                    convert(w, x, B::Value::from_word)
+                }),
+                Randomizer::Xor { shift } => {
+                    let wide: WideDirections = directions.map(widen);
+                    gray_column(&wide, widen(start) ^ shift, first, column, |w, x| {
+                        convert(w, x, B::Value::from_wide)
+                    })
+                }
+                Randomizer::Lms { columns, shift } => {
+                    let wide: WideDirections = directions.map(|v| linear(&columns, v));
+                    let start = linear(&columns, start) ^ shift;
+                    gray_column(&wide, start, first, column, |w, x| {
+                        convert(w, x, B::Value::from_wide)
+                    })
+                }
+                Randomizer::Owen { scramble } => {
+                    let reversed: Directions = directions.map(u32::reverse_bits);
+                    gray_column(&reversed, start.reverse_bits(), first, column, |v, x| {
+                        owen_chunk(&scramble, v, x)
+                    })
+                }
+            }
+        }
+    }
+
+    /// Like [`fill_run`](Self::fill_run) with the index shuffle (Owen only).
+    #[inline(always)]
+    fn fill_shuffled_run<B: Block>(
+        &self,
+        pass: u64,
+        first: u32,
+        out: &mut B,
+        offset: usize,
+        len: usize,
+    ) {
+        let pass_seed = self.pass_seed(pass);
+        let shuffle = OwenScramble::new(Self::shuffle_seed(pass_seed));
+        let mut shuffled = [0u32; CHUNK];
+        let mut words = [0u32; CHUNK];
+        let mut gathered = [0u32; CHUNK];
+        let mut done = 0;
+        while done < len {
+            // A chunk never crosses a multiple of CHUNK, so its shuffled indices share their
+            // high bits: they all lie in one aligned chunk of the sequence.
+            let i0 = first.wrapping_add(done as u32);
+            let n = (CHUNK - (i0 as usize & (CHUNK - 1))).min(len - done);
+            let shuffled = &mut shuffled[..n];
+            for (j, s) in shuffled.iter_mut().enumerate() {
+                *s = shuffle.apply(i0.wrapping_add(j as u32));
+            }
+            let base = shuffled[0] & !(CHUNK as u32 - 1);
+            for (dim, directions) in self.directions.iter().enumerate() {
+                let column = &mut out.column_mut(dim)[offset + done..offset + done + n];
+                let Randomizer::Owen { scramble } = self.randomizer(pass_seed, dim) else {
+                    // Only Owen shuffles (see `shuffles`).
+                    continue;
+                };
+                let reversed: Directions = directions.map(u32::reverse_bits);
+                let gathered = &mut gathered[..n];
+                if n < SHUFFLE_DIRECT_BELOW {
+                    for (g, &s) in gathered.iter_mut().zip(shuffled.iter()) {
+                        *g = direct(&reversed, gray(s));
+                    }
+                } else {
+                    // The whole aligned chunk of sequence points by Gray code, then gathered.
+                    let offsets = group_offsets(&reversed);
+                    let start = direct(&reversed, gray(base));
+                    gray_words(&reversed, &offsets, start, base, &mut words);
+                    for (g, &s) in gathered.iter_mut().zip(shuffled.iter()) {
+                        *g = words[s as usize & (CHUNK - 1)];
+                    }
+                }
+                owen_chunk(&scramble, gathered, column);
+            }
+            done += n;
+        }
+    }
+}
+
+/// A fill of one pass's run of points, compiled for each instruction set by [`dispatch`].
+struct FillRun<'a, B> {
+    sobol: &'a Sobol,
+    pass: u64,
+    first: u32,
+    out: &'a mut B,
+    offset: usize,
+    len: usize,
+}
+
+impl<B: Block> Kernel for FillRun<'_, B> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let FillRun {
+            sobol,
+            pass,
+            first,
+            out,
+            offset,
+            len,
+        } = self;
+        if sobol.shuffles() {
+            sobol.fill_shuffled_run(pass, first, out, offset, len);
+        } else {
+            sobol.fill_run(pass, first, out, offset, len);
+        }
+    }
+}
+
+/// The words of in-group offsets `0..GROUP` relative to the group's first word: entry `j` is
+/// the XOR of the direction words selected by `gray(j)`. For an aligned index `a` (a multiple
+/// of `GROUP`) and `j < GROUP`, `gray(a + j) = gray(a) ^ gray(j)`, so the word of `a + j` is
+/// the word of `a` XOR entry `j`.
+#[inline(always)]
+fn group_offsets<W: Copy + Default + BitXorAssign>(directions: &[W; 32]) -> [W; GROUP] {
+    let mut offsets = [W::default(); GROUP];
+    let mut word = W::default();
+    for (j, slot) in offsets.iter_mut().enumerate().skip(1) {
+        word ^= directions[j.trailing_zeros() as usize];
+        *slot = word;
+    }
+    offsets
+}
+
+/// Writes the words of in-pass indices `first, first + 1, ...` into `words`, starting from
+/// `start` (the word of `first`, possibly scrambled or widened). Returns the word of the
+/// index after the last. Consecutive Gray codes differ in bit `ctz(i + 1)`; the indices
+/// before the first multiple of `GROUP` and after the last step one at a time, the aligned
+/// groups in between are filled from `offsets` ([`group_offsets`]), with one serial step per
+/// group.
+#[inline(always)]
+fn gray_words<W: Copy + BitXorAssign>(
+    directions: &[W; 32],
+    offsets: &[W; GROUP],
+    start: W,
+    first: u32,
+    words: &mut [W],
+) -> W {
+    // ctz(0) = 32 only past the end of a pass, where the update is never used.
+    let step = |i: u32| directions[(i.trailing_zeros() & 31) as usize];
+    let mut word = start;
+    let mut i = first;
+    let head = ((GROUP as u32).wrapping_sub(first) as usize & (GROUP - 1)).min(words.len());
+    let (head, rest) = words.split_at_mut(head);
+    for slot in head {
+        *slot = word;
+        i = i.wrapping_add(1);
+        word ^= step(i);
+    }
+    let mut groups = rest.chunks_exact_mut(GROUP);
+    for group in &mut groups {
+        for (slot, &offset) in group.iter_mut().zip(offsets) {
+            let mut w = word;
+            w ^= offset;
+            *slot = w;
+        }
+        // The group's last word, then one step into the next group.
+        word ^= offsets[GROUP - 1];
+        i = i.wrapping_add(GROUP as u32);
+        word ^= step(i);
+    }
+    for slot in groups.into_remainder() {
+        *slot = word;
+        i = i.wrapping_add(1);
+        word ^= step(i);
+    }
+    word
+}
+
+/// One column of a run of consecutive in-pass indices starting at `first`, whose word is
+/// `start`: Gray-code words into a chunk buffer, then `finish` scrambles and converts the
+/// chunk (loops free of loop-carried dependencies). Monomorphized per scramble, so the inner
+/// loops do not branch on it. Chunks after the first start at multiples of `CHUNK`, so only
+/// the first and last can have unaligned groups.
+#[inline(always)]
+fn gray_column<W: Copy + Default + BitXorAssign, T, F: FnMut(&[W], &mut [T])>(
+    directions: &[W; 32],
+    start: W,
+    first: u32,
+    column: &mut [T],
+    mut finish: F,
+) {
+    let offsets = group_offsets(directions);
+    let mut words = [W::default(); CHUNK];
+    let mut word = start;
+    let mut i = first;
+    let mut rest = column;
+    while !rest.is_empty() {
+        let n = (CHUNK - (i as usize & (CHUNK - 1))).min(rest.len());
+        let (out, tail) = rest.split_at_mut(n);
+        let words = &mut words[..n];
+        word = gray_words(directions, &offsets, word, i, words);
+        i = i.wrapping_add(n as u32);
+        finish(words, out);
+        rest = tail;
+    }
+}
+
+/// Converts a chunk of words one by one.
+#[inline(always)]
+fn convert<W: Copy, T>(words: &[W], out: &mut [T], to_unit: impl Fn(W) -> T) {
+    for (x, &w) in out.iter_mut().zip(words) {
+        *x = to_unit(w);
+    }
+}
+
+/// A block of points of either precision.
+pub(super) trait Block {
+    /// The coordinate type.
+    type Value: Unit;
+    /// Points in the block.
+    fn len(&self) -> usize;
+    /// Column `dim`.
+    fn column_mut(&mut self, dim: usize) -> &mut [Self::Value];
+}
+
+impl Block for Points {
+    type Value = f64;
+    fn len(&self) -> usize {
+        Points::len(self)
+    }
+    fn column_mut(&mut self, dim: usize) -> &mut [f64] {
+        Points::column_mut(self, dim)
+    }
+}
+
+impl Block for PointsF32 {
+    type Value = f32;
+    fn len(&self) -> usize {
+        PointsF32::len(self)
+    }
+    fn column_mut(&mut self, dim: usize) -> &mut [f32] {
+        PointsF32::column_mut(self, dim)
+    }
+}
