@@ -62,7 +62,7 @@ pub use error::{Error, Result};
 pub use estimator::Estimator;
 pub use integrate::{Integrator, NonFinitePolicy, PartialRun};
 pub use pdf::Pdf;
-pub use points::Points;
+pub use points::{PointBlock, Points};
 pub use sampler::Sampler;
 pub use stats::{Accumulator, Estimate};
 

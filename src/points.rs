@@ -1,10 +1,34 @@
-//! [`Points`]: a block of points stored as structure of arrays.
+//! [`PointBlock`]: a block of points stored as structure of arrays, in double precision
+//! ([`Points`]) or single precision ([`PointsF32`](crate::points_f32::PointsF32)).
 //!
 //! Samplers write blocks of points with [`Sampler::fill`](crate::Sampler::fill) and estimators
 //! read them back. Each dimension is one contiguous column, so kernels that generate or consume
 //! one coordinate for many points run over unit-stride memory (the layout SIMD code wants).
+//!
+//! Both precisions share one generic type; they are type aliases of it, not a generic type
+//! with a default parameter, so that `Points::new(dims, len)` needs no type annotation.
 
 use crate::{Error, Result};
+
+/// A block of `len` points in `dims` dimensions with coordinates of type `T`, one contiguous
+/// column per dimension: [`Points`] for `f64`, [`PointsF32`](crate::points_f32::PointsF32) for
+/// `f32`.
+///
+/// ```
+/// use mcint::{PointBlock, Points};
+/// let mut block: PointBlock<f64> = Points::new(2, 3).unwrap();
+/// block.column_mut(1)[2] = 0.25;
+/// assert_eq!(block.get(2, 1), 0.25);
+/// let narrow = PointBlock::<f32>::new(2, 3).unwrap();
+/// assert_eq!(narrow.column(0), &[0.0f32; 3]);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointBlock<T> {
+    dims: usize,
+    len: usize,
+    /// Column-major: coordinate `d` of point `i` is at `d * len + i`.
+    data: Vec<T>,
+}
 
 /// A block of `len` points in `dims` dimensions, one contiguous column per dimension.
 ///
@@ -17,15 +41,9 @@ use crate::{Error, Result};
 /// block.copy_point(2, &mut p);
 /// assert_eq!(p, [0.0, 0.25]);
 /// ```
-#[derive(Debug, Clone, PartialEq)]
-pub struct Points {
-    dims: usize,
-    len: usize,
-    /// Column-major: coordinate `d` of point `i` is at `d * len + i`.
-    data: Vec<f64>,
-}
+pub type Points = PointBlock<f64>;
 
-impl Points {
+impl<T: Copy + Default> PointBlock<T> {
     /// A zero-filled block of `len` points in `dims` dimensions (`dims >= 1`; `len` may be 0).
     ///
     /// ```
@@ -34,13 +52,14 @@ impl Points {
     /// assert!(mcint::Points::new(0, 4).is_err());
     /// // More coordinates than an allocation can hold is an error, not a panic.
     /// assert!(mcint::Points::new(1, usize::MAX / 4).is_err());
+    /// assert!(mcint::points_f32::PointsF32::new(1, usize::MAX / 2).is_err());
     /// ```
     pub fn new(dims: usize, len: usize) -> Result<Self> {
         if dims == 0 {
             return Err(Error::invalid("dims", dims, "at least 1"));
         }
         // A Vec holds at most isize::MAX bytes; beyond that `vec!` panics.
-        let limit = isize::MAX as usize / std::mem::size_of::<f64>();
+        let limit = isize::MAX as usize / std::mem::size_of::<T>();
         let size =
             dims.checked_mul(len)
                 .filter(|&size| size <= limit)
@@ -48,10 +67,10 @@ impl Points {
                     what: "dims * len of a point block",
                     limit: limit as u64,
                 })?;
-        Ok(Points {
+        Ok(PointBlock {
             dims,
             len,
-            data: vec![0.0; size],
+            data: vec![T::default(); size],
         })
     }
 
@@ -89,7 +108,7 @@ impl Points {
     /// # Panics
     ///
     /// When `dims * len` values do not fit in memory, like `Vec::resize` (use
-    /// [`Points::new`] to get an error instead).
+    /// [`new`](Self::new) to get an error instead).
     ///
     /// ```
     /// let mut block = mcint::Points::new(2, 8).unwrap();
@@ -104,7 +123,7 @@ impl Points {
             .checked_mul(len)
             .expect("Points::set_len: dims * len overflows usize");
         self.len = len;
-        self.data.resize(values, 0.0);
+        self.data.resize(values, T::default());
     }
 
     /// Coordinate `dim` of every point. Panics if `dim >= self.dims()`, like slice indexing.
@@ -113,7 +132,7 @@ impl Points {
     /// let block = mcint::Points::new(2, 4).unwrap();
     /// assert_eq!(block.column(0), &[0.0; 4]);
     /// ```
-    pub fn column(&self, dim: usize) -> &[f64] {
+    pub fn column(&self, dim: usize) -> &[T] {
         &self.data[dim * self.len..(dim + 1) * self.len]
     }
 
@@ -124,7 +143,7 @@ impl Points {
     /// block.column_mut(0).copy_from_slice(&[0.5, 0.75]);
     /// assert_eq!(block.get(1, 0), 0.75);
     /// ```
-    pub fn column_mut(&mut self, dim: usize) -> &mut [f64] {
+    pub fn column_mut(&mut self, dim: usize) -> &mut [T] {
         &mut self.data[dim * self.len..(dim + 1) * self.len]
     }
 
@@ -134,7 +153,7 @@ impl Points {
     /// let block = mcint::Points::new(2, 2).unwrap();
     /// assert_eq!(block.get(1, 1), 0.0);
     /// ```
-    pub fn get(&self, index: usize, dim: usize) -> f64 {
+    pub fn get(&self, index: usize, dim: usize) -> T {
         assert!(
             index < self.len,
             "point index {index} out of range for {} points",
@@ -152,7 +171,7 @@ impl Points {
     /// block.copy_point(0, &mut p);
     /// assert_eq!(p, [0.0; 3]);
     /// ```
-    pub fn copy_point(&self, index: usize, out: &mut [f64]) {
+    pub fn copy_point(&self, index: usize, out: &mut [T]) {
         assert_eq!(
             out.len(),
             self.dims,
@@ -172,7 +191,7 @@ impl Points {
     /// }
     /// assert_eq!(block.get(0, 1), 0.5);
     /// ```
-    pub fn columns_mut(&mut self) -> impl Iterator<Item = &mut [f64]> {
+    pub fn columns_mut(&mut self) -> impl Iterator<Item = &mut [T]> {
         // `chunks_mut(0)` panics; a block of no points yields `dims` empty columns instead.
         let len = self.len.max(1);
         let dims = self.dims;

@@ -8,8 +8,7 @@ use super::directions::Directions;
 use super::randomizer::{Randomizer, WideDirections, linear, owen_parts, widen};
 use super::unit::Unit;
 use super::{PASS_BITS, Sobol};
-use crate::Points;
-use crate::points_f32::PointsF32;
+use crate::PointBlock;
 use crate::sampler::owen::OwenScramble;
 use crate::sampler::simd::{Kernel, dispatch};
 use std::ops::BitXorAssign;
@@ -60,7 +59,7 @@ fn owen_chunk<T: Unit>(scramble: &OwenScramble, reversed: &[u32], out: &mut [T])
 
 impl Sobol {
     /// Fills a checked block of either precision, split at pass boundaries.
-    pub(super) fn fill_block<B: Block>(&self, start: u64, points: &mut B) {
+    pub(super) fn fill_block<T: Unit>(&self, start: u64, points: &mut PointBlock<T>) {
         let len = points.len();
         let mut done = 0;
         // Split the block at pass boundaries; each run lies within one pass.
@@ -85,7 +84,14 @@ impl Sobol {
     /// Fills `out` with in-pass points `first..` of one pass (no index shuffle), column by
     /// column: Gray-code words into a buffer, then scramble and convert.
     #[inline(always)]
-    fn fill_run<B: Block>(&self, pass: u64, first: u32, out: &mut B, offset: usize, len: usize) {
+    fn fill_run<T: Unit>(
+        &self,
+        pass: u64,
+        first: u32,
+        out: &mut PointBlock<T>,
+        offset: usize,
+        len: usize,
+    ) {
         let pass_seed = self.pass_seed(pass);
         for (dim, directions) in self.directions.iter().enumerate() {
             let column = &mut out.column_mut(dim)[offset..offset + len];
@@ -95,19 +101,19 @@ impl Sobol {
             // bit-reversed words, which is what its hash consumes.
             match self.randomizer(pass_seed, dim) {
                 Randomizer::None => gray_column(directions, start, first, column, |w, x| {
-                    convert(w, x, B::Value::from_word)
+                    convert(w, x, T::from_word)
                 }),
                 Randomizer::Xor { shift } => {
                     let wide: WideDirections = directions.map(widen);
                     gray_column(&wide, widen(start) ^ shift, first, column, |w, x| {
-                        convert(w, x, B::Value::from_wide)
+                        convert(w, x, T::from_wide)
                     })
                 }
                 Randomizer::Lms { columns, shift } => {
                     let wide: WideDirections = directions.map(|v| linear(&columns, v));
                     let start = linear(&columns, start) ^ shift;
                     gray_column(&wide, start, first, column, |w, x| {
-                        convert(w, x, B::Value::from_wide)
+                        convert(w, x, T::from_wide)
                     })
                 }
                 Randomizer::Owen { scramble } => {
@@ -122,11 +128,11 @@ impl Sobol {
 
     /// Like [`fill_run`](Self::fill_run) with the index shuffle (Owen only).
     #[inline(always)]
-    fn fill_shuffled_run<B: Block>(
+    fn fill_shuffled_run<T: Unit>(
         &self,
         pass: u64,
         first: u32,
-        out: &mut B,
+        out: &mut PointBlock<T>,
         offset: usize,
         len: usize,
     ) {
@@ -175,16 +181,16 @@ impl Sobol {
 }
 
 /// A fill of one pass's run of points, compiled for each instruction set by [`dispatch`].
-struct FillRun<'a, B> {
+struct FillRun<'a, T> {
     sobol: &'a Sobol,
     pass: u64,
     first: u32,
-    out: &'a mut B,
+    out: &'a mut PointBlock<T>,
     offset: usize,
     len: usize,
 }
 
-impl<B: Block> Kernel for FillRun<'_, B> {
+impl<T: Unit> Kernel for FillRun<'_, T> {
     type Output = ();
 
     #[inline(always)]
@@ -299,35 +305,5 @@ fn gray_column<W: Copy + Default + BitXorAssign, T, F: FnMut(&[W], &mut [T])>(
 fn convert<W: Copy, T>(words: &[W], out: &mut [T], to_unit: impl Fn(W) -> T) {
     for (x, &w) in out.iter_mut().zip(words) {
         *x = to_unit(w);
-    }
-}
-
-/// A block of points of either precision.
-pub(super) trait Block {
-    /// The coordinate type.
-    type Value: Unit;
-    /// Points in the block.
-    fn len(&self) -> usize;
-    /// Column `dim`.
-    fn column_mut(&mut self, dim: usize) -> &mut [Self::Value];
-}
-
-impl Block for Points {
-    type Value = f64;
-    fn len(&self) -> usize {
-        Points::len(self)
-    }
-    fn column_mut(&mut self, dim: usize) -> &mut [f64] {
-        Points::column_mut(self, dim)
-    }
-}
-
-impl Block for PointsF32 {
-    type Value = f32;
-    fn len(&self) -> usize {
-        PointsF32::len(self)
-    }
-    fn column_mut(&mut self, dim: usize) -> &mut [f32] {
-        PointsF32::column_mut(self, dim)
     }
 }

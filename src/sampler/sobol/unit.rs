@@ -34,7 +34,7 @@ pub(super) fn join_f64(word: u32, tail: u32) -> f64 {
 
 /// An output precision: how a 32-bit word, a 53-bit fraction or a word with its 21 tail
 /// digits becomes a coordinate. Each is the exact value, rounded once (for `f32`).
-pub(super) trait Unit: Copy {
+pub(super) trait Unit: Copy + Default {
     /// `word * 2^-32`.
     fn from_word(word: u32) -> Self;
     /// `bits * 2^-53`, for `bits < 2^53`.
