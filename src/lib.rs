@@ -55,6 +55,7 @@ pub mod points_f32;
 mod quadrature;
 pub mod quality;
 pub mod sampler;
+mod special;
 pub mod stats;
 pub mod testfns;
 

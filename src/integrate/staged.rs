@@ -6,7 +6,8 @@ use super::Plan;
 use crate::engine::{DEFAULT_REPLICATES, Executor, RunConfig, Stopping, require_randomized};
 use crate::estimator::Estimator;
 use crate::sampler::{PassKind, Sampler};
-use crate::stats::{Accumulator, Estimate, StopReason, Tolerance, normal_quantile};
+use crate::special::normal_quantile;
+use crate::stats::{Accumulator, Estimate, StopReason, Tolerance};
 use crate::{Error, Result};
 
 /// Pilot size of the two-stage rule when the caller gives none.

@@ -7,7 +7,7 @@
 //! methods and examples*, 2013, ch. 4, gives for preferring inversion with QMC).
 
 use super::Pdf1d;
-use crate::stats::{normal_cdf, normal_quantile};
+use crate::special::{normal_cdf, normal_quantile};
 use crate::{Error, Result};
 
 /// The normal density with `mean` and standard deviation `sd`,

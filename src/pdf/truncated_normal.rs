@@ -3,7 +3,7 @@
 use super::Pdf1d;
 use crate::float::ONE_BELOW;
 use crate::quadrature::gauss_kronrod;
-use crate::stats::{normal_cdf, normal_quantile, normal_sf};
+use crate::special::{normal_cdf, normal_quantile, normal_sf};
 use crate::{Error, Result};
 use std::f64::consts::PI;
 

@@ -1,7 +1,7 @@
 //! [`Estimate`]: an integral estimate with an honest error bar.
 
 use super::accumulator::Accumulator;
-use super::student_t::student_t_quantile;
+use crate::special::student_t_quantile;
 use crate::{Error, Result};
 
 /// Where a standard error comes from.

@@ -1,19 +1,16 @@
 //! Statistics: accumulation of contributions (scalar, and vector-valued with a covariance
-//! matrix for control variates), estimates with confidence intervals, and the distribution
-//! functions those need.
+//! matrix for control variates), estimates with confidence intervals, stopping tolerances, and
+//! Pearson's chi-square test of sample quality. The distribution functions behind them live
+//! in the private `special` module.
 
 mod accumulator;
-mod chi_square;
 mod covariance;
 mod estimate;
-mod normal;
-mod student_t;
+mod goodness_of_fit;
 mod tolerance;
 
 pub use accumulator::Accumulator;
-pub use chi_square::{GoodnessOfFit, chi_square_goodness_of_fit, chi_square_sf};
 pub use covariance::CovarianceAccumulator;
 pub use estimate::{ErrorBasis, Estimate, StopReason};
-pub use normal::{normal_cdf, normal_quantile, normal_sf};
-pub use student_t::{student_t_cdf, student_t_quantile};
+pub use goodness_of_fit::{GoodnessOfFit, chi_square_goodness_of_fit};
 pub use tolerance::Tolerance;

@@ -1,6 +1,7 @@
 //! The inverse-variance combination of VEGAS iterations, with their `chi^2` agreement.
 
-use crate::stats::{ErrorBasis, Estimate, StopReason, chi_square_sf};
+use crate::special::chi_square_sf;
+use crate::stats::{ErrorBasis, Estimate, StopReason};
 
 /// Smallest iteration variance used as a weight, so that exact (zero-variance) iterations
 /// do not divide by zero (the `TINY` of `vegas`).
