@@ -1,6 +1,6 @@
-//! Nested uniform scrambling in base `b` ([`Scramble::Owen`](crate::sampler::Scramble); Owen
-//! 1995), one coordinate at a time; `owen_block.rs` computes the same integers a block at a
-//! time.
+//! Nested uniform scrambling in base `b` (Owen 1995;
+//! [`Scramble::Owen`](crate::sampler::Scramble::Owen)), one coordinate at a time;
+//! `owen_block.rs` computes the same integers a block at a time.
 
 use super::base::{Base, MAX_DEPTH};
 use super::digit_permutation::{TAG_RHO, below, digit_image, stream_digits};

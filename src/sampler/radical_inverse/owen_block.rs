@@ -10,7 +10,7 @@
 //! residues the block meets. Deeper positions have a different prefix for every index of the
 //! block and are computed per index, position by position, and the zero digits beyond the
 //! last digit of each index (the tail) word by word of its stream. Both run in lanes through
-//! `super::simd`: the hashes, the digits (by a floating-point division) and the permutations
+//! `sampler::simd`: the hashes, the digits (by a floating-point division) and the permutations
 //! of bases above 13 (a keyed swap-or-not shuffle of 40 hashed rounds, whose latency the
 //! lanes hide) vectorize. The sum is exact in integers whatever the order, and rounded once
 //! as in `owen_coordinate`, so the values are bit-identical.

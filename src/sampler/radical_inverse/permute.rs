@@ -1,6 +1,7 @@
-//! Random digit permutation scrambling ([`Scramble::Permute`](crate::sampler::Scramble)):
-//! digit position `k` of every coordinate is replaced by `pi_k(a_k)`, one random permutation
-//! per position, point by point and a block at a time.
+//! Random digit permutation scrambling
+//! ([`Scramble::Permute`](crate::sampler::Scramble::Permute)): digit position `k` of every
+//! coordinate is replaced by `pi_k(a_k)`, one random permutation per position, point by point
+//! and a block at a time.
 
 use super::Scratch;
 use super::base::{Base, MAX_DEPTH};

@@ -1,7 +1,7 @@
 //! The block kernel of the Sobol' sampler: for each dimension, the Gray-code words of a chunk
 //! of consecutive indices (one XOR per word, Antonov & Saleev 1979), then the scramble and the
 //! conversion in loops without loop-carried dependencies, compiled per instruction set by
-//! `super::simd`. The words and conversions are those of `Sobol::point`, so the values are
+//! `sampler::simd`. The words and conversions are those of `Sobol::point`, so the values are
 //! bit-identical.
 
 use super::directions::Directions;
