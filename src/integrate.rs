@@ -38,7 +38,7 @@ const DEFAULT_SAMPLES: u64 = 1 << 16;
 ///
 /// Generation and evaluation are fused: each worker thread fills a block of 1024 points (8 KiB
 /// per dimension, sized to stay in L1/L2 cache) with the sampler's batch
-/// [`fill`](Sampler::fill) and hands it straight to the estimator's
+/// [`fill`](crate::Sampler::fill) and hands it straight to the estimator's
 /// [`contributions`](Estimator::contributions), reusing the same block and value buffers for
 /// the whole run; no buffer of all the points is ever built, so memory traffic does not grow
 /// with the number of samples. A batch integrand ([`over_box_batch`](Integrator::over_box_batch))

@@ -52,7 +52,7 @@ const TAG: u64 = 0x004d_4953_4552;
 /// MISER: recursive stratified sampling with variance-driven bisection, with an error bar
 /// from independent replicates.
 ///
-/// Points come from any [`Sampler`] with independent points or extensible passes (independent
+/// Points come from any [`Sampler`](crate::Sampler) with independent points or extensible passes (independent
 /// points by default; a scrambled Sobol' sequence gives each exploration and each leaf its own
 /// randomized net). The result is bit-identical for any number of threads: replicates, and
 /// large subregions, are units of work whose points and decisions depend only on their

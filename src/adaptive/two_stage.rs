@@ -41,7 +41,7 @@ const STRATA_PER_CHUNK: usize = 64;
 /// Two-stage adaptive stratified sampling: a pilot estimates each stratum's spread, the main
 /// budget follows Neyman allocation, and the estimate comes from fresh samples only.
 ///
-/// Points come from any [`Sampler`] with independent points or extensible passes (a scrambled
+/// Points come from any [`Sampler`](crate::Sampler) with independent points or extensible passes (a scrambled
 /// Sobol' sequence gives every stratum's batch its own randomized net). Strata are units of
 /// work, so the result is bit-identical for any thread count.
 ///

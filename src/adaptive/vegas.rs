@@ -70,7 +70,7 @@ const EVALUATIONS_PER_INCREMENT: u64 = 10;
 /// seed 0, all available threads.
 ///
 /// The estimate's standard error is the inverse-variance combination of the iterations'
-/// (basis [`ErrorBasis::PerSample`], with `dof` the sum of `n_h - 1` over hypercubes and
+/// (basis [`ErrorBasis::PerSample`](crate::stats::ErrorBasis::PerSample), with `dof` the sum of `n_h - 1` over hypercubes and
 /// iterations); `iterations` and `replicates` are the number of iterations combined,
 /// `chi2_dof` and `q_value` their agreement (from the second one on), `n` counts the
 /// evaluations of the combined iterations and `evaluations` every one spent, warm-up included.

@@ -30,8 +30,18 @@ const COLLINEARITY_TOLERANCE: f64 = 1e-10;
 
 type ControlFn<'a> = Box<dyn Fn(&[f64]) -> f64 + Send + Sync + 'a>;
 
-/// `f` sampled from `pdf`, corrected by controls with known integrals, with coefficients
-/// fitted on a pilot stage (see the [module documentation](self)).
+/// `f` sampled from `pdf`, corrected by controls `g_j` with known integrals `G_j`, with
+/// coefficients fitted on a pilot stage.
+///
+/// With `Y = f(X)/pdf(X)` and `Z_j = g_j(X)/pdf(X)` (so `E[Z_j] = G_j`), every fixed `beta`
+/// makes `Y - beta^T (Z - G)` an unbiased contribution, of least variance
+/// `(1 - R^2) Var(Y)` at `beta* = Cov(Z)^-1 Cov(Z, Y)`. The coefficients are the least-squares
+/// fit on a pilot of independent points, separate from the main run, so the main run uses a
+/// fixed estimator: unbiased, with the Integrator's usual error bar, for independent points
+/// and, through replicates, for stratified and randomized QMC points alike. (Fitting on the
+/// main run's own samples, the classical regression estimator, has a bias of order `1/n` and
+/// an error bar that holds only for independent points.) The price is the pilot's
+/// evaluations and an excess variance of order `k / pilot` over `(1 - R^2) Var(Y)`.
 ///
 /// Outside an [`Integrator`](crate::Integrator) run (which fits the coefficients first), its
 /// contributions are the plain `f/pdf`.
