@@ -39,6 +39,11 @@
 //! 16384 points to FILE every `--save-every` chunks (default 16) and, when FILE exists,
 //! resumes from it: however often it is stopped and restarted, the result has the same bits
 //! as an uninterrupted run. `--stop-after K` stops after K chunks, as an interruption would.
+//!
+//! Warnings about the estimate (points per replicate that break a net, a tolerance not met,
+//! few replicates, skipped non-finite values, an error bar at the floating-point floor) go
+//! to stderr, one `warning: ...` line each; `--json` also lists them in its `warnings` array
+//! as `{"kind", "message"}` objects, empty when there are none.
 
 #[path = "support/checkpoint.rs"]
 mod checkpoint;
@@ -231,6 +236,9 @@ fn run() -> Result<(), String> {
         exact: f.exact(),
         seconds,
     };
+    for warning in &report.estimate.warnings {
+        eprintln!("warning: {warning}");
+    }
     if args.has("json") {
         report.print_json()
     } else {
@@ -303,7 +311,7 @@ impl Report {
              \"scramble\": \"{}\", \"estimator\": \"{}\", \"estimate\": {}, \"std_error\": {}, \
              \"variance_per_evaluation\": {}, \"exact\": {}, \"n\": {}, \"replicates\": {}, \
              \"evaluations\": {}, \"converged\": {}, \"stop\": \"{}\", \"iterations\": {}, \
-             \"chi2_dof\": {}, \"seconds\": {}}}",
+             \"chi2_dof\": {}, \"rounding_error\": {}, \"warnings\": [{}], \"seconds\": {}}}",
             self.method.name(),
             self.family.name(),
             self.dims,
@@ -321,6 +329,16 @@ impl Report {
             stop_name(e.stop),
             e.iterations,
             json_number(e.chi2_dof),
+            json_number(Some(e.rounding_error)),
+            e.warnings
+                .iter()
+                .map(|w| format!(
+                    "{{\"kind\": \"{}\", \"message\": {}}}",
+                    w.kind(),
+                    serde_json::to_string(&w.to_string()).expect("a string serializes")
+                ))
+                .collect::<Vec<_>>()
+                .join(", "),
             json_number(Some(self.seconds)),
         );
     }

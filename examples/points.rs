@@ -101,6 +101,13 @@ fn run() -> Result<(), String> {
             max
         }
     };
+    // As scipy does: a count that breaks the points' balance is written, with a warning.
+    if let Some(base) = sampler.unbalanced_by(n) {
+        eprintln!(
+            "warning: {n} points break the balance of the {name} sampler, whose points are \
+             nets only in blocks of a whole power of {base}"
+        );
+    }
     let start = pass
         .checked_mul(pass_length)
         .ok_or("--pass is too large: the first index overflows 64 bits")?;

@@ -215,5 +215,8 @@ fn row<E: Estimator>(
         estimate.n,
         seconds
     );
+    for warning in &estimate.warnings {
+        eprintln!("warning ({integrand}, {method}): {warning}");
+    }
     Ok(())
 }

@@ -96,6 +96,9 @@ impl Table {
             estimate.mean,
             variance / reference
         );
+        for warning in &estimate.warnings {
+            eprintln!("warning ({name}): {warning}");
+        }
     }
 }
 

@@ -670,7 +670,8 @@ fn variance_reduction_example_shows_the_seeds_scenarios() {
             .2
     };
     let uniform = |section| var(section, "uniform (A.14)");
-    assert_eq!(var(1, "proportional to f"), 0.0);
+    // Zero but for the floating-point floor of its standard error (about 1e-15 relative).
+    assert!(var(1, "proportional to f") < 1e-20);
     assert!(var(1, "similar shape") < uniform(1) / 4.0);
     assert!(var(1, "wrong shape") > 100.0 * uniform(1));
     let best_single = var(2, "sample the light h").min(var(2, "sample the lobe of g only"));

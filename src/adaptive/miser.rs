@@ -34,6 +34,7 @@ use crate::engine::{
 use crate::hash::hash_words;
 use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
+use crate::stats::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
 use crate::stats::{Estimate, StopReason};
 use crate::{Error, Points, Result};
 
@@ -399,6 +400,8 @@ struct FirstNonFinite {
 #[derive(Debug, Clone, Default)]
 struct Partial {
     integral: f64,
+    /// A bound on the rounding error of `integral`.
+    rounding: f64,
     non_finite: u64,
     first: Option<FirstNonFinite>,
 }
@@ -406,8 +409,10 @@ struct Partial {
 impl Partial {
     /// Left then right: the order is fixed by the tree, whoever computed the halves.
     fn join(left: Partial, right: Partial) -> Partial {
+        let integral = left.integral + right.integral;
         Partial {
-            integral: left.integral + right.integral,
+            integral,
+            rounding: left.rounding + right.rounding + UNIT_ROUNDOFF * integral.abs(),
             non_finite: left.non_finite + right.non_finite,
             first: left.first.or(right.first),
         }
@@ -513,8 +518,14 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
         }
         let volume = self.domain.volume();
         let means: Vec<f64> = partials.iter().map(|p| volume * p.integral).collect();
-        let mut estimate = Estimate::from_replicates(&means, per_replicate)?;
+        let bounds: Vec<f64> = partials
+            .iter()
+            .zip(&means)
+            .map(|(p, m)| volume * p.rounding + UNIT_ROUNDOFF * m.abs())
+            .collect();
+        let mut estimate = Estimate::from_bounded_replicates(&means, &bounds, per_replicate)?;
         estimate.non_finite = non_finite;
+        estimate.finalize();
         Ok(estimate)
     }
 
@@ -679,6 +690,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
     ) -> Result<Partial> {
         let mut partial = Partial::default();
         let mut sum = 0.0;
+        let mut largest = 0.0f64;
         let mut k = 0u64;
         while k < n {
             let want = (n - k).min(BLOCK as u64) as usize;
@@ -688,6 +700,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
                 let y = (self.f)(&work.x);
                 if y.is_finite() {
                     sum += y;
+                    largest = largest.max(y.abs());
                 } else {
                     partial.record(slot - stage.base_of(slot) + k + i as u64, y, &work.unit);
                 }
@@ -698,6 +711,10 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
         let finite = n - partial.non_finite;
         if finite > 0 {
             partial.integral = cell.volume() * (sum / finite as f64);
+            // The running sum of `finite` values, each evaluated to the allowance.
+            partial.rounding = cell.volume() * (gamma(finite as f64) * largest)
+                + cell.volume() * contribution_allowance(largest)
+                + 2.0 * UNIT_ROUNDOFF * partial.integral.abs();
         }
         Ok(partial)
     }

@@ -24,6 +24,7 @@ use super::cell::Cell;
 use crate::engine::{ChunkJob, Executor, RunConfig, require_uniform_points, run_settings};
 use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
+use crate::stats::rounding::{UNIT_ROUNDOFF, gamma};
 use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason};
 use crate::{Error, Points, Result};
 
@@ -229,6 +230,18 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
         } else {
             main_stats
         };
+        // Skipping non-finite values can leave a stratum without the two values its variance
+        // needs.
+        if let Some(j) = used.iter().position(|a| a.count() < 2) {
+            return Err(Error::invalid(
+                "integrand",
+                format!(
+                    "non-finite at all but {} points of stratum {j}",
+                    used[j].count()
+                ),
+                "at least two finite values per stratum, even when skipping",
+            ));
+        }
         Ok(stratified_estimate(
             &used,
             self.domain.volume() / strata as f64,
@@ -443,10 +456,14 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
     let mut variance = 0.0;
     let mut dof_denominator = 0.0;
     let mut samples = 0u64;
+    // Each stratum's own bound, its product with the volume and its share of the sum.
+    let per_term = gamma(strata.len() as f64) + UNIT_ROUNDOFF;
+    let mut rounding = 0.0;
     for acc in strata {
         let n = acc.count();
         samples += n;
         mean += volume * acc.mean();
+        rounding += volume * (acc.rounding_error() + per_term * acc.mean().abs());
         let v = volume * volume * acc.variance() / n as f64;
         variance += v;
         dof_denominator += v * v / (n - 1) as f64;
@@ -457,7 +474,7 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
         // No spread anywhere: any dof will do; take the pooled one.
         (samples - strata.len() as u64) as f64
     };
-    Estimate {
+    let mut estimate = Estimate {
         mean,
         std_error: Some(variance.sqrt()),
         dof: Some(dof),
@@ -465,13 +482,17 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
         n: samples,
         evaluations,
         replicates: 1,
-        non_finite: 0,
+        non_finite: strata.iter().map(Accumulator::non_finite).sum(),
         stop: StopReason::Budget,
         converged: None,
         iterations: 2,
         chi2_dof: None,
         q_value: None,
-    }
+        rounding_error: rounding,
+        warnings: Vec::new(),
+    };
+    estimate.finalize();
+    estimate
 }
 
 #[cfg(test)]

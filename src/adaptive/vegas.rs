@@ -339,7 +339,12 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
             if !measured {
                 continue;
             }
-            combination.add(totals.mean, totals.variance, total - strata.cubes);
+            combination.add(
+                totals.mean,
+                totals.variance,
+                total - strata.cubes,
+                totals.rounding,
+            );
             measured_evaluations += total;
             non_finite += totals.non_finite;
             if let Some(stopping) = &stopping {
@@ -356,6 +361,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
         if let Some(stopping) = &stopping {
             stopping.finish(&mut estimate, stop, combination.count());
         }
+        estimate.finalize();
         Ok(estimate)
     }
 

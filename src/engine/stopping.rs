@@ -15,7 +15,7 @@
 
 use std::time::Instant;
 
-use crate::stats::{ErrorBasis, Estimate, StopReason, Tolerance};
+use crate::stats::{ErrorBasis, Estimate, StopReason, Tolerance, Warning};
 
 /// Inflation of a replicate-based standard error in a run to a tolerance.
 pub(crate) const REPLICATE_INFLATION: f64 = 1.2;
@@ -72,10 +72,15 @@ impl<'a> Stopping<'a> {
         (estimate, met)
     }
 
-    /// Records how the run ended on its final estimate.
+    /// Records how the run ended on its final estimate, with a warning when it stopped on a
+    /// limit.
     pub(crate) fn finish(&self, estimate: &mut Estimate, stop: StopReason, stages: u64) {
         estimate.stop = stop;
         estimate.converged = Some(self.tolerance.is_met(estimate));
         estimate.iterations = stages;
+        if stop != StopReason::ToleranceMet {
+            estimate.warn(Warning::ToleranceNotMet { stop });
+        }
+        estimate.finalize();
     }
 }

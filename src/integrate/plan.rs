@@ -5,7 +5,7 @@ use super::{CHUNK, DEFAULT_SAMPLES, NonFinitePolicy};
 use crate::engine::{ChunkJob, Executor, require_randomized};
 use crate::estimator::Estimator;
 use crate::sampler::{PassKind, Sampler};
-use crate::stats::{Accumulator, Estimate};
+use crate::stats::{Accumulator, Estimate, Warning};
 use crate::{Error, Points, Result};
 
 /// Points generated and evaluated together: small enough to stay in L1/L2 cache.
@@ -225,8 +225,28 @@ impl Plan {
             estimate.replicates = self.replicates;
             return Ok(estimate);
         }
-        Estimate::from_replicate_accumulators(reps)
+        let mut estimate = Estimate::from_replicate_accumulators(reps)?;
+        if let Some(warning) = balance_warning(sampler, self.samples) {
+            estimate.warn(warning);
+        }
+        Ok(estimate)
     }
+}
+
+/// The warning for `samples` points per replicate of `sampler`, if they break its balance.
+pub(super) fn balance_warning(sampler: &dyn Sampler, samples: u64) -> Option<Warning> {
+    let base = sampler.unbalanced_by(samples)?;
+    let mut below = 1u64;
+    while below.checked_mul(base).is_some_and(|next| next <= samples) {
+        below *= base;
+    }
+    Some(Warning::UnbalancedSampleSize {
+        sampler: sampler.name().to_string(),
+        samples,
+        base,
+        below,
+        above: below.saturating_mul(base),
+    })
 }
 
 /// Where the first non-finite contribution of a chunk occurred.

@@ -3,6 +3,7 @@
 //! judged by the engine's [`Stopping`] rule.
 
 use super::Plan;
+use super::plan::balance_warning;
 use crate::engine::{DEFAULT_REPLICATES, Executor, RunConfig, Stopping, require_randomized};
 use crate::estimator::Estimator;
 use crate::sampler::{PassKind, Sampler};
@@ -216,6 +217,9 @@ fn doubling(stage: &Stage<'_>) -> Result<Estimate> {
             ),
         )
     })?;
+    if let Some(warning) = balance_warning(stage.sampler, first) {
+        estimate.warn(warning);
+    }
     stage.stopping.finish(&mut estimate, stop, stages);
     Ok(estimate)
 }

@@ -153,6 +153,11 @@ impl Hammersley {
 }
 
 impl Sampler for Hammersley {
+    /// Each pass is one Hammersley set, a net when its size is a power of two.
+    fn unbalanced_by(&self, _n: u64) -> Option<u64> {
+        (!self.pass_size.is_power_of_two()).then_some(2)
+    }
+
     fn name(&self) -> &'static str {
         "hammersley"
     }

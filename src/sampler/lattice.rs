@@ -357,6 +357,10 @@ impl fmt::Debug for Lattice {
 }
 
 impl Sampler for Lattice {
+    fn unbalanced_by(&self, n: u64) -> Option<u64> {
+        (!n.is_power_of_two()).then_some(2)
+    }
+
     fn name(&self) -> &'static str {
         "lattice"
     }

@@ -126,6 +126,24 @@ pub trait Sampler: Send + Sync {
         true
     }
 
+    /// The base `b` when `n` points per replicate break this sampler's balance: its points
+    /// are nets or lattices only in blocks of a whole power of `b` (Sobol', pmj02, rank-1
+    /// lattices; Hammersley sets of a power-of-two size), so other sizes lose the structure
+    /// and the convergence rate, as scipy warns. `None` (the default) when `n` keeps it, or
+    /// the sampler has no such structure.
+    ///
+    /// ```
+    /// use mcint::sampler::{Independent, Sampler, Scramble, Sobol};
+    /// let sobol = Sobol::new(2, Scramble::Owen, 0).unwrap();
+    /// assert_eq!(sobol.unbalanced_by(1000), Some(2));
+    /// assert_eq!(sobol.unbalanced_by(1024), None);
+    /// assert_eq!(Independent::new(2, 0).unwrap().unbalanced_by(1000), None);
+    /// ```
+    fn unbalanced_by(&self, n: u64) -> Option<u64> {
+        let _ = n;
+        None
+    }
+
     /// Writes point `index` into `out` (`out.len()` must equal [`dims`](Self::dims)).
     fn point(&self, index: u64, out: &mut [f64]) -> Result<()>;
 
@@ -262,6 +280,10 @@ impl<S: Sampler + ?Sized> Sampler for Box<S> {
 
     fn is_randomized(&self) -> bool {
         (**self).is_randomized()
+    }
+
+    fn unbalanced_by(&self, n: u64) -> Option<u64> {
+        (**self).unbalanced_by(n)
     }
 
     fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {

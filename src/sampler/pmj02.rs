@@ -282,6 +282,10 @@ fn scramble_index(index: u32, bits: u32, key: u64) -> u32 {
 }
 
 impl Sampler for Pmj02 {
+    fn unbalanced_by(&self, n: u64) -> Option<u64> {
+        (!n.is_power_of_two()).then_some(2)
+    }
+
     fn name(&self) -> &'static str {
         "pmj02"
     }

@@ -232,6 +232,10 @@ impl PartialEq for Sobol {
 impl Eq for Sobol {}
 
 impl Sampler for Sobol {
+    fn unbalanced_by(&self, n: u64) -> Option<u64> {
+        (!n.is_power_of_two()).then_some(2)
+    }
+
     fn name(&self) -> &'static str {
         "sobol"
     }

@@ -2,6 +2,7 @@
 //! and two-pass summaries of whole slices (Chan, Golub & LeVeque 1983).
 
 use super::estimate::{ErrorBasis, Estimate, StopReason};
+use super::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
 
 /// Interleaved partial sums of [`Accumulator::extend`]: enough independent chains to fill
 /// 8 vector lanes of `f64` or hide an addition's latency; fixed, so results do not depend on
@@ -38,6 +39,9 @@ pub struct Accumulator {
     min: f64,
     max: f64,
     non_finite: u64,
+    /// A bound on the rounding error of `mean` against the exact mean of the finite values
+    /// (see [`rounding_error`](Self::rounding_error)).
+    rounding: f64,
 }
 
 impl Default for Accumulator {
@@ -60,6 +64,7 @@ impl Accumulator {
             min: f64::INFINITY,
             max: f64::NEG_INFINITY,
             non_finite: 0,
+            rounding: 0.0,
         }
     }
 
@@ -78,9 +83,12 @@ impl Accumulator {
             return;
         }
         self.count += 1;
+        let k = self.count as f64;
         let delta = y - self.mean;
-        self.mean += delta / self.count as f64;
+        self.mean += delta / k;
         self.m2 += delta * (y - self.mean);
+        self.rounding = self.rounding * (1.0 - 1.0 / k)
+            + UNIT_ROUNDOFF * (self.mean.abs() + 2.0 * delta.abs() / k);
         self.min = self.min.min(y);
         self.max = self.max.max(y);
     }
@@ -160,13 +168,20 @@ impl Accumulator {
         if !m2.is_finite() {
             return None;
         }
+        let min = mins.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = maxs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        // Each value passes through at most ceil(len / LANES) additions in its lane and
+        // LANES more joining the lanes; |sum| / count <= the largest magnitude.
+        let height = values.len().div_ceil(LANES) + LANES;
+        let rounding = gamma(height as f64) * min.abs().max(max.abs()) + UNIT_ROUNDOFF * mean.abs();
         Some(Accumulator {
             count,
             mean,
             m2: m2.max(0.0),
-            min: mins.iter().copied().fold(f64::INFINITY, f64::min),
-            max: maxs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            min,
+            max,
             non_finite,
+            rounding,
         })
     }
 
@@ -197,6 +212,8 @@ impl Accumulator {
         let delta = other.mean - self.mean;
         self.mean += delta * (nb / n);
         self.m2 += other.m2 + delta * delta * (na * nb / n);
+        self.rounding = (na * self.rounding + nb * other.rounding) / n
+            + UNIT_ROUNDOFF * (self.mean.abs() + 3.0 * delta.abs() * (nb / n));
         self.count += other.count;
         self.min = self.min.min(other.min);
         self.max = self.max.max(other.max);
@@ -290,7 +307,7 @@ impl Accumulator {
     /// ```
     pub fn estimate(&self) -> Estimate {
         let honest = self.count >= 2;
-        Estimate {
+        let mut estimate = Estimate {
             mean: self.mean,
             std_error: honest.then(|| (self.variance() / self.count as f64).sqrt()),
             dof: honest.then(|| (self.count - 1) as f64),
@@ -308,7 +325,34 @@ impl Accumulator {
             iterations: 1,
             chi2_dof: None,
             q_value: None,
+            rounding_error: self.rounding_error(),
+            warnings: Vec::new(),
+        };
+        estimate.finalize();
+        estimate
+    }
+
+    /// A bound on the floating-point error of [`mean`](Self::mean): the rounding of the sums
+    /// that produced it, tracked operation by operation (Welford updates, two-pass slice sums,
+    /// Chan merges), plus an allowance of 64 units in the last place of the values' magnitude
+    /// for the evaluation of each value itself. See
+    /// [`Estimate::rounding_error`](crate::Estimate::rounding_error).
+    ///
+    /// ```
+    /// let mut acc = mcint::stats::Accumulator::new();
+    /// acc.extend(&[0.1; 1000]);
+    /// let exact = 0.1; // the mean of equal values
+    /// assert!((acc.mean() - exact).abs() <= acc.rounding_error());
+    /// assert!(acc.rounding_error() < 1e-12);
+    /// ```
+    pub fn rounding_error(&self) -> f64 {
+        if self.count == 0 {
+            return 0.0;
         }
+        // mean |y| is at most the largest magnitude, and at most the root mean square.
+        let rms = (self.mean * self.mean + self.m2 / self.count as f64).sqrt();
+        let scale = self.min.abs().max(self.max.abs()).min(rms);
+        self.rounding + contribution_allowance(scale)
     }
 }
 
@@ -323,6 +367,9 @@ struct AccumulatorState {
     min: Option<f64>,
     max: Option<f64>,
     non_finite: u64,
+    /// Absent from states written before the bound was kept.
+    #[serde(default)]
+    rounding: f64,
 }
 
 #[cfg(feature = "serde")]
@@ -336,6 +383,7 @@ impl From<Accumulator> for AccumulatorState {
             min: seen.then_some(a.min),
             max: seen.then_some(a.max),
             non_finite: a.non_finite,
+            rounding: a.rounding,
         }
     }
 }
@@ -345,13 +393,15 @@ impl TryFrom<AccumulatorState> for Accumulator {
     type Error = String;
 
     fn try_from(s: AccumulatorState) -> std::result::Result<Self, String> {
-        let consistent = match (s.count, s.min, s.max) {
-            (0, None, None) => s.mean == 0.0 && s.m2 == 0.0,
-            (_, Some(lo), Some(hi)) => {
-                s.count > 0 && lo <= hi && s.mean.is_finite() && s.m2.is_finite() && s.m2 >= 0.0
-            }
-            _ => false,
-        };
+        let rounding_ok = s.rounding.is_finite() && s.rounding >= 0.0;
+        let consistent = rounding_ok
+            && match (s.count, s.min, s.max) {
+                (0, None, None) => s.mean == 0.0 && s.m2 == 0.0,
+                (_, Some(lo), Some(hi)) => {
+                    s.count > 0 && lo <= hi && s.mean.is_finite() && s.m2.is_finite() && s.m2 >= 0.0
+                }
+                _ => false,
+            };
         if !consistent {
             return Err(format!(
                 "inconsistent accumulator: count {}, mean {}, m2 {}, min {:?}, max {:?}",
@@ -365,6 +415,7 @@ impl TryFrom<AccumulatorState> for Accumulator {
             min: s.min.unwrap_or(f64::INFINITY),
             max: s.max.unwrap_or(f64::NEG_INFINITY),
             non_finite: s.non_finite,
+            rounding: s.rounding,
         })
     }
 }

@@ -1,6 +1,8 @@
 //! [`Estimate`]: an integral estimate with an honest error bar.
 
 use super::accumulator::Accumulator;
+use super::rounding::mean_of_means;
+use super::warning::Warning;
 use crate::special::student_t_quantile;
 use crate::{Error, Result};
 
@@ -68,6 +70,19 @@ pub struct Estimate {
     /// The probability of a `chi^2` at least as large as [`chi2_dof`](Self::chi2_dof) shows
     /// if the iterations agree (VEGAS's `Q`; small values warn of an unreliable estimate).
     pub q_value: Option<f64>,
+    /// A bound on the floating-point error of `mean`: the rounding of every sum and merge
+    /// behind it (tracked operation by operation, after Higham's bounds for summation), the
+    /// combination of replicates or strata or iterations, and an allowance of 64 units in the
+    /// last place of each contribution for its own evaluation (integrand, density, `f/pdf`).
+    /// `std_error` is never reported below it (with a
+    /// [`Warning::AtRoundingFloor`] when the statistics alone gave less): an estimate cannot
+    /// claim more accuracy than its arithmetic has.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub rounding_error: f64,
+    /// Conditions worth knowing about this estimate (see [`Warning`]); empty when there are
+    /// none.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub warnings: Vec<Warning>,
 }
 
 /// Why a run stopped.
@@ -104,6 +119,16 @@ impl Estimate {
     /// assert!(Estimate::from_replicates(&[f64::NAN, 1.0], 1).is_err());
     /// ```
     pub fn from_replicates(means: &[f64], n_per_replicate: u64) -> Result<Self> {
+        Estimate::from_bounded_replicates(means, &vec![0.0; means.len()], n_per_replicate)
+    }
+
+    /// [`from_replicates`](Self::from_replicates) for means that carry rounding error bounds
+    /// of their own.
+    pub(crate) fn from_bounded_replicates(
+        means: &[f64],
+        bounds: &[f64],
+        n_per_replicate: u64,
+    ) -> Result<Self> {
         if means.is_empty() {
             return Err(Error::invalid(
                 "replicate means",
@@ -121,7 +146,7 @@ impl Estimate {
             let ss: f64 = means.iter().map(|m| (m - mean) * (m - mean)).sum();
             (ss / ((r - 1) * r) as f64).sqrt()
         });
-        Ok(Estimate {
+        let mut estimate = Estimate {
             mean,
             std_error,
             dof: honest.then(|| (r - 1) as f64),
@@ -139,7 +164,11 @@ impl Estimate {
             iterations: 1,
             chi2_dof: None,
             q_value: None,
-        })
+            rounding_error: mean_of_means(means, bounds),
+            warnings: Vec::new(),
+        };
+        estimate.finalize();
+        Ok(estimate)
     }
 
     /// The estimate from independent replicates, each accumulated in full: as
@@ -157,11 +186,47 @@ impl Estimate {
     /// ```
     pub fn from_replicate_accumulators(replicates: &[Accumulator]) -> Result<Self> {
         let means: Vec<f64> = replicates.iter().map(Accumulator::mean).collect();
-        let mut estimate = Estimate::from_replicates(&means, 0)?;
+        let bounds: Vec<f64> = replicates.iter().map(Accumulator::rounding_error).collect();
+        let mut estimate = Estimate::from_bounded_replicates(&means, &bounds, 0)?;
         estimate.n = replicates.iter().map(Accumulator::count).sum();
         estimate.non_finite = replicates.iter().map(Accumulator::non_finite).sum();
         estimate.evaluations = estimate.n + estimate.non_finite;
+        estimate.finalize();
         Ok(estimate)
+    }
+
+    /// Applies the rounding floor to `std_error` and adds the warnings that the estimate's
+    /// own fields call for (few replicates, skipped non-finite values); every run calls it
+    /// on its final estimate, and calling it again changes nothing.
+    pub(crate) fn finalize(&mut self) {
+        if let Some(statistical) = self.std_error
+            && statistical < self.rounding_error
+        {
+            self.std_error = Some(self.rounding_error);
+            self.warn(Warning::AtRoundingFloor {
+                statistical,
+                floor: self.rounding_error,
+            });
+        }
+        if self.basis == ErrorBasis::Replicates && self.replicates < 8 {
+            self.warn(Warning::FewReplicates {
+                replicates: self.replicates,
+            });
+        }
+        if self.non_finite > 0 {
+            self.warnings
+                .retain(|w| !matches!(w, Warning::NonFiniteSkipped { .. }));
+            self.warn(Warning::NonFiniteSkipped {
+                count: self.non_finite,
+            });
+        }
+    }
+
+    /// Adds `warning` unless a warning of its kind is already there.
+    pub(crate) fn warn(&mut self, warning: Warning) {
+        if !self.warnings.iter().any(|w| w.kind() == warning.kind()) {
+            self.warnings.push(warning);
+        }
     }
 
     /// Variance of the estimate, `std_error^2`.

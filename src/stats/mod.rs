@@ -7,10 +7,13 @@ mod accumulator;
 mod covariance;
 mod estimate;
 mod goodness_of_fit;
+pub(crate) mod rounding;
 mod tolerance;
+mod warning;
 
 pub use accumulator::Accumulator;
 pub use covariance::CovarianceAccumulator;
 pub use estimate::{ErrorBasis, Estimate, StopReason};
 pub use goodness_of_fit::{GoodnessOfFit, chi_square_goodness_of_fit};
 pub use tolerance::Tolerance;
+pub use warning::Warning;

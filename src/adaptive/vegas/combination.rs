@@ -1,6 +1,7 @@
 //! The inverse-variance combination of VEGAS iterations, with their `chi^2` agreement.
 
 use crate::special::chi_square_sf;
+use crate::stats::rounding::gamma;
 use crate::stats::{ErrorBasis, Estimate, StopReason};
 
 /// Smallest iteration variance used as a weight, so that exact (zero-variance) iterations
@@ -14,6 +15,8 @@ pub(super) struct Combination {
     results: Vec<(f64, f64)>,
     sum_weights: f64,
     sum_weighted: f64,
+    /// The iterations' rounding bounds, weighted like their means.
+    sum_weighted_rounding: f64,
     dof: f64,
 }
 
@@ -22,11 +25,14 @@ impl Combination {
         self.results.len() as u64
     }
 
-    pub(super) fn add(&mut self, mean: f64, variance: f64, dof: u64) {
+    /// Adds an iteration's estimate, its variance and degrees of freedom, and the bound on
+    /// the rounding error of its estimate.
+    pub(super) fn add(&mut self, mean: f64, variance: f64, dof: u64, rounding: f64) {
         let variance = variance.max(TINY_VARIANCE);
         self.results.push((mean, variance));
         self.sum_weights += 1.0 / variance;
         self.sum_weighted += mean / variance;
+        self.sum_weighted_rounding += rounding / variance;
         self.dof += dof.max(1) as f64;
     }
 
@@ -45,7 +51,12 @@ impl Combination {
         } else {
             (None, None)
         };
-        Estimate {
+        // The weighted sums of m terms and their ratio: at most 2m + 2 roundings of the
+        // largest iteration estimate.
+        let largest = self.results.iter().fold(0.0f64, |l, (v, _)| l.max(v.abs()));
+        let rounding =
+            self.sum_weighted_rounding / self.sum_weights + gamma(2.0 * m as f64 + 2.0) * largest;
+        let mut estimate = Estimate {
             mean,
             std_error: Some((1.0 / self.sum_weights).sqrt()),
             dof: Some(self.dof),
@@ -59,6 +70,10 @@ impl Combination {
             iterations: m,
             chi2_dof,
             q_value,
-        }
+            rounding_error: rounding,
+            warnings: Vec::new(),
+        };
+        estimate.finalize();
+        estimate
     }
 }

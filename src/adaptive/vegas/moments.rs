@@ -1,5 +1,8 @@
 //! Per-hypercube moments of VEGAS+: running sums within a chunk, exact merges across chunks,
-//! and a hypercube's contribution to the estimate.
+//! and a hypercube's contribution to the estimate, each with a bound on the rounding error of
+//! its mean (as [`Accumulator`](crate::Accumulator) keeps one; see `stats::rounding`).
+
+use crate::stats::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
 
 /// Relative roundoff floor of a hypercube's variance (the `EPSILON` of `vegas`).
 const ROUNDOFF: f64 = 10.0 * f64::EPSILON;
@@ -10,6 +13,8 @@ pub(super) struct Moments {
     pub(super) n: u64,
     pub(super) mean: f64,
     pub(super) m2: f64,
+    /// A bound on the rounding error of `mean`.
+    pub(super) rounding: f64,
 }
 
 impl Moments {
@@ -27,6 +32,8 @@ impl Moments {
         self.mean += delta * (nb / n);
         self.m2 += other.m2 + delta * delta * (na * nb / n);
         self.n += other.n;
+        self.rounding = (na * self.rounding + nb * other.rounding) / n
+            + UNIT_ROUNDOFF * (self.mean.abs() + 3.0 * delta.abs() * (nb / n));
     }
 }
 
@@ -57,25 +64,53 @@ impl ShiftedSums {
             return Moments::default();
         }
         let n = self.n as f64;
+        let mean = self.shift + self.s1 / n;
+        // The n shifted values and their running sum: sum |v - shift| <= sqrt(n s2).
+        let rounding = gamma(n + 1.0) * (self.s2 / n).sqrt()
+            + UNIT_ROUNDOFF * (self.s1.abs() / n + mean.abs());
         Moments {
             n: self.n,
-            mean: self.shift + self.s1 / n,
+            mean,
             m2: (self.s2 - self.s1 * self.s1 / n).max(0.0),
+            rounding,
         }
     }
 }
 
-/// One hypercube's contribution to the estimate and its variance, and `sigma_h^beta`.
-pub(super) fn cube_result(m: &Moments, cube_volume: f64, beta: f64) -> (f64, f64, f64) {
+/// A hypercube's share of an iteration.
+#[derive(Clone, Copy, Default, Debug)]
+pub(super) struct CubeResult {
+    /// Its contribution to the estimate, `V_h mean_h`.
+    pub(super) mean: f64,
+    /// Its contribution to the variance.
+    pub(super) variance: f64,
+    /// `sigma_h^beta`, for the next allocation.
+    pub(super) sigf: f64,
+    /// A bound on the rounding error of `mean`, its share of the sum over `cubes` hypercubes
+    /// and the allowance for the evaluation of its values included.
+    pub(super) rounding: f64,
+}
+
+/// One hypercube's share of an iteration of `cubes` hypercubes.
+pub(super) fn cube_result(m: &Moments, cube_volume: f64, beta: f64, cubes: u64) -> CubeResult {
     if m.n == 0 {
-        return (0.0, 0.0, 0.0);
+        return CubeResult::default();
     }
     let n = m.n as f64;
     let s2 = if m.n > 1 { m.m2 / (n - 1.0) } else { 0.0 };
     let v2 = cube_volume * cube_volume;
     let sigma2 = v2 * s2;
     let variance = (sigma2 / n).max(ROUNDOFF * v2 * (m.mean * m.mean + s2) / n);
-    (cube_volume * m.mean, variance, sigma2.powf(0.5 * beta))
+    let mean = cube_volume * m.mean;
+    // mean |J f| <= its root mean square about zero.
+    let scale = (m.mean * m.mean + m.m2 / n).sqrt();
+    CubeResult {
+        mean,
+        variance,
+        sigf: sigma2.powf(0.5 * beta),
+        rounding: cube_volume * (m.rounding + contribution_allowance(scale))
+            + (gamma(cubes as f64) + UNIT_ROUNDOFF) * mean.abs(),
+    }
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 //! are folded in chunk order, so sums, training data and allocations (and hence the result)
 //! are bit-identical for any number of threads.
 
-use super::moments::{Moments, ShiftedSums, cube_result};
+use super::moments::{CubeResult, Moments, ShiftedSums, cube_result};
 use super::strata::{Allocation, ChunkStart, Strata};
 use crate::adaptive::VegasGrid;
 use crate::engine::{ChunkJob, Executor};
@@ -38,6 +38,8 @@ pub(super) struct Pass<'a, F> {
 pub(super) struct Totals {
     pub(super) mean: f64,
     pub(super) variance: f64,
+    /// A bound on the rounding error of `mean`.
+    pub(super) rounding: f64,
     /// The hypercube that straddles the last merged chunk's end.
     open: Moments,
     pub(super) non_finite: u64,
@@ -60,6 +62,13 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Pass<'_, F> {
             Ok(())
         })?;
         Ok(totals)
+    }
+}
+
+impl<F> Pass<'_, F> {
+    /// The share of the iteration of a hypercube with moments `m`.
+    fn cube_result(&self, m: &Moments) -> CubeResult {
+        cube_result(m, self.strata.cube_volume, self.beta, self.strata.cubes)
     }
 }
 
@@ -94,18 +103,19 @@ impl Totals {
         if let Some(head) = &out.head {
             self.open.merge(head);
             if out.head_ends {
-                let (mean, variance, sigf) =
-                    cube_result(&self.open, pass.strata.cube_volume, pass.beta);
-                self.mean += mean;
-                self.variance += variance;
+                let cube = pass.cube_result(&self.open);
+                self.mean += cube.mean;
+                self.variance += cube.variance;
+                self.rounding += cube.rounding;
                 if let Some(slot) = next_sigf.get_mut(out.start_cube as usize) {
-                    *slot = sigf;
+                    *slot = cube.sigf;
                 }
                 self.open = Moments::default();
             }
         }
         self.mean += out.closed_mean;
         self.variance += out.closed_variance;
+        self.rounding += out.closed_rounding;
         if !next_sigf.is_empty() {
             let first = out.first_closed as usize;
             next_sigf[first..first + out.closed_sigf.len()].copy_from_slice(&out.closed_sigf);
@@ -135,6 +145,7 @@ pub(super) struct ChunkOutput {
     first_closed: u64,
     closed_mean: f64,
     closed_variance: f64,
+    closed_rounding: f64,
     closed_sigf: Vec<f64>,
     /// The hypercube begun here that continues in the next chunk.
     tail: Option<Moments>,
@@ -152,6 +163,7 @@ impl ChunkOutput {
             first_closed: 0,
             closed_mean: 0.0,
             closed_variance: 0.0,
+            closed_rounding: 0.0,
             closed_sigf: Vec::new(),
             tail: None,
             non_finite: 0,
@@ -172,6 +184,7 @@ impl ChunkOutput {
         };
         self.closed_mean = 0.0;
         self.closed_variance = 0.0;
+        self.closed_rounding = 0.0;
         self.closed_sigf.clear();
         self.tail = None;
         self.non_finite = 0;
@@ -186,11 +199,12 @@ impl ChunkOutput {
             self.head_ends = true;
             return;
         }
-        let (mean, variance, sigf) = cube_result(&moments, pass.strata.cube_volume, pass.beta);
-        self.closed_mean += mean;
-        self.closed_variance += variance;
+        let cube = pass.cube_result(&moments);
+        self.closed_mean += cube.mean;
+        self.closed_variance += cube.variance;
+        self.closed_rounding += cube.rounding;
         if pass.allocating {
-            self.closed_sigf.push(sigf);
+            self.closed_sigf.push(cube.sigf);
         }
     }
 }

@@ -1,0 +1,131 @@
+//! [`Warning`]: what a user should know about an estimate that is not an error.
+
+use std::fmt;
+
+use super::estimate::StopReason;
+
+/// A condition worth knowing about an [`Estimate`](super::Estimate): the run succeeded, but
+/// its answer is weaker than it looks, or was obtained differently than asked. Runs list
+/// them in [`Estimate::warnings`](super::Estimate::warnings) (empty when there are none);
+/// every example binary prints them to stderr, and `integrate --json` has a `warnings` array of
+/// `{"kind", "message"}` objects.
+///
+/// ```
+/// use mcint::{Integrator, pdf::UniformBox, sampler::{Scramble, Sobol}, stats::Warning};
+/// // 1000 Owen-scrambled Sobol' points per replicate are not a net: a warning, not an error.
+/// let e = Integrator::over_box(|x: &[f64]| x[0] * x[1], UniformBox::unit(2).unwrap())
+///     .sampler(Sobol::new(2, Scramble::Owen, 0).unwrap())
+///     .samples(1000)
+///     .replicates(16)
+///     .run()
+///     .unwrap();
+/// assert!(matches!(e.warnings[0], Warning::UnbalancedSampleSize { below: 512, above: 1024, .. }));
+/// assert_eq!(e.warnings[0].kind(), "unbalanced-sample-size");
+/// ```
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Warning {
+    /// The points per replicate break the sampler's balance: its points keep their net or
+    /// lattice structure (and their convergence rate) only in blocks of a whole power of
+    /// `base` (scipy warns in the same case). A size of `below` or `above` keeps it.
+    UnbalancedSampleSize {
+        /// The sampler's name.
+        sampler: String,
+        /// The points per replicate that were used.
+        samples: u64,
+        /// The base of the balanced sizes (2 for Sobol', pmj02, Hammersley and lattices).
+        base: u64,
+        /// The nearest balanced size below `samples`.
+        below: u64,
+        /// The nearest balanced size above `samples`.
+        above: u64,
+    },
+    /// A run to a tolerance stopped on a limit before meeting it.
+    ToleranceNotMet {
+        /// The limit that stopped it.
+        stop: StopReason,
+    },
+    /// Fewer than 8 independent replicates: the Student-t interval is wide, and the standard
+    /// error itself is uncertain by about `1 / sqrt(2 (R - 1))` of its value.
+    FewReplicates {
+        /// The number of replicates.
+        replicates: u64,
+    },
+    /// NaN or infinite contributions were left out, as asked: the estimate is the mean over
+    /// the finite ones, which is biased wherever the skipped points carry mass.
+    NonFiniteSkipped {
+        /// How many were left out.
+        count: u64,
+    },
+    /// The statistical standard error was below the bound on the rounding error of the mean
+    /// (`Estimate::rounding_error`), and the floor is reported instead: the data hardly vary,
+    /// and more points will not make the answer more accurate.
+    AtRoundingFloor {
+        /// The standard error the statistics alone gave.
+        statistical: f64,
+        /// The floor reported in its place.
+        floor: f64,
+    },
+}
+
+impl Warning {
+    /// A short stable name of the warning's kind, for machine-readable output.
+    ///
+    /// ```
+    /// use mcint::stats::Warning;
+    /// assert_eq!(Warning::FewReplicates { replicates: 4 }.kind(), "few-replicates");
+    /// ```
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Warning::UnbalancedSampleSize { .. } => "unbalanced-sample-size",
+            Warning::ToleranceNotMet { .. } => "tolerance-not-met",
+            Warning::FewReplicates { .. } => "few-replicates",
+            Warning::NonFiniteSkipped { .. } => "non-finite-skipped",
+            Warning::AtRoundingFloor { .. } => "at-rounding-floor",
+        }
+    }
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::UnbalancedSampleSize {
+                sampler,
+                samples,
+                base,
+                below,
+                above,
+            } => write!(
+                f,
+                "{samples} points per replicate break the balance of the {sampler} sampler, \
+                 whose points are nets only in blocks of powers of {base}; {below} or {above} \
+                 points keep it (and its convergence rate)"
+            ),
+            Warning::ToleranceNotMet { stop } => write!(
+                f,
+                "the run stopped on its {} before meeting the tolerance; the interval is \
+                 wider than asked",
+                match stop {
+                    StopReason::TimeLimit => "time limit",
+                    _ => "evaluation limit",
+                }
+            ),
+            Warning::FewReplicates { replicates } => write!(
+                f,
+                "only {replicates} replicates: the interval is wide and its standard error \
+                 uncertain; use at least 8"
+            ),
+            Warning::NonFiniteSkipped { count } => write!(
+                f,
+                "{count} NaN or infinite contributions were left out: the estimate is the \
+                 mean of the finite ones"
+            ),
+            Warning::AtRoundingFloor { statistical, floor } => write!(
+                f,
+                "the statistical standard error {statistical:.3e} is below the rounding error \
+                 bound of the mean, {floor:.3e}, which is reported instead"
+            ),
+        }
+    }
+}
