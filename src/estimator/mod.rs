@@ -116,54 +116,36 @@ pub trait Estimator: Send + Sync {
     }
 }
 
-impl<E: Estimator + ?Sized> Estimator for &E {
-    fn canonical_dims(&self) -> usize {
-        (**self).canonical_dims()
-    }
+/// Forwards every method of [`Estimator`] through a pointer type, so that references and
+/// boxes (`Box<dyn Estimator>`) are estimators too.
+macro_rules! forward_estimator {
+    ($($pointer:ty),+) => {$(
+        impl<E: Estimator + ?Sized> Estimator for $pointer {
+            fn canonical_dims(&self) -> usize {
+                (**self).canonical_dims()
+            }
 
-    fn domain_dims(&self) -> usize {
-        (**self).domain_dims()
-    }
+            fn domain_dims(&self) -> usize {
+                (**self).domain_dims()
+            }
 
-    fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
-        (**self).contribution(u, x)
-    }
+            fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
+                (**self).contribution(u, x)
+            }
 
-    fn contributions(&self, points: &Points, out: &mut [f64]) {
-        (**self).contributions(points, out)
-    }
+            fn contributions(&self, points: &Points, out: &mut [f64]) {
+                (**self).contributions(points, out)
+            }
 
-    fn evaluations_per_contribution(&self) -> u64 {
-        (**self).evaluations_per_contribution()
-    }
+            fn evaluations_per_contribution(&self) -> u64 {
+                (**self).evaluations_per_contribution()
+            }
 
-    fn pilot(&self) -> Option<&dyn PilotFit> {
-        (**self).pilot()
-    }
+            fn pilot(&self) -> Option<&dyn PilotFit> {
+                (**self).pilot()
+            }
+        }
+    )+};
 }
 
-impl<E: Estimator + ?Sized> Estimator for Box<E> {
-    fn canonical_dims(&self) -> usize {
-        (**self).canonical_dims()
-    }
-
-    fn domain_dims(&self) -> usize {
-        (**self).domain_dims()
-    }
-
-    fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
-        (**self).contribution(u, x)
-    }
-
-    fn contributions(&self, points: &Points, out: &mut [f64]) {
-        (**self).contributions(points, out)
-    }
-
-    fn evaluations_per_contribution(&self) -> u64 {
-        (**self).evaluations_per_contribution()
-    }
-
-    fn pilot(&self) -> Option<&dyn PilotFit> {
-        (**self).pilot()
-    }
-}
+forward_estimator!(&E, Box<E>);

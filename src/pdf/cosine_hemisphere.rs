@@ -9,9 +9,7 @@
 //! concentric map, as in pbrt-v4 (section A.5.3) and Mitsuba 3
 //! (`square_to_cosine_hemisphere`), and inverted through it.
 
-use super::Pdf;
 use super::uniform_disk::{concentric_disk_to_square, concentric_square_to_disk};
-use crate::{Error, Result};
 use core::f64::consts::FRAC_1_PI;
 use glam::{DVec2, DVec3};
 
@@ -85,30 +83,4 @@ impl CosineHemisphere {
     }
 }
 
-impl Pdf for CosineHemisphere {
-    fn canonical_dims(&self) -> usize {
-        2
-    }
-
-    fn dims(&self) -> usize {
-        3
-    }
-
-    fn sample(&self, u: &[f64], x: &mut [f64]) {
-        self.sample_point(DVec2::new(u[0], u[1]))
-            .write_to_slice(&mut x[..3]);
-    }
-
-    fn pdf(&self, x: &[f64]) -> f64 {
-        self.pdf_point(DVec3::new(x[0], x[1], x[2]))
-    }
-
-    fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
-        let d = DVec3::new(x[0], x[1], x[2]);
-        if !d.is_finite() {
-            return Err(Error::invalid("x", d, "a finite unit direction"));
-        }
-        self.invert_point(d).write_to_slice(&mut u[..2]);
-        Ok(())
-    }
-}
+super::warp_to_3d!(CosineHemisphere, "a finite unit direction");

@@ -46,6 +46,9 @@ mod uniform_disk;
 mod uniform_hemisphere;
 mod uniform_sphere;
 mod uniform_triangle;
+mod warp_to_3d;
+
+use warp_to_3d::warp_to_3d;
 
 pub use alias_table::AliasTable;
 pub use cosine_hemisphere::CosineHemisphere;

@@ -17,7 +17,6 @@
 //! `1 - cos = sin^2 / (1 + cos)`. A frame around any axis comes from Duff et al., "Building an
 //! Orthonormal Basis, Revisited" (Journal of Computer Graphics Techniques 6(1), 2017).
 
-use super::Pdf;
 use super::uniform_sphere::{cap_canonical, cap_direction};
 use crate::{Error, Result};
 use core::f64::consts::{PI, TAU};
@@ -329,30 +328,4 @@ fn orthonormal_frame(n: DVec3) -> (DVec3, DVec3) {
     )
 }
 
-impl Pdf for SphericalCap {
-    fn canonical_dims(&self) -> usize {
-        2
-    }
-
-    fn dims(&self) -> usize {
-        3
-    }
-
-    fn sample(&self, u: &[f64], x: &mut [f64]) {
-        self.sample_point(DVec2::new(u[0], u[1]))
-            .write_to_slice(&mut x[..3]);
-    }
-
-    fn pdf(&self, x: &[f64]) -> f64 {
-        self.pdf_point(DVec3::new(x[0], x[1], x[2]))
-    }
-
-    fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
-        let d = DVec3::new(x[0], x[1], x[2]);
-        if !d.is_finite() {
-            return Err(Error::invalid("x", d, "a finite unit direction"));
-        }
-        self.invert_point(d).write_to_slice(&mut u[..2]);
-        Ok(())
-    }
-}
+super::warp_to_3d!(SphericalCap, "a finite unit direction");

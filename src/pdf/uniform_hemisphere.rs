@@ -6,9 +6,7 @@
 //! `square_to_uniform_hemisphere`). It is the spherical cap of height `1 - cos theta_max = 1`
 //! and shares that warp's numerically careful formulas.
 
-use super::Pdf;
 use super::uniform_sphere::{cap_canonical, cap_direction};
-use crate::{Error, Result};
 use core::f64::consts::{PI, SQRT_2};
 use glam::{DVec2, DVec3};
 
@@ -78,30 +76,4 @@ impl UniformHemisphere {
     }
 }
 
-impl Pdf for UniformHemisphere {
-    fn canonical_dims(&self) -> usize {
-        2
-    }
-
-    fn dims(&self) -> usize {
-        3
-    }
-
-    fn sample(&self, u: &[f64], x: &mut [f64]) {
-        self.sample_point(DVec2::new(u[0], u[1]))
-            .write_to_slice(&mut x[..3]);
-    }
-
-    fn pdf(&self, x: &[f64]) -> f64 {
-        self.pdf_point(DVec3::new(x[0], x[1], x[2]))
-    }
-
-    fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
-        let d = DVec3::new(x[0], x[1], x[2]);
-        if !d.is_finite() {
-            return Err(Error::invalid("x", d, "a finite unit direction"));
-        }
-        self.invert_point(d).write_to_slice(&mut u[..2]);
-        Ok(())
-    }
-}
+super::warp_to_3d!(UniformHemisphere, "a finite unit direction");

@@ -13,9 +13,7 @@
 //! with both factors formed without cancellation, and the inverse reads `1 - cos theta` from
 //! `x` and `y` near `+z` instead of from `1 - z`.
 
-use super::Pdf;
 use crate::float::ONE_BELOW;
-use crate::{Error, Result};
 use core::f64::consts::{PI, TAU};
 use glam::{DVec2, DVec3};
 
@@ -119,30 +117,4 @@ impl UniformSphere {
     }
 }
 
-impl Pdf for UniformSphere {
-    fn canonical_dims(&self) -> usize {
-        2
-    }
-
-    fn dims(&self) -> usize {
-        3
-    }
-
-    fn sample(&self, u: &[f64], x: &mut [f64]) {
-        self.sample_point(DVec2::new(u[0], u[1]))
-            .write_to_slice(&mut x[..3]);
-    }
-
-    fn pdf(&self, x: &[f64]) -> f64 {
-        self.pdf_point(DVec3::new(x[0], x[1], x[2]))
-    }
-
-    fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
-        let d = DVec3::new(x[0], x[1], x[2]);
-        if !d.is_finite() {
-            return Err(Error::invalid("x", d, "a finite unit direction"));
-        }
-        self.invert_point(d).write_to_slice(&mut u[..2]);
-        Ok(())
-    }
-}
+super::warp_to_3d!(UniformSphere, "a finite unit direction");

@@ -11,7 +11,6 @@
 //! and its inverse is piecewise linear too, exact, with no seam (it is continuous across the
 //! diagonal).
 
-use super::Pdf;
 use crate::{Error, Result};
 use glam::{DVec2, DVec3};
 
@@ -255,30 +254,4 @@ fn length(v: DVec3) -> f64 {
     v.x.hypot(v.y).hypot(v.z)
 }
 
-impl Pdf for UniformTriangle {
-    fn canonical_dims(&self) -> usize {
-        2
-    }
-
-    fn dims(&self) -> usize {
-        3
-    }
-
-    fn sample(&self, u: &[f64], x: &mut [f64]) {
-        self.sample_point(DVec2::new(u[0], u[1]))
-            .write_to_slice(&mut x[..3]);
-    }
-
-    fn pdf(&self, x: &[f64]) -> f64 {
-        self.pdf_point(DVec3::new(x[0], x[1], x[2]))
-    }
-
-    fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
-        let x = DVec3::new(x[0], x[1], x[2]);
-        if !x.is_finite() {
-            return Err(Error::invalid("x", x, "a finite point"));
-        }
-        self.invert_point(x).write_to_slice(&mut u[..2]);
-        Ok(())
-    }
-}
+super::warp_to_3d!(UniformTriangle, "a finite point");
