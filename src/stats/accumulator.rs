@@ -1,8 +1,9 @@
 //! Streaming mean and variance with exact merging (Welford 1962; Chan, Golub & LeVeque 1979),
 //! and two-pass summaries of whole slices (Chan, Golub & LeVeque 1983).
 
-use super::estimate::{ErrorBasis, Estimate, StopReason};
+use super::estimate::{ErrorBasis, Estimate};
 use super::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
+use super::stop_reason::StopReason;
 
 /// Interleaved partial sums of [`Accumulator::extend`]: enough independent chains to fill
 /// 8 vector lanes of `f64` or hide an addition's latency; fixed, so results do not depend on

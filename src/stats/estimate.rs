@@ -2,6 +2,7 @@
 
 use super::accumulator::Accumulator;
 use super::rounding::mean_of_means;
+use super::stop_reason::StopReason;
 use super::warning::Warning;
 use crate::special::student_t_quantile;
 use crate::{Error, Result};
@@ -83,26 +84,6 @@ pub struct Estimate {
     /// none.
     #[cfg_attr(feature = "serde", serde(default))]
     pub warnings: Vec<Warning>,
-}
-
-/// Why a run stopped.
-///
-/// ```
-/// use mcint::{Integrator, pdf::UniformBox, stats::StopReason};
-/// let e = Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).samples(10).run().unwrap();
-/// assert_eq!(e.stop, StopReason::Budget);
-/// ```
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StopReason {
-    /// The fixed number of samples asked for was used.
-    Budget,
-    /// The requested absolute or relative tolerance was met.
-    ToleranceMet,
-    /// The maximum number of integrand evaluations was reached first.
-    MaxEvaluations,
-    /// The time limit was reached first.
-    TimeLimit,
 }
 
 impl Estimate {

@@ -8,12 +8,14 @@ mod covariance;
 mod estimate;
 mod goodness_of_fit;
 pub(crate) mod rounding;
+mod stop_reason;
 mod tolerance;
 mod warning;
 
 pub use accumulator::Accumulator;
 pub use covariance::CovarianceAccumulator;
-pub use estimate::{ErrorBasis, Estimate, StopReason};
+pub use estimate::{ErrorBasis, Estimate};
 pub use goodness_of_fit::{GoodnessOfFit, chi_square_goodness_of_fit};
+pub use stop_reason::StopReason;
 pub use tolerance::Tolerance;
 pub use warning::Warning;
