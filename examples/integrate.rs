@@ -180,10 +180,20 @@ fn run() -> Result<(), String> {
         } else {
             16
         };
+        // The integrand's name in checkpoints: another family, parameters or estimator is
+        // refused on resume.
+        let label = format!(
+            "genz {} a={:?} u={:?} estimator {}",
+            family.name(),
+            f.a(),
+            f.u(),
+            estimator_kind.name()
+        );
         let mut integrator = Integrator::new(built.estimator)
             .sampler(sampler)
             .replicates(replicates_flag.unwrap_or(default_replicates))
-            .seed(seed);
+            .seed(seed)
+            .label(label);
         // With a tolerance the run picks its own first stage unless --n says otherwise.
         if tolerance.is_none() || n_flag.is_some() {
             integrator = integrator.samples(n);

@@ -13,8 +13,11 @@ use crate::pdf::{Pdf, UniformBox};
 use crate::stats::Estimate;
 use crate::{Points, Result};
 
+mod layout;
 mod non_finite;
 mod partial;
+#[cfg(feature = "serde")]
+mod partial_format;
 mod pilot;
 mod plan;
 mod staged;

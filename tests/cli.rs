@@ -1020,7 +1020,7 @@ fn integrate_checkpoint_resumes_to_the_same_bits() {
         ],
     );
     // The finished checkpoint belongs to the Sobol' run, not to this independent one.
-    assert_one_line_error(&other, "same run");
+    assert_one_line_error(&other, "sampler is the first field that differs");
     assert_one_line_error(
         &with(&["--checkpoint", file, "--tol-abs", "1e-3"]),
         "fixed-budget",

@@ -1,9 +1,21 @@
 //! `integrate --checkpoint FILE`: a fixed-budget run saved to FILE every few chunks and
 //! resumed from it, with the same result as an uninterrupted run.
+//!
+//! Saves are atomic: the checkpoint is written to a temporary file of its own in the same
+//! directory, synced to disk, and renamed over FILE, so a process killed at any moment leaves
+//! either the previous checkpoint or the new one. A checkpoint is read up to
+//! [`MAX_CHECKPOINT_BYTES`]; the library refuses a corrupted one (its checksum) or one of
+//! another run (its fingerprint, which includes the integrand's label).
 
 use mcint::estimator::Estimator;
 use mcint::{Estimate, Integrator, PartialRun};
-use std::path::Path;
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The largest checkpoint read: a checkpoint holds one accumulator per replicate and the
+/// chunks finished out of order, far below this.
+pub const MAX_CHECKPOINT_BYTES: u64 = 64 << 20;
 
 /// Chunks (of 16384 points) evaluated between two saves.
 pub const DEFAULT_SAVE_EVERY: u64 = 16;
@@ -18,7 +30,7 @@ pub fn run<E: Estimator>(
     stop_after: Option<u64>,
 ) -> Result<Option<Estimate>, String> {
     let mut fresh = false;
-    let mut part = match std::fs::read_to_string(path) {
+    let mut part = match read_bounded(path) {
         Ok(text) => {
             let part: PartialRun = serde_json::from_str(&text)
                 .map_err(|e| format!("cannot read checkpoint '{}': {e}", path.display()))?;
@@ -67,12 +79,54 @@ pub fn run<E: Estimator>(
         .map_err(|e| e.to_string())
 }
 
-/// Writes the checkpoint next to `path` and renames it into place, so an interrupted write
-/// never leaves a truncated checkpoint.
+/// The text of `path`, refusing a file larger than [`MAX_CHECKPOINT_BYTES`] (such as
+/// `/dev/zero`) without reading more than that.
+fn read_bounded(path: &Path) -> std::io::Result<String> {
+    let mut text = String::new();
+    std::fs::File::open(path)?
+        .take(MAX_CHECKPOINT_BYTES + 1)
+        .read_to_string(&mut text)?;
+    if text.len() as u64 > MAX_CHECKPOINT_BYTES {
+        return Err(std::io::Error::other(format!(
+            "larger than {MAX_CHECKPOINT_BYTES} bytes, which no checkpoint is"
+        )));
+    }
+    Ok(text)
+}
+
+/// Writes the checkpoint to a temporary file of its own next to `path`, syncs it and renames
+/// it into place, so an interrupted save never leaves a truncated checkpoint.
 fn save(path: &Path, part: &PartialRun) -> Result<(), String> {
     let text = serde_json::to_string(part).map_err(|e| format!("cannot encode checkpoint: {e}"))?;
-    let temporary = path.with_extension("partial");
-    std::fs::write(&temporary, text)
-        .and_then(|()| std::fs::rename(&temporary, path))
-        .map_err(|e| format!("cannot write checkpoint '{}': {e}", path.display()))
+    let temporary = temporary_path(path);
+    let written = (|| {
+        let mut file = std::fs::File::create(&temporary)?;
+        file.write_all(text.as_bytes())?;
+        file.sync_all()?;
+        std::fs::rename(&temporary, path)?;
+        // The rename itself reaches the disk with the directory.
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::File::open(dir)?.sync_all()?;
+        }
+        Ok::<(), std::io::Error>(())
+    })();
+    written.map_err(|e| {
+        let _ = std::fs::remove_file(&temporary);
+        format!("cannot write checkpoint '{}': {e}", path.display())
+    })
+}
+
+/// A temporary name next to `path` that no other checkpoint, process or save shares:
+/// `.NAME.PID.N.tmp`.
+fn temporary_path(path: &Path) -> PathBuf {
+    static SAVES: AtomicU64 = AtomicU64::new(0);
+    let name = path
+        .file_name()
+        .map_or("checkpoint".into(), |n| n.to_string_lossy());
+    let unique = format!(
+        ".{name}.{}.{}.tmp",
+        std::process::id(),
+        SAVES.fetch_add(1, Ordering::Relaxed)
+    );
+    path.with_file_name(unique)
 }

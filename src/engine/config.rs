@@ -22,6 +22,8 @@ pub(crate) struct RunConfig {
     pub(crate) replicates: Option<u64>,
     pub(crate) tolerance: Option<Tolerance>,
     pub(crate) non_finite: NonFinitePolicy,
+    /// A name for the integrand, checked when a checkpoint is resumed.
+    pub(crate) label: Option<String>,
 }
 
 impl RunConfig {

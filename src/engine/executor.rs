@@ -169,7 +169,7 @@ fn pool(threads: usize) -> Option<Arc<ThreadPool>> {
 }
 
 /// Runs `work`, turning a panic into the error of a panic at `origin`.
-fn guarded<T>(origin: (u64, u64), work: impl FnOnce() -> Result<T>) -> Result<T> {
+pub(crate) fn guarded<T>(origin: (u64, u64), work: impl FnOnce() -> Result<T>) -> Result<T> {
     catch_unwind(AssertUnwindSafe(work)).unwrap_or_else(|payload| Err(panicked(origin, payload)))
 }
 

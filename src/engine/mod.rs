@@ -15,6 +15,6 @@ mod settings;
 mod stopping;
 
 pub(crate) use config::{RunConfig, RunSampler, require_randomized, require_uniform_points};
-pub(crate) use executor::{ChunkJob, Executor, available_threads};
+pub(crate) use executor::{ChunkJob, Executor, available_threads, guarded};
 pub(crate) use settings::run_settings;
 pub(crate) use stopping::{DEFAULT_REPLICATES, Stopping};

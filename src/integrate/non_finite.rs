@@ -25,6 +25,7 @@
 /// assert!(e.non_finite > 50 && e.n + e.non_finite == 1000);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum NonFinitePolicy {
     /// Fail with [`Error::NonFiniteContribution`](crate::Error::NonFiniteContribution).
     #[default]

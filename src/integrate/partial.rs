@@ -5,6 +5,7 @@ use std::collections::BTreeMap;
 use std::ops::Range;
 
 use super::Integrator;
+use super::layout::Layout;
 use super::plan::{CHUNKS_IN_MEMORY, ChunkResult, Chunks, Folded, Plan};
 use crate::engine::Executor;
 use crate::estimator::Estimator;
@@ -24,9 +25,19 @@ use crate::{Error, Result};
 /// With JSON, use a parser that reads floats back exactly (serde_json's `float_roundtrip`
 /// feature), or the resumed run may differ in the last bits.
 ///
-/// The part records the run's layout (points and replicates, the sampler's name, seed and
-/// dimension) and refuses to be finished or merged under another; it cannot check that the
-/// integrand is the same.
+/// The part carries a fingerprint of everything that decides the run's numbers (points and
+/// replicates, chunk layout, the sampler's name, seed and dimension, the non-finite policy,
+/// the format version, an optional [`label`](Integrator::label) for the integrand, and a
+/// CRC-32 of the sampler's points and the integrand's values at a few probe points, which
+/// change with any scramble, generating vector, domain, pdf or estimator), and resume, finish
+/// and merge refuse a part of another run with an error naming the first field that differs.
+/// An integrand that differs only away from the probe points is not detected: label it. Saved
+/// with serde, the part also carries a CRC-32 of its whole content, and a part that fails it
+/// (a corrupted file) does not deserialize.
+///
+/// Chunks finished in order from the first are folded as they arrive, so a part holds one
+/// accumulator per replicate plus the chunks finished out of order: its size does not grow
+/// with the run.
 ///
 /// ```
 /// use mcint::{Integrator, pdf::UniformBox};
@@ -41,57 +52,59 @@ use crate::{Error, Result};
 /// assert_eq!(integrator.finish(&part).unwrap(), integrator.run().unwrap());
 /// ```
 #[derive(Debug, Clone, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(
+        into = "super::partial_format::Saved",
+        try_from = "super::partial_format::Saved"
+    )
+)]
 pub struct PartialRun {
-    layout: Layout,
-    chunks: BTreeMap<u64, ChunkResult>,
-}
-
-/// What must agree for two parts to belong to the same run.
-#[derive(Debug, Clone, PartialEq, Eq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-struct Layout {
-    samples: u64,
-    replicates: u64,
-    stride: u64,
-    total_chunks: u64,
-    sampler: String,
-    seed: u64,
-    dims: usize,
-}
-
-impl Layout {
-    fn of(plan: &Plan, sampler: &dyn Sampler) -> Result<Layout> {
-        Ok(Layout {
-            samples: plan.samples,
-            replicates: plan.replicates,
-            stride: plan.stride,
-            total_chunks: plan.total_chunks()?,
-            sampler: sampler.name().to_string(),
-            seed: sampler.seed(),
-            dims: sampler.dims(),
-        })
-    }
-
-    fn check(&self, other: &Layout) -> Result<()> {
-        if self == other {
-            return Ok(());
-        }
-        Err(Error::invalid(
-            "partial run",
-            format!(
-                "{} points x {} replicates of {} (seed {}, {} dims)",
-                other.samples, other.replicates, other.sampler, other.seed, other.dims
-            ),
-            format!(
-                "a part of the same run: {} points x {} replicates of {} (seed {}, {} dims)",
-                self.samples, self.replicates, self.sampler, self.seed, self.dims
-            ),
-        ))
-    }
+    pub(super) layout: Layout,
+    /// Chunks `0..prefix` are finished and folded into `folded`.
+    pub(super) prefix: u64,
+    pub(super) folded: Folded,
+    /// Finished chunks after the first missing one.
+    pub(super) chunks: BTreeMap<u64, ChunkResult>,
 }
 
 impl PartialRun {
+    /// An empty part of the run of `layout`.
+    fn new(layout: Layout) -> PartialRun {
+        PartialRun {
+            folded: Folded::new(layout.replicates),
+            layout,
+            prefix: 0,
+            chunks: BTreeMap::new(),
+        }
+    }
+
+    /// Folds the chunks that now follow the prefix without a gap.
+    fn compact(&mut self) {
+        let per_replicate = self.layout.chunks_per_replicate();
+        while let Some(result) = self.chunks.remove(&self.prefix) {
+            self.folded.add(per_replicate, self.prefix, &result);
+            self.prefix += 1;
+        }
+    }
+
+    /// Adds finished chunks, refusing any chunk the part already has.
+    fn insert(&mut self, chunks: impl IntoIterator<Item = (u64, ChunkResult)>) -> Result<()> {
+        for (chunk, result) in chunks {
+            if chunk < self.prefix || self.chunks.contains_key(&chunk) {
+                return Err(Error::invalid(
+                    "partial run",
+                    format!("with chunk {chunk}"),
+                    "parts with disjoint chunks (this chunk is in both)",
+                ));
+            }
+            self.chunks.insert(chunk, result);
+        }
+        self.compact();
+        Ok(())
+    }
+
     /// Number of chunks finished.
     ///
     /// ```
@@ -100,7 +113,7 @@ impl PartialRun {
     /// assert_eq!(i.run_part(1..3).unwrap().chunks_done(), 2);
     /// ```
     pub fn chunks_done(&self) -> u64 {
-        self.chunks.len() as u64
+        self.prefix + self.chunks.len() as u64
     }
 
     /// Number of chunks of the whole run.
@@ -122,7 +135,7 @@ impl PartialRun {
     /// assert!(i.run_part(0..1).unwrap().is_complete());
     /// ```
     pub fn is_complete(&self) -> bool {
-        self.chunks_done() == self.total_chunks()
+        self.prefix == self.total_chunks()
     }
 
     /// The first chunk not yet finished, if any.
@@ -133,15 +146,7 @@ impl PartialRun {
     /// assert_eq!(i.run_part(0..2).unwrap().next_missing(), Some(2));
     /// ```
     pub fn next_missing(&self) -> Option<u64> {
-        // The chunks are kept in order: the first gap is where a key differs from its rank.
-        let mut expected = 0;
-        for &chunk in self.chunks.keys() {
-            if chunk != expected {
-                return Some(expected);
-            }
-            expected += 1;
-        }
-        (expected < self.total_chunks()).then_some(expected)
+        (!self.is_complete()).then_some(self.prefix)
     }
 
     /// Adds the chunks of `other`, a part of the same run with none of the same chunks.
@@ -154,16 +159,22 @@ impl PartialRun {
     /// a.merge(i.run_part(2..4).unwrap()).unwrap();
     /// assert!(a.is_complete());
     /// ```
-    pub fn merge(&mut self, other: PartialRun) -> Result<()> {
+    pub fn merge(&mut self, mut other: PartialRun) -> Result<()> {
         self.layout.check(&other.layout)?;
-        if let Some(twice) = other.chunks.keys().find(|c| self.chunks.contains_key(c)) {
+        if self.prefix > 0 && other.prefix > 0 {
             return Err(Error::invalid(
                 "partial run",
-                format!("with chunk {twice}"),
+                "with chunk 0",
                 "parts with disjoint chunks (this chunk is in both)",
             ));
         }
-        self.chunks.extend(other.chunks);
+        // The part that holds chunk 0 keeps its fold; the other's chunks join it.
+        if other.prefix > 0 {
+            std::mem::swap(self, &mut other);
+        }
+        let mut merged = self.clone();
+        merged.insert(other.chunks)?;
+        *self = merged;
         Ok(())
     }
 }
@@ -197,7 +208,7 @@ impl<E: Estimator> Integrator<E> {
                     format!("a non-empty range within 0..{total}"),
                 ));
             }
-            let mut chunks = BTreeMap::new();
+            let mut part = PartialRun::new(self.layout(plan, sampler)?);
             self.with_estimator(executor, |estimator, _| {
                 let job = Chunks {
                     plan,
@@ -205,14 +216,10 @@ impl<E: Estimator> Integrator<E> {
                     estimator,
                 };
                 executor.run(&job, range, CHUNKS_IN_MEMORY, |chunk, result| {
-                    chunks.insert(chunk, result);
-                    Ok(())
+                    part.insert([(chunk, result)])
                 })
             })?;
-            Ok(PartialRun {
-                layout: Layout::of(plan, sampler)?,
-                chunks,
-            })
+            Ok(part)
         })
     }
 
@@ -230,6 +237,7 @@ impl<E: Estimator> Integrator<E> {
     /// assert_eq!(i.finish(&part).unwrap(), i.run().unwrap());
     /// ```
     pub fn resume(&self, partial: &mut PartialRun, max_chunks: u64) -> Result<()> {
+        self.with_plan(|plan, sampler, _| self.layout(plan, sampler)?.check(&partial.layout))?;
         if max_chunks == 0 {
             return Err(Error::invalid("max_chunks", 0, "at least 1"));
         }
@@ -256,7 +264,7 @@ impl<E: Estimator> Integrator<E> {
     /// ```
     pub fn finish(&self, partial: &PartialRun) -> Result<Estimate> {
         self.with_plan(|plan, sampler, _| {
-            Layout::of(plan, sampler)?.check(&partial.layout)?;
+            self.layout(plan, sampler)?.check(&partial.layout)?;
             if let Some(missing) = partial.next_missing() {
                 return Err(Error::invalid(
                     "partial run",
@@ -268,12 +276,38 @@ impl<E: Estimator> Integrator<E> {
                     format!("every chunk finished (chunk {missing} is missing)"),
                 ));
             }
-            let mut folded = Folded::new(plan.replicates);
-            for (&chunk, result) in &partial.chunks {
-                folded.add(plan, chunk, result);
-            }
-            plan.estimate(sampler, &folded, self.config.non_finite)
+            plan.estimate(sampler, &partial.folded, self.config.non_finite)
         })
+    }
+
+    /// Names the integrand for checkpoints: a [`PartialRun`] of a run with another label is
+    /// refused. The integrand itself cannot be compared (only its values at a few probe
+    /// points are), so a label such as the family and parameters of a test function guards
+    /// against resuming a checkpoint with an integrand that differs elsewhere.
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::UniformBox};
+    /// let run = |label: &str| Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap())
+    ///     .samples(50_000)
+    ///     .label(label);
+    /// let part = run("x").run_part(0..1).unwrap();
+    /// let err = run("y").finish(&part).unwrap_err();
+    /// assert!(err.to_string().contains("label"), "{err}");
+    /// ```
+    pub fn label(mut self, label: impl Into<String>) -> Self {
+        self.config.label = Some(label.into());
+        self
+    }
+
+    /// The layout of this run, for the plan and sampler given.
+    fn layout(&self, plan: &Plan, sampler: &dyn Sampler) -> Result<Layout> {
+        Layout::of(
+            plan,
+            sampler,
+            &self.estimator,
+            self.config.label.as_deref(),
+            self.config.non_finite,
+        )
     }
 
     /// Calls `work` with the plan of a fixed-budget run, the sampler and the executor.

@@ -164,7 +164,7 @@ impl Plan {
             0..self.total_chunks()?,
             CHUNKS_IN_MEMORY,
             |chunk, r| {
-                folded.add(self, chunk, &r);
+                folded.add(self.chunks_per_replicate, chunk, &r);
                 Ok(())
             },
         )?;
@@ -253,11 +253,11 @@ pub(super) fn balance_warning(sampler: &dyn Sampler, samples: u64) -> Option<War
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(super) struct NonFinite {
-    replicate: u64,
-    index: u64,
+    pub(super) replicate: u64,
+    pub(super) index: u64,
     /// NaN or an infinity, serialized by its bits (JSON has no form for them).
     #[cfg_attr(feature = "serde", serde(with = "f64_bits"))]
-    value: f64,
+    pub(super) value: f64,
 }
 
 /// Serializes an `f64` as its IEEE-754 bits, so NaN and infinities survive any format.
@@ -277,15 +277,17 @@ mod f64_bits {
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(super) struct ChunkResult {
-    accumulator: Accumulator,
-    first_non_finite: Option<NonFinite>,
+    pub(super) accumulator: Accumulator,
+    pub(super) first_non_finite: Option<NonFinite>,
 }
 
 /// Chunk results folded in chunk order: one accumulator per replicate, and the first
 /// non-finite contribution.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(super) struct Folded {
     pub(super) replicates: Vec<Accumulator>,
-    first_non_finite: Option<NonFinite>,
+    pub(super) first_non_finite: Option<NonFinite>,
 }
 
 impl Folded {
@@ -296,9 +298,10 @@ impl Folded {
         }
     }
 
-    /// Adds the result of `chunk`; chunks must come in index order.
-    pub(super) fn add(&mut self, plan: &Plan, chunk: u64, result: &ChunkResult) {
-        let replicate = (chunk / plan.chunks_per_replicate) as usize;
+    /// Adds the result of `chunk` of a run of `chunks_per_replicate` chunks per replicate;
+    /// chunks must come in index order.
+    pub(super) fn add(&mut self, chunks_per_replicate: u64, chunk: u64, result: &ChunkResult) {
+        let replicate = (chunk / chunks_per_replicate) as usize;
         self.replicates[replicate].merge(&result.accumulator);
         if self.first_non_finite.is_none() {
             self.first_non_finite = result.first_non_finite;

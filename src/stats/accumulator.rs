@@ -333,6 +333,13 @@ impl Accumulator {
         estimate
     }
 
+    /// The tracked bound on the rounding of the sums behind the mean, without the allowance
+    /// for the values' own evaluation (what a saved accumulator must restore).
+    #[cfg(feature = "serde")]
+    pub(crate) fn rounding_bound(&self) -> f64 {
+        self.rounding
+    }
+
     /// A bound on the floating-point error of [`mean`](Self::mean): the rounding of the sums
     /// that produced it, tracked operation by operation (Welford updates, two-pass slice sums,
     /// Chan merges), plus an allowance of 64 units in the last place of the values' magnitude

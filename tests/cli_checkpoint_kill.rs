@@ -1,0 +1,139 @@
+//! `integrate --checkpoint` killed (SIGKILL) at 20 moments of its run: every checkpoint it
+//! leaves is whole (saves are atomic: a temporary file, synced, renamed), and the run resumed
+//! from it gives the bits of an uninterrupted run.
+#![cfg(unix)]
+
+mod common;
+
+use common::{example, run, stderr, stdout};
+use mcint::PartialRun;
+use serde_json::Value;
+use std::process::{Command, Stdio};
+use std::time::Instant;
+
+/// A run of 123 chunks of 16384 points on one thread, saved after every chunk.
+const ARGS: &[&str] = &[
+    "--genz",
+    "gaussian",
+    "--dims",
+    "5",
+    "--n",
+    "2000000",
+    "--threads",
+    "1",
+    "--json",
+];
+
+fn answer(json: &str) -> (String, String) {
+    let v: Value = serde_json::from_str(json.trim()).expect("one JSON object");
+    (v["estimate"].to_string(), v["std_error"].to_string())
+}
+
+#[test]
+fn runs_killed_during_saves_resume_to_the_uninterrupted_bits() {
+    let whole = run("integrate", ARGS);
+    assert!(whole.status.success(), "{}", stderr(&whole));
+    let whole = answer(&stdout(&whole));
+    let dir = std::env::temp_dir().join(format!("mcint-kill-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // How long a checkpointed run takes on this machine now, to spread the kills over it
+    // (a measurement that places the kills, not an assertion about speed).
+    let path = dir.join("uninterrupted.json");
+    let started = Instant::now();
+    let full = run(
+        "integrate",
+        &[
+            ARGS,
+            &["--checkpoint", path.to_str().unwrap(), "--save-every", "1"],
+        ]
+        .concat(),
+    );
+    let duration = started.elapsed();
+    assert_eq!(answer(&stdout(&full)), whole);
+    let mut interrupted = 0;
+    for trial in 0..20u64 {
+        let path = dir.join(format!("trial-{trial}.json"));
+        let path_arg = path.to_str().unwrap();
+        let mut child = Command::new(example("integrate"))
+            .args(ARGS)
+            .args(["--checkpoint", path_arg, "--save-every", "1"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        // Kills spread over the run.
+        std::thread::sleep(duration.mul_f64((trial as f64 + 0.5) / 20.0));
+        let _ = child.kill();
+        let status = child.wait().unwrap();
+        interrupted += u64::from(!status.success());
+        if path.exists() {
+            let text = std::fs::read_to_string(&path).unwrap();
+            serde_json::from_str::<PartialRun>(&text)
+                .unwrap_or_else(|e| panic!("trial {trial}: a broken checkpoint ({e})"));
+        }
+        let resumed = run("integrate", &[ARGS, &["--checkpoint", path_arg]].concat());
+        assert!(
+            resumed.status.success(),
+            "trial {trial}: {}",
+            stderr(&resumed)
+        );
+        assert_eq!(answer(&stdout(&resumed)), whole, "trial {trial}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+    // Most kills must land during the run, or the test shows nothing.
+    assert!(
+        interrupted >= 10,
+        "only {interrupted} of 20 runs were interrupted"
+    );
+}
+
+/// A checkpoint named `*.partial` is saved through a temporary file too, two checkpoints whose
+/// names differ only by extension run side by side without sharing one, and a "checkpoint"
+/// that never ends (`/dev/zero`) is refused after a bounded read.
+#[test]
+fn checkpoint_names_never_collide_and_reads_are_bounded() {
+    let dir = std::env::temp_dir().join(format!("mcint-names-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let with = |path: &std::path::Path| {
+        Command::new(example("integrate"))
+            .args(ARGS)
+            .args(["--checkpoint", path.to_str().unwrap(), "--save-every", "1"])
+            .output()
+            .unwrap()
+    };
+    let partial = dir.join("run.partial");
+    let out = with(&partial);
+    assert!(out.status.success(), "{}", stderr(&out));
+    serde_json::from_str::<PartialRun>(&std::fs::read_to_string(&partial).unwrap()).unwrap();
+    let (a, b) = (dir.join("s.json"), dir.join("s.txt"));
+    let (ta, tb) = (
+        std::thread::spawn({
+            let a = a.clone();
+            move || with(&a)
+        }),
+        std::thread::spawn({
+            let b = b.clone();
+            move || with(&b)
+        }),
+    );
+    for out in [ta.join().unwrap(), tb.join().unwrap()] {
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    for path in [&a, &b] {
+        serde_json::from_str::<PartialRun>(&std::fs::read_to_string(path).unwrap()).unwrap();
+    }
+    // No temporary file is left behind by a finished run.
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+    let out = run(
+        "integrate",
+        &[ARGS, &["--checkpoint", "/dev/zero"]].concat(),
+    );
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("larger than"), "{}", stderr(&out));
+}
