@@ -428,6 +428,9 @@ fn stop_name(stop: StopReason) -> &'static str {
         StopReason::ToleranceMet => "tolerance met",
         StopReason::MaxEvaluations => "max evaluations",
         StopReason::TimeLimit => "time limit",
+        StopReason::Cancelled => "cancelled",
+        StopReason::SamplerExhausted => "sampler exhausted",
+        _ => "other",
     }
 }
 

@@ -67,6 +67,14 @@ pub enum Error {
         /// The first sample index of that chunk (within its replicate).
         first_index: u64,
     },
+    /// The run stopped (its time limit passed, or it was cancelled) before it had any
+    /// estimate to return.
+    Interrupted {
+        /// Why it stopped.
+        stop: crate::stats::StopReason,
+        /// Integrand evaluations spent before it stopped.
+        evaluations: u64,
+    },
     /// An operation that this type does not support (for example inverting a warp that has
     /// no inverse).
     Unsupported {
@@ -153,6 +161,11 @@ impl fmt::Display for Error {
                 f,
                 "the integrand panicked in the work starting at sample {first_index} of \
                  replicate {replicate}: {message}"
+            ),
+            Error::Interrupted { stop, evaluations } => write!(
+                f,
+                "the run stopped ({stop:?}) after {evaluations} evaluations, before it had an \
+                 estimate: allow more time, or fewer points per stage"
             ),
             Error::Unsupported { operation, reason } => {
                 write!(f, "{operation} is not supported: {reason}")

@@ -154,7 +154,7 @@ impl<E: Estimator> Integrator<E> {
                 const DIMS: usize = 2;\n\
                 let runner = || Integrator::over_box(|x: &[f64]| x[0] * x[1], UniformBox::unit(DIMS).unwrap()).samples(4096);",
         run: ".run().unwrap()";
-        sampler, seed, threads, tolerance, non_finite
+        sampler, seed, threads, tolerance, non_finite, time_limit, cancel_token, progress
     }
 
     /// Points per replicate (at least 1; a multiple of the pass size for samplers with
@@ -204,7 +204,8 @@ impl<E: Estimator> Integrator<E> {
     pub fn run(&self) -> Result<Estimate> {
         let sampler = self.run_sampler()?;
         let executor = self.config.executor()?;
-        self.with_estimator(&executor, |estimator, pilot_evaluations| {
+        let limits = self.config.limits();
+        self.with_estimator(&executor, &limits, |estimator, pilot_evaluations| {
             let cost = estimator.evaluations_per_contribution();
             let mut estimate = match &self.config.tolerance {
                 Some(tolerance) => staged::run_to_tolerance(
@@ -216,8 +217,23 @@ impl<E: Estimator> Integrator<E> {
                 )?,
                 None => {
                     let plan = Plan::new(self.config.samples, self.config.replicates, &*sampler)?;
-                    let folded = plan.run_folded(&executor, &*sampler, estimator)?;
-                    plan.estimate(&*sampler, &folded, self.config.non_finite)?
+                    let planned = plan.samples.saturating_mul(plan.replicates);
+                    self.config
+                        .check_budget("samples x replicates", planned.saturating_mul(cost))?;
+                    let mut done = pilot_evaluations;
+                    let mut on_points = |points: u64| {
+                        done += points * cost;
+                        self.config.report(done, planned * cost + pilot_evaluations);
+                    };
+                    let (folded, chunks, stop) =
+                        plan.run_folded(&executor, &limits, &*sampler, estimator, &mut on_points)?;
+                    let policy = self.config.non_finite;
+                    match stop {
+                        None => plan.estimate(&*sampler, &folded, policy)?,
+                        Some(stop) => {
+                            plan.estimate_stopped(&*sampler, folded, chunks, policy, stop)?
+                        }
+                    }
                 }
             };
             estimate.evaluations = estimate
@@ -234,12 +250,14 @@ impl<E: Estimator> Integrator<E> {
     fn with_estimator<R>(
         &self,
         executor: &crate::engine::Executor,
+        limits: &crate::engine::Limits,
         work: impl FnOnce(&dyn Estimator, u64) -> Result<R>,
     ) -> Result<R> {
         match self.estimator.pilot() {
             None => work(&self.estimator, 0),
             Some(pilot) => {
-                let (summary, spent) = pilot::run(pilot, &self.estimator, &self.config, executor)?;
+                let (summary, spent) =
+                    pilot::run(pilot, &self.estimator, &self.config, executor, limits)?;
                 let fitted = pilot.fitted(&summary)?;
                 work(&*fitted, spent)
             }

@@ -59,6 +59,7 @@ mod special;
 pub mod stats;
 pub mod testfns;
 
+pub use engine::CancelToken;
 pub use error::{Error, Result};
 pub use estimator::Estimator;
 pub use integrate::{Integrator, NonFinitePolicy, PartialRun};

@@ -202,14 +202,20 @@ fn tolerance_stops_the_run_for_the_right_reason() {
     );
     assert_eq!((e.iterations, e.evaluations), (3, 28_672));
 
-    // Out of time: the limit is checked after each stage.
+    // Out of time before the first stage finished: no estimate, and an error that says so.
     let timed = Tolerance::absolute(1e-12)
         .unwrap()
         .time_limit(Duration::ZERO);
-    let e = miser(&g).tolerance(timed).seed(4).run().unwrap();
-    assert_eq!(
-        (e.stop, e.converged, e.iterations),
-        (StopReason::TimeLimit, Some(false), 1)
+    let err = miser(&g).tolerance(timed).seed(4).run().unwrap_err();
+    assert!(
+        matches!(
+            err,
+            mcint::Error::Interrupted {
+                stop: StopReason::TimeLimit,
+                ..
+            }
+        ),
+        "{err}"
     );
 
     // Relative tolerances work the same way.

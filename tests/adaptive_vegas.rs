@@ -367,15 +367,22 @@ fn limits_stop_the_run_with_the_right_reason() {
         e.evaluations
     );
 
-    // The time limit: checked after each iteration; the warm-up always runs.
-    let e = Vegas::new(f, unit())
+    // The time limit, checked before every chunk: passed before the first iteration after
+    // the warm-up finished, it leaves no estimate, and an error says so.
+    let err = Vegas::new(f, unit())
         .iterations(1000)
         .tolerance(unreachable.time_limit(Duration::ZERO))
         .run()
-        .unwrap();
-    assert_eq!(
-        (e.stop, e.converged, e.iterations),
-        (StopReason::TimeLimit, Some(false), 1)
+        .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            mcint::Error::Interrupted {
+                stop: StopReason::TimeLimit,
+                ..
+            }
+        ),
+        "{err}"
     );
 
     // The iteration budget, with and without a tolerance.

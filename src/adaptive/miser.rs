@@ -28,7 +28,7 @@
 use super::batches::{BLOCK, Batches};
 use super::cell::Cell;
 use crate::engine::{
-    ChunkJob, DEFAULT_REPLICATES, Executor, RunConfig, Stopping, require_uniform_points,
+    ChunkJob, DEFAULT_REPLICATES, Executor, Limits, RunConfig, Stopping, require_uniform_points,
     run_settings,
 };
 use crate::hash::hash_words;
@@ -118,7 +118,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
                 const DIMS: usize = 2;\n\
                 let runner = || Miser::new(|x: &[f64]| (x[0] * x[1]).exp(), UniformBox::unit(DIMS).unwrap()).samples(2048);",
         run: ".run().unwrap()";
-        sampler, seed, threads, tolerance, non_finite
+        sampler, seed, threads, tolerance, non_finite, time_limit, cancel_token, progress
     }
 
     /// Integrand evaluations per replicate, exploration included (at least 1; default
@@ -239,6 +239,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
             .config
             .sampler(self.domain.dims(), "sampler (the dimension of the domain)")?;
         require_uniform_points(&*sampler, "MISER, which draws batches of any size")?;
+        let limits = self.config.limits();
         let run = Run {
             f: &self.f,
             domain: &self.domain,
@@ -246,11 +247,21 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
             settings,
             seed: self.config.seed().unwrap_or_else(|| sampler.seed()),
             executor,
+            limits: limits.clone(),
             skip_non_finite: self.config.non_finite == NonFinitePolicy::Skip,
         };
         let r = settings.replicates;
         let mut per_replicate = self.config.samples.unwrap_or(DEFAULT_SAMPLES);
-        let stopping = self.config.tolerance.as_ref().map(Stopping::new);
+        let stopping = self
+            .config
+            .tolerance
+            .as_ref()
+            .map(|t| Stopping::new(t, limits.clone()));
+        let planned = match &stopping {
+            Some(stopping) => stopping.tolerance().evaluation_limit(),
+            None => per_replicate.saturating_mul(r),
+        };
+        self.config.check_budget("samples x replicates", planned)?;
         if let Some(stopping) = &stopping {
             // The first stage fits the evaluation limit, if any stage does.
             per_replicate = per_replicate.min(stopping.tolerance().evaluation_limit() / r);
@@ -272,12 +283,28 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
         let mut spent: u64 = 0;
         let mut next_slot: u64 = 0;
         let mut stage: u64 = 0;
+        let mut last: Option<Estimate> = None;
         loop {
             stage += 1;
             let stage_evaluations = per_replicate * r;
-            let estimate = run.stage(per_replicate, r, next_slot)?;
+            let estimate = match run.stage(per_replicate, r, next_slot) {
+                Ok(estimate) => estimate,
+                // A stage cut short has unfinished replicates: the last whole stage stands.
+                Err(Error::Interrupted { stop, .. }) => {
+                    let (Some(stopping), Some(mut estimate)) = (&stopping, last) else {
+                        return Err(Error::Interrupted {
+                            stop,
+                            evaluations: spent,
+                        });
+                    };
+                    stopping.finish(&mut estimate, stop, stage - 1);
+                    return Ok(estimate);
+                }
+                Err(e) => return Err(e),
+            };
             spent = spent.saturating_add(stage_evaluations);
             next_slot += stage_evaluations;
+            self.config.report(spent, planned);
             let Some(stopping) = &stopping else {
                 return Ok(estimate);
             };
@@ -293,6 +320,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
                 stopping.finish(&mut estimate, stop, stage);
                 return Ok(estimate);
             }
+            last = Some(estimate);
             per_replicate *= 2;
         }
     }
@@ -381,6 +409,8 @@ struct Run<'a, F> {
     settings: Settings,
     seed: u64,
     executor: Executor,
+    /// The run's time limit and cancellation, checked before every exploration and leaf.
+    limits: Limits,
     /// Leave NaN and infinite values out (counted) instead of failing.
     skip_non_finite: bool,
 }
@@ -475,6 +505,18 @@ struct Stage {
 }
 
 impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
+    /// Stops the work of a stage once its time limit has passed or it was cancelled (checked
+    /// before every region and every block of points).
+    fn check_limits(&self) -> Result<()> {
+        match self.limits.reached() {
+            None => Ok(()),
+            Some(stop) => Err(Error::Interrupted {
+                stop,
+                evaluations: 0,
+            }),
+        }
+    }
+
     /// One stage: `replicates` independent MISER runs of `per_replicate` evaluations each,
     /// from slot `base` on, as one estimate from the replicates.
     fn stage(&self, per_replicate: u64, replicates: u64, base: u64) -> Result<Estimate> {
@@ -496,11 +538,18 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
         };
         let mut partials = Vec::with_capacity(replicates as usize);
         // Every replicate at once: their results are small.
-        self.executor
-            .run(&stage, 0..replicates, replicates, |_, p| {
-                partials.push(p);
-                Ok(())
-            })?;
+        let stopped =
+            self.executor
+                .run(&stage, 0..replicates, replicates, &self.limits, |_, p| {
+                    partials.push(p);
+                    Ok(())
+                })?;
+        if let Some(stop) = stopped {
+            return Err(Error::Interrupted {
+                stop,
+                evaluations: 0,
+            });
+        }
         let non_finite: u64 = partials.iter().map(|p| p.non_finite).sum();
         if !self.skip_non_finite
             && let Some((r, first)) = partials
@@ -539,6 +588,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
         depth: u32,
         work: &mut Workspace,
     ) -> Result<Partial> {
+        self.check_limits()?;
         let s = &self.settings;
         let explore = s
             .min_points
@@ -645,6 +695,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
         let mut shift: Option<f64> = None;
         let mut k = 0u64;
         while k < n {
+            self.check_limits()?;
             let want = (n - k).min(BLOCK as u64) as usize;
             let len = self.batches.fill(slot, k, want, &mut work.points)?;
             for i in 0..len {
@@ -693,6 +744,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
         let mut largest = 0.0f64;
         let mut k = 0u64;
         while k < n {
+            self.check_limits()?;
             let want = (n - k).min(BLOCK as u64) as usize;
             let len = self.batches.fill(slot, k, want, &mut work.points)?;
             for i in 0..len {

@@ -21,7 +21,7 @@
 
 use super::batches::{BLOCK, Batches};
 use super::cell::Cell;
-use crate::engine::{ChunkJob, Executor, RunConfig, require_uniform_points, run_settings};
+use crate::engine::{ChunkJob, Executor, Limits, RunConfig, require_uniform_points, run_settings};
 use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
 use crate::stats::rounding::{UNIT_ROUNDOFF, gamma};
@@ -97,7 +97,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
                 const DIMS: usize = 2;\n\
                 let runner = || TwoStage::new(|x: &[f64]| (x[0] * x[1]).exp(), UniformBox::unit(DIMS).unwrap(), 8).samples(4096);",
         run: ".run().unwrap()";
-        sampler, seed, threads, non_finite
+        sampler, seed, threads, non_finite, time_limit, cancel_token, progress
     }
 
     /// Pilot points per stratum (at least 2, for a standard deviation; default 8).
@@ -164,12 +164,23 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
                 "at least 2 points per stratum (a standard deviation needs two)",
             ));
         }
-        let least = strata.saturating_mul(self.pilot + MIN_MAIN);
+        let Some(least) = self
+            .pilot
+            .checked_add(MIN_MAIN)
+            .and_then(|n| strata.checked_mul(n))
+        else {
+            return Err(Error::invalid(
+                "pilot",
+                self.pilot,
+                format!("a pilot whose {strata} strata x (pilot + {MIN_MAIN}) points fit 64 bits"),
+            ));
+        };
         let total = self.config.samples.unwrap_or_else(|| {
             strata
                 .saturating_mul(self.pilot)
                 .saturating_mul(DEFAULT_TOTAL_PER_PILOT)
         });
+        self.config.check_budget("samples", total)?;
         if total < least {
             return Err(Error::invalid(
                 "samples",
@@ -199,6 +210,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
             batches,
             per_axis: self.strata_per_axis,
             executor,
+            limits: self.config.limits(),
             skip_non_finite: self.config.non_finite == NonFinitePolicy::Skip,
         };
 
@@ -206,6 +218,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
         let pilot = self.pilot;
         let pilot_stats = grid.sample_strata(strata, &|j| (j as u64 * pilot, pilot))?;
         let main_base = strata as u64 * pilot;
+        self.config.report(main_base, total);
         let counts = neyman_allocation(&pilot_stats, total - main_base);
 
         // Stage 2: fresh samples, stratum j right after stratum j - 1.
@@ -216,6 +229,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
             next += n;
         }
         let main_stats = grid.sample_strata(strata, &|j| (starts[j], counts[j]))?;
+        self.config.report(total, total);
 
         let used: Vec<Accumulator> = if self.reuse_pilot {
             pilot_stats
@@ -280,6 +294,7 @@ struct Grid<'a, F> {
     batches: Batches<'a>,
     per_axis: usize,
     executor: Executor,
+    limits: Limits,
     /// Leave NaN and infinite values out (counted) instead of failing.
     skip_non_finite: bool,
 }
@@ -325,12 +340,20 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
         let chunks = strata.div_ceil(STRATA_PER_CHUNK) as u64;
         let mut all = Vec::with_capacity(strata);
         let mut first_bad = None;
-        self.executor
-            .run(&job, 0..chunks, chunks, |_, (stats, bad)| {
-                all.extend(stats);
-                first_bad = first_bad.take().or(bad);
-                Ok(())
-            })?;
+        let stopped =
+            self.executor
+                .run(&job, 0..chunks, chunks, &self.limits, |_, (stats, bad)| {
+                    all.extend(stats);
+                    first_bad = first_bad.take().or(bad);
+                    Ok(())
+                })?;
+        if let Some(stop) = stopped {
+            // A stage cut short leaves strata unsampled: there is no estimate.
+            return Err(Error::Interrupted {
+                stop,
+                evaluations: all.iter().map(|a| a.count() + a.non_finite()).sum(),
+            });
+        }
         if let Some((stratum, index, value, point)) = first_bad.filter(|_| !self.skip_non_finite) {
             return Err(Error::NonFiniteContribution {
                 count: all.iter().map(|a| a.non_finite()).sum(),

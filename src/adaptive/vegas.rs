@@ -49,7 +49,7 @@ use crate::engine::{RunConfig, Stopping, require_randomized, run_settings};
 use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
 use crate::sampler::{PassKind, Sampler};
-use crate::stats::{Estimate, StopReason};
+use crate::stats::{Estimate, StopReason, Warning};
 use crate::{Error, Result};
 use combination::Combination;
 use pass::Pass;
@@ -131,7 +131,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                 const DIMS: usize = 2;\n\
                 let runner = || Vegas::new(|x: &[f64]| (x[0] * x[1]).exp(), UniformBox::unit(DIMS).unwrap()).samples(4000);",
         run: ".run().unwrap()";
-        sampler, seed, threads, tolerance, non_finite
+        sampler, seed, threads, tolerance, non_finite, time_limit, cancel_token, progress
     }
 
     /// Evaluations per iteration, `N` (at least 2; default `10_000`). With stratification
@@ -253,7 +253,13 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
             .sampler(dims, "sampler (the domain's dimensions)")?;
         let settings = self.settings(&*sampler)?;
         let executor = self.config.executor()?;
-        let stopping = self.config.tolerance.as_ref().map(Stopping::new);
+        let limits = self.config.limits();
+        let stopping = self
+            .config
+            .tolerance
+            .as_ref()
+            .map(|t| Stopping::new(t, limits.clone()));
+        let planned = settings.samples * (self.warmup + self.iterations);
         let strata = Strata::new(
             dims,
             settings.samples,
@@ -294,6 +300,10 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                 stop = reason;
                 break;
             }
+            if let Some(reason) = limits.reached() {
+                stop = reason;
+                break;
+            }
             let base = match sampler.passes() {
                 PassKind::Extensible { max } => k * max,
                 _ => spent,
@@ -312,7 +322,11 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                 beta: self.beta,
                 allocating,
             };
-            let totals = pass.run(&executor, &mut training, &mut next_sigf)?;
+            let Some(totals) = pass.run(&executor, &limits, &mut training, &mut next_sigf)? else {
+                // An iteration cut short is discarded: its hypercubes are unevenly sampled.
+                stop = limits.reached().unwrap_or(StopReason::Cancelled);
+                break;
+            };
             if totals.non_finite > 0 && self.config.non_finite == NonFinitePolicy::Fail {
                 let (index, value) = totals.first_non_finite.unwrap_or((0, f64::NAN));
                 let mut point = vec![0.0; dims];
@@ -326,6 +340,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                 });
             }
             spent += total;
+            self.config.report(spent, planned);
             grid.adapt_to(&training, self.alpha);
             if allocating {
                 std::mem::swap(&mut sigf, &mut next_sigf);
@@ -355,11 +370,24 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                 }
             }
         }
+        if combination.count() == 0 {
+            // Stopped during the warm-up or the first iteration: no estimate yet.
+            return Err(Error::Interrupted {
+                stop,
+                evaluations: spent,
+            });
+        }
         let mut estimate = combination.estimate(measured_evaluations, spent);
         estimate.non_finite = non_finite;
         estimate.stop = stop;
-        if let Some(stopping) = &stopping {
-            stopping.finish(&mut estimate, stop, combination.count());
+        match &stopping {
+            Some(stopping) => stopping.finish(&mut estimate, stop, combination.count()),
+            None if stop != StopReason::Budget => estimate.warn(Warning::StoppedEarly {
+                stop,
+                done: spent,
+                planned,
+            }),
+            None => {}
         }
         estimate.finalize();
         Ok(estimate)
@@ -441,6 +469,12 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                 limit: u64::MAX,
             });
         }
+        let planned = match &self.config.tolerance {
+            Some(t) => t.evaluation_limit(),
+            None => total_iterations.saturating_mul(n),
+        };
+        self.config
+            .check_budget("samples x (warmup + iterations)", planned)?;
         if let Some(t) = &self.config.tolerance {
             let needed = (self.warmup + 1).saturating_mul(n);
             if t.evaluation_limit() < needed {

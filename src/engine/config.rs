@@ -2,7 +2,10 @@
 
 use std::ops::Deref;
 
-use super::Executor;
+use std::sync::Arc;
+use std::time::Duration;
+
+use super::{CancelToken, Executor, Limits};
 use crate::integrate::NonFinitePolicy;
 use crate::sampler::{Independent, PassKind, Sampler};
 use crate::stats::Tolerance;
@@ -24,7 +27,19 @@ pub(crate) struct RunConfig {
     pub(crate) non_finite: NonFinitePolicy,
     /// A name for the integrand, checked when a checkpoint is resumed.
     pub(crate) label: Option<String>,
+    /// The longest the run may take (checked before every chunk of work).
+    pub(crate) time_limit: Option<Duration>,
+    pub(crate) cancel: Option<CancelToken>,
+    /// Told `(evaluations done, evaluations planned or 0 if unknown)` as the run goes.
+    pub(crate) progress: Option<Progress>,
 }
+
+/// A progress callback: `(evaluations done, evaluations planned, or 0 when unknown)`.
+pub(crate) type Progress = Arc<dyn Fn(u64, u64) + Send + Sync>;
+
+/// The most evaluations a run may plan without a time limit: beyond it, a run would take
+/// days, and one that does so by mistake should say so up front.
+pub(crate) const MAX_UNTIMED_EVALUATIONS: u64 = 1 << 52;
 
 impl RunConfig {
     /// Uses `sampler`, reseeded with the seed set so far, if any.
@@ -51,6 +66,42 @@ impl RunConfig {
     /// The executor of the thread setting.
     pub(crate) fn executor(&self) -> Result<Executor> {
         Executor::new(self.threads)
+    }
+
+    /// The limits of a run that starts now: the shorter of the time limit and the
+    /// tolerance's, and the cancellation token.
+    pub(crate) fn limits(&self) -> Limits {
+        let tolerance = self.tolerance.as_ref().and_then(|t| t.time());
+        let time_limit = match (self.time_limit, tolerance) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        Limits::new(time_limit, self.cancel.clone())
+    }
+
+    /// Refuses a plan of more than [`MAX_UNTIMED_EVALUATIONS`] evaluations unless a time
+    /// limit bounds the run; `what` names the setting that plans them.
+    pub(crate) fn check_budget(&self, what: &'static str, evaluations: u64) -> Result<()> {
+        let timed = self.time_limit.is_some()
+            || self.tolerance.as_ref().is_some_and(|t| t.time().is_some());
+        if evaluations <= MAX_UNTIMED_EVALUATIONS || timed {
+            return Ok(());
+        }
+        Err(Error::invalid(
+            what,
+            format!("{evaluations} evaluations"),
+            format!(
+                "at most 2^52 = {MAX_UNTIMED_EVALUATIONS} evaluations without a time limit (set \
+                 time_limit to run longer on purpose)"
+            ),
+        ))
+    }
+
+    /// Tells the progress callback, if any.
+    pub(crate) fn report(&self, done: u64, planned: u64) {
+        if let Some(progress) = &self.progress {
+            progress(done, planned);
+        }
     }
 
     /// The run's sampler, checked to have `dims` dimensions (`what` names them in the

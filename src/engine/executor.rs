@@ -19,6 +19,8 @@ use std::sync::{Arc, Mutex, PoisonError};
 use rayon::prelude::*;
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
+use super::Limits;
+use crate::stats::StopReason;
 use crate::{Error, Result};
 
 /// Work cut into numbered chunks, each evaluated with a per-thread scratch space.
@@ -70,29 +72,49 @@ impl Executor {
     /// Evaluates chunks `chunks` of `job`, at most `window` at a time (which bounds the
     /// outputs held in memory), and hands each output to `fold` in chunk order. Stops at the
     /// first error, in chunk order, of a job or of `fold`.
+    ///
+    /// `limits` are checked before every chunk: once one is reached, no chunk starts, the
+    /// chunks finished before the first one skipped are folded, and the reason is returned
+    /// (`None` when every chunk was folded).
     pub(crate) fn run<J: ChunkJob>(
         &self,
         job: &J,
         chunks: Range<u64>,
         window: u64,
+        limits: &Limits,
         mut fold: impl FnMut(u64, J::Output) -> Result<()>,
-    ) -> Result<()> {
+    ) -> Result<Option<StopReason>> {
         let window = window.max(1);
         let mut start = chunks.start;
         while start < chunks.end {
+            if let Some(reason) = limits.reached() {
+                return Ok(Some(reason));
+            }
             let end = start.saturating_add(window).min(chunks.end);
-            for (chunk, output) in (start..end).zip(self.window(job, start..end)?) {
-                fold(chunk, output)?;
+            for (chunk, output) in (start..end).zip(self.window(job, start..end, limits)?) {
+                match output {
+                    Some(output) => fold(chunk, output)?,
+                    None => return Ok(Some(limits.reached().unwrap_or(StopReason::Cancelled))),
+                }
             }
             start = end;
         }
-        Ok(())
+        Ok(None)
     }
 
-    /// The outputs of chunks `chunks`, in order.
-    fn window<J: ChunkJob>(&self, job: &J, chunks: Range<u64>) -> Result<Vec<J::Output>> {
+    /// The outputs of chunks `chunks`, in order; `None` for the chunks not started because a
+    /// limit was reached.
+    fn window<J: ChunkJob>(
+        &self,
+        job: &J,
+        chunks: Range<u64>,
+        limits: &Limits,
+    ) -> Result<Vec<Option<J::Output>>> {
         let one = |scratch: &mut J::Scratch, chunk: u64| {
-            guarded(job.origin(chunk), || job.run(scratch, chunk))
+            if limits.reached().is_some() {
+                return Ok(None);
+            }
+            guarded(job.origin(chunk), || job.run(scratch, chunk)).map(Some)
         };
         if self.threads == 1 {
             let mut scratch = job.scratch()?;
@@ -103,7 +125,7 @@ impl Executor {
             what: "chunks in one window",
             limit: usize::MAX as u64,
         })?;
-        let outputs: Vec<Result<J::Output>> = self.install(|| {
+        let outputs: Vec<Result<Option<J::Output>>> = self.install(|| {
             (0..len)
                 .into_par_iter()
                 .map_init(
@@ -223,10 +245,16 @@ mod tests {
             let executor = Executor::new(Some(threads)).unwrap();
             let mut seen = Vec::new();
             executor
-                .run(&Squares { bad: None }, 5..105, 7, |chunk, out| {
-                    seen.push((chunk, out));
-                    Ok(())
-                })
+                .run(
+                    &Squares { bad: None },
+                    5..105,
+                    7,
+                    &Limits::default(),
+                    |chunk, out| {
+                        seen.push((chunk, out));
+                        Ok(())
+                    },
+                )
                 .unwrap();
             let expected: Vec<(u64, u64)> = (5..105).map(|c| (c, c * c)).collect();
             assert_eq!(seen, expected, "{threads} threads");
@@ -238,7 +266,13 @@ mod tests {
         for threads in [1, 2, 4] {
             let executor = Executor::new(Some(threads)).unwrap();
             let err = executor
-                .run(&Squares { bad: Some(42) }, 0..100, 16, |_, _| Ok(()))
+                .run(
+                    &Squares { bad: Some(42) },
+                    0..100,
+                    16,
+                    &Limits::default(),
+                    |_, _| Ok(()),
+                )
                 .unwrap_err();
             assert_eq!(
                 err,
@@ -256,13 +290,19 @@ mod tests {
     fn fold_errors_stop_the_run() {
         let executor = Executor::new(Some(2)).unwrap();
         let mut folded = 0;
-        let err = executor.run(&Squares { bad: None }, 0..100, 10, |chunk, _| {
-            folded += 1;
-            if chunk == 15 {
-                return Err(Error::invalid("chunk", chunk, "not 15"));
-            }
-            Ok(())
-        });
+        let err = executor.run(
+            &Squares { bad: None },
+            0..100,
+            10,
+            &Limits::default(),
+            |chunk, _| {
+                folded += 1;
+                if chunk == 15 {
+                    return Err(Error::invalid("chunk", chunk, "not 15"));
+                }
+                Ok(())
+            },
+        );
         assert!(err.is_err());
         assert_eq!(folded, 16);
     }
@@ -278,16 +318,24 @@ mod tests {
         // A run inside a run: the inner one sees the outer pool's worker index.
         let mut inner_on_pool = Vec::new();
         let outer = Squares { bad: None };
-        executor.run(&outer, 0..4, 4, |_, _| Ok(())).unwrap();
+        executor
+            .run(&outer, 0..4, 4, &Limits::default(), |_, _| Ok(()))
+            .unwrap();
         executor
             .join(
                 (0, 0),
                 || {
                     let mut sum = 0;
-                    Executor::new(Some(3))?.run(&outer, 0..10, 10, |_, out| {
-                        sum += out;
-                        Ok(())
-                    })?;
+                    Executor::new(Some(3))?.run(
+                        &outer,
+                        0..10,
+                        10,
+                        &Limits::default(),
+                        |_, out| {
+                            sum += out;
+                            Ok(())
+                        },
+                    )?;
                     Ok((sum, rayon::current_thread_index().is_some()))
                 },
                 || Ok(()),
@@ -296,6 +344,35 @@ mod tests {
             .map(|r| inner_on_pool.push(r))
             .unwrap();
         assert_eq!(inner_on_pool, vec![(285, true)]);
+    }
+
+    #[test]
+    fn a_cancelled_run_folds_the_chunks_before_the_first_one_skipped() {
+        use super::super::CancelToken;
+        for threads in [1, 2, 3] {
+            let token = CancelToken::new();
+            let limits = Limits::new(None, Some(token.clone()));
+            let mut folded = Vec::new();
+            let stop = Executor::new(Some(threads))
+                .unwrap()
+                .run(&Squares { bad: None }, 0..1000, 8, &limits, |chunk, _| {
+                    folded.push(chunk);
+                    if chunk == 20 {
+                        token.cancel();
+                    }
+                    Ok(())
+                })
+                .unwrap();
+            assert_eq!(stop, Some(StopReason::Cancelled));
+            // The window holding chunk 20 was finished; nothing after it started.
+            assert_eq!(folded, (0..24).collect::<Vec<u64>>(), "{threads} threads");
+        }
+        let limits = Limits::new(Some(std::time::Duration::ZERO), None);
+        let stop = Executor::new(Some(2))
+            .unwrap()
+            .run(&Squares { bad: None }, 0..10, 4, &limits, |_, _| Ok(()))
+            .unwrap();
+        assert_eq!(stop, Some(StopReason::TimeLimit));
     }
 
     #[test]

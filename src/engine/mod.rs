@@ -11,10 +11,13 @@
 
 mod config;
 mod executor;
+mod limits;
 mod settings;
 mod stopping;
 
 pub(crate) use config::{RunConfig, RunSampler, require_randomized, require_uniform_points};
 pub(crate) use executor::{ChunkJob, Executor, available_threads, guarded};
+pub use limits::CancelToken;
+pub(crate) use limits::Limits;
 pub(crate) use settings::run_settings;
 pub(crate) use stopping::{DEFAULT_REPLICATES, Stopping};

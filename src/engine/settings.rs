@@ -109,6 +109,63 @@ macro_rules! run_settings {
             self
         }
     };
+    (@time_limit $setup:literal $run:literal) => {
+        /// The longest the run may take. It is checked before every chunk of work, so the run
+        /// returns within the limit plus one chunk's work, with what it has:
+        /// [`StopReason::TimeLimit`](crate::stats::StopReason::TimeLimit) on an estimate of the
+        /// work done, or [`Error::Interrupted`](crate::Error::Interrupted) if there is none yet.
+        /// A time limit also lifts the refusal of budgets above `2^52` evaluations.
+        ///
+        #[doc = concat!(
+            "```\n", $setup, "\n",
+            "use std::time::Duration;\n",
+            "let e = runner().time_limit(Duration::from_secs(3600))", $run, ";\n",
+            "assert_eq!(e.stop, mcint::stats::StopReason::Budget); // finished well within it\n",
+            "```"
+        )]
+        pub fn time_limit(mut self, limit: std::time::Duration) -> Self {
+            self.config.time_limit = Some(limit);
+            self
+        }
+    };
+    (@cancel_token $setup:literal $run:literal) => {
+        /// A token that stops the run from another thread (see
+        /// [`CancelToken`](crate::CancelToken)): it returns with what it has, as for a time
+        /// limit, with [`StopReason::Cancelled`](crate::stats::StopReason::Cancelled).
+        ///
+        #[doc = concat!(
+            "```\n", $setup, "\n",
+            "let token = mcint::CancelToken::new();\n",
+            "token.cancel(); // before the run: it stops before its first chunk\n",
+            "assert!(runner().cancel_token(token).run().is_err());\n",
+            "```"
+        )]
+        pub fn cancel_token(mut self, token: $crate::CancelToken) -> Self {
+            self.config.cancel = Some(token);
+            self
+        }
+    };
+    (@progress $setup:literal $run:literal) => {
+        /// A callback told `(evaluations done, evaluations planned)` as the run goes (the
+        /// planned count is 0 when a run to a tolerance cannot know it), on the thread that
+        /// called `run`: for progress bars on long runs.
+        ///
+        #[doc = concat!(
+            "```\n", $setup, "\n",
+            "use std::sync::{Arc, Mutex};\n",
+            "let seen = Arc::new(Mutex::new(Vec::new()));\n",
+            "let log = Arc::clone(&seen);\n",
+            "let e = runner().progress(move |done, planned| log.lock().unwrap().push((done, planned)))", $run, ";\n",
+            "let seen = seen.lock().unwrap();\n",
+            "assert!(!seen.is_empty() && seen.windows(2).all(|w| w[0].0 <= w[1].0));\n",
+            "assert_eq!(seen.last().unwrap().0, e.evaluations);\n",
+            "```"
+        )]
+        pub fn progress(mut self, progress: impl Fn(u64, u64) + Send + Sync + 'static) -> Self {
+            self.config.progress = Some(std::sync::Arc::new(progress));
+            self
+        }
+    };
 }
 
 pub(crate) use run_settings;

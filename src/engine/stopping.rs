@@ -13,8 +13,7 @@
 //! factor by default. Per-sample errors of independent points (two-stage rule, VEGAS) are
 //! judged as they are: their `n` is large and their variance estimate stable.
 
-use std::time::Instant;
-
+use super::Limits;
 use crate::stats::{ErrorBasis, Estimate, StopReason, Tolerance, Warning};
 
 /// Inflation of a replicate-based standard error in a run to a tolerance.
@@ -26,16 +25,18 @@ pub(crate) const DEFAULT_REPLICATES: u64 = 16;
 /// The stopping rule of one run to a tolerance.
 pub(crate) struct Stopping<'a> {
     tolerance: &'a Tolerance,
-    started: Instant,
+    limits: Limits,
 }
 
 impl<'a> Stopping<'a> {
-    /// The rule for a run that starts now.
-    pub(crate) fn new(tolerance: &'a Tolerance) -> Self {
-        Stopping {
-            tolerance,
-            started: Instant::now(),
-        }
+    /// The rule for a run that starts now, under `limits` (its time limit and cancellation).
+    pub(crate) fn new(tolerance: &'a Tolerance, limits: Limits) -> Self {
+        Stopping { tolerance, limits }
+    }
+
+    /// The run's limits of time and cancellation, which its stages also check chunk by chunk.
+    pub(crate) fn limits(&self) -> &Limits {
+        &self.limits
     }
 
     /// The tolerance.
@@ -44,14 +45,11 @@ impl<'a> Stopping<'a> {
     }
 
     /// Why the run should stop before spending `next` more evaluations, `used` spent so far:
-    /// the time limit has passed, or `next` would exceed the evaluation limit.
+    /// the time limit has passed, the run was cancelled, or `next` would exceed the
+    /// evaluation limit.
     pub(crate) fn limit(&self, used: u64, next: u64) -> Option<StopReason> {
-        if self
-            .tolerance
-            .time()
-            .is_some_and(|limit| self.started.elapsed() >= limit)
-        {
-            return Some(StopReason::TimeLimit);
+        if let Some(reason) = self.limits.reached() {
+            return Some(reason);
         }
         if used
             .checked_add(next)

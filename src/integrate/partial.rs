@@ -191,7 +191,8 @@ impl<E: Estimator> Integrator<E> {
         self.with_plan(|plan, _, _| plan.total_chunks())
     }
 
-    /// Evaluates chunks `range` of this run (see [`PartialRun`]).
+    /// Evaluates chunks `range` of this run (see [`PartialRun`]). A time limit or a
+    /// cancellation stops it after the chunks finished by then, which the part keeps.
     ///
     /// ```
     /// use mcint::{Integrator, pdf::UniformBox};
@@ -209,13 +210,15 @@ impl<E: Estimator> Integrator<E> {
                 ));
             }
             let mut part = PartialRun::new(self.layout(plan, sampler)?);
-            self.with_estimator(executor, |estimator, _| {
+            // A limit stops the part where it is: the chunks before it are kept.
+            let limits = self.config.limits();
+            self.with_estimator(executor, &limits, |estimator, _| {
                 let job = Chunks {
                     plan,
                     sampler,
                     estimator,
                 };
-                executor.run(&job, range, CHUNKS_IN_MEMORY, |chunk, result| {
+                executor.run(&job, range, CHUNKS_IN_MEMORY, &limits, |chunk, result| {
                     part.insert([(chunk, result)])
                 })
             })?;

@@ -2,7 +2,7 @@
 //! the Integrator's control-variate mode built on it.
 
 use super::{Integrator, NonFinitePolicy};
-use crate::engine::{ChunkJob, Executor, RunConfig};
+use crate::engine::{ChunkJob, Executor, Limits, RunConfig};
 use crate::estimator::{ControlFit, ControlVariates, Estimator, PilotFit};
 use crate::hash::hash_words;
 use crate::pdf::Pdf;
@@ -22,6 +22,7 @@ pub(super) fn run(
     estimator: &dyn Estimator,
     config: &RunConfig,
     executor: &Executor,
+    limits: &Limits,
 ) -> Result<(CovarianceAccumulator, u64)> {
     let points = pilot.points();
     if points == 0 {
@@ -35,9 +36,15 @@ pub(super) fn run(
         points,
     };
     let mut summary = CovarianceAccumulator::new(pilot.values())?;
-    executor.run(&job, 0..points.div_ceil(CHUNK), 64, |_, part| {
+    let stop = executor.run(&job, 0..points.div_ceil(CHUNK), 64, limits, |_, part| {
         summary.merge(&part)
     })?;
+    if let Some(stop) = stop {
+        return Err(Error::Interrupted {
+            stop,
+            evaluations: summary.count() + summary.non_finite(),
+        });
+    }
     if summary.non_finite() > 0 && config.non_finite == NonFinitePolicy::Fail {
         return Err(Error::invalid(
             "integrand",
@@ -171,7 +178,14 @@ where
     /// ```
     pub fn fit(&self) -> Result<ControlFit> {
         let executor = self.config.executor()?;
-        let (summary, _) = run(&self.estimator, &self.estimator, &self.config, &executor)?;
+        let limits = self.config.limits();
+        let (summary, _) = run(
+            &self.estimator,
+            &self.estimator,
+            &self.config,
+            &executor,
+            &limits,
+        )?;
         self.estimator.fit(&summary)
     }
 }

@@ -2,14 +2,16 @@
 //! uses, cut into fixed chunks that the [`Executor`] evaluates and folds in chunk order.
 
 use super::{CHUNK, DEFAULT_SAMPLES, NonFinitePolicy};
-use crate::engine::{ChunkJob, Executor, require_randomized};
+use crate::engine::{ChunkJob, Executor, Limits, require_randomized};
 use crate::estimator::Estimator;
 use crate::sampler::{PassKind, Sampler};
-use crate::stats::{Accumulator, Estimate, Warning};
+use crate::stats::{Accumulator, Estimate, StopReason, Warning};
 use crate::{Error, Points, Result};
 
 /// Points generated and evaluated together: small enough to stay in L1/L2 cache.
 const BLOCK: u64 = 1024;
+/// The most replicates of a run (each keeps an accumulator in memory).
+const MAX_REPLICATES: u64 = 1 << 20;
 /// Chunk results held in memory at once by a run: bounds the memory of huge runs.
 pub(super) const CHUNKS_IN_MEMORY: u64 = 1 << 16;
 
@@ -36,8 +38,12 @@ impl Plan {
         sampler: &dyn Sampler,
     ) -> Result<Plan> {
         let replicates = replicates.unwrap_or(1);
-        if replicates == 0 {
-            return Err(Error::invalid("replicates", 0, "at least 1"));
+        if !(1..=MAX_REPLICATES).contains(&replicates) {
+            return Err(Error::invalid(
+                "replicates",
+                replicates,
+                format!("1 to {MAX_REPLICATES} (each keeps an accumulator in memory)"),
+            ));
         }
         if replicates > 1 {
             require_randomized(
@@ -146,29 +152,80 @@ impl Plan {
         (replicate, first, first.saturating_add(CHUNK).min(end))
     }
 
-    /// Evaluates every chunk and folds the results in chunk order.
+    /// Evaluates every chunk and folds the results in chunk order, telling `on_points` the
+    /// points of each chunk folded, until a limit stops it: the fold, the number of chunks
+    /// folded, and the limit that stopped it, if one did.
     pub(super) fn run_folded(
         &self,
         executor: &Executor,
+        limits: &Limits,
         sampler: &dyn Sampler,
         estimator: &dyn Estimator,
-    ) -> Result<Folded> {
+        on_points: &mut dyn FnMut(u64),
+    ) -> Result<(Folded, u64, Option<StopReason>)> {
         let job = Chunks {
             plan: self,
             sampler,
             estimator,
         };
         let mut folded = Folded::new(self.replicates);
-        executor.run(
+        let mut done = 0;
+        let stop = executor.run(
             &job,
             0..self.total_chunks()?,
             CHUNKS_IN_MEMORY,
+            limits,
             |chunk, r| {
                 folded.add(self.chunks_per_replicate, chunk, &r);
+                let (_, first, end) = self.chunk_range(chunk);
+                on_points(end - first);
+                done += 1;
                 Ok(())
             },
         )?;
-        Ok(folded)
+        Ok((folded, done, stop))
+    }
+
+    /// The estimate of a run that a limit stopped after `done` chunks: the finished part of
+    /// independent points, or the complete replicates of dependent ones (an
+    /// [`Error::Interrupted`] when there is none), with the reason and a warning.
+    pub(super) fn estimate_stopped(
+        &self,
+        sampler: &dyn Sampler,
+        mut folded: Folded,
+        done: u64,
+        policy: NonFinitePolicy,
+        stop: StopReason,
+    ) -> Result<Estimate> {
+        let spent: u64 = folded
+            .replicates
+            .iter()
+            .map(|r| r.count() + r.non_finite())
+            .sum();
+        let complete = if sampler.passes() == PassKind::Independent {
+            done.div_ceil(self.chunks_per_replicate)
+        } else {
+            done / self.chunks_per_replicate
+        };
+        if complete == 0 || spent == 0 {
+            return Err(Error::Interrupted {
+                stop,
+                evaluations: spent,
+            });
+        }
+        folded.replicates.truncate(complete as usize);
+        let kept = Plan {
+            replicates: complete,
+            ..*self
+        };
+        let mut estimate = kept.estimate(sampler, &folded, policy)?;
+        estimate.stop = stop;
+        estimate.warn(Warning::StoppedEarly {
+            stop,
+            done: estimate.evaluations,
+            planned: self.samples.saturating_mul(self.replicates),
+        });
+        Ok(estimate)
     }
 
     /// Fails with the first offending point when a contribution was not finite (under

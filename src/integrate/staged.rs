@@ -2,6 +2,8 @@
 //! points, and doubling with fixed replicates for randomized QMC and stratified points, both
 //! judged by the engine's [`Stopping`] rule.
 
+use std::cell::Cell;
+
 use super::Plan;
 use super::plan::balance_warning;
 use crate::engine::{DEFAULT_REPLICATES, Executor, RunConfig, Stopping, require_randomized};
@@ -43,13 +45,16 @@ pub(super) fn run_to_tolerance(
             ),
         )
     })?;
+    let limit = tolerance.evaluation_limit();
+    config.check_budget("max_evals", limit)?;
     let stage = Stage {
         estimator,
         config,
         sampler,
         executor,
-        stopping: Stopping::new(tolerance),
+        stopping: Stopping::new(tolerance, config.limits()),
         cost: estimator.evaluations_per_contribution().max(1),
+        spent: Cell::new(0),
     };
     if sampler.passes() == PassKind::Independent {
         two_stage(&stage)
@@ -67,6 +72,8 @@ struct Stage<'a> {
     stopping: Stopping<'a>,
     /// Integrand evaluations per contribution.
     cost: u64,
+    /// Evaluations folded so far, for the progress callback.
+    spent: Cell<u64>,
 }
 
 impl Stage<'_> {
@@ -84,18 +91,29 @@ impl Stage<'_> {
     }
 
     /// Accumulators of points `offset .. offset + samples` of each of `replicates`
-    /// replicates, `stride` apart.
+    /// replicates, `stride` apart, and the limit that stopped the stage before its end, if
+    /// one did (the accumulators then hold the chunks finished before it).
     fn run(
         &self,
         replicates: u64,
         stride: u64,
         offset: u64,
         samples: u64,
-    ) -> Result<Vec<Accumulator>> {
+    ) -> Result<(Vec<Accumulator>, Option<StopReason>)> {
         let plan = Plan::stage(replicates, stride, offset, samples)?;
-        let folded = plan.run_folded(self.executor, self.sampler, self.estimator)?;
+        let mut on_points = |points: u64| {
+            self.spent.set(self.spent.get() + points * self.cost);
+            self.config.report(self.spent.get(), 0);
+        };
+        let (folded, _, stop) = plan.run_folded(
+            self.executor,
+            self.stopping.limits(),
+            self.sampler,
+            self.estimator,
+            &mut on_points,
+        )?;
         plan.check_finite(self.sampler, &folded, self.config.non_finite)?;
-        Ok(folded.replicates)
+        Ok((folded.replicates, stop))
     }
 }
 
@@ -114,7 +132,20 @@ fn two_stage(stage: &Stage<'_>) -> Result<Estimate> {
         ));
     }
     // Replicate 0 only: the pilot takes indices 0 .. pilot, the main stage what follows.
-    let pilot = stage.run(1, 0, 0, pilot_size)?.remove(0);
+    let (mut pilot, pilot_stop) = stage.run(1, 0, 0, pilot_size)?;
+    let pilot = pilot.remove(0);
+    if let Some(stop) = pilot_stop {
+        // Independent points: the pilot's finished chunks are an estimate of their own.
+        if pilot.count() < 2 {
+            return Err(Error::Interrupted {
+                stop,
+                evaluations: pilot.count() * stage.cost,
+            });
+        }
+        let mut estimate = pilot.estimate();
+        stage.stopping.finish(&mut estimate, stop, 1);
+        return Ok(estimate);
+    }
     let z = normal_quantile(0.975);
     let mut used = pilot_size;
     let mut main = Accumulator::new();
@@ -145,10 +176,14 @@ fn two_stage(stage: &Stage<'_>) -> Result<Estimate> {
             }
             Some(reason) => break reason,
         };
-        let part = stage.run(1, 0, used, more)?.remove(0);
+        let (mut part, part_stop) = stage.run(1, 0, used, more)?;
+        let part = part.remove(0);
         main.merge(&part);
-        used += more;
+        used += part.count() + part.non_finite();
         stages += 1;
+        if let Some(stop) = part_stop {
+            break stop;
+        }
         if main.count() >= 2 && stage.stopping.judge(main.estimate()).1 {
             break StopReason::ToleranceMet;
         }
@@ -184,16 +219,29 @@ fn doubling(stage: &Stage<'_>) -> Result<Estimate> {
     let mut estimate = None;
     let stop = loop {
         if next > stride {
-            break StopReason::MaxEvaluations;
+            // The next doubling would run past the end of the sampler's pass.
+            break StopReason::SamplerExhausted;
         }
         let cost = (next - done).saturating_mul(replicates);
         if let Some(reason) = stage.limit(done * replicates, cost) {
-            // The first stage always runs within the evaluation limit, whatever the time.
-            if stages > 0 || cost > limit {
+            // A first stage past the evaluation limit is refused below; limits of time and
+            // cancellation stop the first stage inside it.
+            if stages > 0 || reason == StopReason::MaxEvaluations {
                 break reason;
             }
         }
-        let parts = stage.run(replicates, stride, done, next - done)?;
+        let (parts, part_stop) = stage.run(replicates, stride, done, next - done)?;
+        if let Some(stop) = part_stop {
+            // A stage cut short leaves replicates of unequal sizes: the last whole stage's
+            // estimate stands.
+            if estimate.is_none() {
+                return Err(Error::Interrupted {
+                    stop,
+                    evaluations: stage.spent.get(),
+                });
+            }
+            break stop;
+        }
         for (acc, part) in accumulators.iter_mut().zip(&parts) {
             acc.merge(part);
         }

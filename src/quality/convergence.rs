@@ -42,7 +42,7 @@
 
 use std::fmt;
 
-use crate::engine::{ChunkJob, RunConfig, run_settings};
+use crate::engine::{ChunkJob, Limits, RunConfig, run_settings};
 use crate::hash::hash_words;
 use crate::sampler::{PassKind, Sampler};
 use crate::testfns::TestFunction;
@@ -375,15 +375,21 @@ impl<'a> Convergence<'a> {
         let mut done = 0u64;
         // A few items per thread at a time, so the progress callback is told often.
         let window = 4 * executor.threads() as u64;
-        executor.run(&job, 0..order.len() as u64, window, |item, error| {
-            let (k, r) = order[item as usize];
-            errors[k][r as usize] = error;
-            done = done.saturating_add(self.sizes[k]);
-            if let Some(progress) = self.progress {
-                progress(done, total_points);
-            }
-            Ok(())
-        })?;
+        executor.run(
+            &job,
+            0..order.len() as u64,
+            window,
+            &Limits::default(),
+            |item, error| {
+                let (k, r) = order[item as usize];
+                errors[k][r as usize] = error;
+                done = done.saturating_add(self.sizes[k]);
+                if let Some(progress) = self.progress {
+                    progress(done, total_points);
+                }
+                Ok(())
+            },
+        )?;
         Ok(errors)
     }
 }

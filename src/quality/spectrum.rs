@@ -21,7 +21,7 @@
 //! thread with a fixed order of summation, so the result does not depend on the number of
 //! threads, and passes are added in pass order.
 
-use crate::engine::{ChunkJob, Executor, available_threads};
+use crate::engine::{ChunkJob, Executor, Limits, available_threads};
 use crate::sampler::{PassKind, Sampler};
 use crate::{Error, Points, Result};
 use std::f64::consts::TAU;
@@ -505,13 +505,20 @@ fn add_half_periodogram(
         norm: 1.0 / points.len() as f64,
     };
     // Each row is the same computation whichever thread does it, and rows are added in order.
-    executor.run(&steps, 0..rows as u64, rows as u64, |ky, row| {
-        let ky = ky as usize;
-        for (sum, v) in half[ky * row_len..(ky + 1) * row_len].iter_mut().zip(row) {
-            *sum += v;
-        }
-        Ok(())
-    })
+    executor.run(
+        &steps,
+        0..rows as u64,
+        rows as u64,
+        &Limits::default(),
+        |ky, row| {
+            let ky = ky as usize;
+            for (sum, v) in half[ky * row_len..(ky + 1) * row_len].iter_mut().zip(row) {
+                *sum += v;
+            }
+            Ok(())
+        },
+    )?;
+    Ok(())
 }
 
 impl ChunkJob for Steps<'_> {

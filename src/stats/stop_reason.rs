@@ -9,6 +9,7 @@
 /// ```
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum StopReason {
     /// The fixed number of samples asked for was used.
     Budget,
@@ -18,4 +19,9 @@ pub enum StopReason {
     MaxEvaluations,
     /// The time limit was reached first.
     TimeLimit,
+    /// The run was cancelled through its [`CancelToken`](crate::CancelToken).
+    Cancelled,
+    /// The sampler ran out of points: a run to a tolerance reached the end of a pass (the
+    /// most points per replicate an extensible sequence has).
+    SamplerExhausted,
 }

@@ -96,8 +96,9 @@ impl Tolerance {
         Ok(self)
     }
 
-    /// Stop once `limit` has passed (checked between stages, so a run may exceed it by one
-    /// stage's time).
+    /// Stop once `limit` has passed: checked before every chunk of work, so a run exceeds it
+    /// by at most a chunk's work and returns its last whole stage (as the runners'
+    /// `time_limit` setting does; with both, the shorter applies).
     ///
     /// ```
     /// use std::time::Duration;

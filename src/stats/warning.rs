@@ -58,6 +58,16 @@ pub enum Warning {
         /// How many were left out.
         count: u64,
     },
+    /// A fixed-budget run stopped early (its time limit, or a cancellation): the estimate uses
+    /// the work done, which is less than was asked for.
+    StoppedEarly {
+        /// Why it stopped.
+        stop: StopReason,
+        /// Evaluations in the estimate.
+        done: u64,
+        /// Evaluations the run was to make.
+        planned: u64,
+    },
     /// The statistical standard error was below the bound on the rounding error of the mean
     /// (`Estimate::rounding_error`), and the floor is reported instead: the data hardly vary,
     /// and more points will not make the answer more accurate.
@@ -83,6 +93,7 @@ impl Warning {
             Warning::FewReplicates { .. } => "few-replicates",
             Warning::NonFiniteSkipped { .. } => "non-finite-skipped",
             Warning::AtRoundingFloor { .. } => "at-rounding-floor",
+            Warning::StoppedEarly { .. } => "stopped-early",
         }
     }
 }
@@ -104,12 +115,19 @@ impl fmt::Display for Warning {
             ),
             Warning::ToleranceNotMet { stop } => write!(
                 f,
-                "the run stopped on its {} before meeting the tolerance; the interval is \
-                 wider than asked",
-                match stop {
-                    StopReason::TimeLimit => "time limit",
-                    _ => "evaluation limit",
-                }
+                "the run stopped ({}) before meeting the tolerance; the interval is wider \
+                 than asked",
+                stop_words(*stop)
+            ),
+            Warning::StoppedEarly {
+                stop,
+                done,
+                planned,
+            } => write!(
+                f,
+                "the run stopped ({}) after {done} of its {planned} evaluations; the estimate \
+                 uses those",
+                stop_words(*stop)
             ),
             Warning::FewReplicates { replicates } => write!(
                 f,
@@ -127,5 +145,17 @@ impl fmt::Display for Warning {
                  bound of the mean, {floor:.3e}, which is reported instead"
             ),
         }
+    }
+}
+
+/// A stop reason in words.
+fn stop_words(stop: StopReason) -> &'static str {
+    match stop {
+        StopReason::Budget => "its budget spent",
+        StopReason::ToleranceMet => "tolerance met",
+        StopReason::MaxEvaluations => "evaluation limit",
+        StopReason::TimeLimit => "time limit",
+        StopReason::Cancelled => "cancelled",
+        StopReason::SamplerExhausted => "the sampler ran out of points",
     }
 }

@@ -6,7 +6,7 @@
 use super::moments::{CubeResult, Moments, ShiftedSums, cube_result};
 use super::strata::{Allocation, ChunkStart, Strata};
 use crate::adaptive::VegasGrid;
-use crate::engine::{ChunkJob, Executor};
+use crate::engine::{ChunkJob, Executor, Limits};
 use crate::sampler::Sampler;
 use crate::{Points, Result};
 
@@ -49,19 +49,27 @@ pub(super) struct Totals {
 
 impl<F: Fn(&[f64]) -> f64 + Sync> Pass<'_, F> {
     /// Runs the iteration: its sums, with the grid's training data added to `training` and
-    /// each hypercube's `sigma_h^beta` written to `next_sigf` (when allocating).
+    /// each hypercube's `sigma_h^beta` written to `next_sigf` (when allocating); `None` when a
+    /// limit stopped it before its end.
     pub(super) fn run(
         &self,
         executor: &Executor,
+        limits: &Limits,
         training: &mut [f64],
         next_sigf: &mut [f64],
-    ) -> Result<Totals> {
+    ) -> Result<Option<Totals>> {
         let mut totals = Totals::default();
-        executor.run(self, 0..self.chunks.len() as u64, WINDOW, |_, out| {
-            totals.merge(&out, self, training, next_sigf);
-            Ok(())
-        })?;
-        Ok(totals)
+        let stop = executor.run(
+            self,
+            0..self.chunks.len() as u64,
+            WINDOW,
+            limits,
+            |_, out| {
+                totals.merge(&out, self, training, next_sigf);
+                Ok(())
+            },
+        )?;
+        Ok(stop.is_none().then_some(totals))
     }
 }
 

@@ -1,0 +1,241 @@
+//! Time limits, cancellation and budgets: every runner checks its limits before every chunk
+//! of work, so it returns within the limit plus one chunk (counted here in evaluations, never
+//! in seconds), with what it has and the reason it stopped; budgets beyond 2^52 evaluations
+//! need a time limit; a run that reaches the end of its sampler's pass says so.
+
+use mcint::adaptive::{Miser, TwoStage, Vegas};
+use mcint::pdf::UniformBox;
+use mcint::sampler::{Pmj02, Scramble, Sobol};
+use mcint::stats::{StopReason, Tolerance, Warning};
+use mcint::{CancelToken, Error, Estimate, Integrator};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Duration;
+
+/// Points of the Integrator's chunks: a run stops within one chunk per thread of a limit.
+const CHUNK: u64 = 16_384;
+
+/// An integrand that counts its calls and cancels `token` at call `at`.
+fn cancelling(
+    token: CancelToken,
+    at: u64,
+) -> (impl Fn(&[f64]) -> f64 + Send + Sync, &'static AtomicU64) {
+    let calls: &'static AtomicU64 = Box::leak(Box::new(AtomicU64::new(0)));
+    let f = move |x: &[f64]| {
+        if calls.fetch_add(1, Ordering::Relaxed) + 1 == at {
+            token.cancel();
+        }
+        x[0] * x[1]
+    };
+    (f, calls)
+}
+
+fn unit() -> UniformBox {
+    UniformBox::unit(2).unwrap()
+}
+
+fn stopped(e: &Estimate) -> bool {
+    e.warnings.iter().any(|w| {
+        matches!(
+            w,
+            Warning::StoppedEarly { .. } | Warning::ToleranceNotMet { .. }
+        )
+    })
+}
+
+#[test]
+fn a_cancelled_integrator_returns_the_chunks_it_finished() {
+    for threads in [1, 2] {
+        let token = CancelToken::new();
+        let (f, calls) = cancelling(token.clone(), 100_000);
+        let e = Integrator::over_box(f, unit())
+            .samples(100_000_000)
+            .threads(threads)
+            .cancel_token(token)
+            .run()
+            .unwrap();
+        assert_eq!(e.stop, StopReason::Cancelled);
+        assert!(stopped(&e), "{:?}", e.warnings);
+        // Cancelled at call 100 000: every thread finishes its chunk, its window at most.
+        let bound = 100_000 + 2 * 64 * CHUNK;
+        assert!(calls.load(Ordering::Relaxed) <= bound);
+        assert!(e.n >= 6 * CHUNK && e.n <= bound, "{} points", e.n);
+        assert!((e.mean - 0.25).abs() < 5.0 * e.std_error.unwrap());
+    }
+    // Replicates of Sobol' points: only whole replicates count.
+    let token = CancelToken::new();
+    let (f, _) = cancelling(token.clone(), 5 * (1 << 16) + 10);
+    let e = Integrator::over_box(f, unit())
+        .sampler(Sobol::new(2, Scramble::Owen, 1).unwrap())
+        .samples(1 << 16)
+        .replicates(64)
+        .threads(1)
+        .cancel_token(token)
+        .run()
+        .unwrap();
+    assert_eq!(e.stop, StopReason::Cancelled);
+    assert_eq!(e.n % (1 << 16), 0);
+    assert!(e.replicates >= 5 && e.replicates < 64, "{}", e.replicates);
+}
+
+#[test]
+fn a_time_limit_stops_every_runner_within_a_chunk() {
+    // A limit that has already passed: no chunk starts, and no runner has an estimate.
+    let past = Duration::ZERO;
+    let errors = [
+        Integrator::over_box(|x: &[f64]| x[0], unit())
+            .time_limit(past)
+            .run(),
+        Vegas::new(|x: &[f64]| x[0], unit()).time_limit(past).run(),
+        Miser::new(|x: &[f64]| x[0], unit()).time_limit(past).run(),
+        TwoStage::new(|x: &[f64]| x[0], unit(), 4)
+            .time_limit(past)
+            .run(),
+        Integrator::over_box(|x: &[f64]| x[0], unit())
+            .tolerance(Tolerance::relative(1e-3).unwrap().time_limit(past))
+            .run(),
+    ];
+    for result in errors {
+        match result {
+            Err(Error::Interrupted { stop, evaluations }) => {
+                assert_eq!((stop, evaluations), (StopReason::TimeLimit, 0));
+            }
+            other => panic!("expected an interrupted run, got {other:?}"),
+        }
+    }
+}
+
+/// The run stopped at its time limit, with at most a quarter of its `budget` spent: an
+/// estimate, or (when a busy machine gave it no time before the limit) none.
+fn assert_stopped_at_the_limit(run: mcint::Result<Estimate>, budget: u64) {
+    let evaluations = match run {
+        Ok(e) => {
+            assert_eq!(e.stop, StopReason::TimeLimit);
+            e.evaluations
+        }
+        Err(Error::Interrupted { stop, evaluations }) => {
+            assert_eq!(stop, StopReason::TimeLimit);
+            evaluations
+        }
+        Err(other) => panic!("{other}"),
+    };
+    assert!(
+        evaluations < budget / 4,
+        "{evaluations} of {budget} evaluations"
+    );
+}
+
+/// A run of a slow integrand (tens of microseconds a call) stops at its 200 ms limit after
+/// at most a chunk per thread, where its budget is tens of millions of calls (hours): the
+/// count, not the clock, is checked.
+#[test]
+fn a_slow_integrand_stops_at_the_time_limit() {
+    fn slow(x: &[f64]) -> f64 {
+        let mut v = x[0];
+        for _ in 0..4000 {
+            v = std::hint::black_box(v * 0.999_999 + 1e-9);
+        }
+        v
+    }
+    let limit = Duration::from_millis(200);
+    let budget = 1 << 26;
+    let run = Integrator::over_box(slow, unit())
+        .samples(budget)
+        .threads(2)
+        .time_limit(limit)
+        .run();
+    assert_stopped_at_the_limit(run, budget);
+    let run = Vegas::new(slow, unit())
+        .samples(1 << 20)
+        .warmup(0)
+        .iterations(64)
+        .threads(2)
+        .time_limit(limit)
+        .run();
+    assert_stopped_at_the_limit(run, 64 << 20);
+    let run = Miser::new(slow, unit())
+        .samples(1 << 22)
+        .tolerance(Tolerance::absolute(1e-12).unwrap())
+        .time_limit(limit)
+        .threads(2)
+        .run();
+    assert_stopped_at_the_limit(run, 16 << 22);
+}
+
+#[test]
+fn a_run_to_a_tolerance_keeps_its_last_whole_stage_when_cancelled() {
+    let token = CancelToken::new();
+    let (f, _) = cancelling(token.clone(), 16 * 8192 + 5);
+    let e = Integrator::over_box(f, unit())
+        .sampler(Sobol::new(2, Scramble::Owen, 3).unwrap())
+        .tolerance(Tolerance::absolute(1e-15).unwrap())
+        .threads(1)
+        .cancel_token(token)
+        .run()
+        .unwrap();
+    assert_eq!(e.stop, StopReason::Cancelled);
+    assert_eq!(e.converged, Some(false));
+    // Stages of 1024, 2048, 4096, 8192 and 16384 points per replicate (131072 evaluations
+    // by the fourth); the fifth was cut short.
+    assert_eq!((e.iterations, e.n), (4, 16 * 8192));
+}
+
+#[test]
+fn budgets_beyond_2_52_evaluations_need_a_time_limit() {
+    let huge = 1u64 << 53;
+    let f = |x: &[f64]| x[0];
+    let refused = [
+        Integrator::over_box(f, unit())
+            .samples(huge)
+            .run()
+            .unwrap_err(),
+        Integrator::over_box(f, unit())
+            .tolerance(
+                Tolerance::absolute(1e-300)
+                    .unwrap()
+                    .max_evaluations(u64::MAX)
+                    .unwrap(),
+            )
+            .run()
+            .unwrap_err(),
+        Miser::new(f, unit())
+            .samples(u64::MAX / 16)
+            .run()
+            .unwrap_err(),
+        TwoStage::new(f, unit(), 4)
+            .samples(u64::MAX)
+            .run()
+            .unwrap_err(),
+        Vegas::new(f, unit()).samples(huge).run().unwrap_err(),
+    ];
+    for err in refused {
+        assert!(err.to_string().contains("without a time limit"), "{err}");
+    }
+    // With a time limit the run starts, and stops at it (with an estimate, unless a busy
+    // machine gave its threads no time before the limit).
+    let run = Integrator::over_box(f, unit())
+        .samples(huge)
+        .time_limit(Duration::from_millis(200))
+        .run();
+    assert_stopped_at_the_limit(run, huge);
+}
+
+/// pmj02 passes of 2^10 points: a tolerance out of reach runs to the end of the pass and says
+/// the sampler ran out, rather than blaming the evaluation limit.
+#[test]
+fn a_run_that_exhausts_its_sampler_says_so() {
+    let e = Integrator::over_box(|x: &[f64]| (9.0 * x[0]).sin(), unit())
+        .sampler(Pmj02::with_max_points(2, 10, 1).unwrap())
+        .samples(64)
+        .tolerance(Tolerance::absolute(1e-12).unwrap())
+        .run()
+        .unwrap();
+    assert_eq!(e.stop, StopReason::SamplerExhausted);
+    assert_eq!(e.n, 16 * 1024);
+    assert!(
+        e.warnings.contains(&Warning::ToleranceNotMet {
+            stop: StopReason::SamplerExhausted
+        }),
+        "{:?}",
+        e.warnings
+    );
+}
