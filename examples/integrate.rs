@@ -59,10 +59,16 @@ use mcint::estimator::Estimator;
 use mcint::sampler::{PassKind, SamplerKind};
 use mcint::stats::{StopReason, Tolerance};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
-use mcint::{Estimate, Integrator};
+use mcint::{CancelToken, Estimate, Integrator};
 use methods::{AdaptiveRun, METHOD_NAMES, Method};
+use std::io::IsTerminal;
+use std::sync::OnceLock;
 use std::time::Instant;
 use support::{Args, fail};
+
+/// Cancelled on SIGINT or SIGTERM: the run stops after its current chunks and reports what it
+/// has (a checkpoint is saved first), and the process exits with status 130.
+static CANCEL: OnceLock<CancelToken> = OnceLock::new();
 
 const SPEC: support::Spec = &[
     ("genz", true),
@@ -90,9 +96,43 @@ const SPEC: support::Spec = &[
 const DEFAULT_POINTS: u64 = 1 << 16;
 
 fn main() {
-    if let Err(message) = run() {
+    let token = CANCEL.get_or_init(CancelToken::new).clone();
+    // Without a handler (another already installed) a signal ends the process as usual.
+    let _ = ctrlc::set_handler(move || token.cancel());
+    let result = run();
+    let cancelled = CANCEL.get().is_some_and(CancelToken::is_cancelled);
+    if let Err(message) = result {
         fail(message);
     }
+    if cancelled {
+        std::process::exit(130);
+    }
+}
+
+/// The run's cancellation token.
+fn cancel_token() -> CancelToken {
+    CANCEL.get_or_init(CancelToken::new).clone()
+}
+
+/// A progress bar on stderr when it is a terminal, told `(evaluations done, planned)`.
+fn progress_bar() -> Option<impl Fn(u64, u64) + Send + Sync + 'static> {
+    if !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} evaluations, {eta} left")
+            .expect("a valid template"),
+    );
+    Some(move |done: u64, planned: u64| {
+        if planned > 0 {
+            bar.set_length(planned);
+        }
+        bar.set_position(done);
+        if planned > 0 && done >= planned {
+            bar.finish_and_clear();
+        }
+    })
 }
 
 fn run() -> Result<(), String> {
@@ -172,6 +212,7 @@ fn run() -> Result<(), String> {
             tolerance,
             seed,
             threads,
+            cancel: cancel_token(),
         }
         .run()?
     } else {
@@ -193,7 +234,11 @@ fn run() -> Result<(), String> {
             .sampler(sampler)
             .replicates(replicates_flag.unwrap_or(default_replicates))
             .seed(seed)
-            .label(label);
+            .label(label)
+            .cancel_token(cancel_token());
+        if let Some(bar) = progress_bar() {
+            integrator = integrator.progress(bar);
+        }
         // With a tolerance the run picks its own first stage unless --n says otherwise.
         if tolerance.is_none() || n_flag.is_some() {
             integrator = integrator.samples(n);
@@ -225,7 +270,7 @@ fn run() -> Result<(), String> {
                     return Err("invalid --stop-after 0: expected at least 1 chunk".into());
                 }
                 let path = std::path::Path::new(&path);
-                match checkpoint::run(&integrator, path, save_every, stop_after)? {
+                match checkpoint::run(&integrator, path, save_every, stop_after, &cancel_token())? {
                     Some(estimate) => estimate,
                     None => return Ok(()),
                 }

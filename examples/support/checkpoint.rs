@@ -8,7 +8,7 @@
 //! another run (its fingerprint, which includes the integrand's label).
 
 use mcint::estimator::Estimator;
-use mcint::{Estimate, Integrator, PartialRun};
+use mcint::{CancelToken, Estimate, Integrator, PartialRun};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -28,6 +28,7 @@ pub fn run<E: Estimator>(
     path: &Path,
     save_every: u64,
     stop_after: Option<u64>,
+    cancel: &CancelToken,
 ) -> Result<Option<Estimate>, String> {
     let mut fresh = false;
     let mut part = match read_bounded(path) {
@@ -72,6 +73,16 @@ pub fn run<E: Estimator>(
         })?;
         budget = budget.map(|left| left - step);
         save(path, &part)?;
+        if cancel.is_cancelled() {
+            eprintln!(
+                "checkpoint: cancelled; {} of {} chunks saved in '{}'; run the same command \
+                 again to continue",
+                part.chunks_done(),
+                part.total_chunks(),
+                path.display()
+            );
+            return Ok(None);
+        }
     }
     integrator
         .finish(&part)

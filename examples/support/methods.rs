@@ -78,6 +78,8 @@ pub struct AdaptiveRun<'a> {
     pub tolerance: Option<Tolerance>,
     pub seed: u64,
     pub threads: Option<usize>,
+    /// Stops the run early (SIGINT or SIGTERM).
+    pub cancel: mcint::CancelToken,
 }
 
 impl AdaptiveRun<'_> {
@@ -98,7 +100,8 @@ impl AdaptiveRun<'_> {
                 let mut vegas = Vegas::new(integrand, domain)
                     .sampler(self.sampler)
                     .stratified(self.method == Method::VegasPlus)
-                    .seed(self.seed);
+                    .seed(self.seed)
+                    .cancel_token(self.cancel);
                 if let Some(n) = self.n {
                     vegas = vegas.samples(n);
                 }
@@ -113,7 +116,8 @@ impl AdaptiveRun<'_> {
             Method::Miser => {
                 let mut miser = Miser::new(integrand, domain)
                     .sampler(self.sampler)
-                    .seed(self.seed);
+                    .seed(self.seed)
+                    .cancel_token(self.cancel);
                 if let Some(n) = self.n {
                     miser = miser.samples(n);
                 }
