@@ -43,6 +43,9 @@ const SPEC: support::Spec = &[
     ("out", true),
 ];
 
+/// The most dimensions whose pairwise projections `--pairs` draws (120 panels).
+const MAX_PAIR_DIMS: usize = 16;
+
 fn main() {
     if let Err(message) = run() {
         fail(message);
@@ -71,6 +74,13 @@ fn run() -> Result<(), String> {
     if image && n > MAX_DRAWN_POINTS {
         return Err(format!(
             "invalid --n {n}: at most {MAX_DRAWN_POINTS} points can be drawn"
+        ));
+    }
+    if image && args.has("pairs") && dims > MAX_PAIR_DIMS {
+        return Err(format!(
+            "invalid --dims {dims} with --pairs: at most {MAX_PAIR_DIMS} dimensions \
+             ({} projections) can be drawn",
+            MAX_PAIR_DIMS * (MAX_PAIR_DIMS - 1) / 2
         ));
     }
     if image && dims < 2 && !args.has("pairs") {
@@ -141,7 +151,9 @@ fn run() -> Result<(), String> {
     let mut out = BufWriter::new(out);
     // Generate in blocks through the batch path, and write row by row.
     let block_len = 4096u64;
-    let mut block = Points::new(dims, 0).map_err(|e| e.to_string())?;
+    // A whole block is allocated up front: a dimension beyond what memory holds is refused
+    // here, before anything is written.
+    let mut block = Points::new(dims, (n.min(block_len)) as usize).map_err(|e| e.to_string())?;
     let mut sums = vec![0.0f64; dims];
     let mut written = 0u64;
     while written < n {
@@ -153,16 +165,16 @@ fn run() -> Result<(), String> {
         if format == "sum" {
             add_columns(&mut sums, &block);
         } else {
-            write_block(&mut out, &block, &format).map_err(|e| format!("write failed: {e}"))?;
+            write_block(&mut out, &block, &format).map_err(write_failed)?;
         }
         written += len;
     }
     if format == "sum" {
         for sum in &sums {
-            writeln!(out, "{sum:?}").map_err(|e| format!("write failed: {e}"))?;
+            writeln!(out, "{sum:?}").map_err(write_failed)?;
         }
     }
-    out.flush().map_err(|e| format!("write failed: {e}"))
+    out.flush().map_err(write_failed)
 }
 
 /// Largest point set `--format svg|png` draws.
@@ -201,4 +213,13 @@ fn write_block(out: &mut impl Write, block: &Points, format: &str) -> std::io::R
         }
     }
     Ok(())
+}
+
+/// The error of a failed write to stdout; a reader that has closed the pipe (`| head`) ends
+/// the program quietly instead.
+fn write_failed(e: std::io::Error) -> String {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        std::process::exit(0);
+    }
+    format!("write failed: {e}")
 }

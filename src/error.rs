@@ -105,17 +105,31 @@ impl Error {
     }
 }
 
-/// Ok when a vector of `len` values of `T` can exist (at most `isize::MAX` bytes), so that a
-/// constructor that builds one from a count reports an absurd count instead of panicking in
-/// `vec!`.
+/// The most memory one buffer of the crate may take, 8 GiB: a size that needs more (a point
+/// block of `2^40` points, a covariance of a million outputs, a test function in `2^40`
+/// dimensions) is refused with an error saying how much was asked for, instead of aborting
+/// the process when the allocation fails.
+///
+/// ```
+/// assert_eq!(mcint::MAX_BUFFER_BYTES, 8 << 30);
+/// // 2^40 points of one coordinate would take 8 TiB: refused, not an abort.
+/// assert!(mcint::Points::new(1, 1 << 40).is_err());
+/// ```
+pub const MAX_BUFFER_BYTES: u64 = 1 << 33;
+
+/// Ok when a vector of `len` values of `T` fits [`MAX_BUFFER_BYTES`], so that a constructor
+/// that builds one from a count reports an absurd count instead of aborting in `vec!`.
 pub(crate) fn check_vec_len<T>(name: &'static str, len: usize) -> Result<()> {
-    let size = std::mem::size_of::<T>();
-    let most = isize::MAX as usize / size.max(1);
-    if size > 0 && len > most {
+    let size = std::mem::size_of::<T>() as u64;
+    let most = MAX_BUFFER_BYTES / size.max(1);
+    if size > 0 && len as u64 > most {
         return Err(Error::invalid(
             name,
             len,
-            format!("at most {most} (one value each must fit in memory)"),
+            format!(
+                "at most {most} ({} bytes were asked for; one buffer may take at most 8 GiB)",
+                (len as u128) * u128::from(size)
+            ),
         ));
     }
     Ok(())
@@ -183,7 +197,8 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 mod tests {
     #[test]
     fn vector_lengths_beyond_isize_are_errors() {
-        assert!(super::check_vec_len::<f64>("d", 1 << 40).is_ok());
+        assert!(super::check_vec_len::<f64>("d", 1 << 30).is_ok());
+        assert!(super::check_vec_len::<f64>("d", 1 << 40).is_err());
         let err = super::check_vec_len::<f64>("d", usize::MAX / 4).unwrap_err();
         assert!(err.to_string().starts_with("invalid d = "), "{err}");
         assert!(super::check_vec_len::<()>("d", usize::MAX).is_ok());

@@ -60,7 +60,7 @@ pub mod stats;
 pub mod testfns;
 
 pub use engine::CancelToken;
-pub use error::{Error, Result};
+pub use error::{Error, MAX_BUFFER_BYTES, Result};
 pub use estimator::Estimator;
 pub use integrate::{Integrator, NonFinitePolicy, PartialRun};
 pub use pdf::Pdf;

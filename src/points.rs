@@ -58,13 +58,13 @@ impl<T: Copy + Default> PointBlock<T> {
         if dims == 0 {
             return Err(Error::invalid("dims", dims, "at least 1"));
         }
-        // A Vec holds at most isize::MAX bytes; beyond that `vec!` panics.
-        let limit = isize::MAX as usize / std::mem::size_of::<T>();
+        // Refused beyond the crate's bound on one buffer, rather than aborting in `vec!`.
+        let limit = (crate::error::MAX_BUFFER_BYTES / std::mem::size_of::<T>() as u64) as usize;
         let size =
             dims.checked_mul(len)
                 .filter(|&size| size <= limit)
                 .ok_or(Error::IndexOutOfRange {
-                    what: "dims * len of a point block",
+                    what: "dims * len of a point block (8 GiB at most)",
                     limit: limit as u64,
                 })?;
         Ok(PointBlock {

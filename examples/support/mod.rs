@@ -16,9 +16,19 @@ pub struct Args {
 pub type Spec = &'static [(&'static str, bool)];
 
 impl Args {
-    /// Parses the process arguments against `spec`; unknown flags and missing values are errors.
+    /// Parses the process arguments against `spec`; unknown flags, missing values and
+    /// arguments that are not UTF-8 are errors. Every program calls it first, so it also makes
+    /// a closed stdout (`| head -1`) end the program quietly instead of with a panic.
     pub fn parse(spec: Spec) -> Result<Args, String> {
-        Args::parse_from(std::env::args().skip(1), spec)
+        quiet_on_broken_pipe();
+        let args = std::env::args_os()
+            .skip(1)
+            .map(|a| {
+                a.into_string()
+                    .map_err(|bad| format!("argument {bad:?} is not valid UTF-8"))
+            })
+            .collect::<Result<Vec<String>, String>>()?;
+        Args::parse_from(args.into_iter(), spec)
     }
 
     fn parse_from(args: impl Iterator<Item = String>, spec: Spec) -> Result<Args, String> {
@@ -104,6 +114,25 @@ impl Args {
     pub fn has(&self, name: &str) -> bool {
         self.switches.iter().any(|s| s == name)
     }
+}
+
+/// Makes a write to a closed stdout or stderr end the program with status 0 and no message:
+/// Rust ignores SIGPIPE, so `println!` to a pipe whose reader is gone panics instead, and the
+/// panic hook turns exactly that panic into a quiet exit.
+fn quiet_on_broken_pipe() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let message = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if message.starts_with("failed printing to std") && message.contains("Broken pipe") {
+            std::process::exit(0);
+        }
+        default(info);
+    }));
 }
 
 /// Prints `error: message` on one line and exits with status 2.

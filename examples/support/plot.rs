@@ -47,9 +47,16 @@ macro_rules! on_backend {
         register_font();
         match path.extension().and_then(|e| e.to_str()) {
             Some("svg") => {
-                let root = SVGBackend::new(path, $size).into_drawing_area();
-                $draw(&root, $($arg),*)?;
-                root.present().map_err(text_error)
+                // Drawn to a string and written here: plotters' own SVG file writer drops
+                // write errors (a full disk), and this reports them.
+                let mut text = String::new();
+                {
+                    let root = SVGBackend::with_string(&mut text, $size).into_drawing_area();
+                    $draw(&root, $($arg),*)?;
+                    root.present().map_err(text_error)?;
+                }
+                std::fs::write(path, text)
+                    .map_err(|e| format!("cannot write '{}': {e}", path.display()))
             }
             Some("png") => {
                 let root = BitMapBackend::new(path, $size).into_drawing_area();

@@ -4,6 +4,7 @@
 use super::estimate::{ErrorBasis, Estimate};
 use super::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
 use super::stop_reason::StopReason;
+use super::warning::Warning;
 
 /// Interleaved partial sums of [`Accumulator::extend`]: enough independent chains to fill
 /// 8 vector lanes of `f64` or hide an addition's latency; fixed, so results do not depend on
@@ -329,8 +330,16 @@ impl Accumulator {
             rounding_error: self.rounding_error(),
             warnings: Vec::new(),
         };
+        if self.all_zero() {
+            estimate.warn(Warning::AllZero { count: self.count });
+        }
         estimate.finalize();
         estimate
+    }
+
+    /// Whether every finite value was exactly zero (and there was at least one).
+    pub(crate) fn all_zero(&self) -> bool {
+        self.count > 0 && self.min == 0.0 && self.max == 0.0
     }
 
     /// The tracked bound on the rounding of the sums behind the mean, without the allowance

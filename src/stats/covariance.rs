@@ -68,6 +68,7 @@ impl CovarianceAccumulator {
                 what: "size of the covariance matrix",
                 limit: usize::MAX as u64,
             })?;
+        crate::error::check_vec_len::<f64>("dims (its co-moment matrix)", triangle)?;
         Ok(CovarianceAccumulator {
             count: 0,
             means: vec![0.0; dims],

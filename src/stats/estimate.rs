@@ -172,6 +172,9 @@ impl Estimate {
         estimate.n = replicates.iter().map(Accumulator::count).sum();
         estimate.non_finite = replicates.iter().map(Accumulator::non_finite).sum();
         estimate.evaluations = estimate.n + estimate.non_finite;
+        if replicates.iter().all(Accumulator::all_zero) {
+            estimate.warn(Warning::AllZero { count: estimate.n });
+        }
         estimate.finalize();
         Ok(estimate)
     }

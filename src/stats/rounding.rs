@@ -43,10 +43,15 @@ pub(crate) fn gamma(k: f64) -> f64 {
     }
 }
 
+/// The smallest positive `f64`, `2^-1074`: the absolute error of a result that underflows.
+const SMALLEST_SUBNORMAL: f64 = 4.940_656_458_412_465_4e-324;
+
 /// The allowance for the evaluation of contributions whose magnitudes average at most
-/// `scale`.
+/// `scale`: [`CONTRIBUTION_ULPS`] units in the last place, relative to the contributions and
+/// absolute at the bottom of the subnormal range (so that contributions that underflowed to
+/// zero still carry an error).
 pub(crate) fn contribution_allowance(scale: f64) -> f64 {
-    CONTRIBUTION_ULPS * UNIT_ROUNDOFF * scale
+    CONTRIBUTION_ULPS * (UNIT_ROUNDOFF * scale + SMALLEST_SUBNORMAL)
 }
 
 /// The rounding bound of the plain mean `sum_i m_i / R` of values `m_i` that each carry an
@@ -61,6 +66,12 @@ pub(crate) fn mean_of_means(means: &[f64], bounds: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_allowance_never_vanishes() {
+        assert_eq!(SMALLEST_SUBNORMAL, f64::from_bits(1));
+        assert!(contribution_allowance(0.0) > 0.0);
+    }
 
     #[test]
     fn gamma_is_k_u_to_first_order_and_infinite_past_one() {

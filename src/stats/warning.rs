@@ -58,6 +58,13 @@ pub enum Warning {
         /// How many were left out.
         count: u64,
     },
+    /// Every contribution was exactly zero (or underflowed to zero): the estimate 0 says only
+    /// that the integrand was zero, or below the smallest `f64`, wherever the points fell; a
+    /// peak between them, or a value that underflows at every point, is invisible to it.
+    AllZero {
+        /// The number of contributions.
+        count: u64,
+    },
     /// A fixed-budget run stopped early (its time limit, or a cancellation): the estimate uses
     /// the work done, which is less than was asked for.
     StoppedEarly {
@@ -94,6 +101,7 @@ impl Warning {
             Warning::NonFiniteSkipped { .. } => "non-finite-skipped",
             Warning::AtRoundingFloor { .. } => "at-rounding-floor",
             Warning::StoppedEarly { .. } => "stopped-early",
+            Warning::AllZero { .. } => "all-zero",
         }
     }
 }
@@ -118,6 +126,12 @@ impl fmt::Display for Warning {
                 "the run stopped ({}) before meeting the tolerance; the interval is wider \
                  than asked",
                 stop_words(*stop)
+            ),
+            Warning::AllZero { count } => write!(
+                f,
+                "all {count} contributions were exactly zero (or underflowed): the integrand may \
+                 be nonzero where no point fell; sample where it is (importance sampling) or \
+                 rescale it"
             ),
             Warning::StoppedEarly {
                 stop,

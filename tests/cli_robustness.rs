@@ -1,0 +1,135 @@
+//! Every example binary is a well-behaved command-line program: a reader that closes the pipe
+//! (`| head -1`) ends it quietly, an argument that is not UTF-8 is a one-line error, sizes
+//! beyond memory are refused before anything is allocated, and a full disk is reported.
+
+mod common;
+
+use common::{assert_one_line_error, example, run, stderr};
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+
+/// Programs, with arguments that make them print more than one line to stdout.
+const TALKATIVE: &[(&str, &[&str])] = &[
+    (
+        "points",
+        &["--sampler", "sobol", "--dims", "2", "--n", "1048576"],
+    ),
+    ("quickstart", &[]),
+    ("variance_reduction", &["--n", "4096"]),
+    (
+        "integrate",
+        &["--genz", "gaussian", "--dims", "3", "--n", "4096"],
+    ),
+];
+
+#[test]
+fn a_closed_stdout_ends_every_program_quietly() {
+    for (name, args) in TALKATIVE {
+        let mut child = Command::new(example(name))
+            .args(*args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut first = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut first)
+            .unwrap();
+        // The read end is closed here, as `head -1` closes it.
+        let out = child.wait_with_output().unwrap();
+        assert!(!first.is_empty(), "{name} printed nothing");
+        assert!(
+            out.status.success(),
+            "{name}: {:?} {}",
+            out.status,
+            stderr(&out)
+        );
+        assert!(
+            !stderr(&out).contains("panicked"),
+            "{name}: {}",
+            stderr(&out)
+        );
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn an_argument_that_is_not_utf8_is_a_one_line_error() {
+    use std::ffi::OsStr;
+    use std::os::unix::ffi::OsStrExt;
+    let bad = OsStr::from_bytes(b"--sampler\xff");
+    for name in [
+        "points",
+        "integrate",
+        "quality",
+        "gallery",
+        "convergence",
+        "quickstart",
+    ] {
+        let out = Command::new(example(name)).arg(bad).output().unwrap();
+        assert_one_line_error(&out, "not valid UTF-8");
+    }
+}
+
+#[test]
+fn sizes_beyond_memory_are_refused_before_anything_is_allocated() {
+    let out = run(
+        "points",
+        &[
+            "--sampler",
+            "independent",
+            "--dims",
+            "100000000000",
+            "--n",
+            "16",
+        ],
+    );
+    assert_one_line_error(&out, "8 GiB");
+    let out = run(
+        "points",
+        &[
+            "--sampler",
+            "independent",
+            "--dims",
+            "1000",
+            "--n",
+            "16",
+            "--format",
+            "png",
+            "--pairs",
+            "--out",
+            "never.png",
+        ],
+    );
+    assert_one_line_error(&out, "at most 16 dimensions");
+    let out = run("integrate", &["--genz", "gaussian", "--dims", "10000000"]);
+    assert_one_line_error(&out, "8 GiB");
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_disk_is_an_error_not_a_silent_success() {
+    let dir = std::env::temp_dir().join(format!("mcint-full-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for format in ["svg", "png"] {
+        let path = dir.join(format!("full.{format}"));
+        std::os::unix::fs::symlink("/dev/full", &path).unwrap();
+        let out = run(
+            "points",
+            &[
+                "--sampler",
+                "sobol",
+                "--dims",
+                "2",
+                "--n",
+                "64",
+                "--format",
+                format,
+                "--out",
+                path.to_str().unwrap(),
+            ],
+        );
+        assert_one_line_error(&out, "No space left on device");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
