@@ -44,7 +44,7 @@ pub(crate) fn gamma(k: f64) -> f64 {
 }
 
 /// The smallest positive `f64`, `2^-1074`: the absolute error of a result that underflows.
-const SMALLEST_SUBNORMAL: f64 = 4.940_656_458_412_465_4e-324;
+const SMALLEST_SUBNORMAL: f64 = 5e-324;
 
 /// The allowance for the evaluation of contributions whose magnitudes average at most
 /// `scale`: [`CONTRIBUTION_ULPS`] units in the last place, relative to the contributions and
