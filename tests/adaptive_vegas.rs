@@ -432,11 +432,15 @@ fn bad_settings_are_errors_that_name_the_setting() {
     let message = |r: Result<Estimate, Error>| r.unwrap_err().to_string();
     for (name, result) in [
         ("samples", v().samples(1).run()),
+        ("samples", v().samples(2).run()),
+        ("samples", v().samples(49).run()),
         ("iterations", v().iterations(0).run()),
         ("grid_increments", v().grid_increments(1).run()),
         ("grid_increments", v().grid_increments(usize::MAX).run()),
         ("alpha", v().alpha(-0.1).run()),
         ("alpha", v().alpha(f64::NAN).run()),
+        ("alpha", v().alpha(7.0).run()),
+        ("alpha", v().alpha(500.0).run()),
         ("beta", v().beta(1.5).run()),
         ("beta", v().beta(-0.5).run()),
         ("beta", v().beta(f64::NAN).run()),

@@ -57,6 +57,9 @@ use strata::{ALLOCATION_SAFETY, Allocation, Strata, plan_chunks};
 
 /// Evaluations per iteration when the caller gives none.
 const DEFAULT_SAMPLES: u64 = 10_000;
+/// The fewest evaluations per iteration: measured over 200 seeds on 5-D Genz integrals, 50
+/// per iteration still gave honest intervals (184-189 of 200 covered).
+const MIN_SAMPLES: u64 = 50;
 /// Grid increments are capped at one per this many evaluations (as `vegas` does), so that
 /// every increment sees some points in each iteration.
 const EVALUATIONS_PER_INCREMENT: u64 = 10;
@@ -134,7 +137,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
         sampler, seed, threads, tolerance, non_finite, time_limit, cancel_token, progress
     }
 
-    /// Evaluations per iteration, `N` (at least 2; default `10_000`). With stratification
+    /// Evaluations per iteration, `N` (at least 50; default `10_000`). With stratification
     /// an iteration uses at most `N` (the rounding down of the proportional shares usually
     /// leaves a few unused); without, exactly `N`.
     ///
@@ -194,13 +197,16 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
         self
     }
 
-    /// Damping exponent of the grid's adaptation (finite, `>= 0`; default 0.5). Smaller
-    /// values adapt more slowly and more stably; 0 freezes the grid (uniform).
+    /// Damping exponent of the grid's adaptation (in `[0, 2]`; default 0.5). Smaller values
+    /// adapt more slowly and more stably; 0 freezes the grid (uniform). Larger values, which
+    /// make the grid chase one iteration's noise and gave intervals that missed by many
+    /// standard errors, are refused.
     ///
     /// ```
     /// use mcint::{adaptive::Vegas, pdf::UniformBox};
     /// let e = Vegas::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).alpha(0.0).run().unwrap();
     /// assert!((e.mean - 0.5).abs() < 5.0 * e.std_error.unwrap());
+    /// assert!(Vegas::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).alpha(7.0).run().is_err());
     /// ```
     pub fn alpha(mut self, alpha: f64) -> Self {
         self.alpha = alpha;
@@ -395,11 +401,15 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
 
     fn settings(&self, sampler: &dyn Sampler) -> Result<Settings> {
         let n = self.config.samples.unwrap_or(DEFAULT_SAMPLES);
-        if n < 2 {
+        if n < MIN_SAMPLES {
             return Err(Error::invalid(
                 "samples",
                 n,
-                "at least 2 (every hypercube needs two evaluations for its variance)",
+                format!(
+                    "at least {MIN_SAMPLES} per iteration (fewer make the iterations' variances, \
+                     which weight their combination, too noisy: 2 per iteration gave estimates \
+                     27 standard errors off)"
+                ),
             ));
         }
         if self.iterations == 0 {

@@ -206,6 +206,7 @@ impl VegasGrid {
     /// grid.adapt(0.5).unwrap(); // no training data: nothing moves
     /// assert_eq!(grid, before);
     /// assert!(grid.adapt(-1.0).is_err());
+    /// assert!(grid.adapt(1e300).is_err()); // damping exponents above 2 are refused
     /// ```
     pub fn adapt(&mut self, alpha: f64) -> Result<()> {
         check_alpha(alpha)?;
@@ -315,15 +316,25 @@ pub(crate) fn check_increments(increments: usize) -> Result<()> {
 
 /// Validates the damping exponent.
 pub(crate) fn check_alpha(alpha: f64) -> Result<()> {
-    if !(alpha.is_finite() && alpha >= 0.0) {
+    // Larger exponents over-react to the noise of one iteration's projections: measured over
+    // 200 seeds on 5-D Genz integrals, alpha = 5 gave runs 1e7 standard errors off and
+    // alpha 7 to 200 estimates 6-25 standard errors off with a normal-looking chi^2; from
+    // about 500 the weights overflow. Up to 2 the intervals held.
+    if !(0.0..=MAX_ALPHA).contains(&alpha) {
         return Err(Error::invalid(
             "alpha",
             alpha,
-            "a finite damping exponent >= 0 (0 freezes the grid; VEGAS uses 0.5)",
+            format!(
+                "a damping exponent in [0, {MAX_ALPHA}] (0 freezes the grid; VEGAS uses 0.5; \
+                 larger values make the grid chase noise)"
+            ),
         ));
     }
     Ok(())
 }
+
+/// The largest grid damping exponent accepted (see [`check_alpha`]).
+const MAX_ALPHA: f64 = 2.0;
 
 /// Smooths, normalizes and damps one axis's projections into `weights`; false when they
 /// carry no usable information (all zero, or not finite), in which case the axis stays put.
