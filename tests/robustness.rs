@@ -562,7 +562,8 @@ mod samplers {
 
         #[test]
         fn poisson_disk(dims in dims(), n in count(), seed in any::<u64>(), extra in any::<u64>()) {
-            let valid = (1..=4).contains(&dims) && (1..=1 << 20).contains(&n);
+            let valid = (1..=4).contains(&dims)
+                && (1..=PoissonDisk::max_points(dims).unwrap()).contains(&n);
             check_sampler(PoissonDisk::new(dims, n, seed), valid, dims, extra, &["dims", "points"]);
         }
 
@@ -1800,4 +1801,21 @@ mod extremes {
             e.warnings
         );
     }
+}
+
+/// Poisson-disk passes that would take minutes to hours to build are refused up front, from
+/// the expected size of their maximal sets, naming the limit.
+#[test]
+fn poisson_disk_passes_that_would_not_finish_are_refused() {
+    use mcint::sampler::PoissonDisk;
+    for result in [
+        PoissonDisk::new(4, 1 << 20, 0),
+        PoissonDisk::new(2, 1 << 20, 0),
+        PoissonDisk::with_radius(2, 0.001, 0),
+        PoissonDisk::with_radius(3, 0.01, 0),
+    ] {
+        let err = result.unwrap_err();
+        assert!(err.to_string().contains("ten seconds"), "{err}");
+    }
+    assert!(PoissonDisk::new(4, 4096, 0).is_ok());
 }

@@ -315,10 +315,16 @@ fn errors_name_the_parameter_and_the_range() {
     assert!(e.contains("dims") && e.contains("1 ..= 4"), "{e}");
     let e = message(PoissonDisk::new(5, 10, 0).unwrap_err());
     assert!(e.contains("dims") && e.contains("1 ..= 4"), "{e}");
-    let e = message(PoissonDisk::new(2, 0, 0).unwrap_err());
-    assert!(e.contains("points") && e.contains("1048576"), "{e}");
-    let e = message(PoissonDisk::new(2, (1 << 20) + 1, 0).unwrap_err());
-    assert!(e.contains("points") && e.contains("1048576"), "{e}");
+    let e = message(PoissonDisk::new(1, 0, 0).unwrap_err());
+    assert!(e.contains("points") && e.contains("1 ..= 1048576"), "{e}");
+    let e = message(PoissonDisk::new(1, (1 << 20) + 1, 0).unwrap_err());
+    assert!(e.contains("points") && e.contains("1 ..= 1048576"), "{e}");
+    let most = PoissonDisk::max_points(2).unwrap();
+    let e = message(PoissonDisk::new(2, most + 1, 0).unwrap_err());
+    assert!(
+        e.contains("points") && e.contains(&format!("1 ..= {most}")),
+        "{e}"
+    );
     for radius in [0.0, -0.1, 0.5, 0.7, f64::NAN] {
         let e = message(PoissonDisk::with_radius(2, radius, 0).unwrap_err());
         assert!(e.contains("radius") && e.contains("(0, 0.5)"), "{e}");
