@@ -9,7 +9,6 @@ use common::{example, run, stderr, stdout};
 use mcint::PartialRun;
 use serde_json::Value;
 use std::process::{Command, Stdio};
-use std::time::Instant;
 
 /// A run of 123 chunks of 16384 points on one thread, saved after every chunk.
 const ARGS: &[&str] = &[
@@ -36,20 +35,6 @@ fn runs_killed_during_saves_resume_to_the_uninterrupted_bits() {
     let whole = answer(&stdout(&whole));
     let dir = std::env::temp_dir().join(format!("mcint-kill-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    // How long a checkpointed run takes on this machine now, to spread the kills over it
-    // (a measurement that places the kills, not an assertion about speed).
-    let path = dir.join("uninterrupted.json");
-    let started = Instant::now();
-    let full = run(
-        "integrate",
-        &[
-            ARGS,
-            &["--checkpoint", path.to_str().unwrap(), "--save-every", "1"],
-        ]
-        .concat(),
-    );
-    let duration = started.elapsed();
-    assert_eq!(answer(&stdout(&full)), whole);
     let mut interrupted = 0;
     for trial in 0..20u64 {
         let path = dir.join(format!("trial-{trial}.json"));
@@ -61,8 +46,20 @@ fn runs_killed_during_saves_resume_to_the_uninterrupted_bits() {
             .stderr(Stdio::null())
             .spawn()
             .unwrap();
-        // Kills spread over the run.
-        std::thread::sleep(duration.mul_f64((trial as f64 + 0.5) / 20.0));
+        // Kills spread over the run by its progress, not by the clock: trial t waits until
+        // a checkpoint of at least 6t + 1 of the 123 chunks has been saved, then kills at
+        // once, which lands during the next chunks or their saves.
+        let target = 6 * trial + 1;
+        while child.try_wait().unwrap().is_none() {
+            let saved = std::fs::read_to_string(&path)
+                .ok()
+                .and_then(|text| serde_json::from_str::<PartialRun>(&text).ok())
+                .map_or(0, |part| part.chunks_done());
+            if saved >= target {
+                break;
+            }
+            std::thread::yield_now();
+        }
         let _ = child.kill();
         let status = child.wait().unwrap();
         interrupted += u64::from(!status.success());
@@ -80,6 +77,7 @@ fn runs_killed_during_saves_resume_to_the_uninterrupted_bits() {
         assert_eq!(answer(&stdout(&resumed)), whole, "trial {trial}");
     }
     std::fs::remove_dir_all(&dir).unwrap();
+    eprintln!("{interrupted} of 20 runs were interrupted");
     // Most kills must land during the run, or the test shows nothing.
     assert!(
         interrupted >= 10,

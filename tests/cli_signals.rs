@@ -28,6 +28,39 @@ fn wait_for_handler(child: &Child) {
     panic!("the process never installed its signal handler");
 }
 
+/// Waits until `child` has run for `ticks` clock ticks of CPU time (user plus system, fields
+/// 14 and 15 of `/proc/PID/stat`), so that it has done some work when it is signalled: a
+/// signal before its first chunk leaves it nothing to report. This measures the work done,
+/// not the time passed; the loop is bounded by a count in case the process never runs.
+fn wait_for_work(child: &Child, ticks: u64) {
+    let stat = format!("/proc/{}/stat", child.id());
+    for _ in 0..1_000_000 {
+        let text = std::fs::read_to_string(&stat).unwrap_or_default();
+        let state = text
+            .rsplit_once(')')
+            .and_then(|(_, r)| r.split_whitespace().next());
+        if state.is_none_or(|s| s == "Z") {
+            return; // it has ended: the caller's assertions say how
+        }
+        // The command name (field 2) is in parentheses and may hold spaces: count after it.
+        let used: u64 = text
+            .rsplit_once(')')
+            .map(|(_, rest)| {
+                rest.split_whitespace()
+                    .skip(11)
+                    .take(2)
+                    .filter_map(|t| t.parse::<u64>().ok())
+                    .sum()
+            })
+            .unwrap_or(0);
+        if used >= ticks {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    panic!("the process never did {ticks} ticks of work");
+}
+
 fn signal(child: &Child, name: &str) {
     let status = Command::new("kill")
         .args([&format!("-{name}"), &child.id().to_string()])
@@ -55,6 +88,8 @@ fn sigint_stops_a_run_which_reports_what_it_has() {
         .spawn()
         .unwrap();
     wait_for_handler(&child);
+    // A tenth of a second of work: many chunks of 16384 points, far from the 2^30 planned.
+    wait_for_work(&child, 10);
     signal(&child, "INT");
     let status = child.wait().unwrap();
     let out = child.wait_with_output().unwrap();
@@ -96,6 +131,7 @@ fn sigterm_saves_the_checkpoint_which_resumes_to_the_uninterrupted_bits() {
         .spawn()
         .unwrap();
     wait_for_handler(&child);
+    wait_for_work(&child, 5);
     signal(&child, "TERM");
     let status = child.wait().unwrap();
     let out = child.wait_with_output().unwrap();
