@@ -75,6 +75,16 @@ pub enum Error {
         /// Integrand evaluations spent before it stopped.
         evaluations: u64,
     },
+    /// A result is not representable in `f64`: every contribution was finite, but a sum
+    /// behind the estimate or its standard error overflowed. The Integrator and MISER handle
+    /// values up to `f64::MAX`; VEGAS and two-stage sampling, which square values in sums of
+    /// their own, need values below about `1e150`.
+    Overflow {
+        /// What overflowed (for example `"estimate"`).
+        what: &'static str,
+        /// Its value (an infinity or NaN).
+        value: f64,
+    },
     /// An operation that this type does not support (for example inverting a warp that has
     /// no inverse).
     Unsupported {
@@ -165,7 +175,8 @@ impl fmt::Display for Error {
                 f,
                 "{count} non-finite contribution(s); the first, {first_value}, at sample \
                  {first_index} of replicate {first_replicate}, canonical point {first_point:?} \
-                 (the integrand is not finite there, or the pdf is zero where the integrand is not)"
+                 (the integrand is not finite there, the pdf is zero where the integrand is not, or \
+                 the integrand times the volume or over the pdf overflowed)"
             ),
             Error::IntegrandPanicked {
                 message,
@@ -180,6 +191,12 @@ impl fmt::Display for Error {
                 f,
                 "the run stopped ({stop:?}) after {evaluations} evaluations, before it had an \
                  estimate: allow more time, or fewer points per stage"
+            ),
+            Error::Overflow { what, value } => write!(
+                f,
+                "the {what} is {value}: a sum behind it overflowed f64 (largest 1.8e308; VEGAS \
+                 and two-stage sampling square the integrand's values, so they need values below \
+                 about 1e150): divide the integrand by a known factor and multiply the result by it"
             ),
             Error::Unsupported { operation, reason } => {
                 write!(f, "{operation} is not supported: {reason}")

@@ -202,6 +202,11 @@ impl<E: Estimator> Integrator<E> {
     /// assert!(bad.unwrap_err().to_string().contains("10 non-finite"));
     /// ```
     pub fn run(&self) -> Result<Estimate> {
+        self.run_unchecked().and_then(Estimate::checked)
+    }
+
+    /// [`run`](Self::run) before its result is checked for overflow.
+    fn run_unchecked(&self) -> Result<Estimate> {
         let sampler = self.run_sampler()?;
         let executor = self.config.executor()?;
         let limits = self.config.limits();

@@ -155,6 +155,11 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
     /// assert_eq!((e.basis, e.iterations), (ErrorBasis::PerSample, 2));
     /// ```
     pub fn run(&self) -> Result<Estimate> {
+        self.run_unchecked().and_then(Estimate::checked)
+    }
+
+    /// [`run`](Self::run) before its result is checked for overflow.
+    fn run_unchecked(&self) -> Result<Estimate> {
         let dims = self.domain.dims();
         let strata = self.strata()?;
         if self.pilot < 2 {

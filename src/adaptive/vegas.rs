@@ -253,6 +253,11 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
     /// assert!(bad.unwrap_err().to_string().contains("non-finite"));
     /// ```
     pub fn run(&self) -> Result<Estimate> {
+        self.run_unchecked().and_then(Estimate::checked)
+    }
+
+    /// [`run`](Self::run) before its result is checked for overflow.
+    fn run_unchecked(&self) -> Result<Estimate> {
         let dims = self.domain.dims();
         let sampler = self
             .config

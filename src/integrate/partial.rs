@@ -281,6 +281,7 @@ impl<E: Estimator> Integrator<E> {
             }
             plan.estimate(sampler, &partial.folded, self.config.non_finite)
         })
+        .and_then(Estimate::checked)
     }
 
     /// Names the integrand for checkpoints: a [`PartialRun`] of a run with another label is

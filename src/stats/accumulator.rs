@@ -11,12 +11,25 @@ use super::warning::Warning;
 /// the machine.
 const LANES: usize = 8;
 
+/// Values up to this magnitude (2^480) are accumulated as they are: the squares of their
+/// deviations, summed over up to 2^60 values, stay finite. Larger values are accumulated in
+/// units of a power of two, [`Accumulator`]'s `scale`, so that values up to `f64::MAX` keep a
+/// finite mean and standard error.
+const UNSCALED_LIMIT: f64 = 3.121748550315992e144; // 2^480
+
+/// The factor by which the scale grows, 2^64: a handful of steps covers the exponent range.
+const SCALE_STEP: f64 = 18446744073709551616.0; // 2^64
+
 /// Count, mean and sum of squared deviations (`M2`) of a stream of values, plus min, max and
 /// a count of non-finite values (which are kept out of the moments).
 ///
 /// Welford's update keeps the variance accurate where the naive `E[Y^2] - E[Y]^2` (A.9)
 /// cancels; Chan's pairwise formula merges two accumulators, so threads, processes and
-/// machines can each accumulate a part of the stream and combine the parts.
+/// machines can each accumulate a part of the stream and combine the parts. Values beyond
+/// about `1e144` are accumulated in units of a power of two (exactly, so the bits of results
+/// that need no scaling are unchanged), so that values up to `f64::MAX` keep a mean within
+/// `[min, max]` and a finite standard error; only [`m2`](Self::m2) and
+/// [`variance`](Self::variance), which are squares, may then overflow to infinity.
 ///
 /// ```
 /// use mcint::stats::Accumulator;
@@ -37,6 +50,7 @@ const LANES: usize = 8;
 pub struct Accumulator {
     count: u64,
     mean: f64,
+    /// `M2` in units of `scale^2`.
     m2: f64,
     min: f64,
     max: f64,
@@ -44,6 +58,9 @@ pub struct Accumulator {
     /// A bound on the rounding error of `mean` against the exact mean of the finite values
     /// (see [`rounding_error`](Self::rounding_error)).
     rounding: f64,
+    /// A power of two, 1 until a value beyond [`UNSCALED_LIMIT`] arrives: deviations and
+    /// `m2` are computed in its units.
+    scale: f64,
 }
 
 impl Default for Accumulator {
@@ -67,6 +84,7 @@ impl Accumulator {
             max: f64::NEG_INFINITY,
             non_finite: 0,
             rounding: 0.0,
+            scale: 1.0,
         }
     }
 
@@ -84,15 +102,42 @@ impl Accumulator {
             self.non_finite += 1;
             return;
         }
+        if y.abs() > UNSCALED_LIMIT * self.scale {
+            self.rescale(y.abs());
+        }
         self.count += 1;
         let k = self.count as f64;
-        let delta = y - self.mean;
-        self.mean += delta / k;
-        self.m2 += delta * (y - self.mean);
-        self.rounding = self.rounding * (1.0 - 1.0 / k)
-            + UNIT_ROUNDOFF * (self.mean.abs() + 2.0 * delta.abs() / k);
+        if self.scale == 1.0 {
+            let delta = y - self.mean;
+            self.mean += delta / k;
+            self.m2 += delta * (y - self.mean);
+            self.rounding = self.rounding * (1.0 - 1.0 / k)
+                + UNIT_ROUNDOFF * (self.mean.abs() + 2.0 * delta.abs() / k);
+        } else {
+            // The same update in units of `scale` (exact: a power of two).
+            let (y_s, mean_s) = (y / self.scale, self.mean / self.scale);
+            let delta = y_s - mean_s;
+            let new_mean_s = mean_s + delta / k;
+            self.m2 += delta * (y_s - new_mean_s);
+            self.mean = new_mean_s * self.scale;
+            self.rounding = self.rounding * (1.0 - 1.0 / k)
+                + UNIT_ROUNDOFF * self.mean.abs()
+                + (UNIT_ROUNDOFF * 2.0 * delta.abs() / k) * self.scale;
+        }
         self.min = self.min.min(y);
         self.max = self.max.max(y);
+    }
+
+    /// Grows the scale until `magnitude` is within [`UNSCALED_LIMIT`] of it.
+    fn rescale(&mut self, magnitude: f64) {
+        self.rescale_to(scale_for(magnitude).max(self.scale));
+    }
+
+    /// Expresses `m2` in units of `scale` (at least the current one).
+    fn rescale_to(&mut self, scale: f64) {
+        let ratio = self.scale / scale;
+        self.m2 *= ratio * ratio;
+        self.scale = scale;
     }
 
     /// Adds every value of a slice: the same statistics as [`push`](Self::push)ing them one
@@ -104,7 +149,7 @@ impl Accumulator {
     /// Chan, Golub & LeVeque (1983) for the rounding of that mean; the slice's summary is then
     /// merged like [`merge`](Self::merge). The two-pass sums are at least as accurate as
     /// Welford's update, and the order of operations is fixed, so the bits do not depend on the
-    /// machine. A slice whose sum overflows falls back to pushing value by value.
+    /// machine. A slice with values beyond about `1e144` falls back to pushing value by value.
     ///
     /// ```
     /// let mut acc = mcint::stats::Accumulator::new();
@@ -147,11 +192,13 @@ impl Accumulator {
                 ..Accumulator::new()
             });
         }
+        let min = mins.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = maxs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if min.abs().max(max.abs()) > UNSCALED_LIMIT {
+            return None; // values that need a scale are pushed one by one
+        }
         let sum: f64 = sums.iter().sum();
         let mean = sum / count as f64;
-        if !mean.is_finite() {
-            return None;
-        }
         // Pass 2: deviations from the slice mean, and their sum, which is zero but for the
         // rounding of `mean`; subtracting its square over `count` corrects for that.
         let mut squares = [0.0; LANES];
@@ -167,11 +214,6 @@ impl Accumulator {
         second_pass(rest);
         let deviation: f64 = deviations.iter().sum();
         let m2 = squares.iter().sum::<f64>() - deviation * deviation / count as f64;
-        if !m2.is_finite() {
-            return None;
-        }
-        let min = mins.iter().copied().fold(f64::INFINITY, f64::min);
-        let max = maxs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         // Each value passes through at most ceil(len / LANES) additions in its lane and
         // LANES more joining the lanes; |sum| / count <= the largest magnitude.
         let height = values.len().div_ceil(LANES) + LANES;
@@ -184,6 +226,7 @@ impl Accumulator {
             max,
             non_finite,
             rounding,
+            scale: 1.0,
         })
     }
 
@@ -211,11 +254,18 @@ impl Accumulator {
         }
         let (na, nb) = (self.count as f64, other.count as f64);
         let n = na + nb;
-        let delta = other.mean - self.mean;
-        self.mean += delta * (nb / n);
-        self.m2 += other.m2 + delta * delta * (na * nb / n);
+        let scale = self.scale.max(other.scale);
+        self.rescale_to(scale);
+        let other_ratio = other.scale / scale;
+        let other_m2 = other.m2 * (other_ratio * other_ratio);
+        // In units of `scale`; with scale 1 these are the plain formulas, bit for bit.
+        let (mean_s, other_mean_s) = (self.mean / scale, other.mean / scale);
+        let delta = other_mean_s - mean_s;
+        self.mean = (mean_s + delta * (nb / n)) * scale;
+        self.m2 += other_m2 + delta * delta * (na * nb / n);
         self.rounding = (na * self.rounding + nb * other.rounding) / n
-            + UNIT_ROUNDOFF * (self.mean.abs() + 3.0 * delta.abs() * (nb / n));
+            + UNIT_ROUNDOFF * self.mean.abs()
+            + (UNIT_ROUNDOFF * 3.0 * delta.abs() * (nb / n)) * scale;
         self.count += other.count;
         self.min = self.min.min(other.min);
         self.max = self.max.max(other.max);
@@ -241,7 +291,8 @@ impl Accumulator {
         self.mean
     }
 
-    /// Sum of squared deviations from the mean, `M2`.
+    /// Sum of squared deviations from the mean, `M2` (infinite when it overflows: values
+    /// beyond about `1e154`).
     ///
     /// ```
     /// let mut acc = mcint::stats::Accumulator::new();
@@ -249,10 +300,11 @@ impl Accumulator {
     /// assert_eq!(acc.m2(), 2.0);
     /// ```
     pub fn m2(&self) -> f64 {
-        self.m2
+        self.m2 * self.scale * self.scale
     }
 
-    /// Unbiased sample variance `M2 / (n - 1)` (NaN with fewer than two values).
+    /// Unbiased sample variance `M2 / (n - 1)` (NaN with fewer than two values; infinite when
+    /// the values are so large that it overflows, beyond about `1e154`).
     ///
     /// ```
     /// let mut acc = mcint::stats::Accumulator::new();
@@ -263,7 +315,7 @@ impl Accumulator {
         if self.count < 2 {
             f64::NAN
         } else {
-            self.m2 / (self.count - 1) as f64
+            self.m2 / (self.count - 1) as f64 * self.scale * self.scale
         }
     }
 
@@ -311,7 +363,7 @@ impl Accumulator {
         let honest = self.count >= 2;
         let mut estimate = Estimate {
             mean: self.mean,
-            std_error: honest.then(|| (self.variance() / self.count as f64).sqrt()),
+            std_error: honest.then(|| self.scaled_std_error()),
             dof: honest.then(|| (self.count - 1) as f64),
             basis: if honest {
                 ErrorBasis::PerSample
@@ -335,6 +387,12 @@ impl Accumulator {
         }
         estimate.finalize();
         estimate
+    }
+
+    /// `sqrt(s^2 / n)`, computed in units of the scale so that it is finite whenever the
+    /// values are (needs two values).
+    fn scaled_std_error(&self) -> f64 {
+        (self.m2 / (self.count - 1) as f64 / self.count as f64).sqrt() * self.scale
     }
 
     /// Whether every finite value was exactly zero (and there was at least one).
@@ -367,10 +425,21 @@ impl Accumulator {
             return 0.0;
         }
         // mean |y| is at most the largest magnitude, and at most the root mean square.
-        let rms = (self.mean * self.mean + self.m2 / self.count as f64).sqrt();
+        let mean_s = self.mean / self.scale;
+        let rms = (mean_s * mean_s + self.m2 / self.count as f64).sqrt() * self.scale;
         let scale = self.min.abs().max(self.max.abs()).min(rms);
         self.rounding + contribution_allowance(scale)
     }
+}
+
+/// The power of two (1, 2^64, 2^128, ...) in whose units values up to `magnitude` can be
+/// squared and summed without overflow: 1 up to [`UNSCALED_LIMIT`].
+pub(crate) fn scale_for(magnitude: f64) -> f64 {
+    let mut scale = 1.0;
+    while magnitude > UNSCALED_LIMIT * scale {
+        scale *= SCALE_STEP;
+    }
+    scale
 }
 
 /// The serialized form of an [`Accumulator`]: `min` and `max` are absent while it is empty
@@ -380,6 +449,7 @@ impl Accumulator {
 struct AccumulatorState {
     count: u64,
     mean: f64,
+    /// In units of `scale^2`.
     m2: f64,
     min: Option<f64>,
     max: Option<f64>,
@@ -387,6 +457,20 @@ struct AccumulatorState {
     /// Absent from states written before the bound was kept.
     #[serde(default)]
     rounding: f64,
+    /// Written only when it is not 1 (values beyond about 1e144), so states of ordinary runs
+    /// keep their form.
+    #[serde(default = "unit_scale", skip_serializing_if = "is_unit_scale")]
+    scale: f64,
+}
+
+#[cfg(feature = "serde")]
+fn unit_scale() -> f64 {
+    1.0
+}
+
+#[cfg(feature = "serde")]
+fn is_unit_scale(scale: &f64) -> bool {
+    *scale == 1.0
 }
 
 #[cfg(feature = "serde")]
@@ -401,6 +485,7 @@ impl From<Accumulator> for AccumulatorState {
             max: seen.then_some(a.max),
             non_finite: a.non_finite,
             rounding: a.rounding,
+            scale: a.scale,
         }
     }
 }
@@ -411,7 +496,10 @@ impl TryFrom<AccumulatorState> for Accumulator {
 
     fn try_from(s: AccumulatorState) -> std::result::Result<Self, String> {
         let rounding_ok = s.rounding.is_finite() && s.rounding >= 0.0;
+        // A power of two from 1 up: the only scales an accumulator takes.
+        let scale_ok = s.scale.is_finite() && s.scale >= 1.0 && s.scale.to_bits() << 12 == 0;
         let consistent = rounding_ok
+            && scale_ok
             && match (s.count, s.min, s.max) {
                 (0, None, None) => s.mean == 0.0 && s.m2 == 0.0,
                 (_, Some(lo), Some(hi)) => {
@@ -421,8 +509,9 @@ impl TryFrom<AccumulatorState> for Accumulator {
             };
         if !consistent {
             return Err(format!(
-                "inconsistent accumulator: count {}, mean {}, m2 {}, min {:?}, max {:?}",
-                s.count, s.mean, s.m2, s.min, s.max
+                "inconsistent accumulator: count {}, mean {}, m2 {}, min {:?}, max {:?}, \
+                 scale {}",
+                s.count, s.mean, s.m2, s.min, s.max, s.scale
             ));
         }
         Ok(Accumulator {
@@ -433,6 +522,7 @@ impl TryFrom<AccumulatorState> for Accumulator {
             max: s.max.unwrap_or(f64::NEG_INFINITY),
             non_finite: s.non_finite,
             rounding: s.rounding,
+            scale: s.scale,
         })
     }
 }

@@ -1,6 +1,6 @@
 //! [`Estimate`]: an integral estimate with an honest error bar.
 
-use super::accumulator::Accumulator;
+use super::accumulator::{Accumulator, scale_for};
 use super::rounding::mean_of_means;
 use super::stop_reason::StopReason;
 use super::warning::Warning;
@@ -121,11 +121,19 @@ impl Estimate {
             return Err(Error::invalid("replicate mean", bad, "finite values"));
         }
         let r = means.len() as u64;
-        let mean = means.iter().sum::<f64>() / r as f64;
+        // In units of a power of two (1 unless the means are beyond about 1e144), so that
+        // means up to f64::MAX keep a finite sum and sum of squares; exact scaling, so the
+        // bits of ordinary results do not depend on it.
+        let scale = scale_for(means.iter().fold(0.0f64, |m, v| m.max(v.abs())));
+        let mean_s = means.iter().map(|m| m / scale).sum::<f64>() / r as f64;
+        let mean = mean_s * scale;
         let honest = r >= 2;
         let std_error = honest.then(|| {
-            let ss: f64 = means.iter().map(|m| (m - mean) * (m - mean)).sum();
-            (ss / ((r - 1) * r) as f64).sqrt()
+            let ss: f64 = means
+                .iter()
+                .map(|m| (m / scale - mean_s) * (m / scale - mean_s))
+                .sum();
+            (ss / ((r - 1) * r) as f64).sqrt() * scale
         });
         let mut estimate = Estimate {
             mean,
@@ -203,6 +211,24 @@ impl Estimate {
             self.warn(Warning::NonFiniteSkipped {
                 count: self.non_finite,
             });
+        }
+    }
+
+    /// The estimate, or [`Error::Overflow`] if its mean or standard error is not finite:
+    /// what every runner returns, so that no NaN or infinity passes for an estimate.
+    pub(crate) fn checked(self) -> Result<Estimate> {
+        if !self.mean.is_finite() {
+            return Err(Error::Overflow {
+                what: "estimate",
+                value: self.mean,
+            });
+        }
+        match self.std_error {
+            Some(se) if !se.is_finite() => Err(Error::Overflow {
+                what: "standard error",
+                value: se,
+            }),
+            _ => Ok(self),
         }
     }
 

@@ -1,0 +1,149 @@
+//! Values up to `f64::MAX`: the Accumulator works in units of a power of two beyond about
+//! 1e144, so means stay within `[min, max]` and standard errors stay finite; every runner
+//! either gives a finite, correct estimate for an integrand of magnitude 1e300 or refuses with
+//! `Error::Overflow`, never NaN or infinity passed off as an estimate.
+
+use mcint::adaptive::{Miser, TwoStage, Vegas};
+use mcint::pdf::UniformBox;
+use mcint::sampler::{Scramble, Sobol};
+use mcint::stats::{Accumulator, Estimate};
+use mcint::{Error, Integrator};
+
+/// 2^1000: scaling by it is exact, so the statistics of `u * BIG` are those of `u` times it.
+const BIG: f64 = 1.0715086071862673e301;
+
+/// Deterministic values in [-1, 1): a fixed linear congruential stream, enough for moments.
+fn values(n: usize) -> Vec<f64> {
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    (0..n)
+        .map(|_| {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        })
+        .collect()
+}
+
+#[test]
+fn huge_values_have_the_statistics_of_small_ones_scaled() {
+    let small = values(1000);
+    let mut a = Accumulator::new();
+    let mut b = Accumulator::new();
+    for &u in &small {
+        a.push(u);
+        b.push(u * BIG);
+    }
+    // The same operations in units of a power of two: bit for bit, times 2^1000.
+    assert_eq!(b.mean(), a.mean() * BIG);
+    let (ea, eb) = (a.estimate(), b.estimate());
+    assert_eq!(eb.std_error.unwrap(), ea.std_error.unwrap() * BIG);
+    assert!(b.mean() >= b.min() && b.mean() <= b.max());
+    // The squares overflow, and say so with an infinity rather than a negative number.
+    assert_eq!(b.m2(), f64::INFINITY);
+    // Slices and merges: the same to rounding.
+    let mut c = Accumulator::new();
+    c.extend(&small[..500].iter().map(|u| u * BIG).collect::<Vec<_>>());
+    let mut d = Accumulator::new();
+    d.extend(&small[500..].iter().map(|u| u * BIG).collect::<Vec<_>>());
+    c.merge(&d);
+    assert!((c.mean() - b.mean()).abs() <= 1e-12 * BIG);
+    let se = c.estimate().std_error.unwrap();
+    assert!((se / eb.std_error.unwrap() - 1.0).abs() < 1e-12, "{se}");
+}
+
+#[test]
+fn values_at_the_largest_double_keep_a_finite_error_bar() {
+    let mut acc = Accumulator::new();
+    for i in 0..1000 {
+        acc.push(if i % 2 == 0 { f64::MAX } else { -f64::MAX });
+    }
+    // Alternating +-a: mean 0, standard error a / sqrt(n - 1).
+    let e = acc.estimate();
+    assert_eq!(acc.mean(), 0.0);
+    let expected = f64::MAX / 999f64.sqrt();
+    assert!((e.std_error.unwrap() / expected - 1.0).abs() < 1e-12);
+    assert!(e.rounding_error.is_finite());
+}
+
+#[test]
+fn a_scaled_accumulator_survives_a_save() {
+    let mut acc = Accumulator::new();
+    for u in values(100) {
+        acc.push(u * BIG);
+    }
+    let text = serde_json::to_string(&acc).unwrap();
+    assert!(text.contains("scale"), "{text}");
+    let back: Accumulator = serde_json::from_str(&text).unwrap();
+    assert_eq!(back, acc);
+    // An ordinary one keeps its old form, without a scale.
+    let mut small = Accumulator::new();
+    small.extend(&values(100));
+    assert!(!serde_json::to_string(&small).unwrap().contains("scale"));
+    // A scale that is not a power of two from 1 up is refused.
+    let bad = text.replace("\"scale\":", "\"scale\":3.0,\"x\":");
+    assert!(serde_json::from_str::<Accumulator>(&bad).is_err());
+}
+
+#[test]
+fn replicate_means_near_the_largest_double_combine() {
+    let means = [f64::MAX, -f64::MAX, f64::MAX, -f64::MAX];
+    let e = Estimate::from_replicates(&means, 1).unwrap();
+    assert_eq!(e.mean, 0.0);
+    // sqrt(sum (m - 0)^2 / (r (r - 1))) = a * sqrt(4 / 12).
+    let expected = f64::MAX * (4.0f64 / 12.0).sqrt();
+    assert!((e.std_error.unwrap() / expected - 1.0).abs() < 1e-12);
+}
+
+/// `1e300 (1 + x0)` over the unit square: the integral is 1.5e300.
+fn huge(x: &[f64]) -> f64 {
+    1e300 * (1.0 + x[0])
+}
+
+fn assert_honest(result: mcint::Result<Estimate>, method: &str) {
+    match result {
+        Ok(e) => {
+            let se = e.std_error.unwrap();
+            assert!(se.is_finite() && se > 0.0, "{method}: {e:?}");
+            assert!(
+                (e.mean - 1.5e300).abs() <= 5.0 * se,
+                "{method}: {} +- {se}",
+                e.mean
+            );
+        }
+        Err(Error::Overflow { .. }) => {}
+        Err(other) => panic!("{method}: {other}"),
+    }
+}
+
+#[test]
+fn every_runner_is_honest_about_integrands_near_1e300() {
+    let unit = || UniformBox::unit(2).unwrap();
+    let plain = Integrator::over_box(huge, unit()).samples(10_000).run();
+    // The plain and replicated Integrator accumulate in scaled units: they must succeed.
+    assert_honest(Ok(plain.unwrap()), "plain");
+    let rqmc = Integrator::over_box(huge, unit())
+        .sampler(Sobol::new(2, Scramble::Owen, 3).unwrap())
+        .samples(1024)
+        .replicates(16)
+        .run();
+    assert_honest(Ok(rqmc.unwrap()), "rqmc");
+    // VEGAS and two-stage sampling square values in sums of their own: beyond about 1e150
+    // they refuse with an overflow error (before: VEGAS returned NaN as its estimate).
+    assert_honest(Vegas::new(huge, unit()).run(), "vegas");
+    assert_honest(Ok(Miser::new(huge, unit()).run().unwrap()), "miser");
+    assert_honest(TwoStage::new(huge, unit(), 4).run(), "two-stage");
+}
+
+#[test]
+fn an_estimate_beyond_the_largest_double_is_an_overflow_error() {
+    // Half of f64::MAX over a box of volume 4: every value is finite, the integral is not.
+    let domain = UniformBox::new(vec![0.0, 0.0], vec![2.0, 2.0]).unwrap();
+    let result = Integrator::over_box(|_: &[f64]| f64::MAX / 2.0, domain)
+        .samples(1000)
+        .run();
+    match result {
+        Err(Error::NonFiniteContribution { .. } | Error::Overflow { .. }) => {}
+        other => panic!("expected an overflow error, got {other:?}"),
+    }
+}
