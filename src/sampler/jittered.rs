@@ -10,6 +10,10 @@ use super::number_theory::integer_root;
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_words, unit_f64};
+
+/// Leads every hash of this sampler, so that other samplers given the same seed (which hash
+/// the same `(pass, index, dim)` words) draw unrelated jitters.
+const SALT: u64 = 0x6a69_7474; // "jitt"
 use crate::{Error, Points, Result};
 
 /// One uniform point in each of the `k^d` cells of a regular grid, per pass.
@@ -123,7 +127,7 @@ impl Jittered {
         for (dim, x) in out.iter_mut().enumerate() {
             let digit = cell % self.strata_per_axis;
             cell /= self.strata_per_axis;
-            let jitter = unit_f64(hash_words(self.seed, &[pass, index, dim as u64]));
+            let jitter = unit_f64(hash_words(self.seed, &[SALT, pass, index, dim as u64]));
             *x = ((digit as f64 + jitter) / strata).min(ONE_BELOW);
         }
     }

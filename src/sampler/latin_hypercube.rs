@@ -11,6 +11,10 @@ use super::simd::{Kernel, dispatch};
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
+
+/// Salts this sampler's hashes, so that other samplers given the same seed (which hash the
+/// same `(pass, index, dim)` words for their jitter) draw unrelated numbers.
+const SALT: u64 = 0x006c_6873; // "lhs"
 use crate::{Error, Points, Result};
 
 /// `N` points per pass, one in each `1/N` slab of every coordinate.
@@ -58,7 +62,7 @@ impl LatinHypercube {
     fn permutation(&self, pass: u64, dim: usize) -> Permutation {
         Permutation::new(
             self.pass_size,
-            hash_words(self.seed, &[pass, dim as u64, 0x006c_6873]),
+            hash_words(self.seed, &[pass, dim as u64, SALT]),
         )
     }
 
@@ -67,7 +71,7 @@ impl LatinHypercube {
     fn coordinate(&self, permutation: &Permutation, index: u64, dim: usize) -> f64 {
         let pass = index / self.pass_size;
         let slab = permutation.apply(index % self.pass_size);
-        let jitter = unit_f64(hash_words(self.seed, &[pass, index, dim as u64]));
+        let jitter = unit_f64(hash_words(self.seed, &[SALT, pass, index, dim as u64]));
         ((slab as f64 + jitter) / self.pass_size as f64).min(ONE_BELOW)
     }
 }
@@ -152,8 +156,9 @@ impl Kernel for FillLatin<'_> {
                 let (pass, local) = (index / size, index % size);
                 let run = (len - done).min(usize::try_from(size - local).unwrap_or(usize::MAX));
                 let permutation = sampler.permutation(pass, dim);
-                // hash_words(seed, [pass, index, dim]) with the seed and pass absorbed.
-                let pass_hash = hash_words(sampler.seed, &[pass]);
+                // hash_words(seed, [SALT, pass, index, dim]) with the seed, salt and pass
+                // absorbed.
+                let pass_hash = hash_words(sampler.seed, &[SALT, pass]);
                 for offset in (0..run).step_by(CHUNK) {
                     let c = CHUNK.min(run - offset);
                     let first = local + offset as u64;

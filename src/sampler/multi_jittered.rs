@@ -158,12 +158,19 @@ impl MjCore {
     /// column or row for the uncorrelated variant, and is 0 otherwise).
     #[inline]
     fn permutation_seed(&self, pass: u64, pair: usize, role: u64, which: u64) -> u64 {
-        let salt = if self.correlated {
-            0x0063_6d6a
+        hash_words(self.seed, &[self.salt(), pass, pair as u64, role, which])
+    }
+
+    /// Leads every hash of this sampler: the two variants, and other samplers given the same
+    /// seed (which hash the same `(pass, index, dim)` words for their jitter), draw unrelated
+    /// numbers.
+    #[inline]
+    fn salt(&self) -> u64 {
+        if self.correlated {
+            0x0063_6d6a // "cmj"
         } else {
-            0x0000_6d6a
-        };
-        hash_words(self.seed, &[salt, pass, pair as u64, role, which])
+            0x0000_6d6a // "mj"
+        }
     }
 
     /// The permutations pair `pair` (dimensions `2 pair` and `2 pair + 1`, or the odd last
@@ -196,7 +203,10 @@ impl MjCore {
     /// Coordinate `dim` from its slab in `0..N` and the point's hashed jitter.
     #[inline]
     fn coordinate(&self, slab: u64, pass: u64, index: u64, dim: usize) -> f64 {
-        let jitter = unit_f64(hash_words(self.seed, &[pass, index, dim as u64]));
+        let jitter = unit_f64(hash_words(
+            self.seed,
+            &[self.salt(), pass, index, dim as u64],
+        ));
         ((slab as f64 + jitter) / self.pass_size as f64).min(ONE_BELOW)
     }
 
@@ -325,8 +335,8 @@ impl Kernel for FillMultiJittered<'_> {
             let index = start + done as u64;
             let (pass, local) = (index / size, index % size);
             let run = (len - done).min(usize::try_from(size - local).unwrap_or(usize::MAX));
-            // hash_words(seed, [pass, index, dim]) with the first two words absorbed.
-            let pass_hash = hash_words(core.seed, &[pass]);
+            // hash_words(seed, [salt, pass, index, dim]) with the first three words absorbed.
+            let pass_hash = hash_words(core.seed, &[core.salt(), pass]);
             let coordinate = |slab: u64, index: u64, dim: u64| {
                 let h = hash_absorb(hash_absorb(pass_hash, index), dim);
                 ((slab as f64 + unit_f64(h)) / size_f64).min(ONE_BELOW)

@@ -403,10 +403,21 @@ impl OrthogonalArray {
         }
     }
 
+    /// The seed salted with the construction, so that Bose and Bush arrays (and other
+    /// samplers) given one seed draw unrelated permutations and jitters.
+    #[inline]
+    fn key(&self) -> u64 {
+        self.seed
+            ^ match self.construction {
+                Construction::Bose => 0x626f_7365, // "bose"
+                Construction::Bush => 0x6275_7368, // "bush"
+            }
+    }
+
     fn symbol_permutation(&self, pass: u64, column: usize) -> Permutation {
         Permutation::new(
             self.p,
-            hash_words(self.seed, &[pass, column as u64, TAG_SYMBOL]),
+            hash_words(self.key(), &[pass, column as u64, TAG_SYMBOL]),
         )
     }
 
@@ -416,13 +427,13 @@ impl OrthogonalArray {
             OaOffset::CorrelatedMultiJittered => [pass, column as u64, u64::MAX, TAG_STRATUM],
             _ => [pass, column as u64, symbol, TAG_STRATUM],
         };
-        Permutation::new(self.sub, hash_words(self.seed, &words))
+        Permutation::new(self.sub, hash_words(self.key(), &words))
     }
 
     /// The random choices of `pass` (the uncorrelated multi-jittered permutations, one per
     /// column and symbol, are built where they are used).
     fn pass_keys(&self, pass: u64) -> PassKeys {
-        let order = Permutation::new(self.pass_size, hash_words(self.seed, &[pass, TAG_ORDER]));
+        let order = Permutation::new(self.pass_size, hash_words(self.key(), &[pass, TAG_ORDER]));
         let symbols = (0..self.dims)
             .map(|c| self.symbol_permutation(pass, c))
             .collect();
@@ -512,7 +523,7 @@ impl OrthogonalArray {
             let symbol = keys.symbols[column].apply(value);
             let jitter = || {
                 unit_f64(hash_words(
-                    self.seed,
+                    self.key(),
                     &[pass, index, column as u64, TAG_JITTER],
                 ))
             };
@@ -631,7 +642,7 @@ impl Kernel for FillOrthogonalArray<'_> {
             }
             // hash_words(seed, [pass, index, column, TAG_JITTER]) with the seed and pass
             // absorbed.
-            let pass_hash = hash_words(array.seed, &[pass]);
+            let pass_hash = hash_words(array.key(), &[pass]);
             for column in 0..array.dims {
                 own.reset(p, run);
                 for offset in (0..run).step_by(CHUNK) {
