@@ -262,3 +262,58 @@ fn a_run_that_exhausts_its_sampler_says_so() {
         e.warnings
     );
 }
+
+/// Progress comes after every chunk of work (every replicate for MISER), not only between
+/// stages or iterations, and ends at the evaluations the estimate counts.
+#[test]
+fn progress_is_reported_after_every_chunk() {
+    use std::sync::{Arc, Mutex};
+    type Log = Arc<Mutex<Vec<(u64, u64)>>>;
+    let logger = || {
+        let log: Log = Arc::default();
+        let sink = Arc::clone(&log);
+        (log, move |done, planned| {
+            sink.lock().unwrap().push((done, planned))
+        })
+    };
+    let check = |log: Log, e: Estimate, at_least: usize, method: &str| {
+        let seen = log.lock().unwrap();
+        assert!(seen.len() >= at_least, "{method}: {} reports", seen.len());
+        assert!(seen.windows(2).all(|w| w[0].0 <= w[1].0), "{method}");
+        assert_eq!(seen.last().unwrap().0, e.evaluations, "{method}");
+    };
+    let f = |x: &[f64]| x[0] * x[1];
+    // 2^20 points: 64 chunks of 16384.
+    let (log, progress) = logger();
+    let e = Integrator::over_box(f, unit())
+        .samples(1 << 20)
+        .progress(progress)
+        .run()
+        .unwrap();
+    check(log, e, 64, "integrator");
+    // 5 iterations (warm-up included) of 2^16 points: 16 chunks of 4096 each.
+    let (log, progress) = logger();
+    let e = Vegas::new(f, unit())
+        .samples(1 << 16)
+        .iterations(4)
+        .progress(progress)
+        .run()
+        .unwrap();
+    check(log, e, 5 * 16, "vegas");
+    // One stage of 16 replicates.
+    let (log, progress) = logger();
+    let e = Miser::new(f, unit())
+        .samples(4096)
+        .progress(progress)
+        .run()
+        .unwrap();
+    check(log, e, 16, "miser");
+    // 32 x 32 strata: 16 chunks of 64 strata in each of the two stages.
+    let (log, progress) = logger();
+    let e = TwoStage::new(f, unit(), 32)
+        .samples(1 << 16)
+        .progress(progress)
+        .run()
+        .unwrap();
+    check(log, e, 2 * 16, "two-stage");
+}

@@ -292,7 +292,8 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
         loop {
             stage += 1;
             let stage_evaluations = per_replicate * r;
-            let estimate = match run.stage(per_replicate, r, next_slot) {
+            let mut progress = |done: u64| self.config.report(spent + done, planned);
+            let estimate = match run.stage(per_replicate, r, next_slot, &mut progress) {
                 Ok(estimate) => estimate,
                 // A stage cut short has unfinished replicates: the last whole stage stands.
                 Err(Error::Interrupted { stop, .. }) => {
@@ -309,7 +310,6 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
             };
             spent = spent.saturating_add(stage_evaluations);
             next_slot += stage_evaluations;
-            self.config.report(spent, planned);
             let Some(stopping) = &stopping else {
                 return Ok(estimate);
             };
@@ -523,8 +523,15 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
     }
 
     /// One stage: `replicates` independent MISER runs of `per_replicate` evaluations each,
-    /// from slot `base` on, as one estimate from the replicates.
-    fn stage(&self, per_replicate: u64, replicates: u64, base: u64) -> Result<Estimate> {
+    /// from slot `base` on, as one estimate from the replicates; `progress` is told the
+    /// stage's evaluations folded so far, after every replicate.
+    fn stage(
+        &self,
+        per_replicate: u64,
+        replicates: u64,
+        base: u64,
+        progress: &mut dyn FnMut(u64),
+    ) -> Result<Estimate> {
         let needed = per_replicate
             .checked_mul(replicates)
             .and_then(|n| n.checked_add(base));
@@ -547,6 +554,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
             self.executor
                 .run(&stage, 0..replicates, replicates, &self.limits, |_, p| {
                     partials.push(p);
+                    progress(partials.len() as u64 * per_replicate);
                     Ok(())
                 })?;
         if let Some(stop) = stopped {

@@ -221,9 +221,10 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
 
         // Stage 1: the pilot, stratum j at slots j * pilot ...
         let pilot = self.pilot;
-        let pilot_stats = grid.sample_strata(strata, &|j| (j as u64 * pilot, pilot))?;
+        let mut pilot_progress = |done: u64| self.config.report(done, total);
+        let pilot_stats =
+            grid.sample_strata(strata, &|j| (j as u64 * pilot, pilot), &mut pilot_progress)?;
         let main_base = strata as u64 * pilot;
-        self.config.report(main_base, total);
         let counts = neyman_allocation(&pilot_stats, total - main_base);
 
         // Stage 2: fresh samples, stratum j right after stratum j - 1.
@@ -233,8 +234,9 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
             starts.push(next);
             next += n;
         }
-        let main_stats = grid.sample_strata(strata, &|j| (starts[j], counts[j]))?;
-        self.config.report(total, total);
+        let mut main_progress = |done: u64| self.config.report(main_base + done, total);
+        let main_stats =
+            grid.sample_strata(strata, &|j| (starts[j], counts[j]), &mut main_progress)?;
 
         let used: Vec<Accumulator> = if self.reuse_pilot {
             pilot_stats
@@ -331,11 +333,13 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
 
     /// Samples every stratum `j` with the batch `batch(j) = (first slot, points)` and returns
     /// the per-stratum statistics in stratum order (each computed in index order, so the
-    /// result does not depend on the thread count).
+    /// result does not depend on the thread count). `progress` is told the evaluations folded
+    /// so far, after every chunk of strata.
     fn sample_strata(
         &self,
         strata: usize,
         batch: &(dyn Fn(usize) -> (u64, u64) + Sync),
+        progress: &mut dyn FnMut(u64),
     ) -> Result<Vec<Accumulator>> {
         let job = StrataJob {
             grid: self,
@@ -345,11 +349,17 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
         let chunks = strata.div_ceil(STRATA_PER_CHUNK) as u64;
         let mut all = Vec::with_capacity(strata);
         let mut first_bad = None;
+        let mut folded = 0;
         let stopped =
             self.executor
                 .run(&job, 0..chunks, chunks, &self.limits, |_, (stats, bad)| {
+                    folded += stats
+                        .iter()
+                        .map(|a| a.count() + a.non_finite())
+                        .sum::<u64>();
                     all.extend(stats);
                     first_bad = first_bad.take().or(bad);
+                    progress(folded);
                     Ok(())
                 })?;
         if let Some(stop) = stopped {

@@ -333,7 +333,15 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                 beta: self.beta,
                 allocating,
             };
-            let Some(totals) = pass.run(&executor, &limits, &mut training, &mut next_sigf)? else {
+            let mut progress = |done: u64| self.config.report(spent + done, planned);
+            let Some(totals) = pass.run(
+                &executor,
+                &limits,
+                &mut training,
+                &mut next_sigf,
+                &mut progress,
+            )?
+            else {
                 // An iteration cut short is discarded: its hypercubes are unevenly sampled.
                 stop = limits.reached().unwrap_or(StopReason::Cancelled);
                 break;
@@ -351,7 +359,6 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                 });
             }
             spent += total;
-            self.config.report(spent, planned);
             grid.adapt_to(&training, self.alpha);
             if allocating {
                 std::mem::swap(&mut sigf, &mut next_sigf);

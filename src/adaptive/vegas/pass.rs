@@ -50,13 +50,15 @@ pub(super) struct Totals {
 impl<F: Fn(&[f64]) -> f64 + Sync> Pass<'_, F> {
     /// Runs the iteration: its sums, with the grid's training data added to `training` and
     /// each hypercube's `sigma_h^beta` written to `next_sigf` (when allocating); `None` when a
-    /// limit stopped it before its end.
+    /// limit stopped it before its end. `progress` is told the evaluations of the iteration
+    /// folded so far, after every chunk.
     pub(super) fn run(
         &self,
         executor: &Executor,
         limits: &Limits,
         training: &mut [f64],
         next_sigf: &mut [f64],
+        progress: &mut dyn FnMut(u64),
     ) -> Result<Option<Totals>> {
         let mut totals = Totals::default();
         let stop = executor.run(
@@ -64,8 +66,10 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Pass<'_, F> {
             0..self.chunks.len() as u64,
             WINDOW,
             limits,
-            |_, out| {
+            |chunk, out| {
                 totals.merge(&out, self, training, next_sigf);
+                let next = self.chunks.get(chunk as usize + 1);
+                progress(next.map_or(self.total, |c| c.index));
                 Ok(())
             },
         )?;
