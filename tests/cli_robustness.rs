@@ -52,6 +52,59 @@ fn a_closed_stdout_ends_every_program_quietly() {
     }
 }
 
+/// Every program, its stdout closed before it writes anything (a reader that exits at once):
+/// the first write fails, and the program ends quietly with success instead of panicking.
+#[test]
+fn a_stdout_closed_from_the_start_ends_every_program_quietly() {
+    let dir = std::env::temp_dir().join(format!("mcint-closed-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let points = dir.join("points.txt");
+    let listed = run(
+        "points",
+        &["--sampler", "sobol", "--dims", "2", "--n", "64"],
+    );
+    std::fs::write(&points, &listed.stdout).unwrap();
+    let out_dir = dir.join("figures");
+    let (points, out_dir) = (points.to_str().unwrap(), out_dir.to_str().unwrap());
+    let programs: Vec<(&str, Vec<&str>)> = TALKATIVE
+        .iter()
+        .map(|(name, args)| (*name, args.to_vec()))
+        .chain([
+            ("quality", vec!["--input", points, "--measure", "centered"]),
+            (
+                "gallery",
+                vec!["--out", out_dir, "--n", "64", "--passes", "2"],
+            ),
+            (
+                "convergence",
+                vec!["--out", out_dir, "--max-log2", "8", "--passes", "4"],
+            ),
+        ])
+        .collect();
+    for (name, args) in programs {
+        let mut child = Command::new(example(name))
+            .args(&args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take()); // the read end closes before anything is written
+        let out = child.wait_with_output().unwrap();
+        assert!(
+            out.status.success(),
+            "{name}: {:?} {}",
+            out.status,
+            stderr(&out)
+        );
+        assert!(
+            !stderr(&out).contains("panicked"),
+            "{name}: {}",
+            stderr(&out)
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[cfg(unix)]
 #[test]
 fn an_argument_that_is_not_utf8_is_a_one_line_error() {
@@ -65,6 +118,7 @@ fn an_argument_that_is_not_utf8_is_a_one_line_error() {
         "gallery",
         "convergence",
         "quickstart",
+        "variance_reduction",
     ] {
         let out = Command::new(example(name)).arg(bad).output().unwrap();
         assert_one_line_error(&out, "not valid UTF-8");
