@@ -307,6 +307,9 @@ fn bad_input_is_an_error() {
     assert!(t_value(&empty).unwrap_err().to_string().contains("empty"));
     let err = t_value(&Points::new(2, 1000).unwrap()).unwrap_err();
     assert!(err.to_string().contains("nearest: 512 or 1024"), "{err}");
+    // 50,000 points once overflowed the stack and aborted the process: now an error.
+    let err = t_value(&Points::new(2, 50_000).unwrap()).unwrap_err();
+    assert!(err.to_string().contains("nearest: 32768 or 65536"), "{err}");
     let err = t_value(&Points::new(1, 3).unwrap()).unwrap_err();
     assert!(err.to_string().contains("nearest: 2 or 4"), "{err}");
     for bad in [1.0, -0.25, f64::NAN, f64::INFINITY] {
@@ -333,7 +336,7 @@ fn bad_input_is_an_error() {
 
 /// The largest sizes the brief asks for, 2^16 points in 2-D: a (0, 16, 2)-net and random
 /// points, which are no better than a (16, 16, 2)-net. `cargo bench --bench quality` times
-/// them.
+/// them. They run on a test thread's 2 MiB stack: the search is not recursive in `m`.
 #[test]
 fn t_value_of_2_16_points_in_2d() {
     let points = block(&Sobol::new(2, Scramble::Owen, 1).unwrap(), 0, 1 << 16);
