@@ -200,6 +200,10 @@ impl Mixture {
     /// assert_eq!(x, [5.5]);
     /// ```
     pub fn sample_with_component(&self, u: &[f64], x: &mut [f64]) -> usize {
+        // Slicing to the full lengths makes a too-short slice panic in release builds too,
+        // whichever component is chosen (a component may take fewer coordinates of u).
+        let u = &u[..self.canonical_dims];
+        let x = &mut x[..self.dims];
         let (index, first) = self.select(u[0]);
         let component = &self.components[index];
         let dims = component.canonical_dims();
@@ -281,6 +285,8 @@ impl Pdf for Mixture {
     }
 
     fn pdf(&self, x: &[f64]) -> f64 {
+        // Sliced so a too-short x panics here, not only if some component indexes it.
+        let x = &x[..self.dims];
         // Components of weight zero are skipped, so their value (even NaN) cannot leak in.
         self.components
             .iter()

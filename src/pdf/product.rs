@@ -107,20 +107,24 @@ impl Pdf for ProductPdf {
     }
 
     fn sample(&self, u: &[f64], x: &mut [f64]) {
-        for ((x, &u), p) in x.iter_mut().zip(u).zip(&self.factors) {
+        // Slicing, not zip alone, makes a too-short slice panic in release builds too.
+        let n = self.factors.len();
+        for ((x, &u), p) in x[..n].iter_mut().zip(&u[..n]).zip(&self.factors) {
             *x = p.sample_1d(u);
         }
     }
 
     fn pdf(&self, x: &[f64]) -> f64 {
-        x.iter()
+        x[..self.factors.len()]
+            .iter()
             .zip(&self.factors)
             .map(|(&x, p)| p.pdf_1d(x))
             .product()
     }
 
     fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
-        for ((u, &x), p) in u.iter_mut().zip(x).zip(&self.factors) {
+        let n = self.factors.len();
+        for ((u, &x), p) in u[..n].iter_mut().zip(&x[..n]).zip(&self.factors) {
             *u = p.invert_1d(x);
         }
         Ok(())
