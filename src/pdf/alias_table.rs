@@ -11,8 +11,8 @@
 //! discrete counterpart of the seed's A.19: a sample `i` drawn with probability `p_i` has the
 //! estimator `f(i) / p_i` for a sum `sum_i f(i)`.
 
-use super::Pdf;
 use super::piecewise_constant::{check_weights, into_canonical};
+use super::{Pdf, debug_assert_len};
 use crate::Result;
 use crate::float::ONE_BELOW;
 
@@ -203,12 +203,15 @@ impl Pdf for AliasTable {
     }
 
     fn sample(&self, u: &[f64], x: &mut [f64]) {
+        debug_assert_len!(self, sample, u, canonical_dims);
+        debug_assert_len!(self, sample, x, dims);
         x[0] = AliasTable::sample(self, u[0]).0 as f64;
     }
 
     /// The probability of index `x[0]` (counting measure); zero unless `x[0]` is one of
     /// `0, ..., n-1`.
     fn pdf(&self, x: &[f64]) -> f64 {
+        debug_assert_len!(self, pdf, x, dims);
         let x = x[0];
         if x >= 0.0 && x < self.bins.len() as f64 && x.fract() == 0.0 {
             self.probabilities[x as usize]

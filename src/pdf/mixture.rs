@@ -8,7 +8,7 @@
 //! Hesterberg's (1995) *defensive* mixture, whose density never falls below `alpha / volume`, so
 //! the weights `f/p` stay bounded even where the proposal misses the integrand.
 
-use super::{Pdf, UniformBox};
+use super::{Pdf, UniformBox, debug_assert_len};
 use crate::float::ONE_BELOW;
 use crate::{Error, Result};
 
@@ -188,6 +188,12 @@ impl Mixture {
     /// Samples like [`sample`](Pdf::sample) and returns the index of the component that
     /// produced `x` (which one-sample MIS needs).
     ///
+    /// # Panics
+    ///
+    /// As [`Pdf::sample`]: `u.len()` must equal [`canonical_dims`](Pdf::canonical_dims) and
+    /// `x.len()` must equal [`dims`](Pdf::dims) (checked with debug assertions; in release a
+    /// slice that is too short panics, one that is too long gives unspecified results).
+    ///
     /// ```
     /// use mcint::pdf::{Mixture, UniformInterval};
     /// let p = Mixture::new(
@@ -200,6 +206,12 @@ impl Mixture {
     /// assert_eq!(x, [5.5]);
     /// ```
     pub fn sample_with_component(&self, u: &[f64], x: &mut [f64]) -> usize {
+        debug_assert_len!(self, sample_with_component, u, canonical_dims);
+        debug_assert_len!(self, sample_with_component, x, dims);
+        // Slicing to the full lengths makes a too-short slice panic in release builds too,
+        // whichever component is chosen (a component may take fewer coordinates of u).
+        let u = &u[..self.canonical_dims];
+        let x = &mut x[..self.dims];
         let (index, first) = self.select(u[0]);
         let component = &self.components[index];
         let dims = component.canonical_dims();
@@ -277,10 +289,15 @@ impl Pdf for Mixture {
     }
 
     fn sample(&self, u: &[f64], x: &mut [f64]) {
+        debug_assert_len!(self, sample, u, canonical_dims);
+        debug_assert_len!(self, sample, x, dims);
         self.sample_with_component(u, x);
     }
 
     fn pdf(&self, x: &[f64]) -> f64 {
+        debug_assert_len!(self, pdf, x, dims);
+        // Sliced so a too-short x panics here, not only if some component indexes it.
+        let x = &x[..self.dims];
         // Components of weight zero are skipped, so their value (even NaN) cannot leak in.
         self.components
             .iter()

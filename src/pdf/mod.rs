@@ -50,6 +50,30 @@ mod warp_to_3d;
 
 use warp_to_3d::warp_to_3d;
 
+/// Checks, only in builds with debug assertions, that a slice given to a [`Pdf`] method has the
+/// length the pdf takes: `debug_assert_len!(self, sample, u, canonical_dims)` asserts
+/// `u.len() == self.canonical_dims()`, and its panic names the pdf type, the method, the slice
+/// and both lengths. Everything is inside `debug_assert_eq!`, so release builds evaluate
+/// nothing (not even `dims()`) on these hot paths. Use it in a method of an `impl` (it names
+/// `Self`).
+macro_rules! debug_assert_len {
+    ($pdf:expr, $method:ident, $slice:ident, $dims:ident) => {
+        debug_assert_eq!(
+            $slice.len(),
+            $crate::pdf::Pdf::$dims($pdf),
+            "{}::{}: {}.len() must equal {}() = {}, but is {}",
+            ::std::any::type_name::<Self>(),
+            stringify!($method),
+            stringify!($slice),
+            stringify!($dims),
+            $crate::pdf::Pdf::$dims($pdf),
+            $slice.len(),
+        )
+    };
+}
+
+pub(crate) use debug_assert_len;
+
 pub use alias_table::AliasTable;
 pub use cosine_hemisphere::CosineHemisphere;
 pub use exponential::Exponential;
@@ -76,8 +100,13 @@ use crate::{Error, Result};
 ///
 /// `sample` maps `u` (length [`canonical_dims`](Self::canonical_dims)) to `x` (length
 /// [`dims`](Self::dims)); `pdf(x)` is the density of `sample`'s output with respect to the
-/// domain's measure (Lebesgue measure for boxes). Slices of the wrong length panic, like slice
-/// indexing: these are hot-path methods.
+/// domain's measure (Lebesgue measure for boxes).
+///
+/// Every slice must have exactly its length: `u.len() == canonical_dims()` and
+/// `x.len() == dims()`. These are hot-path methods, so only builds with debug assertions check
+/// this, panicking on any mismatch; release builds still panic on a slice that is too short
+/// (as slice indexing does) but give unspecified, memory-safe results for one that is too long.
+/// The `# Panics` section of each method says which slice is which.
 ///
 /// ```
 /// use mcint::pdf::{Exponential, Pdf};
@@ -95,14 +124,79 @@ pub trait Pdf: Send + Sync {
     fn dims(&self) -> usize;
 
     /// Maps a canonical point `u` to a point `x` of the domain.
+    ///
+    /// # Panics
+    ///
+    /// `u.len()` must equal [`canonical_dims`](Self::canonical_dims) and `x.len()` must equal
+    /// [`dims`](Self::dims). With debug assertions a mismatch panics, with a message naming
+    /// the pdf, the slice and both lengths. Release builds do not check: a slice that is too
+    /// short panics as slice indexing does, one that is too long gives unspecified (but
+    /// memory-safe) results.
+    ///
+    /// ```
+    /// use mcint::pdf::{Pdf, UniformBox};
+    /// let square = UniformBox::new(vec![0.0, 0.0], vec![2.0, 4.0])?;
+    /// let mut x = [0.0; 2]; // dims() = 2
+    /// square.sample(&[0.5, 0.25], &mut x); // canonical_dims() = 2
+    /// assert_eq!(x, [1.0, 1.0]);
+    /// let short = std::panic::catch_unwind(|| square.sample(&[0.5], &mut [0.0; 2]));
+    /// assert!(short.is_err()); // in every build
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
     fn sample(&self, u: &[f64], x: &mut [f64]);
 
     /// The density at `x` (zero outside the support).
+    ///
+    /// # Panics
+    ///
+    /// `x.len()` must equal [`dims`](Self::dims). With debug assertions a mismatch panics,
+    /// with a message naming the pdf, the slice and both lengths. Release builds do not
+    /// check: a slice that is too short panics as slice indexing does, one that is too long
+    /// gives an unspecified (but memory-safe) result.
+    ///
+    /// ```
+    /// use mcint::pdf::{Pdf, UniformBox};
+    /// let square = UniformBox::new(vec![0.0, 0.0], vec![2.0, 2.0])?;
+    /// assert_eq!(square.pdf(&[1.0, 1.0]), 0.25);
+    /// assert!(std::panic::catch_unwind(|| square.pdf(&[1.0])).is_err()); // in every build
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
     fn pdf(&self, x: &[f64]) -> f64;
 
     /// Maps `x` back to the canonical point `u` with `sample(u) == x`, where the warp has an
     /// inverse; the default reports that it does not.
-    fn invert(&self, _x: &[f64], _u: &mut [f64]) -> Result<()> {
+    ///
+    /// # Panics
+    ///
+    /// `x.len()` must equal [`dims`](Self::dims) and `u.len()` must equal
+    /// [`canonical_dims`](Self::canonical_dims), as for [`sample`](Self::sample), also for
+    /// pdfs without an inverse: with debug assertions a mismatch panics, naming the pdf, the
+    /// slice and both lengths; release builds panic on a slice that is too short and give
+    /// unspecified (but memory-safe) results for one that is too long.
+    ///
+    /// ```
+    /// use mcint::pdf::{Exponential, Pdf};
+    /// let p = Exponential::new(1.0, 0.0, f64::INFINITY)?;
+    /// let mut u = [0.0];
+    /// p.invert(&[2f64.ln()], &mut u)?;
+    /// assert!((u[0] - 0.5).abs() < 1e-15);
+    /// assert!(std::panic::catch_unwind(|| p.invert(&[1.0], &mut [])).is_err()); // in every build
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
+        debug_assert_len!(self, invert, x, dims);
+        debug_assert_len!(self, invert, u, canonical_dims);
+        // Nothing is read, but a too-short slice panics here as it would in a pdf that inverts.
+        assert!(
+            x.len() >= self.dims() && u.len() >= self.canonical_dims(),
+            "{}::invert: x.len() = {} must be at least dims() = {} and u.len() = {} at least \
+             canonical_dims() = {}",
+            std::any::type_name::<Self>(),
+            x.len(),
+            self.dims(),
+            u.len(),
+            self.canonical_dims()
+        );
         Err(Error::Unsupported {
             operation: "invert",
             reason: format!(
@@ -163,14 +257,19 @@ impl<T: Pdf1d> Pdf for T {
     }
 
     fn sample(&self, u: &[f64], x: &mut [f64]) {
+        debug_assert_len!(self, sample, u, canonical_dims);
+        debug_assert_len!(self, sample, x, dims);
         x[0] = self.sample_1d(u[0]);
     }
 
     fn pdf(&self, x: &[f64]) -> f64 {
+        debug_assert_len!(self, pdf, x, dims);
         self.pdf_1d(x[0])
     }
 
     fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
+        debug_assert_len!(self, invert, x, dims);
+        debug_assert_len!(self, invert, u, canonical_dims);
         u[0] = self.invert_1d(x[0]);
         Ok(())
     }

@@ -10,7 +10,7 @@
 //! Rendering*, 4th ed., sec. 2.4.2 and appendix A.5) and of environment-map sampling in
 //! Mitsuba 3; the implementation is our own, built on [`PiecewiseConstant1d`].
 
-use super::{Pdf, Pdf1d, PiecewiseConstant1d};
+use super::{Pdf, Pdf1d, PiecewiseConstant1d, debug_assert_len};
 use crate::{Error, Result};
 
 /// Density proportional to a `width x height` table of non-negative values (row-major: row
@@ -210,6 +210,8 @@ impl Pdf for PiecewiseConstant2d {
     }
 
     fn sample(&self, u: &[f64], x: &mut [f64]) {
+        debug_assert_len!(self, sample, u, canonical_dims);
+        debug_assert_len!(self, sample, x, dims);
         let y = self.marginal.sample_1d(u[1]);
         // The marginal only lands in rows of positive weight, which have a conditional.
         let row = self.marginal.cell_at(y).unwrap_or(0);
@@ -225,6 +227,7 @@ impl Pdf for PiecewiseConstant2d {
     }
 
     fn pdf(&self, x: &[f64]) -> f64 {
+        debug_assert_len!(self, pdf, x, dims);
         let Some(row) = self.marginal.cell_at(x[1]) else {
             return 0.0;
         };
@@ -238,6 +241,8 @@ impl Pdf for PiecewiseConstant2d {
     /// row (for a point in a row of zeros, which no `u` reaches, `u[0]` is its uniform
     /// fraction of the row).
     fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
+        debug_assert_len!(self, invert, x, dims);
+        debug_assert_len!(self, invert, u, canonical_dims);
         u[1] = self.marginal.invert_1d(x[1]);
         let (lo, hi) = self.marginal.support();
         let row = self

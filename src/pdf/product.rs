@@ -1,6 +1,6 @@
 //! Products of independent one-dimensional densities: a density on a box.
 
-use super::{Pdf, Pdf1d};
+use super::{Pdf, Pdf1d, debug_assert_len};
 use crate::{Error, Result};
 
 /// The density `p_1(x_1) p_2(x_2) ... p_d(x_d)` of independent coordinates, each sampled by
@@ -107,20 +107,29 @@ impl Pdf for ProductPdf {
     }
 
     fn sample(&self, u: &[f64], x: &mut [f64]) {
-        for ((x, &u), p) in x.iter_mut().zip(u).zip(&self.factors) {
+        debug_assert_len!(self, sample, u, canonical_dims);
+        debug_assert_len!(self, sample, x, dims);
+        // Slicing, not zip alone, makes a too-short slice panic in release builds too.
+        let n = self.factors.len();
+        for ((x, &u), p) in x[..n].iter_mut().zip(&u[..n]).zip(&self.factors) {
             *x = p.sample_1d(u);
         }
     }
 
     fn pdf(&self, x: &[f64]) -> f64 {
-        x.iter()
+        debug_assert_len!(self, pdf, x, dims);
+        x[..self.factors.len()]
+            .iter()
             .zip(&self.factors)
             .map(|(&x, p)| p.pdf_1d(x))
             .product()
     }
 
     fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
-        for ((u, &x), p) in u.iter_mut().zip(x).zip(&self.factors) {
+        debug_assert_len!(self, invert, x, dims);
+        debug_assert_len!(self, invert, u, canonical_dims);
+        let n = self.factors.len();
+        for ((u, &x), p) in u[..n].iter_mut().zip(&x[..n]).zip(&self.factors) {
             *u = p.invert_1d(x);
         }
         Ok(())

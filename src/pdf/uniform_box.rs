@@ -1,6 +1,6 @@
 //! The uniform density on an axis-aligned box: A.13 in every coordinate.
 
-use super::Pdf;
+use super::{Pdf, debug_assert_len};
 use crate::{Error, Result};
 
 /// Uniform density `1/volume` on the box `[lo_1, hi_1) x ... x [lo_d, hi_d)`.
@@ -118,14 +118,19 @@ impl Pdf for UniformBox {
     }
 
     fn sample(&self, u: &[f64], x: &mut [f64]) {
-        for (((x, &u), &lo), &hi) in x.iter_mut().zip(u).zip(&self.lo).zip(&self.hi) {
+        debug_assert_len!(self, sample, u, canonical_dims);
+        debug_assert_len!(self, sample, x, dims);
+        // Slicing, not zip alone, makes a too-short slice panic in release builds too.
+        let n = self.lo.len();
+        for (((x, &u), &lo), &hi) in x[..n].iter_mut().zip(&u[..n]).zip(&self.lo).zip(&self.hi) {
             let v = lo + u * (hi - lo);
             *x = if v < hi { v } else { hi.next_down() };
         }
     }
 
     fn pdf(&self, x: &[f64]) -> f64 {
-        let inside = x
+        debug_assert_len!(self, pdf, x, dims);
+        let inside = x[..self.lo.len()]
             .iter()
             .zip(&self.lo)
             .zip(&self.hi)
@@ -134,7 +139,10 @@ impl Pdf for UniformBox {
     }
 
     fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
-        for (((u, &x), &lo), &hi) in u.iter_mut().zip(x).zip(&self.lo).zip(&self.hi) {
+        debug_assert_len!(self, invert, x, dims);
+        debug_assert_len!(self, invert, u, canonical_dims);
+        let n = self.lo.len();
+        for (((u, &x), &lo), &hi) in u[..n].iter_mut().zip(&x[..n]).zip(&self.lo).zip(&self.hi) {
             *u = ((x - lo) / (hi - lo)).clamp(0.0, 1.0);
         }
         Ok(())

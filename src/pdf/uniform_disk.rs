@@ -14,7 +14,7 @@
 //! across the diagonals where its formula changes), so the inverse is single-valued
 //! everywhere: there is no seam.
 
-use super::Pdf;
+use super::{Pdf, debug_assert_len};
 use crate::{Error, Result};
 use core::f64::consts::{FRAC_PI_4, PI};
 use glam::DVec2;
@@ -223,15 +223,20 @@ impl Pdf for UniformDisk {
     }
 
     fn sample(&self, u: &[f64], x: &mut [f64]) {
+        debug_assert_len!(self, sample, u, canonical_dims);
+        debug_assert_len!(self, sample, x, dims);
         self.sample_point(DVec2::new(u[0], u[1]))
             .write_to_slice(&mut x[..2]);
     }
 
     fn pdf(&self, x: &[f64]) -> f64 {
+        debug_assert_len!(self, pdf, x, dims);
         self.pdf_point(DVec2::new(x[0], x[1]))
     }
 
     fn invert(&self, x: &[f64], u: &mut [f64]) -> Result<()> {
+        debug_assert_len!(self, invert, x, dims);
+        debug_assert_len!(self, invert, u, canonical_dims);
         let x = DVec2::new(x[0], x[1]);
         if !x.is_finite() {
             return Err(Error::invalid("x", x, "a finite point"));

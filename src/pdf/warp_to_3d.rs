@@ -19,15 +19,20 @@ macro_rules! warp_to_3d {
             }
 
             fn sample(&self, u: &[f64], x: &mut [f64]) {
+                $crate::pdf::debug_assert_len!(self, sample, u, canonical_dims);
+                $crate::pdf::debug_assert_len!(self, sample, x, dims);
                 self.sample_point(glam::DVec2::new(u[0], u[1]))
                     .write_to_slice(&mut x[..3]);
             }
 
             fn pdf(&self, x: &[f64]) -> f64 {
+                $crate::pdf::debug_assert_len!(self, pdf, x, dims);
                 self.pdf_point(glam::DVec3::new(x[0], x[1], x[2]))
             }
 
             fn invert(&self, x: &[f64], u: &mut [f64]) -> $crate::Result<()> {
+                $crate::pdf::debug_assert_len!(self, invert, x, dims);
+                $crate::pdf::debug_assert_len!(self, invert, u, canonical_dims);
                 let x = glam::DVec3::new(x[0], x[1], x[2]);
                 if !x.is_finite() {
                     return Err($crate::Error::invalid("x", x, $point));
