@@ -481,3 +481,113 @@ fn star_discrepancy_matches_closed_forms() {
         );
     }
 }
+
+/// The point sets of `tests/data/discrepancy_high_dim.py`: coordinate `k` of point `i` from
+/// the 10-bit hash `h = (((i d + k + 1) * 2654435761) mod 2^32) >> 22`.
+fn high_dim_points(style: &str, n: usize, d: usize) -> Points {
+    let mut points = Points::new(d, n).unwrap();
+    for k in 0..d {
+        for (i, x) in points.column_mut(k).iter_mut().enumerate() {
+            let h = ((((i * d + k + 1) as u64) * 2_654_435_761) % (1 << 32)) >> 22;
+            let odd = (2 * h + 1) as f64;
+            *x = match style {
+                "uniform" => odd / 2048.0,
+                "corner" => odd / 131_072.0,
+                "centre" => 0.5 + (odd - 1024.0) / 131_072.0,
+                other => panic!("unknown style {other}"),
+            };
+        }
+    }
+    points
+}
+
+/// In thousands of dimensions the terms of the closed forms (`C^d`, products of `d` factors
+/// up to 1.5 or 15/8, and their sums) overflow or underflow f64, which used to give inf, NaN,
+/// 0 or a subnormal with few correct bits (the roots printed 0.0 for NaN). Now each result is
+/// right wherever it is a normal f64, and an error saying why where it is not (the squares
+/// beyond 1.8e308 or below 2.2e-308; their roots are then still returned).
+///
+/// Exact values: rational arithmetic on the same dyadic points, regenerated with
+/// `python3 tests/data/discrepancy_high_dim.py` (standard library only; scipy 1.17.1 returns
+/// inf for the WD, MD and CD-centre cases and 0.0 for L2-star). Columns: method, style, n, d,
+/// the exact square (None where it is not a normal f64) and its root, to 20 digits.
+#[test]
+fn high_dimension_results_are_right_or_errors() {
+    type Case = (&'static str, &'static str, usize, usize, Option<f64>, f64);
+    #[allow(
+        clippy::excessive_precision,
+        reason = "20 digits as printed by the script"
+    )]
+    let cases: [Case; 7] = [
+        (
+            "WD",
+            "uniform",
+            16,
+            1745,
+            Some(1.1888500202256812633e306),
+            1.0903439916951352942e153,
+        ),
+        ("MD", "uniform", 3, 1500, None, 5.8269852446999026484e181),
+        ("CD", "corner", 4, 3000, None, 2.8179765404804945927e260),
+        ("WD", "uniform", 4, 3000, None, 6.8526505857381949642e263),
+        ("CD", "centre", 4, 9000, None, 2.6883026890181613935e156),
+        (
+            "CD",
+            "uniform",
+            8,
+            3000,
+            Some(1.0799584252424794668e281),
+            3.2862720904430288315e140,
+        ),
+        (
+            "L2-star",
+            "uniform",
+            5,
+            1000,
+            None,
+            7.2485073012744665539e-218,
+        ),
+    ];
+    for (method, style, n, d, exact_squared, exact_root) in cases {
+        let points = high_dim_points(style, n, d);
+        let (root, squared): (Measure, Measure) = match method {
+            "L2-star" => (l2_star, l2_star_squared),
+            "CD" => (centered_l2, centered_l2_squared),
+            "WD" => (wrap_around_l2, wrap_around_l2_squared),
+            "MD" => (mixture_l2, mixture_l2_squared),
+            other => panic!("unknown method {other}"),
+        };
+        let label = format!("{method} {style} n = {n} d = {d}");
+        let name = |method: &str| if method == "L2-star" { "T_N" } else { method }.to_string();
+        // The documented error bound: one rounding (2^-53) per coordinate in each product.
+        let tolerance = (d as f64 + 3.0) * 2f64.powi(-53);
+        let got = root(&points).unwrap_or_else(|e| panic!("{label}: root: {e}"));
+        assert!(
+            relative(got, exact_root) <= tolerance,
+            "{label}: root {got:e}, exact {exact_root:e}"
+        );
+        match exact_squared {
+            Some(exact) => {
+                let got = squared(&points).unwrap_or_else(|e| panic!("{label}: {e}"));
+                assert!(
+                    relative(got, exact) <= tolerance,
+                    "{label}: {got:e}, exact {exact:e}"
+                );
+            }
+            None => {
+                let err = squared(&points).unwrap_err().to_string();
+                let why = if exact_root > 1.0 {
+                    "can pass 1.8e308"
+                } else {
+                    "can fall below 2.2e-308"
+                };
+                assert!(
+                    err.contains(&format!("whose {}^2 is a normal f64", name(method)))
+                        && err.contains(why)
+                        && err.contains("Its root is a normal f64 here: use"),
+                    "{label}: {err}"
+                );
+            }
+        }
+    }
+}

@@ -156,6 +156,138 @@ fn discontinuous_with_u1_zero_integrates_to_zero() {
     assert_eq!(genz_reference(&g), 0.0);
 }
 
+/// The limits as every `a_k -> 0`, by hand from the definitions (`u = (0.3, 0.6, 0.9)`):
+/// oscillatory `∫ cos(2π u_1) = cos(2π u_1)`; corner peak, Gaussian and continuous `∫ 1 = 1`;
+/// discontinuous `u_1 u_2` (the cut box `[0, u_1] x [0, u_2] x [0, 1]`, or `u_1` when d = 1);
+/// product peak `Π a_k^2 (1 - O(a_k^2))`, since `a (atan(a(1-u)) + atan(a u)) = a^2 (1 - O(a^2))`,
+/// which is `(a^2)^d` rounded (0 for the subnormal `a`, whose `a^2 ≈ 1e-620` underflows).
+/// The closed forms used to divide subnormals (`sin(a/2)/a`, `erf(a)/a`, `(e^{a u} - 1)/a`)
+/// and gave 0, inf or 0.96 (corner peak) at `a = 5e-324`, and 1 + 5e-14 at `1e-310`.
+#[test]
+fn tiny_and_subnormal_a_give_the_limits_as_a_goes_to_zero() {
+    let u = [0.3, 0.6, 0.9];
+    for a in [1e-310, 5e-324, 1e-20] {
+        for d in [1usize, 3] {
+            for family in GenzFamily::ALL {
+                let g = Genz::new(family, vec![a; d], u[..d].to_vec())
+                    .unwrap_or_else(|e| panic!("{family} a = {a:e} d = {d}: {e}"));
+                let limit = match family {
+                    GenzFamily::Oscillatory => (2.0 * std::f64::consts::PI * u[0]).cos(),
+                    GenzFamily::ProductPeak => (a * a).powi(d as i32),
+                    GenzFamily::CornerPeak | GenzFamily::Gaussian | GenzFamily::Continuous => 1.0,
+                    GenzFamily::Discontinuous => u[..d.min(2)].iter().product(),
+                };
+                // A few ulps: the corner peak's value comes from quadrature (1 ulp off here).
+                assert!(
+                    (g.exact() - limit).abs() <= 4.0 * f64::EPSILON * limit.abs(),
+                    "{family} a = {a:e} d = {d}: {:e}, limit {limit:e}",
+                    g.exact()
+                );
+            }
+        }
+    }
+    // Tiny factors next to ordinary ones: the others' integrals, unchanged.
+    for family in GenzFamily::ALL {
+        let tiny = Genz::new(family, vec![5e-324, 2.0, 1e-310], vec![0.3, 0.6, 0.9]).unwrap();
+        let one_axis = Genz::new(family, vec![1e-300, 2.0, 1e-300], vec![0.3, 0.6, 0.9]).unwrap();
+        if family == GenzFamily::ProductPeak {
+            // a_1^2 a_3^2 times the middle factor: below f64's range either way.
+            assert_eq!((tiny.exact(), one_axis.exact()), (0.0, 0.0));
+        } else {
+            let (got, want) = (tiny.exact(), one_axis.exact());
+            assert!(
+                (got - want).abs() <= 4.0 * f64::EPSILON * want.abs(),
+                "{family}: {got:e} vs {want:e} (a = 1e-300)"
+            );
+        }
+    }
+}
+
+/// Huge `a`: no NaN where the true value is a number, and a refusal nowhere.
+///
+/// References (mpmath; its working precision must exceed 300 digits for `2π u + a`):
+/// `python3 -c "from mpmath import mp, mpf, sin, pi, expm1, atan; mp.dps = 400;
+///  a, u = mpf(1e300), mpf(0.3); print(mp.nstr((sin(2*pi*u + a) - sin(2*pi*u)) / a, 20));
+///  print(mp.nstr(mpf(1e-310)**2 * (mpf(1e300) * 2 * atan(mpf(1e300) / 2))**2, 20));
+///  print(mp.nstr(expm1(mpf(1e-300)) * expm1(mpf(0.5)) * expm1(mpf(1000)) / 1000, 20))"`
+#[test]
+#[allow(clippy::excessive_precision, reason = "20 digits as printed by mpmath")]
+fn huge_a_gives_numbers_not_nan() {
+    let close = |got: f64, want: f64, what: &str| {
+        assert!(
+            (got - want).abs() <= 1e-14 * want.abs(),
+            "{what}: {got:e}, want {want:e}"
+        );
+    };
+    let one = |family, a: f64, u: f64| Genz::new(family, vec![a], vec![u]).unwrap().exact();
+    // d = 1 closed forms: (sin(2πu + a) - sin(2πu))/a (the phase used to drop 2πu: the value
+    // was -8.2e-301 for every u), π a, 1/(1 + a), √π/a, 2/a.
+    close(
+        one(GenzFamily::Oscillatory, 1e300, 0.3),
+        -1.2455418172224204271e-300,
+        "oscillatory",
+    );
+    close(
+        one(GenzFamily::ProductPeak, 1e300, 0.3),
+        std::f64::consts::PI * 1e300,
+        "product peak",
+    );
+    close(
+        one(GenzFamily::CornerPeak, 1e300, 0.3),
+        1e-300,
+        "corner peak",
+    );
+    close(
+        one(GenzFamily::Gaussian, 1e300, 0.3),
+        std::f64::consts::PI.sqrt() * 1e-300,
+        "gaussian",
+    );
+    close(
+        one(GenzFamily::Continuous, 1e300, 0.3),
+        2e-300,
+        "continuous",
+    );
+    // e^{3e299}/1e300 overflows: inf, as documented; the integral of e^{a x} over a cut at 0
+    // is 0 whatever a is (it used to be 0 * inf = NaN, and the constructor refused it).
+    assert_eq!(one(GenzFamily::Discontinuous, 1e300, 0.3), f64::INFINITY);
+    let cut = Genz::new(
+        GenzFamily::Discontinuous,
+        vec![1.0, 1.0, 1e300],
+        vec![0.0, 0.5, 0.5],
+    );
+    assert_eq!(cut.unwrap().exact(), 0.0);
+    // Factors beyond f64 in both directions whose product is a plain number (both used to
+    // be 0 * inf = NaN, refused by the constructor).
+    let peak = Genz::new(
+        GenzFamily::ProductPeak,
+        vec![1e-310, 1e300, 1e300],
+        vec![0.5; 3],
+    );
+    close(
+        peak.unwrap().exact(),
+        9.8696044010892993506e-20,
+        "product peak, mixed",
+    );
+    let disc = Genz::new(
+        GenzFamily::Discontinuous,
+        vec![1.0, 1.0, 1000.0],
+        vec![1e-300, 0.5, 0.5],
+    );
+    close(
+        disc.unwrap().exact(),
+        1.2780270364547557978e131,
+        "discontinuous, mixed",
+    );
+    for family in GenzFamily::ALL {
+        for a in [vec![1e300; 3], vec![1e300, 1.0, 1e-310], vec![f64::MAX; 2]] {
+            let d = a.len();
+            let g = Genz::new(family, a.clone(), vec![0.3; d])
+                .unwrap_or_else(|e| panic!("{family} {a:?}: {e}"));
+            assert!(!g.exact().is_nan(), "{family} {a:?}");
+        }
+    }
+}
+
 #[test]
 fn genz_eval_matches_definitions() {
     let x = [0.1, 0.6, 0.9];

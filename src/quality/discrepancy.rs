@@ -54,6 +54,28 @@
 //! rational arithmetic the relative error on the test sets is at most `6e-13` (1024 Sobol'
 //! points in 5 dimensions, `MD^2 = 1e-4`). See `tests/quality_discrepancy.rs` and its reference
 //! script `tests/data/discrepancy_scipy.py`.
+//!
+//! # High dimension
+//!
+//! The terms are products of `d` factors: `C^d`, and per point a diagonal pair term
+//! `prod_k K(x_ik, x_ik)`, which is `1.5^d` for `WD`, between 1 and `1.5^d` for `CD`, between
+//! `1.625^d` and `1.875^d` for `MD`, and at most 1 for `T_N` (whose `C^d` is `3^-d`). In a few
+//! hundred to a few thousand dimensions they leave the range of f64 (plain arithmetic gave
+//! inf, NaN, 0 or subnormals with few correct bits, and roots of NaN read as 0). So the
+//! constant, the sums and each running product carry a power-of-two scale: a product is
+//! rescaled once it passes `2^±300` (checked every few coordinates, so it cannot overflow in
+//! between), a sum once a term is `2^600` times its scale, and the final combination is done
+//! in the scale of its largest part. Below those thresholds nothing is rescaled and the
+//! arithmetic is exactly the plain one, so results in low dimension are unchanged to the bit.
+//!
+//! The result is then exact up to the rounding described above, at any dimension, but it may
+//! not be an f64: the squared forms return an error when the square is above `1.8e308` or below
+//! `2.2e-308` (the smallest normal f64), the roots only when the root is. That happens from
+//! about 1750 dimensions for `CD^2` and `WD^2` (3500 for their roots), 1130 for `MD^2` (2260),
+//! and 645 for `T_N^2` (1290) in the worst case, later for typical point sets. A result no
+//! larger than its rounding-error bound, `(d + 3) 2^-53` times the pair term (one rounding per
+//! coordinate in each pair product), is an error too: every discrepancy of a finite set is
+//! positive, and such a result has no known digit. See `tests/data/discrepancy_high_dim.py`.
 
 /// The user-facing summary of the module documentation, shared by every public function.
 macro_rules! cost_accuracy_errors {
@@ -68,7 +90,19 @@ macro_rules! cost_accuracy_errors {
          up to `1e-6`. The error grows as the discrepancy shrinks relative to `C^d`.\n\n\
          Returns [`Error::InvalidParameter`](crate::Error::InvalidParameter) for a set of no \
          points, or for a coordinate that is NaN or outside `[0, 1]` (the message names the \
-         point and the dimension)."
+         point and the dimension).\n\n\
+         # High dimension\n\n\
+         The terms are products of `d` factors, such as `C^d` and up to `1.5^d` (`CD`, `WD`) \
+         or `1.875^d` (`MD`) per point, or `3^-d` for L2-star: they are computed with a \
+         power-of-two scale, so no intermediate overflows or underflows and the accuracy \
+         above holds in any dimension. The result itself must be a normal f64, though: the \
+         squared forms return [`Error::InvalidParameter`](crate::Error::InvalidParameter) \
+         (naming the point set, with the value's size) when the square is above `1.8e308` \
+         or below `2.2e-308`, which can happen from about 1750 dimensions for `CD^2` and \
+         `WD^2`, 1130 for `MD^2` and 645 for `T_N^2`; the roots then still work, up to about \
+         twice those dimensions. The same error is returned, rather than a number with no \
+         correct digit, if the result is within its rounding-error bound (`d + 3` roundings \
+         of the pair terms; this needs far more points than `O(N^2 d)` time allows)."
     };
 }
 
@@ -98,6 +132,18 @@ pub(super) fn check_unit_cube(points: &Points) -> Result<()> {
 
 /// One discrepancy of the closed form in the module documentation.
 trait Kernel {
+    /// The discrepancy's symbol and the names of its two public functions, for error messages.
+    const NAME: &'static str;
+    const ROOT_FN: &'static str;
+    /// How the result grows (or, for L2-star, shrinks) with the dimension, and from which
+    /// dimension it can leave the normal range of f64 (worst case: one point at a corner, or
+    /// the centre for `MD`), for error messages.
+    const LIMIT: &'static str;
+    /// The running products are checked for rescaling after every `CHECK_EVERY` coordinates:
+    /// few enough that, starting within `2^±RESCALE_AT`, they cannot leave the normal range of
+    /// f64 in between (the factors lie in `[2^-54, 1]`, or are 0, for L2-star, and in
+    /// `[1, 15/8]` for the others).
+    const CHECK_EVERY: usize;
     /// The constant `C` as `numerator / denominator`.
     const CONSTANT: (f64, f64);
     /// The one-point factor `g(x)`, in double-double.
@@ -116,6 +162,12 @@ fn distance_to_centre(x: f64) -> DoubleDouble {
 
 struct Star;
 impl Kernel for Star {
+    const NAME: &'static str = "T_N";
+    const ROOT_FN: &'static str = "l2_star";
+    const LIMIT: &'static str = "T_N^2 shrinks with the dimension (its terms are products of d \
+        factors of at most 1, such as 3^-d and prod_k (1 - x_ik)), and can fall below 2.2e-308 \
+        from about 645 dimensions, T_N from about 1290";
+    const CHECK_EVERY: usize = 8;
     const CONSTANT: (f64, f64) = (1.0, 3.0);
     fn single(x: f64) -> DoubleDouble {
         let x = DoubleDouble::from_f64(x);
@@ -129,6 +181,12 @@ impl Kernel for Star {
 
 struct Centered;
 impl Kernel for Centered {
+    const NAME: &'static str = "CD";
+    const ROOT_FN: &'static str = "centered_l2";
+    const LIMIT: &'static str = "CD^2 grows with the dimension (its terms are products of d \
+        factors, up to 1.5^d per point: prod_k (1 + |x_ik - 1/2|)), and can pass 1.8e308 from \
+        about 1750 dimensions, CD from about 3500";
+    const CHECK_EVERY: usize = 256;
     const CONSTANT: (f64, f64) = (13.0, 12.0);
     fn single(x: f64) -> DoubleDouble {
         let a = distance_to_centre(x);
@@ -142,6 +200,12 @@ impl Kernel for Centered {
 
 struct WrapAround;
 impl Kernel for WrapAround {
+    const NAME: &'static str = "WD";
+    const ROOT_FN: &'static str = "wrap_around_l2";
+    const LIMIT: &'static str = "WD^2 grows with the dimension (its terms are products of d \
+        factors, 1.5^d per point), and can pass 1.8e308 from about 1750 dimensions, WD from \
+        about 3500";
+    const CHECK_EVERY: usize = 256;
     const CONSTANT: (f64, f64) = (4.0, 3.0);
     fn single(_x: f64) -> DoubleDouble {
         // The integral of K(x, y) over y, the same for every x.
@@ -156,6 +220,12 @@ impl Kernel for WrapAround {
 
 struct Mixture;
 impl Kernel for Mixture {
+    const NAME: &'static str = "MD";
+    const ROOT_FN: &'static str = "mixture_l2";
+    const LIMIT: &'static str = "MD^2 grows with the dimension (its terms are products of d \
+        factors, 1.625^d to 1.875^d per point: prod_k (15/8 - |x_ik - 1/2| / 2)), and can pass \
+        1.8e308 from about 1130 dimensions, MD from about 2260";
+    const CHECK_EVERY: usize = 256;
     const CONSTANT: (f64, f64) = (19.0, 12.0);
     fn single(x: f64) -> DoubleDouble {
         let a = distance_to_centre(x);
@@ -183,37 +253,170 @@ fn compensated_row_sum(products: &[f64], corrections: &[f64]) -> (f64, f64) {
     (sum, error)
 }
 
+/// Running products are rescaled by a power of two once they pass `2^±RESCALE_AT`, far
+/// inside f64's range (`2^±1022`), so that in high dimension they neither overflow nor
+/// underflow. Below that no product is rescaled and the arithmetic is exactly the plain one.
+const RESCALE_AT: i32 = 300;
+
+/// Sums are rescaled once a term passes `2^SUM_HEADROOM` times their current scale.
+const SUM_HEADROOM: i64 = 600;
+
+/// The power of two to divide a running product by, if `largest` (its largest magnitude) has
+/// left `[2^-RESCALE_AT, 2^RESCALE_AT]`.
+fn rescale_shift(largest: f64) -> Option<i64> {
+    let e = libm::ilogb(largest);
+    (largest != 0.0 && !(-RESCALE_AT..=RESCALE_AT).contains(&e)).then_some(i64::from(e))
+}
+
+/// The binary exponent of a non-zero finite `x`: `2^e <= |x| < 2^(e+1)`.
+fn exponent(x: f64) -> i64 {
+    i64::from(libm::ilogb(x))
+}
+
+/// A sum of non-negative terms (up to tiny negative corrections) held as `dd * 2^exp`, so that
+/// terms of size `2^±3000` neither overflow nor underflow. While every term stays within
+/// `2^±SUM_HEADROOM` the scale stays 0 and the additions are exactly the plain double-double
+/// ones.
+#[derive(Clone, Copy)]
+struct ScaledSum {
+    dd: DoubleDouble,
+    exp: i64,
+}
+
+impl ScaledSum {
+    const ZERO: ScaledSum = ScaledSum {
+        dd: DoubleDouble::ZERO,
+        exp: 0,
+    };
+
+    /// Moves the scale for a term of binary exponent `magnitude` (absolute): up to it when the
+    /// term would be too large, or to it when the sum is still 0 and the term far from the
+    /// scale. Earlier terms far below a new scale vanish; they are negligible next to it
+    /// because all terms are non-negative.
+    fn make_room(&mut self, magnitude: i64) {
+        if self.dd.hi() == 0.0 {
+            if (magnitude - self.exp).abs() > SUM_HEADROOM {
+                self.exp = magnitude;
+            }
+        } else if magnitude - self.exp > SUM_HEADROOM {
+            self.dd = self.dd.scale(self.exp - magnitude);
+            self.exp = magnitude;
+        }
+    }
+
+    /// Adds `x * 2^exp`.
+    fn add_f64(&mut self, x: f64, exp: i64) {
+        if x != 0.0 {
+            self.make_room(exp + exponent(x));
+        }
+        let shift = exp - self.exp;
+        self.dd = self.dd
+            + if shift == 0 {
+                x
+            } else {
+                DoubleDouble::from_f64(x).scale(shift).to_f64()
+            };
+    }
+
+    /// Adds `x * 2^exp`.
+    fn add(&mut self, x: DoubleDouble, exp: i64) {
+        if x.hi() != 0.0 {
+            self.make_room(exp + exponent(x.hi()));
+        }
+        let shift = exp - self.exp;
+        self.dd = self.dd + if shift == 0 { x } else { x.scale(shift) };
+    }
+
+    /// The binary exponent of the value, if it is not 0.
+    fn magnitude(self) -> Option<i64> {
+        (self.dd.hi() != 0.0).then(|| self.exp + exponent(self.dd.hi()))
+    }
+
+    /// The value divided by `2^exp`.
+    fn at(self, exp: i64) -> DoubleDouble {
+        if exp == self.exp {
+            self.dd
+        } else {
+            self.dd.scale(self.exp - exp)
+        }
+    }
+}
+
+/// `C^d` as a [`ScaledSum`], by repeated squaring with the partial results kept near 1.
+fn scaled_power(c: DoubleDouble, mut d: usize) -> ScaledSum {
+    let (mut base, mut base_exp) = (c, 0i64);
+    let (mut result, mut result_exp) = (DoubleDouble::ONE, 0i64);
+    let rescale = |x: &mut DoubleDouble, exp: &mut i64| {
+        if let Some(shift) = rescale_shift(x.hi()) {
+            *x = x.scale(-shift);
+            *exp += shift;
+        }
+    };
+    while d > 0 {
+        if d & 1 == 1 {
+            result = result * base;
+            result_exp += base_exp;
+            rescale(&mut result, &mut result_exp);
+        }
+        base = base * base;
+        base_exp *= 2;
+        rescale(&mut base, &mut base_exp);
+        d >>= 1;
+    }
+    ScaledSum {
+        dd: result,
+        exp: result_exp,
+    }
+}
+
+/// A squared discrepancy as `value * 2^exp`, with a bound on its rounding error in the same
+/// scale, so that values beyond f64's range can still give a representable root.
+struct Squared {
+    value: f64,
+    exp: i64,
+    error_bound: f64,
+}
+
 /// The squared discrepancy of kernel `K`: the closed form, with the compensations described in
-/// the module documentation.
-fn squared<K: Kernel>(points: &Points) -> Result<f64> {
+/// the module documentation. The constant, the sums and the running products carry their own
+/// power-of-two scale, so no intermediate overflows or underflows in high dimension.
+fn squared<K: Kernel>(points: &Points) -> Result<Squared> {
     check_unit_cube(points)?;
     let n = points.len();
     let dims = points.dims();
     let columns: Vec<&[f64]> = (0..dims).map(|dim| points.column(dim)).collect();
 
-    let constant = DoubleDouble::ratio(K::CONSTANT.0, K::CONSTANT.1).powi(dims);
+    let constant = scaled_power(DoubleDouble::ratio(K::CONSTANT.0, K::CONSTANT.1), dims);
 
-    let mut single_sum = DoubleDouble::ZERO;
+    let mut single_sum = ScaledSum::ZERO;
     for i in 0..n {
-        let product = columns
-            .iter()
-            .fold(DoubleDouble::ONE, |p, column| p * K::single(column[i]));
-        single_sum = single_sum + product;
+        let (mut product, mut exp) = (DoubleDouble::ONE, 0i64);
+        for (k, column) in columns.iter().enumerate() {
+            product = product * K::single(column[i]);
+            if (k + 1) % K::CHECK_EVERY == 0
+                && let Some(shift) = rescale_shift(product.hi())
+            {
+                product = product.scale(-shift);
+                exp += shift;
+            }
+        }
+        single_sum.add(product, exp);
     }
 
     // Row i holds the K-products of point i with points i.., built one column at a time so the
     // inner loop runs over contiguous memory. Each factor is rounded once, with its rounding
     // error recovered exactly (Fast2Sum), and carried to first order beside the product: the
-    // term is products[j] + corrections[j].
+    // term is products[j] + corrections[j], times 2^row_exp.
     let mut products = vec![1.0f64; n];
     let mut corrections = vec![0.0f64; n];
-    let mut pair_sum = DoubleDouble::ZERO;
+    let mut pair_sum = ScaledSum::ZERO;
     for i in 0..n {
         let products = &mut products[i..];
         let corrections = &mut corrections[i..];
         products.fill(1.0);
         corrections.fill(0.0);
-        for column in &columns {
+        let mut row_exp = 0i64;
+        for (k, column) in columns.iter().enumerate() {
             let x = column[i];
             for ((p, c), &y) in products
                 .iter_mut()
@@ -226,20 +429,149 @@ fn squared<K: Kernel>(points: &Points) -> Result<f64> {
                 *c = *c * factor + *p * rounding;
                 *p *= factor;
             }
+            if (k + 1) % K::CHECK_EVERY == 0 {
+                let largest = products.iter().fold(0.0f64, |m, &p| m.max(p));
+                if let Some(shift) = rescale_shift(largest) {
+                    for v in products.iter_mut().chain(corrections.iter_mut()) {
+                        *v = libm::scalbn(*v, -shift as i32);
+                    }
+                    row_exp += shift;
+                }
+            }
         }
         // The diagonal term once, the terms j > i twice (K is symmetric).
         let (sum, error) = compensated_row_sum(&products[1..], &corrections[1..]);
-        pair_sum = pair_sum + products[0] + corrections[0] + 2.0 * sum + 2.0 * error;
+        for term in [products[0], corrections[0], 2.0 * sum, 2.0 * error] {
+            pair_sum.add_f64(term, row_exp);
+        }
     }
 
-    let n = n as f64;
-    let result = constant - (single_sum * 2.0).div_f64(n) + pair_sum.div_f64(n).div_f64(n);
-    Ok(result.to_f64())
+    // One scale for the final combination: the common one when the parts share it (always in
+    // low dimension), else that of the largest part, so the largest is near 1.
+    let parts = [constant, single_sum, pair_sum];
+    let exp = if parts.iter().all(|p| p.exp == parts[0].exp) {
+        parts[0].exp
+    } else {
+        parts
+            .iter()
+            .filter_map(|p| p.magnitude())
+            .max()
+            .unwrap_or(0)
+    };
+    let [constant, single_sum, pair_sum] = parts.map(|p| p.at(exp));
+    let nf = n as f64;
+    let single_term = (single_sum * 2.0).div_f64(nf);
+    let pair_term = pair_sum.div_f64(nf).div_f64(nf);
+    let result = constant - single_term + pair_term;
+    // Each pair product carries up to one rounding per coordinate (relative 2^-53 each, the
+    // rest of the arithmetic is double-double), so this bounds the error of the result.
+    let half_eps = 0.5 * f64::EPSILON;
+    let error_bound = (dims as f64 + 3.0) * half_eps * pair_term.to_f64()
+        + (dims as f64 + 10.0) * half_eps * half_eps * (constant + single_term).to_f64();
+    Ok(Squared {
+        value: result.to_f64(),
+        exp,
+        error_bound,
+    })
 }
 
-/// The root of a squared discrepancy; rounding can leave a tiny negative square, read as 0.
-fn root(squared: f64) -> f64 {
-    squared.max(0.0).sqrt()
+/// `10^x` as text for `x * log10(2)` binary orders, for error messages.
+fn power_of_ten(mantissa: f64, exp: i64) -> String {
+    format!(
+        "10^{:.1}",
+        mantissa.abs().log10() + exp as f64 * std::f64::consts::LOG10_2
+    )
+}
+
+/// The error for a squared discrepancy whose rounding error reaches its value.
+fn cancelled<K: Kernel>(points: &Points, sq: &Squared) -> Error {
+    Error::invalid(
+        "point set",
+        format!("{} points in {} dimensions", points.len(), points.dims()),
+        format!(
+            "a set whose {name}^2 exceeds the rounding error of its closed form: the terms \
+             cancel to {value}, within their rounding error of {bound}, so no digit of {name} \
+             is known",
+            name = K::NAME,
+            value = power_of_ten(sq.value, sq.exp),
+            bound = power_of_ten(sq.error_bound, sq.exp),
+        ),
+    )
+}
+
+/// The error for a result (`what`, about `10^log10`) outside the normal range of f64.
+fn out_of_range<K: Kernel>(points: &Points, what: &str, log10: f64, hint: &str) -> Error {
+    Error::invalid(
+        "point set",
+        format!("{} points in {} dimensions", points.len(), points.dims()),
+        format!(
+            "a set whose {what} is a normal f64 (2.2e-308 to 1.8e308): it is about \
+             10^{log10:.1}. {limit}{hint}",
+            limit = K::LIMIT,
+        ),
+    )
+}
+
+/// `m * 2^e` if it is a normal f64.
+fn in_range(m: f64, e: i64) -> Option<f64> {
+    let magnitude = exponent(m) + e;
+    (-1022..=1023)
+        .contains(&magnitude)
+        .then(|| libm::scalbn(m, e as i32))
+}
+
+/// Ok if the squared discrepancy exceeds its rounding error bound (it is positive for every
+/// point set, so a value within the bound has no known digit).
+fn check_digits<K: Kernel>(points: &Points, sq: &Squared) -> Result<()> {
+    if sq.value > sq.error_bound {
+        Ok(())
+    } else {
+        Err(cancelled::<K>(points, sq))
+    }
+}
+
+/// The squared discrepancy of kernel `K` as an f64, or an error saying why it is not one.
+fn squared_value<K: Kernel>(points: &Points) -> Result<f64> {
+    let sq = squared::<K>(points)?;
+    check_digits::<K>(points, &sq)?;
+    if sq.exp == 0 {
+        // The plain case: nothing was rescaled.
+        if sq.value >= f64::MIN_POSITIVE && sq.value.is_finite() {
+            return Ok(sq.value);
+        }
+    } else if let Some(v) = in_range(sq.value, sq.exp) {
+        return Ok(v);
+    }
+    let log10 = sq.value.log10() + sq.exp as f64 * std::f64::consts::LOG10_2;
+    let hint = if (-2044..=2046).contains(&(exponent(sq.value) + sq.exp)) {
+        format!(". Its root is a normal f64 here: use {}", K::ROOT_FN)
+    } else {
+        String::new()
+    };
+    Err(out_of_range::<K>(
+        points,
+        &format!("{}^2", K::NAME),
+        log10,
+        &hint,
+    ))
+}
+
+/// The discrepancy of kernel `K` (the root of its square), or an error saying why it is not
+/// representable.
+fn root_value<K: Kernel>(points: &Points) -> Result<f64> {
+    let sq = squared::<K>(points)?;
+    check_digits::<K>(points, &sq)?;
+    // sqrt(v 2^e) = sqrt(v 2^(e mod 2)) 2^(e div 2), exact in the scaling.
+    let (odd, half) = (sq.exp.rem_euclid(2), sq.exp.div_euclid(2));
+    let root = (sq.value * if odd == 1 { 2.0 } else { 1.0 }).sqrt();
+    if half == 0 && root >= f64::MIN_POSITIVE && root.is_finite() {
+        return Ok(root);
+    }
+    if let Some(v) = in_range(root, half) {
+        return Ok(v);
+    }
+    let log10 = root.log10() + half as f64 * std::f64::consts::LOG10_2;
+    Err(out_of_range::<K>(points, K::NAME, log10, ""))
 }
 
 /// The L2-star discrepancy `T_N` (Warnock 1972): the root mean square over `t` in `[0,1]^d` of
@@ -258,7 +590,7 @@ fn root(squared: f64) -> f64 {
 ///
 #[doc = cost_accuracy_errors!()]
 pub fn l2_star(points: &Points) -> Result<f64> {
-    l2_star_squared(points).map(root)
+    root_value::<Star>(points)
 }
 
 /// The squared L2-star discrepancy `T_N^2`, by Warnock's (1972) closed form
@@ -285,7 +617,7 @@ pub fn l2_star(points: &Points) -> Result<f64> {
 ///
 #[doc = cost_accuracy_errors!()]
 pub fn l2_star_squared(points: &Points) -> Result<f64> {
-    squared::<Star>(points)
+    squared_value::<Star>(points)
 }
 
 /// The centered L2 discrepancy `CD` (Hickernell 1998), the root of [`centered_l2_squared`]:
@@ -304,7 +636,7 @@ pub fn l2_star_squared(points: &Points) -> Result<f64> {
 ///
 #[doc = cost_accuracy_errors!()]
 pub fn centered_l2(points: &Points) -> Result<f64> {
-    centered_l2_squared(points).map(root)
+    root_value::<Centered>(points)
 }
 
 /// The squared centered L2 discrepancy `CD^2` (Hickernell 1998), with `a_ik = |x_ik - 1/2|`:
@@ -333,7 +665,7 @@ pub fn centered_l2(points: &Points) -> Result<f64> {
 ///
 #[doc = cost_accuracy_errors!()]
 pub fn centered_l2_squared(points: &Points) -> Result<f64> {
-    squared::<Centered>(points)
+    squared_value::<Centered>(points)
 }
 
 /// The wrap-around L2 discrepancy `WD` (Hickernell 1998), the root of
@@ -352,7 +684,7 @@ pub fn centered_l2_squared(points: &Points) -> Result<f64> {
 ///
 #[doc = cost_accuracy_errors!()]
 pub fn wrap_around_l2(points: &Points) -> Result<f64> {
-    wrap_around_l2_squared(points).map(root)
+    root_value::<WrapAround>(points)
 }
 
 /// The squared wrap-around L2 discrepancy `WD^2` (Hickernell 1998), with
@@ -373,12 +705,18 @@ pub fn wrap_around_l2(points: &Points) -> Result<f64> {
 /// let before = wrap_around_l2_squared(&points)?;
 /// points.column_mut(0).copy_from_slice(&[0.5, 0.75, 0.125]);
 /// assert!((wrap_around_l2_squared(&points)? - before).abs() < 1e-15);
+/// // One point in 2000 dimensions: WD^2 = 1.5^2000 - (4/3)^2000, about 10^352, is beyond
+/// // f64, but its root, about 1.5^1000 = 1.2e176, is returned by wrap_around_l2.
+/// let one = Points::new(2000, 1)?;
+/// assert!(wrap_around_l2_squared(&one).unwrap_err().to_string().contains("1.8e308"));
+/// let wd = mcint::quality::wrap_around_l2(&one)?;
+/// assert!((wd / 1.5f64.powi(1000) - 1.0).abs() < 1e-12);
 /// # Ok::<(), mcint::Error>(())
 /// ```
 ///
 #[doc = cost_accuracy_errors!()]
 pub fn wrap_around_l2_squared(points: &Points) -> Result<f64> {
-    squared::<WrapAround>(points)
+    squared_value::<WrapAround>(points)
 }
 
 /// The mixture L2 discrepancy `MD` (Zhou, Fang & Ning 2013), the root of
@@ -396,7 +734,7 @@ pub fn wrap_around_l2_squared(points: &Points) -> Result<f64> {
 ///
 #[doc = cost_accuracy_errors!()]
 pub fn mixture_l2(points: &Points) -> Result<f64> {
-    mixture_l2_squared(points).map(root)
+    root_value::<Mixture>(points)
 }
 
 /// The squared mixture L2 discrepancy `MD^2` (Zhou, Fang & Ning 2013, eq. 18), with
@@ -423,5 +761,69 @@ pub fn mixture_l2(points: &Points) -> Result<f64> {
 ///
 #[doc = cost_accuracy_errors!()]
 pub fn mixture_l2_squared(points: &Points) -> Result<f64> {
-    squared::<Mixture>(points)
+    squared_value::<Mixture>(points)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `log2` of `dd * 2^exp`.
+    fn log2(s: ScaledSum) -> f64 {
+        s.exp as f64 + s.dd.to_f64().log2()
+    }
+
+    #[test]
+    fn scaled_powers_go_beyond_f64() {
+        assert_eq!(
+            scaled_power(DoubleDouble::ratio(19.0, 12.0), 0).dd.to_f64(),
+            1.0
+        );
+        for (p, q, d) in [(19.0, 12.0, 3000), (4.0, 3.0, 100_000), (1.0, 3.0, 5000)] {
+            let power = scaled_power(DoubleDouble::ratio(p, q), d);
+            let want = d as f64 * (p / q).log2();
+            assert!(
+                (log2(power) - want).abs() <= 1e-12 * want.abs(),
+                "({p}/{q})^{d}: 2^{} vs 2^{want}",
+                log2(power)
+            );
+        }
+        // In range the scale is 0 and the value the plain product's.
+        let power = scaled_power(DoubleDouble::ratio(13.0, 12.0), 12);
+        assert_eq!(power.exp, 0);
+        assert!((power.dd.to_f64() * 12f64.powi(12) - 13f64.powi(12)).abs() < 1e-2);
+    }
+
+    #[test]
+    fn sums_keep_terms_far_outside_f64() {
+        let mut sum = ScaledSum::ZERO;
+        sum.add_f64(1.5, -3000);
+        sum.add_f64(0.5, -3000);
+        assert_eq!(log2(sum), -2999.0);
+        // A term 2^4000 times larger moves the scale; the earlier ones are negligible.
+        sum.add_f64(3.0, 1000);
+        assert_eq!(log2(sum), 1000.0 + 3f64.log2());
+        // Ordinary terms leave the scale at 0 (the plain arithmetic).
+        let mut sum = ScaledSum::ZERO;
+        sum.add_f64(1e100, 0);
+        sum.add(DoubleDouble::from_f64(1e-100), 0);
+        assert_eq!((sum.dd.to_f64(), sum.exp), (1e100, 0));
+    }
+
+    #[test]
+    fn a_result_within_its_rounding_error_is_an_error() {
+        let points = Points::new(2, 1).unwrap();
+        let sq = Squared {
+            value: 1e-30,
+            exp: 0,
+            error_bound: 1e-20,
+        };
+        let err = check_digits::<Centered>(&points, &sq)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("no digit of CD is known"), "{err}");
+        assert!(err.contains("1 points in 2 dimensions"), "{err}");
+        let sq = Squared { value: 1e-19, ..sq };
+        assert!(check_digits::<Centered>(&points, &sq).is_ok());
+    }
 }

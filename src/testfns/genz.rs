@@ -15,6 +15,13 @@
 //!
 //! which follows from `s^{-(d+1)} = (1/d!) ∫_0^∞ t^d e^{-ts} dt` and integrating over `x`
 //! first. That integral is evaluated by adaptive Gauss-Kronrod quadrature around its peak.
+//!
+//! At the ends of the range of `a`: quotients such as `sin(a/2)/(a/2)` and `(1 - e^{-a})/a`
+//! are replaced by their limits below `a = 1e-100` (subnormal `a` made them 0, inf or
+//! imprecise); products over the axes are kept as mantissa and exponent, so factors beyond f64
+//! in opposite directions still give their product instead of `0 · inf`; and the oscillatory
+//! phase `2π u_1 + Σ a_i/2` is a product of unit complex numbers once the sum passes 16, where
+//! summing it would lose `2π u_1` (all of it for `a = 1e300`).
 
 use std::f64::consts::PI;
 use std::fmt;
@@ -138,13 +145,18 @@ impl Genz {
     ///
     /// Requires `a` non-empty with every `a_i` finite and `> 0`, and `u` of the same length
     /// with every `u_i` in `[0, 1]`. Parameters that are valid but extreme can make values or
-    /// the exact integral overflow (for example the product peak grows like `Π a_i^2`).
+    /// the exact integral overflow to `inf` (for example the product peak grows like
+    /// `Π π a_i`, the discontinuous one like `e^{Σ a_i}`) or underflow to 0 (rounded once,
+    /// also when subnormal); factors beyond f64 in opposite directions still give their
+    /// product. Tiny and subnormal `a_i` (down to `5e-324`) give the closed forms' limits as
+    /// `a_i -> 0`, such as a factor of 1 for the oscillatory, Gaussian, continuous and corner
+    /// peak families, `u_i` for a discontinuous cut, and `a_i^2` for the product peak.
     ///
     /// # Errors
     ///
     /// [`Error::InvalidParameter`] naming `a` (empty, or a value not finite and positive, or
-    /// values for which the exact integral is NaN) or `u` (wrong length, or a value outside
-    /// `[0, 1]`).
+    /// values for which the exact integral would be NaN, which no valid parameters are known
+    /// to give) or `u` (wrong length, or a value outside `[0, 1]`).
     ///
     /// ```
     /// use mcint::testfns::{Genz, GenzFamily, TestFunction};
@@ -152,9 +164,13 @@ impl Genz {
     /// // For equal a_i the corner peak integrates to Π_{k=1}^{d} 1 / (1 + k a).
     /// assert!((f.exact() - 1.0 / (6.0 * 11.0 * 16.0)).abs() < 1e-15);
     /// assert!(Genz::new(GenzFamily::CornerPeak, vec![-1.0], vec![0.5]).is_err());
-    /// // The integral would be 0 (the cut at u_1 = 0) times e^830 = inf: undefined.
-    /// let (a, u) = (vec![1.0, 1.0, 830.0], vec![0.0, 0.5, 0.5]);
-    /// assert!(Genz::new(GenzFamily::Discontinuous, a, u).is_err());
+    /// // A cut at u_1 = 0 leaves a region of volume 0: the integral is 0 even though
+    /// // e^{1e300 x_3} overflows.
+    /// let (a, u) = (vec![1.0, 1.0, 1e300], vec![0.0, 0.5, 0.5]);
+    /// assert_eq!(Genz::new(GenzFamily::Discontinuous, a, u).unwrap().exact(), 0.0);
+    /// // The smallest subnormal a is the limit a -> 0: the Gaussian integrates to 1.
+    /// let g = Genz::new(GenzFamily::Gaussian, vec![5e-324], vec![0.3]).unwrap();
+    /// assert_eq!(g.exact(), 1.0);
     /// ```
     pub fn new(family: GenzFamily, a: Vec<f64>, u: Vec<f64>) -> Result<Genz> {
         if a.is_empty() {
@@ -195,8 +211,8 @@ impl Genz {
         }
         let inv_a_sq = a.iter().map(|ai| (ai * ai).recip()).collect();
         let exact = exact_integral(family, &a, &u);
-        // Extreme values may overflow the integral (documented above), but an undefined one
-        // (0 * inf between factors, or within one for a subnormal a_i) is an error.
+        // Extreme values may overflow the integral (documented above); a NaN would be a bug of
+        // the closed forms, reported as an error rather than returned.
         if exact.is_nan() {
             return Err(Error::invalid(
                 "a",
@@ -346,38 +362,131 @@ impl TestFunction for Genz {
     }
 }
 
+/// Below this value of `a` (or of `a` times the length it multiplies) the quotients of the
+/// closed forms, such as `sin(a/2)/(a/2)`, `(1 - e^{-a})/a` and `erf(a)/a`, are replaced by
+/// their limits as `a -> 0`: the next terms of their series are below `1e-100` relative, while
+/// the quotients themselves lose digits to subnormal rounding near `a = 2^-1022`, and become
+/// `0/0`, `0` or `inf` for the smallest subnormals.
+const TINY_A: f64 = 1e-100;
+
+/// From this sum of `a_k / 2` on, the oscillatory phase `2π u_1 + Σ a_k / 2` is no longer
+/// summed: its rounding error, up to `d ulp(Σ a_k / 2)`, would exceed that of a product of
+/// unit complex numbers (a few ulps per factor), and by `2^53` it loses every digit.
+const PHASE_SUM_LIMIT: f64 = 16.0;
+
+/// `(e^{a c} - 1) / a` for `a > 0`, `c` in `[0, 1]`: the integral of `e^{a x}` over `[0, c]`,
+/// as a [`Scaled`] number so that `e^{a c}` beyond f64 (from `a c = 709.8`) is kept.
+fn exp_integral(a: f64, c: f64) -> Scaled {
+    let y = a * c;
+    if y < TINY_A {
+        // The limit c (the next term, a c^2 / 2, is below 1e-100 of it).
+        return Scaled::one().mul(c);
+    }
+    if y <= 700.0 {
+        return Scaled::one().mul(y.exp_m1() / a);
+    }
+    if y > 1e6 {
+        // e^{1e6} = 10^434294: no product with the other factors (each at least 2^-1074)
+        // comes back into range.
+        return Scaled::one().mul(f64::INFINITY);
+    }
+    // e^y (1 - e^{-y}) / a, with e^y in factors of e^500 (at most 2000 of them).
+    let mut value = Scaled::one().mul(-(-y).exp_m1() / a);
+    let mut rest = y;
+    while rest > 500.0 {
+        value = value.mul(500f64.exp());
+        rest -= 500.0;
+    }
+    value.mul(rest.exp())
+}
+
 /// The closed-form integral over `[0,1]^d`; `a` and `u` are validated and of equal length.
+///
+/// Products over the axes are kept as [`Scaled`] numbers, so a factor that underflows (a
+/// product peak with a tiny `a`) or overflows (a discontinuous one with a huge `a`) only sets
+/// the result's size instead of making `0 · inf = NaN`; where the product stays in range the
+/// roundings are exactly those of the plain product.
 fn exact_integral(family: GenzFamily, a: &[f64], u: &[f64]) -> f64 {
     let per_axis = a.iter().zip(u);
     match family {
         GenzFamily::Oscillatory => {
             // Re(e^{i(2πu_1)} Π (e^{i a_k} - 1)/(i a_k)), with each factor written as
             // e^{i a_k/2} · 2 sin(a_k/2)/a_k so no difference of nearby numbers appears.
+            // The limit of 2 sin(a/2)/a as a -> 0 is 1.
+            let amplitude = a.iter().fold(Scaled::one(), |p, &ak| {
+                p.mul(if ak < TINY_A {
+                    1.0
+                } else {
+                    2.0 * (0.5 * ak).sin() / ak
+                })
+            });
             let half_sum: f64 = a.iter().map(|ak| 0.5 * ak).sum();
-            let amplitude: f64 = a.iter().map(|ak| 2.0 * (0.5 * ak).sin() / ak).product();
-            (2.0 * PI * u[0] + half_sum).cos() * amplitude
+            let cos_phase = if half_sum <= PHASE_SUM_LIMIT {
+                (2.0 * PI * u[0] + half_sum).cos()
+            } else {
+                // cos(2πu_1 + Σ a_k/2) = Re(e^{i 2πu_1} Π e^{i a_k/2}): each angle is reduced
+                // exactly by sin_cos, so a huge a_k keeps its phase (and u_1 its effect).
+                let (sin, cos) = (2.0 * PI * u[0]).sin_cos();
+                let (re, _) = a.iter().fold((cos, sin), |(re, im), ak| {
+                    let (s, c) = (0.5 * ak).sin_cos();
+                    (re * c - im * s, re * s + im * c)
+                });
+                re
+            };
+            amplitude.mul(cos_phase).to_f64()
         }
         GenzFamily::ProductPeak => per_axis
-            .map(|(ak, uk)| ak * ((ak * (1.0 - uk)).atan() + (ak * uk).atan()))
-            .product(),
+            .fold(Scaled::one(), |p, (&ak, &uk)| {
+                if ak < TINY_A {
+                    // a (atan(a(1-u)) + atan(a u)) = a^2 (1 - O(a^2)): the limit of the
+                    // bracket over a is (1 - u) + u = 1, so the factor is a^2 (which alone
+                    // underflows f64 below a = 1e-162).
+                    p.mul(ak).mul(ak)
+                } else if ak > 1e300 {
+                    // a (atan + atan) <= π a would overflow f64 from a = 5.7e307.
+                    p.mul(ak).mul((ak * (1.0 - uk)).atan() + (ak * uk).atan())
+                } else {
+                    p.mul(ak * ((ak * (1.0 - uk)).atan() + (ak * uk).atan()))
+                }
+            })
+            .to_f64(),
         GenzFamily::CornerPeak => corner_peak_integral(a),
         GenzFamily::Gaussian => per_axis
-            .map(|(ak, uk)| {
-                let half_sqrt_pi = 0.5 * PI.sqrt();
-                half_sqrt_pi / ak * (libm::erf(ak * (1.0 - uk)) + libm::erf(ak * uk))
+            .fold(Scaled::one(), |p, (&ak, &uk)| {
+                p.mul(if ak < TINY_A {
+                    // (√π/2)/a (erf(a(1-u)) + erf(a u)) = 1 - a^2 ((1-u)^3 + u^3)/3 + ...:
+                    // the limit is 1 (√π/(2a) alone overflows for a < 4.9e-309).
+                    1.0
+                } else {
+                    0.5 * PI.sqrt() / ak * (libm::erf(ak * (1.0 - uk)) + libm::erf(ak * uk))
+                })
             })
-            .product(),
+            .to_f64(),
         GenzFamily::Continuous => per_axis
-            // 2 - e^{-a u} - e^{-a(1-u)} via expm1, exact in relative terms even for tiny a.
-            .map(|(ak, uk)| (-(-ak * uk).exp_m1() - (-ak * (1.0 - uk)).exp_m1()) / ak)
-            .product(),
-        GenzFamily::Discontinuous => per_axis
-            .enumerate()
-            .map(|(k, (ak, uk))| {
-                let c = if k < 2 { *uk } else { 1.0 };
-                (ak * c).exp_m1() / ak
+            .fold(Scaled::one(), |p, (&ak, &uk)| {
+                p.mul(if ak < TINY_A {
+                    // (2 - e^{-a u} - e^{-a(1-u)})/a = 1 - a (u^2 + (1-u)^2)/2 + ...: limit 1.
+                    1.0
+                } else {
+                    // 2 - e^{-a u} - e^{-a(1-u)} via expm1, exact in relative terms.
+                    (-(-ak * uk).exp_m1() - (-ak * (1.0 - uk)).exp_m1()) / ak
+                })
             })
-            .product(),
+            .to_f64(),
+        GenzFamily::Discontinuous => {
+            // The cut region x_1 <= u_1 (and x_2 <= u_2) has volume 0 when a cut is at 0,
+            // and then so has the integral, however large e^{Σ a_k x_k} is elsewhere.
+            if u.iter().take(2).any(|&uk| uk == 0.0) {
+                return 0.0;
+            }
+            per_axis
+                .enumerate()
+                .fold(Scaled::one(), |p, (k, (&ak, &uk))| {
+                    let c = if k < 2 { uk } else { 1.0 };
+                    p.mul_scaled(exp_integral(ak, c))
+                })
+                .to_f64()
+        }
     }
 }
 
@@ -398,10 +507,20 @@ impl Scaled {
     }
 
     fn mul(self, factor: f64) -> Scaled {
-        let (m, e) = libm::frexp(self.mantissa * factor);
+        // The factor is normalized first, so a subnormal one keeps all its bits.
+        let (f, fe) = libm::frexp(factor);
+        let (m, e) = libm::frexp(self.mantissa * f);
         Scaled {
             mantissa: m,
-            exponent: self.exponent + i64::from(e),
+            exponent: self.exponent + i64::from(e) + i64::from(fe),
+        }
+    }
+
+    fn mul_scaled(self, other: Scaled) -> Scaled {
+        let product = self.mul(other.mantissa);
+        Scaled {
+            exponent: product.exponent + other.exponent,
+            ..product
         }
     }
 
@@ -412,16 +531,41 @@ impl Scaled {
     }
 }
 
+/// `(1 - e^{-a t}) / a`, with the limit `t` (relative error `a t / 2`) where `a t` is tiny.
+fn saturation(a: f64, t: f64) -> f64 {
+    if a * t < TINY_A {
+        t
+    } else {
+        -(-a * t).exp_m1() / a
+    }
+}
+
 /// `d/dt log g(t)` for `g(t) = e^{-t} Π (1 - e^{-a_i t})`: strictly decreasing from `+∞`
 /// to `-1`, because each `log(1 - e^{-a t})` is concave.
 fn log_g_slope(a: &[f64], t: f64) -> f64 {
-    -1.0 + a.iter().map(|ai| ai / (ai * t).exp_m1()).sum::<f64>()
+    // a / (e^{a t} - 1) has the limit 1/t as a t -> 0 (the quotient of subnormals would not).
+    -1.0 + a
+        .iter()
+        .map(|ai| {
+            if ai * t < TINY_A {
+                t.recip()
+            } else {
+                ai / (ai * t).exp_m1()
+            }
+        })
+        .sum::<f64>()
 }
 
 /// `-(d²/dt²) log g(t) = Σ (a_i / (2 sinh(a_i t / 2)))²`, always positive.
 fn log_g_curvature(a: &[f64], t: f64) -> f64 {
     a.iter()
-        .map(|ai| (ai / (2.0 * (0.5 * ai * t).sinh())).powi(2))
+        .map(|ai| {
+            if ai * t < TINY_A {
+                t.powi(-2)
+            } else {
+                (ai / (2.0 * (0.5 * ai * t).sinh())).powi(2)
+            }
+        })
         .sum()
 }
 
@@ -462,12 +606,21 @@ fn corner_peak_integral(a: &[f64]) -> f64 {
     };
 
     let at_peak: Vec<f64> = a.iter().map(|ai| -(-ai * peak).exp_m1()).collect();
+    // (1 - e^{-a t}) / (1 - e^{-a t*}), whose limit as a -> 0 is t / t*: used where a t or
+    // a t* is tiny, as the quotient of (sub)normal numbers near 2^-1074 has few digits left.
+    let ratio = |ai: f64, fp: f64, t: f64| -> f64 {
+        if ai * t < TINY_A || ai * peak < TINY_A {
+            saturation(ai, t) / saturation(ai, peak)
+        } else {
+            -(-ai * t).exp_m1() / fp
+        }
+    };
     // g(t)/g(t*) in logs: each ratio is near 1 around the peak, so its log is accurate.
     let scaled_g = |t: f64| -> f64 {
         let log_ratio: f64 = a
             .iter()
             .zip(&at_peak)
-            .map(|(ai, fp)| (-(-ai * t).exp_m1() / fp).ln())
+            .map(|(&ai, &fp)| ratio(ai, fp, t).ln())
             .sum();
         (peak - t + log_ratio).exp()
     };
@@ -537,7 +690,12 @@ fn corner_peak_integral(a: &[f64]) -> f64 {
     }
     constant = constant.mul((-rest).exp());
     for (i, (ai, fp)) in a.iter().zip(&at_peak).enumerate() {
-        constant = constant.mul(fp / ai / (i + 1) as f64);
+        let factor = if ai * peak < TINY_A {
+            saturation(*ai, peak)
+        } else {
+            fp / ai
+        };
+        constant = constant.mul(factor / (i + 1) as f64);
     }
     constant.mul(total).to_f64()
 }

@@ -63,6 +63,21 @@ impl DoubleDouble {
         self.hi + self.lo
     }
 
+    /// The leading part, `self` rounded to f64.
+    pub(super) fn hi(self) -> f64 {
+        self.hi
+    }
+
+    /// `self * 2^k`: exact unless the result leaves the normal range of f64.
+    pub(super) fn scale(self, k: i64) -> Self {
+        // Beyond ±5000 binary orders every f64 has overflowed or vanished.
+        let k = k.clamp(-5000, 5000) as i32;
+        DoubleDouble {
+            hi: libm::scalbn(self.hi, k),
+            lo: libm::scalbn(self.lo, k),
+        }
+    }
+
     /// The absolute value.
     pub(super) fn abs(self) -> Self {
         if self.hi < 0.0 { -self } else { self }
@@ -76,20 +91,6 @@ impl DoubleDouble {
         let remainder = remainder - two_prod(q2, b);
         let q3 = remainder.hi / b;
         quick_two_sum(q1, q2) + DoubleDouble::from_f64(q3)
-    }
-
-    /// `self^n` by repeated squaring.
-    pub(super) fn powi(self, mut n: usize) -> Self {
-        let mut base = self;
-        let mut result = DoubleDouble::ONE;
-        while n > 0 {
-            if n & 1 == 1 {
-                result = result * base;
-            }
-            base = base * base;
-            n >>= 1;
-        }
-        result
     }
 }
 
@@ -160,9 +161,11 @@ mod tests {
     }
 
     #[test]
-    fn powers_and_division_keep_double_double_precision() {
+    fn products_and_division_keep_double_double_precision() {
         // (13/12)^12 * 12^12 = 13^12 exactly (an integer below 2^53).
-        let c = DoubleDouble::ratio(13.0, 12.0).powi(12);
+        let c = (0..12).fold(DoubleDouble::ONE, |p, _| {
+            p * DoubleDouble::ratio(13.0, 12.0)
+        });
         let scaled = c * 12f64.powi(12);
         assert!(
             (scaled - DoubleDouble::from_f64(13f64.powi(12)))
