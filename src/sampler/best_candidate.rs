@@ -33,11 +33,11 @@ use std::sync::Arc;
 
 use rand_pcg::Pcg64;
 
-use super::pass_cache::{PassCache, fill_from_passes, point_from_passes};
+use super::check_supported_dims;
+use super::pass_cache::{PassCache, sampler_from_cached_passes};
 use super::pass_rng::{pass_rng, uniform};
 use super::torus::{MAX_TORUS_DIMS, random_shift, torus_dist2};
-use super::{PassKind, Sampler, check_block, check_point, check_supported_dims};
-use crate::{Error, Points, Result};
+use crate::{Error, Result};
 
 /// Largest supported dimension.
 const MAX_DIMS: usize = MAX_TORUS_DIMS;
@@ -52,8 +52,8 @@ const TAG_BEST_CANDIDATE: u64 = 0x6263_616e;
 /// Mitchell's best-candidate points on the unit torus: `N` per pass, in insertion order.
 ///
 /// Each pass is built once on first use (`N^2 / 2` candidate tests, under a second for 4096
-/// points in 2-D) and cached; [`point`](Sampler::point) and
-/// [`fill`](Sampler::fill) then copy from the cache. Every point of a pass is uniform on
+/// points in 2-D) and cached; [`point`](super::Sampler::point) and
+/// [`fill`](super::Sampler::fill) then copy from the cache. Every point of a pass is uniform on
 /// `[0,1)^d` (the pass is randomly translated on the torus), so pass means are unbiased, and
 /// every prefix of a pass is well spread.
 ///
@@ -64,7 +64,7 @@ const TAG_BEST_CANDIDATE: u64 = 0x6263_616e;
 /// s.point(63, &mut p).unwrap();
 /// assert!(p.iter().all(|&x| (0.0..1.0).contains(&x)));
 /// ```
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct BestCandidate {
     dims: usize,
     pass_size: u64,
@@ -107,56 +107,7 @@ impl BestCandidate {
     }
 }
 
-impl Clone for BestCandidate {
-    /// A copy with the same parameters and an empty pass cache.
-    fn clone(&self) -> Self {
-        BestCandidate {
-            dims: self.dims,
-            pass_size: self.pass_size,
-            seed: self.seed,
-            cache: PassCache::new(),
-        }
-    }
-}
-
-impl Sampler for BestCandidate {
-    fn name(&self) -> &'static str {
-        "best-candidate"
-    }
-
-    fn dims(&self) -> usize {
-        self.dims
-    }
-
-    fn passes(&self) -> PassKind {
-        PassKind::Fixed {
-            size: self.pass_size,
-        }
-    }
-
-    fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    fn reseed(&mut self, seed: u64) {
-        self.seed = seed;
-        self.cache.clear();
-    }
-
-    fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
-        check_point(self.dims, out)?;
-        point_from_passes(self.pass_size, index, out, |pass| self.pass_points(pass));
-        Ok(())
-    }
-
-    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
-        check_block(self.dims, start, points)?;
-        fill_from_passes(self.dims, self.pass_size, start, points, |pass| {
-            self.pass_points(pass)
-        });
-        Ok(())
-    }
-}
+sampler_from_cached_passes!(BestCandidate, "best-candidate");
 
 /// A uniform grid on the torus; each cell stores the coordinates of its points inline (up to
 /// `capacity` of them), so a search reads contiguous memory.

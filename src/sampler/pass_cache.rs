@@ -24,6 +24,14 @@ pub(super) struct PassCache {
     entries: Mutex<Vec<(u64, u64, Slot)>>,
 }
 
+/// A clone starts empty: its passes are rebuilt where they are used, so copies of a sampler
+/// neither share nor copy built passes.
+impl Clone for PassCache {
+    fn clone(&self) -> Self {
+        PassCache::new()
+    }
+}
+
 impl PassCache {
     pub(super) fn new() -> Self {
         let capacity = crate::engine::available_threads().clamp(2, 8);
@@ -119,6 +127,60 @@ pub(super) fn fill_from_passes(
         i += run;
     }
 }
+
+/// The [`Sampler`](super::Sampler) implementation of a sampler whose passes are built whole
+/// and cached: a type with fields `dims`, `pass_size`, `seed` and `cache` (a [`PassCache`])
+/// and a method `pass_points(pass)`, named `$name`. Reseeding empties the cache.
+macro_rules! sampler_from_cached_passes {
+    ($sampler:ty, $name:literal) => {
+        impl super::Sampler for $sampler {
+            fn name(&self) -> &'static str {
+                $name
+            }
+
+            fn dims(&self) -> usize {
+                self.dims
+            }
+
+            fn passes(&self) -> super::PassKind {
+                super::PassKind::Fixed {
+                    size: self.pass_size,
+                }
+            }
+
+            fn seed(&self) -> u64 {
+                self.seed
+            }
+
+            fn reseed(&mut self, seed: u64) {
+                self.seed = seed;
+                self.cache.clear();
+            }
+
+            fn point(&self, index: u64, out: &mut [f64]) -> $crate::Result<()> {
+                super::check_point(self.dims, out)?;
+                super::pass_cache::point_from_passes(self.pass_size, index, out, |pass| {
+                    self.pass_points(pass)
+                });
+                Ok(())
+            }
+
+            fn fill(&self, start: u64, points: &mut $crate::Points) -> $crate::Result<()> {
+                super::check_block(self.dims, start, points)?;
+                super::pass_cache::fill_from_passes(
+                    self.dims,
+                    self.pass_size,
+                    start,
+                    points,
+                    |pass| self.pass_points(pass),
+                );
+                Ok(())
+            }
+        }
+    };
+}
+
+pub(super) use sampler_from_cached_passes;
 
 #[cfg(test)]
 mod tests {

@@ -41,14 +41,14 @@ use std::sync::Arc;
 
 use rand_pcg::Pcg64;
 
-use super::pass_cache::{PassCache, fill_from_passes, point_from_passes};
+use super::check_supported_dims;
+use super::pass_cache::{PassCache, sampler_from_cached_passes};
 use super::pass_rng::{below, pass_rng, uniform};
 use super::torus::{MAX_TORUS_DIMS, random_shift, torus_dist2, torus_gap, wrap};
 use super::torus_grid::TorusGrid;
-use super::{PassKind, Sampler, check_block, check_point, check_supported_dims};
 use crate::float::ONE_BELOW;
 use crate::hash::hash_words;
-use crate::{Error, Points, Result};
+use crate::{Error, Result};
 
 /// Largest supported dimension. Making the set maximal is what limits it: a gap-filling cell
 /// is dropped only once it lies inside a single ball, and the cells covered by the union of
@@ -107,7 +107,7 @@ const TAG_POISSON: u64 = 0x706f_6973;
 /// whole set.
 ///
 /// A pass is built once (Bridson's algorithm, then gap filling) on first use and cached, so
-/// [`point`](Sampler::point) and [`fill`](Sampler::fill) are cheap after the first call.
+/// [`point`](super::Sampler::point) and [`fill`](super::Sampler::fill) are cheap after the first call.
 ///
 /// ```
 /// use mcint::sampler::{PoissonDisk, Sampler};
@@ -119,7 +119,7 @@ const TAG_POISSON: u64 = 0x706f_6973;
 /// let gap = |x: f64, y: f64| (x - y).abs().min(1.0 - (x - y).abs());
 /// assert!(gap(a[0], b[0]).hypot(gap(a[1], b[1])) >= s.radius());
 /// ```
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct PoissonDisk {
     dims: usize,
     pass_size: u64,
@@ -271,57 +271,7 @@ impl PoissonDisk {
     }
 }
 
-impl Clone for PoissonDisk {
-    /// A copy with the same parameters and an empty pass cache.
-    fn clone(&self) -> Self {
-        PoissonDisk {
-            dims: self.dims,
-            pass_size: self.pass_size,
-            radius: self.radius,
-            seed: self.seed,
-            cache: PassCache::new(),
-        }
-    }
-}
-
-impl Sampler for PoissonDisk {
-    fn name(&self) -> &'static str {
-        "poisson"
-    }
-
-    fn dims(&self) -> usize {
-        self.dims
-    }
-
-    fn passes(&self) -> PassKind {
-        PassKind::Fixed {
-            size: self.pass_size,
-        }
-    }
-
-    fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    fn reseed(&mut self, seed: u64) {
-        self.seed = seed;
-        self.cache.clear();
-    }
-
-    fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
-        check_point(self.dims, out)?;
-        point_from_passes(self.pass_size, index, out, |pass| self.pass_points(pass));
-        Ok(())
-    }
-
-    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
-        check_block(self.dims, start, points)?;
-        fill_from_passes(self.dims, self.pass_size, start, points, |pass| {
-            self.pass_points(pass)
-        });
-        Ok(())
-    }
-}
+sampler_from_cached_passes!(PoissonDisk, "poisson");
 
 /// Points per unit volume times `V_d(r / 2)` in our maximal sets.
 fn density(dims: usize) -> f64 {
