@@ -25,7 +25,7 @@
 use super::number_theory::integer_root;
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{Kernel, dispatch};
-use super::{PassKind, Sampler, check_block, check_dims, check_point};
+use super::{PassKind, check_block, check_dims, check_point};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
@@ -516,35 +516,45 @@ impl MultiJittered {
     }
 }
 
-impl Sampler for MultiJittered {
-    fn name(&self) -> &'static str {
-        "multijitter"
-    }
+sampler_from_core!(MultiJittered, "multijitter");
 
-    fn dims(&self) -> usize {
-        self.core.dims()
-    }
+/// The [`Sampler`] implementation of a multi-jittered variant: every method is its `core`'s
+/// (an [`MjCore`]), under the name `$name`.
+macro_rules! sampler_from_core {
+    ($sampler:ty, $name:literal) => {
+        impl super::Sampler for $sampler {
+            fn name(&self) -> &'static str {
+                $name
+            }
 
-    fn passes(&self) -> PassKind {
-        self.core.passes()
-    }
+            fn dims(&self) -> usize {
+                self.core.dims()
+            }
 
-    fn seed(&self) -> u64 {
-        self.core.seed()
-    }
+            fn passes(&self) -> super::PassKind {
+                self.core.passes()
+            }
 
-    fn reseed(&mut self, seed: u64) {
-        self.core.reseed(seed);
-    }
+            fn seed(&self) -> u64 {
+                self.core.seed()
+            }
 
-    fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
-        self.core.point(index, out)
-    }
+            fn reseed(&mut self, seed: u64) {
+                self.core.reseed(seed);
+            }
 
-    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
-        self.core.fill(start, points)
-    }
+            fn point(&self, index: u64, out: &mut [f64]) -> $crate::Result<()> {
+                self.core.point(index, out)
+            }
+
+            fn fill(&self, start: u64, points: &mut $crate::Points) -> $crate::Result<()> {
+                self.core.fill(start, points)
+            }
+        }
+    };
 }
+
+pub(super) use sampler_from_core;
 
 #[cfg(test)]
 mod tests {
