@@ -22,6 +22,17 @@ const TALKATIVE: &[(&str, &[&str])] = &[
     ),
 ];
 
+/// A program that exited with success and printed no panic.
+fn assert_quiet_success(name: &str, out: &std::process::Output) {
+    assert!(
+        out.status.success(),
+        "{name}: {:?} {}",
+        out.status,
+        stderr(out)
+    );
+    assert!(!stderr(out).contains("panicked"), "{name}: {}", stderr(out));
+}
+
 #[test]
 fn a_closed_stdout_ends_every_program_quietly() {
     for (name, args) in TALKATIVE {
@@ -38,17 +49,7 @@ fn a_closed_stdout_ends_every_program_quietly() {
         // The read end is closed here, as `head -1` closes it.
         let out = child.wait_with_output().unwrap();
         assert!(!first.is_empty(), "{name} printed nothing");
-        assert!(
-            out.status.success(),
-            "{name}: {:?} {}",
-            out.status,
-            stderr(&out)
-        );
-        assert!(
-            !stderr(&out).contains("panicked"),
-            "{name}: {}",
-            stderr(&out)
-        );
+        assert_quiet_success(name, &out);
     }
 }
 
@@ -90,17 +91,7 @@ fn a_stdout_closed_from_the_start_ends_every_program_quietly() {
             .unwrap();
         drop(child.stdout.take()); // the read end closes before anything is written
         let out = child.wait_with_output().unwrap();
-        assert!(
-            out.status.success(),
-            "{name}: {:?} {}",
-            out.status,
-            stderr(&out)
-        );
-        assert!(
-            !stderr(&out).contains("panicked"),
-            "{name}: {}",
-            stderr(&out)
-        );
+        assert_quiet_success(name, &out);
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -366,7 +366,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
             // A stage cut short leaves strata unsampled: there is no estimate.
             return Err(Error::Interrupted {
                 stop,
-                evaluations: all.iter().map(|a| a.count() + a.non_finite()).sum(),
+                evaluations: folded,
             });
         }
         if let Some((stratum, index, value, point)) = first_bad.filter(|_| !self.skip_non_finite) {

@@ -15,10 +15,10 @@ const LANES: usize = 8;
 /// deviations, summed over up to 2^60 values, stay finite. Larger values are accumulated in
 /// units of a power of two, [`Accumulator`]'s `scale`, so that values up to `f64::MAX` keep a
 /// finite mean and standard error.
-const UNSCALED_LIMIT: f64 = 3.121748550315992e144; // 2^480
+const UNSCALED_LIMIT: f64 = f64::from_bits((1023 + 480) << 52); // 2^480, exactly
 
 /// The factor by which the scale grows, 2^64: a handful of steps covers the exponent range.
-const SCALE_STEP: f64 = 18446744073709551616.0; // 2^64
+const SCALE_STEP: f64 = f64::from_bits((1023 + 64) << 52); // 2^64
 
 /// Count, mean and sum of squared deviations (`M2`) of a stream of values, plus min, max and
 /// a count of non-finite values (which are kept out of the moments).
