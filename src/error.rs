@@ -50,6 +50,8 @@ pub enum Error {
         first_index: u64,
         /// The replicate it belonged to.
         first_replicate: u64,
+        /// The output it belonged to, for an integrand with several outputs.
+        first_output: Option<usize>,
         /// Its value (NaN or an infinity).
         first_value: f64,
         /// The canonical point `u` in `[0,1)^k` that produced it.
@@ -169,14 +171,16 @@ impl fmt::Display for Error {
                 count,
                 first_index,
                 first_replicate,
+                first_output,
                 first_value,
                 first_point,
             } => write!(
                 f,
-                "{count} non-finite contribution(s); the first, {first_value}, at sample \
+                "{count} non-finite contribution(s); the first, {first_value}, {}at sample \
                  {first_index} of replicate {first_replicate}, canonical point {first_point:?} \
                  (the integrand is not finite there, the pdf is zero where the integrand is not, or \
-                 the integrand times the volume or over the pdf overflowed)"
+                 the integrand times the volume or over the pdf overflowed)",
+                first_output.map_or(String::new(), |k| format!("in output {k}, "))
             ),
             Error::IntegrandPanicked {
                 message,

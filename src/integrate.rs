@@ -6,13 +6,16 @@
 //! and for any split into parts ([`PartialRun`]). Runs to a tolerance ([`staged`]) repeat
 //! such runs over growing index ranges, judged by the engine's stopping rule.
 
-use crate::engine::{RunConfig, run_settings};
-use crate::estimator::{BatchUniformEstimator, Estimator, ImportanceEstimator, UniformEstimator};
+use crate::engine::{Executor, Limits, RunConfig, run_settings};
+use crate::estimator::{
+    BatchUniformEstimator, Estimator, ImportanceEstimator, UniformEstimator, VectorEstimator,
+};
 use crate::pdf::{Pdf, UniformBox};
+use crate::sampler::Sampler;
+use crate::stats::{Estimate, VectorEstimate};
+use crate::{Error, Points, Result};
 
-use crate::stats::Estimate;
-use crate::{Points, Result};
-
+mod engine;
 mod layout;
 mod non_finite;
 mod partial;
@@ -21,10 +24,14 @@ mod partial_format;
 mod pilot;
 mod plan;
 mod staged;
+mod targets;
+mod vector;
 
+use engine::RunEstimator;
 pub use non_finite::NonFinitePolicy;
 pub use partial::PartialRun;
 use plan::Plan;
+pub use vector::Vector;
 
 /// Points per unit of work handed to a thread (and per partial accumulator).
 const CHUNK: u64 = 16 * 1024;
@@ -148,7 +155,10 @@ impl<E: Estimator> Integrator<E> {
             config: RunConfig::default(),
         }
     }
+}
 
+/// The settings every run shares, scalar or vector.
+impl<E> Integrator<E> {
     run_settings! {
         setup: "use mcint::{Integrator, pdf::UniformBox};\n\
                 const DIMS: usize = 2;\n\
@@ -184,7 +194,9 @@ impl<E: Estimator> Integrator<E> {
         self.config.replicates = Some(replicates);
         self
     }
+}
 
+impl<E: Estimator> Integrator<E> {
     /// Runs the integration.
     ///
     /// Errors when a setting is out of range, when the sampler's dimension differs from the
@@ -202,77 +214,93 @@ impl<E: Estimator> Integrator<E> {
     /// assert!(bad.unwrap_err().to_string().contains("10 non-finite"));
     /// ```
     pub fn run(&self) -> Result<Estimate> {
-        self.run_unchecked().and_then(Estimate::checked)
+        let run = self.run_engine()?;
+        let single = run.outputs.into_iter().next();
+        single
+            .ok_or_else(|| Error::invalid("outputs", 0, "one output"))
+            .and_then(Estimate::checked)
     }
+}
 
-    /// [`run`](Self::run) before its result is checked for overflow.
-    fn run_unchecked(&self) -> Result<Estimate> {
+impl<E> Integrator<E> {
+    /// The run of the engine, for a scalar or vector estimator, before overflow checks.
+    fn run_engine(&self) -> Result<VectorEstimate>
+    where
+        E: RunEstimator,
+    {
+        self.estimator.validate()?;
         let sampler = self.run_sampler()?;
         let executor = self.config.executor()?;
-        let limits = self.config.limits();
-        self.with_estimator(&executor, &limits, |estimator, pilot_evaluations| {
-            let cost = estimator.evaluations_per_contribution();
-            let mut estimate = match &self.config.tolerance {
-                Some(tolerance) => staged::run_to_tolerance(
-                    estimator,
-                    &self.config,
-                    &*sampler,
-                    &executor,
-                    tolerance,
-                )?,
-                None => {
-                    let plan = Plan::new(self.config.samples, self.config.replicates, &*sampler)?;
-                    let planned = plan.samples.saturating_mul(plan.replicates);
-                    self.config
-                        .check_budget("samples x replicates", planned.saturating_mul(cost))?;
-                    let mut done = pilot_evaluations;
-                    let mut on_points = |points: u64| {
-                        done += points * cost;
-                        self.config.report(done, planned * cost + pilot_evaluations);
-                    };
-                    let (folded, chunks, stop) =
-                        plan.run_folded(&executor, &limits, &*sampler, estimator, &mut on_points)?;
-                    let policy = self.config.non_finite;
-                    match stop {
-                        None => plan.estimate(&*sampler, &folded, policy)?,
-                        Some(stop) => {
-                            plan.estimate_stopped(&*sampler, folded, chunks, policy, stop)?
-                        }
-                    }
-                }
-            };
-            estimate.evaluations = estimate
-                .evaluations
-                .saturating_mul(cost)
-                .saturating_add(pilot_evaluations);
-            Ok(estimate)
-        })
+        let targets = self.estimator.targets(&self.config);
+        let limits = self
+            .config
+            .limits_with(targets.any().then(|| targets.time()).flatten());
+        self.estimator.with_main(
+            &self.config,
+            &executor,
+            &limits,
+            |estimator, pilot_evaluations| {
+                let cost = estimator.evaluations_per_contribution();
+                let mut run = if targets.any() {
+                    staged::run_to_tolerance(
+                        estimator,
+                        &self.config,
+                        &*sampler,
+                        &executor,
+                        &targets,
+                    )?
+                } else {
+                    self.run_fixed(estimator, &*sampler, &executor, &limits, pilot_evaluations)?
+                };
+                run.for_each_output(|_, output| {
+                    output.evaluations = output
+                        .evaluations
+                        .saturating_mul(cost)
+                        .saturating_add(pilot_evaluations);
+                });
+                Ok(run)
+            },
+        )
     }
 
-    /// Calls `work` with the estimator of the main run, and the evaluations its pilot stage
-    /// spent: the estimator itself, or the one it fits to its pilot (see
-    /// [`Estimator::pilot`]).
-    fn with_estimator<R>(
+    /// A fixed-budget run of `estimator`'s plan.
+    fn run_fixed(
         &self,
-        executor: &crate::engine::Executor,
-        limits: &crate::engine::Limits,
-        work: impl FnOnce(&dyn Estimator, u64) -> Result<R>,
-    ) -> Result<R> {
-        match self.estimator.pilot() {
-            None => work(&self.estimator, 0),
-            Some(pilot) => {
-                let (summary, spent) =
-                    pilot::run(pilot, &self.estimator, &self.config, executor, limits)?;
-                let fitted = pilot.fitted(&summary)?;
-                work(&*fitted, spent)
-            }
+        estimator: &dyn VectorEstimator,
+        sampler: &dyn Sampler,
+        executor: &Executor,
+        limits: &Limits,
+        pilot_evaluations: u64,
+    ) -> Result<VectorEstimate>
+    where
+        E: RunEstimator,
+    {
+        let cost = estimator.evaluations_per_contribution();
+        let plan = Plan::new(self.config.samples, self.config.replicates, sampler)?;
+        let planned = plan.samples.saturating_mul(plan.replicates);
+        self.config
+            .check_budget("samples x replicates", planned.saturating_mul(cost))?;
+        let mut done = pilot_evaluations;
+        let mut on_points = |points: u64| {
+            done += points * cost;
+            self.config.report(done, planned * cost + pilot_evaluations);
+        };
+        let (folded, chunks, stop) =
+            plan.run_folded(executor, limits, sampler, estimator, &mut on_points)?;
+        let policy = self.config.non_finite;
+        match stop {
+            None => plan.estimate(sampler, &folded, policy),
+            Some(stop) => plan.estimate_stopped(sampler, folded, chunks, policy, stop),
         }
     }
 
     /// The run's sampler, checked against the estimator's canonical dimension.
-    fn run_sampler(&self) -> Result<crate::engine::RunSampler<'_>> {
+    fn run_sampler(&self) -> Result<crate::engine::RunSampler<'_>>
+    where
+        E: RunEstimator,
+    {
         self.config.sampler(
-            self.estimator.canonical_dims(),
+            RunEstimator::canonical_dims(&self.estimator),
             "sampler (the estimator's canonical points)",
         )
     }

@@ -574,6 +574,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
                 count: non_finite,
                 first_index: first.index,
                 first_replicate: r as u64,
+                first_output: None,
                 first_value: first.value,
                 first_point: first.point.clone(),
             });

@@ -374,6 +374,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
                 count: all.iter().map(|a| a.non_finite()).sum(),
                 first_index: index,
                 first_replicate: stratum as u64,
+                first_output: None,
                 first_value: value,
                 first_point: point,
             });

@@ -354,6 +354,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                     count: totals.non_finite,
                     first_index: index,
                     first_replicate: k,
+                    first_output: None,
                     first_value: value,
                     first_point: point,
                 });

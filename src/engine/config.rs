@@ -71,12 +71,21 @@ impl RunConfig {
     /// The limits of a run that starts now: the shorter of the time limit and the
     /// tolerance's, and the cancellation token.
     pub(crate) fn limits(&self) -> Limits {
-        let tolerance = self.tolerance.as_ref().and_then(|t| t.time());
-        let time_limit = match (self.time_limit, tolerance) {
+        self.limits_with(None)
+    }
+
+    /// [`limits`](Self::limits), with another time limit that applies too (the tolerances
+    /// of a vector run's outputs and derived quantities).
+    pub(crate) fn limits_with(&self, time: Option<Duration>) -> Limits {
+        let shortest = |a: Option<Duration>, b: Option<Duration>| match (a, b) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         };
-        Limits::new(time_limit, self.cancel.clone())
+        let tolerance = self.tolerance.as_ref().and_then(|t| t.time());
+        Limits::new(
+            shortest(shortest(self.time_limit, tolerance), time),
+            self.cancel.clone(),
+        )
     }
 
     /// Refuses a plan of more than [`MAX_UNTIMED_EVALUATIONS`] evaluations unless a time

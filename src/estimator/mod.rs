@@ -14,6 +14,10 @@
 //!   1995), weighted by a [`MisHeuristic`] (balance, power, maximum, cutoff) or any
 //!   [`MisWeighting`].
 //!
+//! Integrands with several outputs, integrated over the same points, implement
+//! [`VectorEstimator`]: [`VectorUniformEstimator`] (per point), [`BatchVectorUniformEstimator`]
+//! (per block) and [`VectorImportanceEstimator`].
+//!
 //! Control variates (A.26-A.29) come with a known coefficient ([`ControlVariate`]) and with
 //! least-squares coefficients fitted on a pilot stage that the
 //! [`Integrator`](crate::Integrator) runs before the main one ([`ControlVariates`], through
@@ -29,9 +33,14 @@ mod mis_heuristic;
 mod mis_weighting;
 mod multi_sample_mis;
 mod one_sample_mis;
+mod outputs;
 mod pilot;
 mod product_importance;
 mod uniform;
+mod vector;
+mod vector_batch_uniform;
+mod vector_importance;
+mod vector_uniform;
 
 pub use batch_uniform::BatchUniformEstimator;
 pub use consistent_biased::ConsistentBiased;
@@ -42,9 +51,16 @@ pub use mis_heuristic::MisHeuristic;
 pub use mis_weighting::MisWeighting;
 pub use multi_sample_mis::MultiSampleMis;
 pub use one_sample_mis::OneSampleMis;
+pub use outputs::MAX_OUTPUTS;
+pub(crate) use outputs::checked_outputs;
 pub use pilot::PilotFit;
 pub use product_importance::ProductImportanceEstimator;
 pub use uniform::UniformEstimator;
+pub(crate) use vector::SingleOutput;
+pub use vector::VectorEstimator;
+pub use vector_batch_uniform::BatchVectorUniformEstimator;
+pub use vector_importance::VectorImportanceEstimator;
+pub use vector_uniform::VectorUniformEstimator;
 
 use crate::Points;
 

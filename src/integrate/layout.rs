@@ -16,8 +16,8 @@ use std::fmt::Display;
 
 use super::plan::Plan;
 use super::{CHUNK, NonFinitePolicy};
-use crate::engine::guarded;
-use crate::estimator::Estimator;
+use crate::engine::{RunConfig, guarded};
+use crate::estimator::{PilotFit, VectorEstimator};
 use crate::sampler::Sampler;
 use crate::{Error, Result};
 
@@ -40,22 +40,32 @@ pub(super) struct Layout {
     pub(super) chunk_points: u64,
     pub(super) total_chunks: u64,
     pub(super) non_finite: NonFinitePolicy,
+    /// Outputs per point (1 for a scalar integrand, and then not saved).
+    #[cfg_attr(
+        feature = "serde",
+        serde(
+            default = "super::plan::one",
+            skip_serializing_if = "super::plan::is_one"
+        )
+    )]
+    pub(super) outputs: usize,
     /// CRC-32 of the sampler's points and the estimator's values at the probe points.
     pub(super) probe: u32,
 }
 
 impl Layout {
-    /// The layout of the run of `plan` with `sampler` and `estimator`.
+    /// The layout of the run of `plan` with `sampler` and `estimator` (and the pilot stage
+    /// it fits itself on, if any), under `config`'s label and non-finite policy.
     pub(super) fn of(
         plan: &Plan,
         sampler: &dyn Sampler,
-        estimator: &dyn Estimator,
-        label: Option<&str>,
-        non_finite: NonFinitePolicy,
+        estimator: &dyn VectorEstimator,
+        pilot: Option<&dyn PilotFit>,
+        config: &RunConfig,
     ) -> Result<Layout> {
         Ok(Layout {
             format: FORMAT_VERSION,
-            label: label.map(str::to_string),
+            label: config.label.clone(),
             sampler: sampler.name().to_string(),
             seed: sampler.seed(),
             dims: sampler.dims(),
@@ -64,8 +74,9 @@ impl Layout {
             stride: plan.stride,
             chunk_points: CHUNK,
             total_chunks: plan.total_chunks()?,
-            non_finite,
-            probe: probe(plan, sampler, estimator)?,
+            non_finite: config.non_finite,
+            outputs: estimator.outputs(),
+            probe: probe(plan, sampler, estimator, pilot)?,
         })
     }
 
@@ -106,6 +117,7 @@ impl Layout {
         differs("stride", self.stride, other.stride)?;
         differs("chunk_points", self.chunk_points, other.chunk_points)?;
         differs("total_chunks", self.total_chunks, other.total_chunks)?;
+        differs("outputs", self.outputs, other.outputs)?;
         differs(
             "non_finite",
             format!("{:?}", self.non_finite),
@@ -122,14 +134,20 @@ impl Layout {
 /// The CRC-32 of the sampler's points and the estimator's values (and, for an estimator with
 /// a pilot, its pilot values) at the first, second and last points of the first replicate
 /// and the first point of the last one.
-fn probe(plan: &Plan, sampler: &dyn Sampler, estimator: &dyn Estimator) -> Result<u32> {
+fn probe(
+    plan: &Plan,
+    sampler: &dyn Sampler,
+    estimator: &dyn VectorEstimator,
+    pilot: Option<&dyn PilotFit>,
+) -> Result<u32> {
     let last = plan.samples - 1;
     let replicate = (plan.replicates - 1) * plan.stride;
     let indices = [0, 1.min(last), last, replicate];
     let mut hasher = crc32fast::Hasher::new();
     let mut u = vec![0.0; sampler.dims()];
     let mut x = vec![0.0; estimator.domain_dims()];
-    let mut row = vec![0.0; estimator.pilot().map_or(0, |p| p.values())];
+    let mut y = vec![0.0; estimator.outputs()];
+    let mut row = vec![0.0; pilot.map_or(0, |p| p.values())];
     let mut feed = |values: &[f64]| {
         for v in values {
             hasher.update(&v.to_bits().to_le_bytes());
@@ -138,14 +156,14 @@ fn probe(plan: &Plan, sampler: &dyn Sampler, estimator: &dyn Estimator) -> Resul
     for index in indices {
         sampler.point(index, &mut u)?;
         feed(&u);
-        let y = guarded((index / plan.stride, index % plan.stride), || {
-            let y = estimator.contribution(&u, &mut x);
-            if let Some(pilot) = estimator.pilot() {
+        guarded((index / plan.stride, index % plan.stride), || {
+            estimator.contribution(&u, &mut x, &mut y);
+            if let Some(pilot) = pilot {
                 pilot.row(&u, &mut x, &mut row);
             }
-            Ok(y)
+            Ok(())
         })?;
-        feed(&[y]);
+        feed(&y);
         feed(&row);
     }
     Ok(hasher.finalize())

@@ -4,13 +4,14 @@
 use std::collections::BTreeMap;
 use std::ops::Range;
 
-use super::Integrator;
+use super::engine::RunEstimator;
 use super::layout::Layout;
 use super::plan::{CHUNKS_IN_MEMORY, ChunkResult, Chunks, Folded, Plan};
+use super::{Integrator, Vector};
 use crate::engine::Executor;
-use crate::estimator::Estimator;
+use crate::estimator::{Estimator, VectorEstimator};
 use crate::sampler::Sampler;
-use crate::stats::Estimate;
+use crate::stats::{Estimate, VectorEstimate};
 use crate::{Error, Result};
 
 /// The results of some chunks of a fixed-budget [`Integrator`] run.
@@ -70,10 +71,10 @@ pub struct PartialRun {
 }
 
 impl PartialRun {
-    /// An empty part of the run of `layout`.
-    fn new(layout: Layout) -> PartialRun {
+    /// An empty part of the run of `layout`, with the empty fold of its chunks.
+    fn new(layout: Layout, folded: Folded) -> PartialRun {
         PartialRun {
-            folded: Folded::new(layout.replicates),
+            folded,
             layout,
             prefix: 0,
             chunks: BTreeMap::new(),
@@ -188,7 +189,7 @@ impl<E: Estimator> Integrator<E> {
     /// assert_eq!(i.total_chunks().unwrap(), 2 * 3);
     /// ```
     pub fn total_chunks(&self) -> Result<u64> {
-        self.with_plan(|plan, _, _| plan.total_chunks())
+        self.total_chunks_engine()
     }
 
     /// Evaluates chunks `range` of this run (see [`PartialRun`]). A time limit or a
@@ -200,30 +201,7 @@ impl<E: Estimator> Integrator<E> {
     /// assert!(i.run_part(3..5).is_err()); // only 4 chunks
     /// ```
     pub fn run_part(&self, range: Range<u64>) -> Result<PartialRun> {
-        self.with_plan(|plan, sampler, executor| {
-            let total = plan.total_chunks()?;
-            if range.start >= range.end || range.end > total {
-                return Err(Error::invalid(
-                    "chunk range",
-                    format!("{}..{}", range.start, range.end),
-                    format!("a non-empty range within 0..{total}"),
-                ));
-            }
-            let mut part = PartialRun::new(self.layout(plan, sampler)?);
-            // A limit stops the part where it is: the chunks before it are kept.
-            let limits = self.config.limits();
-            self.with_estimator(executor, &limits, |estimator, _| {
-                let job = Chunks {
-                    plan,
-                    sampler,
-                    estimator,
-                };
-                executor.run(&job, range, CHUNKS_IN_MEMORY, &limits, |chunk, result| {
-                    part.insert([(chunk, result)])
-                })
-            })?;
-            Ok(part)
-        })
+        self.run_part_engine(range)
     }
 
     /// Evaluates up to `max_chunks` more chunks of `partial`, from its first missing one
@@ -240,20 +218,7 @@ impl<E: Estimator> Integrator<E> {
     /// assert_eq!(i.finish(&part).unwrap(), i.run().unwrap());
     /// ```
     pub fn resume(&self, partial: &mut PartialRun, max_chunks: u64) -> Result<()> {
-        self.with_plan(|plan, sampler, _| self.layout(plan, sampler)?.check(&partial.layout))?;
-        if max_chunks == 0 {
-            return Err(Error::invalid("max_chunks", 0, "at least 1"));
-        }
-        let Some(start) = partial.next_missing() else {
-            return Ok(());
-        };
-        let limit = start.saturating_add(max_chunks).min(partial.total_chunks());
-        let end = partial
-            .chunks
-            .range(start..limit)
-            .next()
-            .map_or(limit, |(&done, _)| done);
-        partial.merge(self.run_part(start..end)?)
+        self.resume_engine(partial, max_chunks)
     }
 
     /// The estimate of a complete [`PartialRun`] of this run: the same bits as
@@ -266,24 +231,77 @@ impl<E: Estimator> Integrator<E> {
     /// assert!(i.finish(&part).unwrap_err().to_string().contains("chunk 2"));
     /// ```
     pub fn finish(&self, partial: &PartialRun) -> Result<Estimate> {
-        self.with_plan(|plan, sampler, _| {
-            self.layout(plan, sampler)?.check(&partial.layout)?;
-            if let Some(missing) = partial.next_missing() {
-                return Err(Error::invalid(
-                    "partial run",
-                    format!(
-                        "{} of {} chunks",
-                        partial.chunks_done(),
-                        partial.total_chunks()
-                    ),
-                    format!("every chunk finished (chunk {missing} is missing)"),
-                ));
-            }
-            plan.estimate(sampler, &partial.folded, self.config.non_finite)
-        })
-        .and_then(Estimate::checked)
+        let run = self.finish_engine(partial)?;
+        let single = run.outputs.into_iter().next();
+        single
+            .ok_or_else(|| Error::invalid("outputs", 0, "one output"))
+            .and_then(Estimate::checked)
+    }
+}
+
+impl<E: VectorEstimator> Integrator<Vector<E>> {
+    /// Number of chunks of this run (fixed budget only), the unit of
+    /// [`run_part`](Self::run_part); see [`Integrator::total_chunks`].
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::UniformBox};
+    /// let f = |x: &[f64], out: &mut [f64]| out.fill(x[0]);
+    /// let i = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(40_000);
+    /// assert_eq!(i.total_chunks().unwrap(), 3);
+    /// ```
+    pub fn total_chunks(&self) -> Result<u64> {
+        self.total_chunks_engine()
     }
 
+    /// Evaluates chunks `range` of this vector run (see [`PartialRun`] and
+    /// [`Integrator::run_part`]).
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::UniformBox};
+    /// let f = |x: &[f64], out: &mut [f64]| { out[0] = x[0]; out[1] = x[0].sin(); };
+    /// let i = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(50_000);
+    /// let mut part = i.run_part(0..2).unwrap();
+    /// part.merge(i.run_part(2..4).unwrap()).unwrap();
+    /// assert_eq!(i.finish(&part).unwrap(), i.run().unwrap());
+    /// ```
+    pub fn run_part(&self, range: Range<u64>) -> Result<PartialRun> {
+        self.run_part_engine(range)
+    }
+
+    /// Evaluates up to `max_chunks` more chunks of `partial` (see [`Integrator::resume`]).
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::UniformBox};
+    /// let f = |x: &[f64], out: &mut [f64]| { out[0] = x[0]; out[1] = x[0].sin(); };
+    /// let i = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(100_000);
+    /// let mut part = i.run_part(0..1).unwrap();
+    /// while !part.is_complete() {
+    ///     i.resume(&mut part, 3).unwrap();
+    /// }
+    /// assert_eq!(i.finish(&part).unwrap(), i.run().unwrap());
+    /// ```
+    pub fn resume(&self, partial: &mut PartialRun, max_chunks: u64) -> Result<()> {
+        self.resume_engine(partial, max_chunks)
+    }
+
+    /// The estimate of a complete [`PartialRun`] of this vector run: the same bits as
+    /// [`run`](Self::run).
+    ///
+    /// ```
+    /// use mcint::{Integrator, pdf::UniformBox};
+    /// let f = |x: &[f64], out: &mut [f64]| out.fill(x[0]);
+    /// let i = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(50_000);
+    /// let scalar = Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).samples(50_000);
+    /// // A part of a scalar run is refused: its number of outputs differs.
+    /// let err = i.finish(&scalar.run_part(0..4).unwrap()).unwrap_err();
+    /// assert!(err.to_string().contains("outputs"), "{err}");
+    /// ```
+    pub fn finish(&self, partial: &PartialRun) -> Result<VectorEstimate> {
+        self.finish_engine(partial)?.checked()
+    }
+}
+
+impl<E> Integrator<E> {
     /// Names the integrand for checkpoints: a [`PartialRun`] of a run with another label is
     /// refused. The integrand itself cannot be compared (only its values at a few probe
     /// points are), so a label such as the family and parameters of a test function guards
@@ -302,24 +320,102 @@ impl<E: Estimator> Integrator<E> {
         self.config.label = Some(label.into());
         self
     }
+}
 
-    /// The layout of this run, for the plan and sampler given.
-    fn layout(&self, plan: &Plan, sampler: &dyn Sampler) -> Result<Layout> {
-        Layout::of(
-            plan,
-            sampler,
-            &self.estimator,
-            self.config.label.as_deref(),
-            self.config.non_finite,
-        )
+/// The checkpoint machinery, shared by scalar and vector runs.
+impl<E> Integrator<E> {
+    fn total_chunks_engine(&self) -> Result<u64>
+    where
+        E: RunEstimator,
+    {
+        self.with_plan(|plan, _, _| plan.total_chunks())
+    }
+
+    fn run_part_engine(&self, range: Range<u64>) -> Result<PartialRun>
+    where
+        E: RunEstimator,
+    {
+        self.with_plan(|plan, sampler, executor| {
+            let total = plan.total_chunks()?;
+            if range.start >= range.end || range.end > total {
+                return Err(Error::invalid(
+                    "chunk range",
+                    format!("{}..{}", range.start, range.end),
+                    format!("a non-empty range within 0..{total}"),
+                ));
+            }
+            let layout = self.estimator.layout(plan, sampler, &self.config)?;
+            // A limit stops the part where it is: the chunks before it are kept.
+            let limits = self.config.limits();
+            self.estimator
+                .with_main(&self.config, executor, &limits, |estimator, _| {
+                    let job = Chunks::new(plan, sampler, estimator);
+                    let mut part = PartialRun::new(layout, job.folded()?);
+                    executor.run(&job, range, CHUNKS_IN_MEMORY, &limits, |chunk, result| {
+                        part.insert([(chunk, result)])
+                    })?;
+                    Ok(part)
+                })
+        })
+    }
+
+    fn resume_engine(&self, partial: &mut PartialRun, max_chunks: u64) -> Result<()>
+    where
+        E: RunEstimator,
+    {
+        self.with_plan(|plan, sampler, _| {
+            self.estimator
+                .layout(plan, sampler, &self.config)?
+                .check(&partial.layout)
+        })?;
+        if max_chunks == 0 {
+            return Err(Error::invalid("max_chunks", 0, "at least 1"));
+        }
+        let Some(start) = partial.next_missing() else {
+            return Ok(());
+        };
+        let limit = start.saturating_add(max_chunks).min(partial.total_chunks());
+        let end = partial
+            .chunks
+            .range(start..limit)
+            .next()
+            .map_or(limit, |(&done, _)| done);
+        partial.merge(self.run_part_engine(start..end)?)
+    }
+
+    fn finish_engine(&self, partial: &PartialRun) -> Result<VectorEstimate>
+    where
+        E: RunEstimator,
+    {
+        self.with_plan(|plan, sampler, _| {
+            self.estimator
+                .layout(plan, sampler, &self.config)?
+                .check(&partial.layout)?;
+            if let Some(missing) = partial.next_missing() {
+                return Err(Error::invalid(
+                    "partial run",
+                    format!(
+                        "{} of {} chunks",
+                        partial.chunks_done(),
+                        partial.total_chunks()
+                    ),
+                    format!("every chunk finished (chunk {missing} is missing)"),
+                ));
+            }
+            plan.estimate(sampler, &partial.folded, self.config.non_finite)
+        })
     }
 
     /// Calls `work` with the plan of a fixed-budget run, the sampler and the executor.
     fn with_plan<R>(
         &self,
         work: impl FnOnce(&Plan, &dyn Sampler, &Executor) -> Result<R>,
-    ) -> Result<R> {
-        if self.config.tolerance.is_some() {
+    ) -> Result<R>
+    where
+        E: RunEstimator,
+    {
+        self.estimator.validate()?;
+        if self.estimator.targets(&self.config).any() {
             return Err(Error::invalid(
                 "tolerance",
                 "set",

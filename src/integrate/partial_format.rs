@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use super::layout::{FORMAT_VERSION, Layout};
 use super::partial::PartialRun;
 use super::plan::{ChunkResult, Folded, NonFinite};
-use crate::stats::Accumulator;
+use crate::stats::{Accumulator, CovarianceAccumulator};
 
 /// A [`PartialRun`] as serde writes it.
 #[derive(serde::Serialize, serde::Deserialize)]
@@ -56,7 +56,10 @@ impl TryFrom<Saved> for PartialRun {
             ));
         }
         let total = layout.total_chunks;
-        let replicates_ok = saved.folded.replicates.len() as u64 == layout.replicates;
+        let m = layout.outputs;
+        let replicates_ok = saved.folded.outputs == m
+            && saved.folded.accumulators.len() as u64 == layout.replicates.saturating_mul(m as u64)
+            && saved.chunks.iter().all(|(_, r)| r.accumulators.len() == m);
         let mut chunks = BTreeMap::new();
         for (chunk, result) in saved.chunks {
             if chunk <= saved.prefix || chunk >= total || chunks.insert(chunk, result).is_some() {
@@ -71,7 +74,7 @@ impl TryFrom<Saved> for PartialRun {
                 "an inconsistent partial run: {} of {total} chunks folded into {} replicates \
                  of {}",
                 saved.prefix,
-                saved.folded.replicates.len(),
+                saved.folded.accumulators.len(),
                 layout.replicates
             ));
         }
@@ -109,23 +112,36 @@ fn content_checksum(
         u64::from(layout.non_finite == super::NonFinitePolicy::Skip),
         u64::from(layout.probe),
         prefix,
-        folded.replicates.len() as u64,
+        folded.accumulators.len() as u64,
         chunks.len() as u64,
     ]);
+    // Several outputs add their fields; a scalar part keeps the checksum of its earlier form.
+    let several = layout.outputs > 1;
+    if several {
+        h.update(&(layout.outputs as u64).to_le_bytes());
+    }
     let text = |h: &mut crc32fast::Hasher, s: &str| {
         h.update(&(s.len() as u64).to_le_bytes());
         h.update(s.as_bytes());
     };
     text(&mut h, &layout.sampler);
     text(&mut h, layout.label.as_deref().unwrap_or("\u{0}none"));
-    for acc in &folded.replicates {
+    for acc in &folded.accumulators {
         feed_accumulator(&mut h, acc);
     }
-    feed_non_finite(&mut h, folded.first_non_finite.as_ref());
+    feed_non_finite(&mut h, folded.first_non_finite.as_ref(), several);
+    for cov in &folded.covariances {
+        feed_covariance(&mut h, cov);
+    }
     for (chunk, result) in chunks {
         h.update(&chunk.to_le_bytes());
-        feed_accumulator(&mut h, &result.accumulator);
-        feed_non_finite(&mut h, result.first_non_finite.as_ref());
+        for acc in &result.accumulators {
+            feed_accumulator(&mut h, acc);
+        }
+        feed_non_finite(&mut h, result.first_non_finite.as_ref(), several);
+        if let Some(cov) = &result.covariance {
+            feed_covariance(&mut h, cov);
+        }
     }
     h.finalize()
 }
@@ -144,7 +160,7 @@ fn feed_accumulator(h: &mut crc32fast::Hasher, acc: &Accumulator) {
     }
 }
 
-fn feed_non_finite(h: &mut crc32fast::Hasher, first: Option<&NonFinite>) {
+fn feed_non_finite(h: &mut crc32fast::Hasher, first: Option<&NonFinite>, with_output: bool) {
     match first {
         None => h.update(&[0]),
         Some(n) => {
@@ -152,6 +168,58 @@ fn feed_non_finite(h: &mut crc32fast::Hasher, first: Option<&NonFinite>) {
             for word in [n.replicate, n.index, n.value.to_bits()] {
                 h.update(&word.to_le_bytes());
             }
+            if with_output {
+                h.update(&(n.output as u64).to_le_bytes());
+            }
+        }
+    }
+}
+
+fn feed_covariance(h: &mut crc32fast::Hasher, cov: &CovarianceAccumulator) {
+    h.update(&cov.count().to_le_bytes());
+    h.update(&cov.non_finite().to_le_bytes());
+    for mean in cov.means() {
+        h.update(&mean.to_bits().to_le_bytes());
+    }
+    for i in 0..cov.dims() {
+        for j in 0..=i {
+            h.update(&cov.comoment(i, j).to_bits().to_le_bytes());
+        }
+    }
+}
+
+/// A [`ChunkResult`] as serde writes it: the first output's accumulator under the name of the
+/// scalar form, the other outputs' and the covariance only when there are several.
+#[derive(serde::Serialize, serde::Deserialize)]
+pub(super) struct SavedChunk {
+    accumulator: Accumulator,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    more_outputs: Vec<Accumulator>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    covariance: Option<CovarianceAccumulator>,
+    first_non_finite: Option<NonFinite>,
+}
+
+impl From<ChunkResult> for SavedChunk {
+    fn from(result: ChunkResult) -> SavedChunk {
+        let mut outputs = result.accumulators.into_iter();
+        SavedChunk {
+            accumulator: outputs.next().unwrap_or_default(),
+            more_outputs: outputs.collect(),
+            covariance: result.covariance,
+            first_non_finite: result.first_non_finite,
+        }
+    }
+}
+
+impl From<SavedChunk> for ChunkResult {
+    fn from(saved: SavedChunk) -> ChunkResult {
+        let mut accumulators = vec![saved.accumulator];
+        accumulators.extend(saved.more_outputs);
+        ChunkResult {
+            accumulators,
+            covariance: saved.covariance,
+            first_non_finite: saved.first_non_finite,
         }
     }
 }

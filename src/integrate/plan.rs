@@ -3,9 +3,9 @@
 
 use super::{CHUNK, DEFAULT_SAMPLES, NonFinitePolicy};
 use crate::engine::{ChunkJob, Executor, Limits, require_randomized};
-use crate::estimator::Estimator;
+use crate::estimator::VectorEstimator;
 use crate::sampler::{PassKind, Sampler};
-use crate::stats::{Accumulator, Estimate, StopReason, Warning};
+use crate::stats::{Accumulator, CovarianceAccumulator, StopReason, VectorEstimate, Warning};
 use crate::{Error, Points, Result};
 
 /// Points generated and evaluated together: small enough to stay in L1/L2 cache.
@@ -160,15 +160,11 @@ impl Plan {
         executor: &Executor,
         limits: &Limits,
         sampler: &dyn Sampler,
-        estimator: &dyn Estimator,
+        estimator: &dyn VectorEstimator,
         on_points: &mut dyn FnMut(u64),
     ) -> Result<(Folded, u64, Option<StopReason>)> {
-        let job = Chunks {
-            plan: self,
-            sampler,
-            estimator,
-        };
-        let mut folded = Folded::new(self.replicates);
+        let job = Chunks::new(self, sampler, estimator);
+        let mut folded = job.folded()?;
         let mut done = 0;
         let stop = executor.run(
             &job,
@@ -196,12 +192,8 @@ impl Plan {
         done: u64,
         policy: NonFinitePolicy,
         stop: StopReason,
-    ) -> Result<Estimate> {
-        let spent: u64 = folded
-            .replicates
-            .iter()
-            .map(|r| r.count() + r.non_finite())
-            .sum();
+    ) -> Result<VectorEstimate> {
+        let spent = folded.points();
         let complete = if sampler.passes() == PassKind::Independent {
             done.div_ceil(self.chunks_per_replicate)
         } else {
@@ -213,42 +205,55 @@ impl Plan {
                 evaluations: spent,
             });
         }
-        folded.replicates.truncate(complete as usize);
+        folded.truncate(complete);
         let kept = Plan {
             replicates: complete,
             ..*self
         };
         let mut estimate = kept.estimate(sampler, &folded, policy)?;
-        estimate.stop = stop;
-        estimate.warn(Warning::StoppedEarly {
-            stop,
-            done: estimate.evaluations,
-            planned: self.samples.saturating_mul(self.replicates),
+        let planned = self.samples.saturating_mul(self.replicates);
+        estimate.for_each_output(|_, output| {
+            output.stop = stop;
+            output.warn(Warning::StoppedEarly {
+                stop,
+                done: output.evaluations,
+                planned,
+            });
         });
         Ok(estimate)
     }
 
     /// Fails with the first offending point when a contribution was not finite (under
-    /// [`NonFinitePolicy::Skip`], only when a replicate has no finite contribution left).
+    /// [`NonFinitePolicy::Skip`], only when a replicate has an output with no finite
+    /// contribution left).
     pub(super) fn check_finite(
         &self,
         sampler: &dyn Sampler,
         folded: &Folded,
         policy: NonFinitePolicy,
     ) -> Result<()> {
-        let reps = &folded.replicates;
-        let count: u64 = reps.iter().map(|r| r.non_finite()).sum();
         let Some(first) = folded.first_non_finite else {
             return Ok(());
         };
+        let count: u64 = folded.accumulators.iter().map(|r| r.non_finite()).sum();
         if policy == NonFinitePolicy::Skip {
-            return match reps.iter().position(|r| r.count() == 0) {
+            return match folded.accumulators.iter().position(|r| r.count() == 0) {
                 None => Ok(()),
-                Some(replicate) => Err(Error::invalid(
-                    "integrand",
-                    format!("non-finite at every point of replicate {replicate}"),
-                    "at least one finite contribution per replicate, even when skipping",
-                )),
+                Some(at) => {
+                    let (replicate, output) = (at / folded.outputs, at % folded.outputs);
+                    let what = if folded.outputs > 1 {
+                        format!(
+                            "non-finite at every point of replicate {replicate} in output {output}"
+                        )
+                    } else {
+                        format!("non-finite at every point of replicate {replicate}")
+                    };
+                    Err(Error::invalid(
+                        "integrand",
+                        what,
+                        "at least one finite contribution per replicate, even when skipping",
+                    ))
+                }
             };
         }
         let mut point = vec![0.0; sampler.dims()];
@@ -257,6 +262,7 @@ impl Plan {
             count,
             first_index: first.index,
             first_replicate: first.replicate,
+            first_output: (folded.outputs > 1).then_some(first.output),
             first_value: first.value,
             first_point: point,
         })
@@ -269,22 +275,35 @@ impl Plan {
         sampler: &dyn Sampler,
         folded: &Folded,
         policy: NonFinitePolicy,
-    ) -> Result<Estimate> {
+    ) -> Result<VectorEstimate> {
         self.check_finite(sampler, folded, policy)?;
-        let reps = &folded.replicates;
+        let m = folded.outputs;
         if sampler.passes() == PassKind::Independent {
-            // Independent points: all samples are iid, so the per-sample variance is honest.
-            let mut all = Accumulator::new();
-            for r in reps {
-                all.merge(r);
+            // Independent points: all samples are iid, so the per-sample (co)variance is
+            // honest.
+            let mut outputs = vec![Accumulator::new(); m];
+            for replicate in folded.accumulators.chunks_exact(m) {
+                for (all, part) in outputs.iter_mut().zip(replicate) {
+                    all.merge(part);
+                }
             }
-            let mut estimate = all.estimate();
-            estimate.replicates = self.replicates;
-            return Ok(estimate);
+            let covariance = folded.covariances.split_first().map(|(first, rest)| {
+                let mut all = first.clone();
+                for part in rest {
+                    // Same dimension by construction.
+                    let _ = all.merge(part);
+                }
+                all
+            });
+            return Ok(VectorEstimate::independent(
+                &outputs,
+                covariance.as_ref(),
+                self.replicates,
+            ));
         }
-        let mut estimate = Estimate::from_replicate_accumulators(reps)?;
+        let mut estimate = VectorEstimate::replicates(&folded.accumulators, m)?;
         if let Some(warning) = balance_warning(sampler, self.samples) {
-            estimate.warn(warning);
+            estimate.for_each_output(|_, output| output.warn(warning.clone()));
         }
         Ok(estimate)
     }
@@ -315,11 +334,22 @@ pub(super) struct NonFinite {
     /// NaN or an infinity, serialized by its bits (JSON has no form for them).
     #[cfg_attr(feature = "serde", serde(with = "f64_bits"))]
     pub(super) value: f64,
+    /// The output it belongs to (0 for a scalar integrand, and then not saved).
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "is_first_output")
+    )]
+    pub(super) output: usize,
+}
+
+#[cfg(feature = "serde")]
+fn is_first_output(output: &usize) -> bool {
+    *output == 0
 }
 
 /// Serializes an `f64` as its IEEE-754 bits, so NaN and infinities survive any format.
 #[cfg(feature = "serde")]
-mod f64_bits {
+pub(super) mod f64_bits {
     pub fn serialize<S: serde::Serializer>(value: &f64, s: S) -> Result<S::Ok, S::Error> {
         s.serialize_u64(value.to_bits())
     }
@@ -330,47 +360,161 @@ mod f64_bits {
     }
 }
 
-/// What one chunk of work produced.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+/// What one chunk of work produced: an accumulator per output, the outputs' covariance (for
+/// several outputs of independent points) and the first non-finite contribution.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(
+        into = "super::partial_format::SavedChunk",
+        from = "super::partial_format::SavedChunk"
+    )
+)]
 pub(super) struct ChunkResult {
-    pub(super) accumulator: Accumulator,
+    pub(super) accumulators: Vec<Accumulator>,
+    pub(super) covariance: Option<CovarianceAccumulator>,
     pub(super) first_non_finite: Option<NonFinite>,
 }
 
-/// Chunk results folded in chunk order: one accumulator per replicate, and the first
-/// non-finite contribution.
+/// Chunk results folded in chunk order: an accumulator per output of each replicate
+/// (`accumulators[r * outputs + k]`), the covariance of the outputs per replicate where it is
+/// kept, and the first non-finite contribution.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(super) struct Folded {
-    pub(super) replicates: Vec<Accumulator>,
+    /// Saved under the name of the scalar form, which had one per replicate.
+    #[cfg_attr(feature = "serde", serde(rename = "replicates"))]
+    pub(super) accumulators: Vec<Accumulator>,
     pub(super) first_non_finite: Option<NonFinite>,
+    #[cfg_attr(
+        feature = "serde",
+        serde(default, skip_serializing_if = "Vec::is_empty")
+    )]
+    pub(super) covariances: Vec<CovarianceAccumulator>,
+    #[cfg_attr(
+        feature = "serde",
+        serde(default = "one", skip_serializing_if = "is_one")
+    )]
+    pub(super) outputs: usize,
+}
+
+#[cfg(feature = "serde")]
+pub(super) fn one() -> usize {
+    1
+}
+
+#[cfg(feature = "serde")]
+pub(super) fn is_one(n: &usize) -> bool {
+    *n == 1
 }
 
 impl Folded {
-    pub(super) fn new(replicates: u64) -> Folded {
-        Folded {
-            replicates: vec![Accumulator::new(); replicates as usize],
+    /// Empty accumulators for `replicates` replicates of `outputs` outputs, with a covariance
+    /// per replicate if `covariance`.
+    pub(super) fn new(replicates: u64, outputs: usize, covariance: bool) -> Result<Folded> {
+        let r = replicates as usize;
+        let covariances = if covariance {
+            vec![CovarianceAccumulator::new(outputs)?; r]
+        } else {
+            Vec::new()
+        };
+        Ok(Folded {
+            accumulators: vec![Accumulator::new(); r * outputs],
             first_non_finite: None,
-        }
+            covariances,
+            outputs,
+        })
     }
 
     /// Adds the result of `chunk` of a run of `chunks_per_replicate` chunks per replicate;
     /// chunks must come in index order.
     pub(super) fn add(&mut self, chunks_per_replicate: u64, chunk: u64, result: &ChunkResult) {
         let replicate = (chunk / chunks_per_replicate) as usize;
-        self.replicates[replicate].merge(&result.accumulator);
+        let outputs = &mut self.accumulators[replicate * self.outputs..][..self.outputs];
+        for (acc, part) in outputs.iter_mut().zip(&result.accumulators) {
+            acc.merge(part);
+        }
+        if let (Some(all), Some(part)) = (self.covariances.get_mut(replicate), &result.covariance) {
+            // Same dimension by construction.
+            let _ = all.merge(part);
+        }
         if self.first_non_finite.is_none() {
             self.first_non_finite = result.first_non_finite;
+        }
+    }
+
+    /// Merges a fold of the same shape (later points of the same replicates).
+    pub(super) fn merge(&mut self, other: &Folded) {
+        for (acc, part) in self.accumulators.iter_mut().zip(&other.accumulators) {
+            acc.merge(part);
+        }
+        for (cov, part) in self.covariances.iter_mut().zip(&other.covariances) {
+            // Same dimension by construction.
+            let _ = cov.merge(part);
+        }
+        if self.first_non_finite.is_none() {
+            self.first_non_finite = other.first_non_finite;
+        }
+    }
+
+    /// The estimate of a fold of one replicate of independent points.
+    pub(super) fn independent_estimate(&self) -> VectorEstimate {
+        VectorEstimate::independent(&self.accumulators, self.covariances.first(), 1)
+    }
+
+    /// Points evaluated (finite or not), from the first output's accumulators.
+    pub(super) fn points(&self) -> u64 {
+        self.accumulators
+            .iter()
+            .step_by(self.outputs)
+            .map(|r| r.count() + r.non_finite())
+            .sum()
+    }
+
+    /// Keeps the first `replicates` replicates.
+    fn truncate(&mut self, replicates: u64) {
+        self.accumulators
+            .truncate(replicates as usize * self.outputs);
+        if !self.covariances.is_empty() {
+            self.covariances.truncate(replicates as usize);
         }
     }
 }
 
 /// The chunks of one plan, as work for the [`Executor`].
 pub(super) struct Chunks<'a> {
-    pub(super) plan: &'a Plan,
-    pub(super) sampler: &'a dyn Sampler,
-    pub(super) estimator: &'a dyn Estimator,
+    plan: &'a Plan,
+    sampler: &'a dyn Sampler,
+    estimator: &'a dyn VectorEstimator,
+    /// Whether to keep the outputs' covariance (several outputs of independent points; with
+    /// dependent points it comes from the replicate means).
+    covariance: bool,
+}
+
+impl<'a> Chunks<'a> {
+    pub(super) fn new(
+        plan: &'a Plan,
+        sampler: &'a dyn Sampler,
+        estimator: &'a dyn VectorEstimator,
+    ) -> Self {
+        let covariance = estimator.outputs() > 1 && sampler.passes() == PassKind::Independent;
+        Chunks {
+            plan,
+            sampler,
+            estimator,
+            covariance,
+        }
+    }
+
+    /// An empty fold of this plan's chunks.
+    pub(super) fn folded(&self) -> Result<Folded> {
+        Folded::new(
+            self.plan.replicates,
+            self.estimator.outputs(),
+            self.covariance,
+        )
+    }
 }
 
 /// Per-thread buffers, allocated once.
@@ -386,39 +530,53 @@ impl ChunkJob for Chunks<'_> {
     fn scratch(&self) -> Result<Workspace> {
         Ok(Workspace {
             points: Points::new(self.sampler.dims(), BLOCK as usize)?,
-            values: vec![0.0; BLOCK as usize],
+            values: vec![0.0; BLOCK as usize * self.estimator.outputs()],
         })
     }
 
     fn run(&self, work: &mut Workspace, chunk: u64) -> Result<ChunkResult> {
         let (replicate, first, end) = self.plan.chunk_range(chunk);
         let base = replicate * self.plan.stride;
-        let mut accumulator = Accumulator::new();
+        let m = self.estimator.outputs();
+        let mut accumulators = vec![Accumulator::new(); m];
+        let mut covariance = if self.covariance {
+            Some(CovarianceAccumulator::new(m)?)
+        } else {
+            None
+        };
         let mut first_non_finite = None;
         let mut start = first;
         while start < end {
             let len = (end - start).min(BLOCK) as usize;
             work.points.set_len(len);
             self.sampler.fill(base + start, &mut work.points)?;
-            let values = &mut work.values[..len];
+            let values = &mut work.values[..len * m];
             self.estimator.contributions(&work.points, values);
-            let before = accumulator.non_finite();
-            accumulator.extend(values);
-            if accumulator.non_finite() > before && first_non_finite.is_none() {
-                first_non_finite =
-                    values
-                        .iter()
-                        .position(|y| !y.is_finite())
-                        .map(|offset| NonFinite {
-                            replicate,
-                            index: start + offset as u64,
-                            value: values[offset],
-                        });
+            let mut finite = true;
+            for (acc, column) in accumulators.iter_mut().zip(values.chunks_exact(len)) {
+                let before = acc.non_finite();
+                acc.extend(column);
+                finite &= acc.non_finite() == before;
+            }
+            if let Some(cov) = covariance.as_mut() {
+                cov.extend_columns(values, len);
+            }
+            if !finite && first_non_finite.is_none() {
+                first_non_finite = (0..len)
+                    .flat_map(|i| (0..m).map(move |k| (i, k)))
+                    .find(|&(i, k)| !values[k * len + i].is_finite())
+                    .map(|(i, k)| NonFinite {
+                        replicate,
+                        index: start + i as u64,
+                        value: values[k * len + i],
+                        output: k,
+                    });
             }
             start += len as u64;
         }
         Ok(ChunkResult {
-            accumulator,
+            accumulators,
+            covariance,
             first_non_finite,
         })
     }

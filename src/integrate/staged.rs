@@ -5,12 +5,13 @@
 use std::cell::Cell;
 
 use super::Plan;
-use super::plan::balance_warning;
+use super::plan::{Folded, balance_warning};
+use super::targets::Targets;
 use crate::engine::{DEFAULT_REPLICATES, Executor, RunConfig, Stopping, require_randomized};
-use crate::estimator::Estimator;
+use crate::estimator::VectorEstimator;
 use crate::sampler::{PassKind, Sampler};
 use crate::special::normal_quantile;
-use crate::stats::{Accumulator, Estimate, StopReason, Tolerance};
+use crate::stats::{StopReason, VectorEstimate};
 use crate::{Error, Result};
 
 /// Pilot size of the two-stage rule when the caller gives none.
@@ -20,15 +21,15 @@ const SD_INFLATION: f64 = 1.1;
 /// First points per replicate of a doubling run when the sampler has no pass size.
 const DEFAULT_FIRST_STAGE: u64 = 1024;
 
-/// Integrates with `estimator` until `tolerance` is met or a limit is reached. Counts are of
+/// Integrates with `estimator` until every target is met or a limit is reached. Counts are of
 /// contributions; the caller turns them into integrand evaluations.
 pub(super) fn run_to_tolerance(
-    estimator: &dyn Estimator,
+    estimator: &dyn VectorEstimator,
     config: &RunConfig,
     sampler: &dyn Sampler,
     executor: &Executor,
-    tolerance: &Tolerance,
-) -> Result<Estimate> {
+    targets: &Targets<'_>,
+) -> Result<VectorEstimate> {
     require_randomized(
         sampler,
         "a run to a tolerance compares an error bar with the tolerance, and the passes of an \
@@ -45,14 +46,15 @@ pub(super) fn run_to_tolerance(
             ),
         )
     })?;
-    let limit = tolerance.evaluation_limit();
-    config.check_budget("max_evals", limit)?;
+    let limits = targets.limits();
+    config.check_budget("max_evals", limits.evaluation_limit())?;
     let stage = Stage {
         estimator,
         config,
         sampler,
         executor,
-        stopping: Stopping::new(tolerance, config.limits()),
+        targets,
+        stopping: Stopping::new(&limits, config.limits()),
         cost: estimator.evaluations_per_contribution().max(1),
         spent: Cell::new(0),
     };
@@ -65,10 +67,11 @@ pub(super) fn run_to_tolerance(
 
 /// What every stage of one run shares.
 struct Stage<'a> {
-    estimator: &'a dyn Estimator,
+    estimator: &'a dyn VectorEstimator,
     config: &'a RunConfig,
     sampler: &'a dyn Sampler,
     executor: &'a Executor,
+    targets: &'a Targets<'a>,
     stopping: Stopping<'a>,
     /// Integrand evaluations per contribution.
     cost: u64,
@@ -90,16 +93,16 @@ impl Stage<'_> {
         self.stopping.tolerance().evaluation_limit() / self.cost
     }
 
-    /// Accumulators of points `offset .. offset + samples` of each of `replicates`
-    /// replicates, `stride` apart, and the limit that stopped the stage before its end, if
-    /// one did (the accumulators then hold the chunks finished before it).
+    /// The fold of points `offset .. offset + samples` of each of `replicates` replicates,
+    /// `stride` apart, and the limit that stopped the stage before its end, if one did (the
+    /// fold then holds the chunks finished before it).
     fn run(
         &self,
         replicates: u64,
         stride: u64,
         offset: u64,
         samples: u64,
-    ) -> Result<(Vec<Accumulator>, Option<StopReason>)> {
+    ) -> Result<(Folded, Option<StopReason>)> {
         let plan = Plan::stage(replicates, stride, offset, samples)?;
         let mut on_points = |points: u64| {
             self.spent.set(self.spent.get() + points * self.cost);
@@ -113,18 +116,17 @@ impl Stage<'_> {
             &mut on_points,
         )?;
         plan.check_finite(self.sampler, &folded, self.config.non_finite)?;
-        Ok((folded.replicates, stop))
+        Ok((folded, stop))
     }
 }
 
 /// Independent points: a pilot sizes a fresh main stage (extended if it still misses).
-fn two_stage(stage: &Stage<'_>) -> Result<Estimate> {
-    let tolerance = stage.stopping.tolerance();
+fn two_stage(stage: &Stage<'_>) -> Result<VectorEstimate> {
     let pilot_size = stage.config.samples.unwrap_or(DEFAULT_PILOT).max(2);
     if pilot_size > stage.contribution_limit() {
         return Err(Error::invalid(
             "max_evals",
-            tolerance.evaluation_limit(),
+            stage.stopping.tolerance().evaluation_limit(),
             format!(
                 "at least the pilot's {} evaluations",
                 pilot_size.saturating_mul(stage.cost)
@@ -132,39 +134,28 @@ fn two_stage(stage: &Stage<'_>) -> Result<Estimate> {
         ));
     }
     // Replicate 0 only: the pilot takes indices 0 .. pilot, the main stage what follows.
-    let (mut pilot, pilot_stop) = stage.run(1, 0, 0, pilot_size)?;
-    let pilot = pilot.remove(0);
+    let (pilot, pilot_stop) = stage.run(1, 0, 0, pilot_size)?;
     if let Some(stop) = pilot_stop {
         // Independent points: the pilot's finished chunks are an estimate of their own.
-        if pilot.count() < 2 {
+        if pilot.accumulators[0].count() < 2 {
             return Err(Error::Interrupted {
                 stop,
-                evaluations: pilot.count() * stage.cost,
+                evaluations: pilot.points() * stage.cost,
             });
         }
-        let mut estimate = pilot.estimate();
-        stage.stopping.finish(&mut estimate, stop, 1);
+        let mut estimate = pilot.independent_estimate();
+        stage.targets.finish(&mut estimate, stop, 1);
         return Ok(estimate);
     }
     let z = normal_quantile(0.975);
     let mut used = pilot_size;
-    let mut main = Accumulator::new();
-    let mut sd = pilot.variance().sqrt();
-    let mut mean = pilot.mean();
+    let mut main: Option<Folded> = None;
     let mut stages = 1;
     let stop = loop {
-        let target = tolerance.target(mean);
-        let needed = if sd == 0.0 {
-            2
-        } else {
-            let n = (z * SD_INFLATION * sd / target).powi(2).ceil();
-            if n.is_finite() && n < u64::MAX as f64 {
-                (n as u64).max(2)
-            } else {
-                u64::MAX
-            }
-        };
-        let more = needed.saturating_sub(main.count()).max(1);
+        let current = main.as_ref().unwrap_or(&pilot);
+        let needed = stage.targets.points_needed(current, z * SD_INFLATION);
+        let main_count = main.as_ref().map_or(0, |m| m.accumulators[0].count());
+        let more = needed.saturating_sub(main_count).max(1);
         let more = match stage.limit(used, more) {
             None => more,
             Some(StopReason::MaxEvaluations) => {
@@ -176,31 +167,35 @@ fn two_stage(stage: &Stage<'_>) -> Result<Estimate> {
             }
             Some(reason) => break reason,
         };
-        let (mut part, part_stop) = stage.run(1, 0, used, more)?;
-        let part = part.remove(0);
-        main.merge(&part);
-        used += part.count() + part.non_finite();
+        let (part, part_stop) = stage.run(1, 0, used, more)?;
+        used += part.points();
+        match main.as_mut() {
+            Some(main) => main.merge(&part),
+            None => main = Some(part),
+        }
         stages += 1;
         if let Some(stop) = part_stop {
             break stop;
         }
-        if main.count() >= 2 && stage.stopping.judge(main.estimate()).1 {
+        let main = main.as_ref().expect("set above");
+        if main.accumulators[0].count() >= 2 && stage.targets.judge(main.independent_estimate()).1 {
             break StopReason::ToleranceMet;
         }
-        sd = main.variance().sqrt();
-        mean = main.mean();
     };
     // Before any main stage ran, the pilot is all there is.
-    let source = if main.count() >= 2 { &main } else { &pilot };
-    let mut estimate = source.estimate();
-    estimate.evaluations = used;
-    stage.stopping.finish(&mut estimate, stop, stages);
+    let source = match &main {
+        Some(main) if main.accumulators[0].count() >= 2 => main,
+        _ => &pilot,
+    };
+    let mut estimate = source.independent_estimate();
+    estimate.for_each_output(|_, output| output.evaluations = used);
+    stage.targets.finish(&mut estimate, stop, stages);
     Ok(estimate)
 }
 
 /// Randomized QMC and stratified points: `R` replicates, doubling the points of each until
 /// the judged interval over the replicates meets the tolerance.
-fn doubling(stage: &Stage<'_>) -> Result<Estimate> {
+fn doubling(stage: &Stage<'_>) -> Result<VectorEstimate> {
     let tolerance = stage.stopping.tolerance();
     let replicates = stage.config.replicates.unwrap_or(DEFAULT_REPLICATES);
     if replicates < 2 {
@@ -213,7 +208,7 @@ fn doubling(stage: &Stage<'_>) -> Result<Estimate> {
     let limit = stage.contribution_limit();
     let (first, stride) = first_stage_and_stride(stage, replicates, limit)?;
     Plan::stage(replicates, stride, 0, stride)?;
-    let mut accumulators = vec![Accumulator::new(); replicates as usize];
+    let mut folded: Option<Folded> = None;
     let (mut done, mut next) = (0u64, first);
     let mut stages = 0;
     let mut estimate = None;
@@ -242,13 +237,17 @@ fn doubling(stage: &Stage<'_>) -> Result<Estimate> {
             }
             break stop;
         }
-        for (acc, part) in accumulators.iter_mut().zip(&parts) {
-            acc.merge(part);
-        }
+        let all = match folded.as_mut() {
+            Some(all) => {
+                all.merge(&parts);
+                all
+            }
+            None => folded.insert(parts),
+        };
         done = next;
         stages += 1;
-        let current = Estimate::from_replicate_accumulators(&accumulators)?;
-        let (current, met) = stage.stopping.judge(current);
+        let current = VectorEstimate::replicates(&all.accumulators, all.outputs)?;
+        let (current, met) = stage.targets.judge(current);
         estimate = Some(current);
         if met {
             break StopReason::ToleranceMet;
@@ -266,9 +265,9 @@ fn doubling(stage: &Stage<'_>) -> Result<Estimate> {
         )
     })?;
     if let Some(warning) = balance_warning(stage.sampler, first) {
-        estimate.warn(warning);
+        estimate.for_each_output(|_, output| output.warn(warning.clone()));
     }
-    stage.stopping.finish(&mut estimate, stop, stages);
+    stage.targets.finish(&mut estimate, stop, stages);
     Ok(estimate)
 }
 

@@ -513,6 +513,7 @@ fn pass_error(
                     count: 1,
                     first_index: start + i as u64,
                     first_replicate: pass,
+                    first_output: None,
                     first_value: y,
                     first_point: x,
                 });

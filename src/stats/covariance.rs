@@ -32,6 +32,7 @@ use crate::{Error, Result};
 /// assert_eq!(left.means(), &[2.0, 11.0 / 3.0]);
 /// assert!((left.covariance(0, 1) - 1.5).abs() < 1e-15);
 /// ```
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[derive(Debug, Clone, PartialEq)]
 pub struct CovarianceAccumulator {
     count: u64,
@@ -122,6 +123,52 @@ impl CovarianceAccumulator {
             }
         }
         Ok(())
+    }
+
+    /// Adds a block of `len` vectors given as columns (entry `k` of vector `t` at
+    /// `columns[k * len + t]`, `columns.len() == dims * len`): the block's means and
+    /// co-moments by two passes, merged with Chan's formula. Vectors with a non-finite entry
+    /// are counted and left out, as [`push`](Self::push) does.
+    pub(crate) fn extend_columns(&mut self, columns: &[f64], len: usize) {
+        let m = self.dims();
+        if len == 0 {
+            return;
+        }
+        let column = |k: usize| &columns[k * len..(k + 1) * len];
+        let mut block = CovarianceAccumulator {
+            count: 0,
+            means: vec![0.0; m],
+            comoments: vec![0.0; self.comoments.len()],
+            non_finite: 0,
+        };
+        if columns[..m * len].iter().any(|v| !v.is_finite()) {
+            // Rare: gather the vectors one by one, so that the bad ones are left out.
+            let mut row = vec![0.0; m];
+            for t in 0..len {
+                for (k, slot) in row.iter_mut().enumerate() {
+                    *slot = columns[k * len + t];
+                }
+                // The row has the accumulator's length, so push cannot fail.
+                let _ = block.push(&row);
+            }
+        } else {
+            block.count = len as u64;
+            for (k, mean) in block.means.iter_mut().enumerate() {
+                *mean = column(k).iter().sum::<f64>() / len as f64;
+            }
+            for i in 0..m {
+                for j in 0..=i {
+                    let (mi, mj) = (block.means[i], block.means[j]);
+                    block.comoments[packed(i, j)] = column(i)
+                        .iter()
+                        .zip(column(j))
+                        .map(|(&a, &b)| (a - mi) * (b - mj))
+                        .sum();
+                }
+            }
+        }
+        // Same dimension by construction.
+        let _ = self.merge(&block);
     }
 
     /// Combines another accumulator of the same dimension into this one, as if its vectors had

@@ -1,0 +1,135 @@
+//! [`Targets`]: what a run to a tolerance must reach: a tolerance per output, on derived
+//! quantities, or both.
+
+use std::time::Duration;
+
+use super::plan::Folded;
+use crate::engine::REPLICATE_INFLATION;
+use crate::stats::{Derived, ErrorBasis, StopReason, Tolerance, VectorEstimate, Warning};
+
+/// The tolerances of one run: `outputs[k]` for output `k` (none where only derived quantities
+/// decide), and a tolerance for each derived quantity. A run meets them when every one is met.
+pub(crate) struct Targets<'a> {
+    pub(crate) outputs: Vec<Option<Tolerance>>,
+    pub(crate) derived: &'a [(Derived, Tolerance)],
+}
+
+impl Targets<'_> {
+    /// Whether there is anything to reach (otherwise the run has a fixed budget).
+    pub(crate) fn any(&self) -> bool {
+        self.outputs.iter().any(Option::is_some) || !self.derived.is_empty()
+    }
+
+    /// The run's limits, as a tolerance: the fewest evaluations and the shortest time any of
+    /// the tolerances allows.
+    pub(crate) fn limits(&self) -> Tolerance {
+        let all: Vec<&Tolerance> = self
+            .outputs
+            .iter()
+            .flatten()
+            .chain(self.derived.iter().map(|(_, t)| t))
+            .collect();
+        let mut limits = *all[0];
+        for t in &all[1..] {
+            if t.evaluation_limit() < limits.evaluation_limit() {
+                limits = limits
+                    .max_evaluations(t.evaluation_limit())
+                    .unwrap_or(limits);
+            }
+            if let Some(time) = t.time() {
+                limits = limits.time_limit(limits.time().map_or(time, |own| own.min(time)));
+            }
+        }
+        limits
+    }
+
+    /// The shortest time limit of the tolerances, if any.
+    pub(crate) fn time(&self) -> Option<Duration> {
+        self.limits().time()
+    }
+
+    /// Whether the estimate meets every target.
+    fn met(&self, run: &VectorEstimate) -> bool {
+        let outputs = self
+            .outputs
+            .iter()
+            .zip(&run.outputs)
+            .all(|(t, e)| t.is_none_or(|t| t.is_met(e)));
+        outputs
+            && self
+                .derived
+                .iter()
+                .all(|(quantity, t)| run.derived(quantity).is_ok_and(|e| t.is_met(&e)))
+    }
+
+    /// The estimate a stage reports (replicate-based standard errors and covariances inflated,
+    /// see [`Stopping`](crate::engine::Stopping)) and whether it meets every target.
+    pub(crate) fn judge(&self, mut run: VectorEstimate) -> (VectorEstimate, bool) {
+        if run.outputs[0].basis == ErrorBasis::Replicates {
+            run.inflate(REPLICATE_INFLATION);
+        }
+        let met = self.met(&run);
+        (run, met)
+    }
+
+    /// Records how the run ended on its final estimate: per output, whether its own target
+    /// (or, without one, every target) was met, and a warning when it stopped on a limit.
+    pub(crate) fn finish(&self, run: &mut VectorEstimate, stop: StopReason, stages: u64) {
+        let all = self.met(run);
+        let own: Vec<bool> = self
+            .outputs
+            .iter()
+            .zip(&run.outputs)
+            .map(|(t, e)| t.map_or(all, |t| t.is_met(e)))
+            .collect();
+        run.for_each_output(|k, output| {
+            output.stop = stop;
+            output.converged = Some(own[k]);
+            output.iterations = stages;
+            if stop != StopReason::ToleranceMet {
+                output.warn(Warning::ToleranceNotMet { stop });
+            }
+            output.finalize();
+        });
+        run.converged = Some(all);
+    }
+
+    /// Points of independent samples the main stage needs for every target, from the
+    /// per-sample spread seen in `folded` (one replicate), each standard deviation inflated
+    /// by `z_inflated / z` (the two-stage rule's sizing, `(z * 1.1 * s / target)^2`).
+    pub(crate) fn points_needed(&self, folded: &Folded, z_inflated: f64) -> u64 {
+        let size = |sd: f64, target: f64| -> u64 {
+            if sd == 0.0 {
+                return 2;
+            }
+            let n = (z_inflated * sd / target).powi(2).ceil();
+            if n.is_finite() && n < u64::MAX as f64 {
+                (n as u64).max(2)
+            } else {
+                u64::MAX
+            }
+        };
+        let mut needed = 2u64;
+        for (k, t) in self.outputs.iter().enumerate() {
+            if let Some(t) = t {
+                let acc = &folded.accumulators[k];
+                needed = needed.max(size(acc.variance().sqrt(), t.target(acc.mean())));
+            }
+        }
+        if !self.derived.is_empty() {
+            let run = folded.independent_estimate();
+            let count = folded.accumulators[0].count();
+            for (quantity, t) in self.derived {
+                needed = needed.max(match run.derived(quantity) {
+                    Ok(e) => match e.std_error {
+                        Some(se) => size(se * (count as f64).sqrt(), t.target(e.mean)),
+                        None => count.saturating_mul(2),
+                    },
+                    // A ratio whose denominator is not yet known to be nonzero: more points.
+                    Err(_) => count.saturating_mul(2),
+                });
+            }
+        }
+        needed
+    }
+}
