@@ -53,6 +53,8 @@ mod genz_estimators;
 mod methods;
 #[path = "support/mod.rs"]
 mod support;
+#[path = "support/vector_run.rs"]
+mod vector_run;
 
 use genz_estimators::EstimatorKind;
 use mcint::estimator::Estimator;
@@ -87,6 +89,7 @@ const SPEC: support::Spec = &[
     ("tol-abs", true),
     ("tol-rel", true),
     ("max-evals", true),
+    ("ratio", true),
     ("checkpoint", true),
     ("save-every", true),
     ("stop-after", true),
@@ -137,27 +140,35 @@ fn progress_bar() -> Option<impl Fn(u64, u64) + Send + Sync + 'static> {
 
 fn run() -> Result<(), String> {
     let args = Args::parse(SPEC)?;
-    let family: GenzFamily = args
-        .require::<String>("genz", "a Genz family name")?
-        .parse()
-        .map_err(|e: mcint::Error| e.to_string())?;
+    let families = args
+        .require::<String>("genz", "a Genz family name, or several separated by commas")?
+        .split(',')
+        .map(|name| name.trim().parse())
+        .collect::<Result<Vec<GenzFamily>, mcint::Error>>()
+        .map_err(|e| e.to_string())?;
     let dims: usize = args.require("dims", "a whole number of dimensions >= 1")?;
-    let f = match (args.list("a")?, args.list("u")?) {
-        (None, None) => Genz::with_defaults(family, dims),
-        (a, u) => {
-            let defaults = Genz::with_defaults(family, dims).map_err(|e| e.to_string())?;
-            Genz::new(
-                family,
-                a.unwrap_or_else(|| defaults.a().to_vec()),
-                u.unwrap_or_else(|| defaults.u().to_vec()),
-            )
-        }
-    }
-    .map_err(|e| e.to_string())?;
+    let functions = families
+        .iter()
+        .map(|&family| genz_function(&args, family, dims))
+        .collect::<Result<Vec<Genz>, String>>()?;
+    let ratio = args
+        .get::<String>("ratio", "two output indices I,J")?
+        .map(|text| vector_run::parse_ratio(&text, functions.len()))
+        .transpose()?;
+    let vector = functions.len() > 1 || ratio.is_some();
+    let f = functions[0].clone();
+    let family = families[0];
     let estimator_kind: EstimatorKind = args
         .get::<String>("estimator", genz_estimators::ESTIMATOR_NAMES)?
         .map_or(Ok(EstimatorKind::Uniform), |name| name.parse())?;
     let seed: u64 = args.get("seed", "a whole number")?.unwrap_or(0);
+    if vector && estimator_kind != EstimatorKind::Uniform {
+        return Err(format!(
+            "--estimator {} integrates one output; several --genz families or --ratio take \
+             --estimator uniform",
+            estimator_kind.name()
+        ));
+    }
     let built = genz_estimators::build(estimator_kind, &f, seed)?;
     // The sampler feeds the estimator's canonical points (two per dimension for mis).
     let canonical_dims = built.estimator.canonical_dims();
@@ -193,7 +204,66 @@ fn run() -> Result<(), String> {
     }
     let replicates_flag: Option<u64> = args.get("replicates", "a whole number >= 1")?;
     let threads: Option<usize> = args.get("threads", "a whole number of threads >= 1")?;
+    let default_replicates = if independent || !sampler.is_randomized() {
+        1
+    } else {
+        16
+    };
+    let checkpoint = checkpoint_settings(&args, tolerance.is_some())?;
     let started = Instant::now();
+    if vector {
+        let label = format!(
+            "genz {} a={:?} u={:?}",
+            functions
+                .iter()
+                .map(|f| f.family().name())
+                .collect::<Vec<_>>()
+                .join(","),
+            functions.iter().map(|f| f.a().to_vec()).collect::<Vec<_>>(),
+            functions.iter().map(|f| f.u().to_vec()).collect::<Vec<_>>()
+        );
+        if method.is_adaptive() {
+            return Err(format!(
+                "--method {} integrates one output; several --genz families or --ratio take \
+                 --method plain or rqmc",
+                method.name()
+            ));
+        }
+        let scramble_name = scramble.name().to_string();
+        let Some(run) = vector_run::run(vector_run::VectorRunArgs {
+            functions: &functions,
+            sampler,
+            samples: (tolerance.is_none() || n_flag.is_some()).then_some(n),
+            replicates: replicates_flag.unwrap_or(default_replicates),
+            seed,
+            threads,
+            tolerance,
+            ratio,
+            label,
+            checkpoint,
+            cancel: cancel_token(),
+        })?
+        else {
+            return Ok(());
+        };
+        let report = vector_run::VectorReport {
+            method: method.name(),
+            functions: &functions,
+            sampler: kind.name().to_string(),
+            scramble: scramble_name,
+            run,
+            ratio,
+            seconds: started.elapsed().as_secs_f64(),
+        };
+        for warning in report.warnings() {
+            eprintln!("warning: {warning}");
+        }
+        return if args.has("json") {
+            report.print_json()
+        } else {
+            report.print_text()
+        };
+    }
     let estimate = if method.is_adaptive() {
         if estimator_kind != EstimatorKind::Uniform {
             return Err(format!(
@@ -216,11 +286,6 @@ fn run() -> Result<(), String> {
         }
         .run()?
     } else {
-        let default_replicates = if independent || !sampler.is_randomized() {
-            1
-        } else {
-            16
-        };
         // The integrand's name in checkpoints: another family, parameters or estimator is
         // refused on resume.
         let label = format!(
@@ -249,32 +314,12 @@ fn run() -> Result<(), String> {
         if let Some(tolerance) = tolerance {
             integrator = integrator.tolerance(tolerance);
         }
-        match args.get::<String>("checkpoint", "a file path")? {
+        match checkpoint {
             None => integrator.run().map_err(|e| e.to_string())?,
-            Some(path) => {
-                if tolerance.is_some() {
-                    return Err(
-                        "--checkpoint applies to fixed-budget runs, not to runs to a \
-                                tolerance"
-                            .into(),
-                    );
-                }
-                let save_every = args
-                    .get("save-every", "a whole number of chunks >= 1")?
-                    .unwrap_or(checkpoint::DEFAULT_SAVE_EVERY);
-                if save_every == 0 {
-                    return Err("invalid --save-every 0: expected at least 1 chunk".into());
-                }
-                let stop_after = args.get("stop-after", "a whole number of chunks >= 1")?;
-                if stop_after == Some(0) {
-                    return Err("invalid --stop-after 0: expected at least 1 chunk".into());
-                }
-                let path = std::path::Path::new(&path);
-                match checkpoint::run(&integrator, path, save_every, stop_after, &cancel_token())? {
-                    Some(estimate) => estimate,
-                    None => return Ok(()),
-                }
-            }
+            Some(settings) => match checkpoint::run(&integrator, &settings, &cancel_token())? {
+                Some(estimate) => estimate,
+                None => return Ok(()),
+            },
         }
     };
     let seconds = started.elapsed().as_secs_f64();
@@ -300,6 +345,50 @@ fn run() -> Result<(), String> {
         report.print_text()
     }
     Ok(())
+}
+
+/// The Genz function of `family` in `dims` dimensions, with `--a` and `--u` if given.
+fn genz_function(args: &Args, family: GenzFamily, dims: usize) -> Result<Genz, String> {
+    match (args.list("a")?, args.list("u")?) {
+        (None, None) => Genz::with_defaults(family, dims),
+        (a, u) => {
+            let defaults = Genz::with_defaults(family, dims).map_err(|e| e.to_string())?;
+            Genz::new(
+                family,
+                a.unwrap_or_else(|| defaults.a().to_vec()),
+                u.unwrap_or_else(|| defaults.u().to_vec()),
+            )
+        }
+    }
+    .map_err(|e| e.to_string())
+}
+
+/// `--checkpoint FILE [--save-every K] [--stop-after K]`, if given (fixed budgets only).
+fn checkpoint_settings(
+    args: &Args,
+    to_tolerance: bool,
+) -> Result<Option<checkpoint::Settings>, String> {
+    let Some(path) = args.get::<String>("checkpoint", "a file path")? else {
+        return Ok(None);
+    };
+    if to_tolerance {
+        return Err("--checkpoint applies to fixed-budget runs, not to runs to a tolerance".into());
+    }
+    let save_every = args
+        .get("save-every", "a whole number of chunks >= 1")?
+        .unwrap_or(checkpoint::DEFAULT_SAVE_EVERY);
+    if save_every == 0 {
+        return Err("invalid --save-every 0: expected at least 1 chunk".into());
+    }
+    let stop_after = args.get("stop-after", "a whole number of chunks >= 1")?;
+    if stop_after == Some(0) {
+        return Err("invalid --stop-after 0: expected at least 1 chunk".into());
+    }
+    Ok(Some(checkpoint::Settings {
+        path: path.into(),
+        save_every,
+        stop_after,
+    }))
 }
 
 /// The tolerance of `--tol-abs`, `--tol-rel` and `--max-evals`, if one was asked for.

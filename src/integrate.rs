@@ -31,7 +31,7 @@ use engine::RunEstimator;
 pub use non_finite::NonFinitePolicy;
 pub use partial::PartialRun;
 use plan::Plan;
-pub use vector::Vector;
+pub use vector::VectorRun;
 
 /// Points per unit of work handed to a thread (and per partial accumulator).
 const CHUNK: u64 = 16 * 1024;

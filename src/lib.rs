@@ -62,11 +62,11 @@ pub mod testfns;
 pub use engine::CancelToken;
 pub use error::{Error, MAX_BUFFER_BYTES, Result};
 pub use estimator::Estimator;
-pub use integrate::{Integrator, NonFinitePolicy, PartialRun};
+pub use integrate::{Integrator, NonFinitePolicy, PartialRun, VectorRun};
 pub use pdf::Pdf;
 pub use points::{PointBlock, Points};
 pub use sampler::Sampler;
-pub use stats::{Accumulator, Estimate};
+pub use stats::{Accumulator, Estimate, VectorEstimate};
 
 /// The README's Rust examples, compiled and run as doctests so they cannot go stale.
 #[doc = include_str!("../README.md")]

@@ -7,9 +7,10 @@
 //! [`MAX_CHECKPOINT_BYTES`]; the library refuses a corrupted one (its checksum) or one of
 //! another run (its fingerprint, which includes the integrand's label).
 
-use mcint::estimator::Estimator;
-use mcint::{CancelToken, Estimate, Integrator, PartialRun};
+use mcint::estimator::{Estimator, VectorEstimator};
+use mcint::{CancelToken, Estimate, Integrator, PartialRun, VectorEstimate, VectorRun};
 use std::io::{Read, Write};
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -20,16 +21,64 @@ pub const MAX_CHECKPOINT_BYTES: u64 = 64 << 20;
 /// Chunks (of 16384 points) evaluated between two saves.
 pub const DEFAULT_SAVE_EVERY: u64 = 16;
 
-/// Runs `integrator` from the checkpoint in `path` (or from the start), saving after every
-/// `save_every` chunks. Stops early after `stop_after` chunks, if given, leaving the
+/// `--checkpoint FILE [--save-every K] [--stop-after K]`.
+pub struct Settings {
+    pub path: PathBuf,
+    pub save_every: u64,
+    pub stop_after: Option<u64>,
+}
+
+/// A run that can be split into parts: the scalar and the vector Integrator.
+pub trait Checkpointed {
+    type Output;
+    fn run_part(&self, range: Range<u64>) -> mcint::Result<PartialRun>;
+    fn resume(&self, part: &mut PartialRun, max_chunks: u64) -> mcint::Result<()>;
+    fn finish(&self, part: &PartialRun) -> mcint::Result<Self::Output>;
+}
+
+impl<E: Estimator> Checkpointed for Integrator<E> {
+    type Output = Estimate;
+    fn run_part(&self, range: Range<u64>) -> mcint::Result<PartialRun> {
+        <Integrator<E>>::run_part(self, range)
+    }
+    fn resume(&self, part: &mut PartialRun, max_chunks: u64) -> mcint::Result<()> {
+        <Integrator<E>>::resume(self, part, max_chunks)
+    }
+    fn finish(&self, part: &PartialRun) -> mcint::Result<Estimate> {
+        <Integrator<E>>::finish(self, part)
+    }
+}
+
+/// The vector Integrator, wrapped: a blanket implementation for it next to the scalar one
+/// would overlap in the compiler's eyes.
+pub struct VectorCheckpoint<'a, E>(pub &'a Integrator<VectorRun<E>>);
+
+impl<E: VectorEstimator> Checkpointed for VectorCheckpoint<'_, E> {
+    type Output = VectorEstimate;
+    fn run_part(&self, range: Range<u64>) -> mcint::Result<PartialRun> {
+        self.0.run_part(range)
+    }
+    fn resume(&self, part: &mut PartialRun, max_chunks: u64) -> mcint::Result<()> {
+        self.0.resume(part, max_chunks)
+    }
+    fn finish(&self, part: &PartialRun) -> mcint::Result<VectorEstimate> {
+        self.0.finish(part)
+    }
+}
+
+/// Runs `integrator` from the checkpoint in `settings.path` (or from the start), saving after
+/// every `save_every` chunks. Stops early after `stop_after` chunks, if given, leaving the
 /// checkpoint for the next call: `Ok(None)` then.
-pub fn run<E: Estimator>(
-    integrator: &Integrator<E>,
-    path: &Path,
-    save_every: u64,
-    stop_after: Option<u64>,
+pub fn run<R: Checkpointed>(
+    integrator: &R,
+    settings: &Settings,
     cancel: &CancelToken,
-) -> Result<Option<Estimate>, String> {
+) -> Result<Option<R::Output>, String> {
+    let (path, save_every, stop_after) = (
+        settings.path.as_path(),
+        settings.save_every,
+        settings.stop_after,
+    );
     let mut fresh = false;
     let mut part = match read_bounded(path) {
         Ok(text) => {

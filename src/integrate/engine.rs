@@ -4,13 +4,13 @@
 use super::layout::Layout;
 use super::plan::Plan;
 use super::targets::Targets;
-use super::{Vector, pilot};
+use super::{VectorRun, pilot};
 use crate::Result;
 use crate::engine::{Executor, Limits, RunConfig};
 use crate::estimator::{Estimator, SingleOutput, VectorEstimator};
 use crate::sampler::Sampler;
 
-/// A scalar [`Estimator`] (one output, maybe with a pilot stage) or a [`Vector`] of outputs.
+/// A scalar [`Estimator`] (one output, maybe with a pilot stage) or a [`VectorRun`] of outputs.
 pub(super) trait RunEstimator {
     /// Number of canonical coordinates per point.
     fn canonical_dims(&self) -> usize;
@@ -72,13 +72,13 @@ impl<E: Estimator> RunEstimator for E {
     }
 }
 
-impl<E: VectorEstimator> RunEstimator for Vector<E> {
+impl<E: VectorEstimator> RunEstimator for VectorRun<E> {
     fn canonical_dims(&self) -> usize {
         self.estimator.canonical_dims()
     }
 
     fn validate(&self) -> Result<()> {
-        Vector::validate(self)
+        VectorRun::validate(self)
     }
 
     fn with_main<R>(

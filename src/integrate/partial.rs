@@ -7,7 +7,7 @@ use std::ops::Range;
 use super::engine::RunEstimator;
 use super::layout::Layout;
 use super::plan::{CHUNKS_IN_MEMORY, ChunkResult, Chunks, Folded, Plan};
-use super::{Integrator, Vector};
+use super::{Integrator, VectorRun};
 use crate::engine::Executor;
 use crate::estimator::{Estimator, VectorEstimator};
 use crate::sampler::Sampler;
@@ -239,7 +239,7 @@ impl<E: Estimator> Integrator<E> {
     }
 }
 
-impl<E: VectorEstimator> Integrator<Vector<E>> {
+impl<E: VectorEstimator> Integrator<VectorRun<E>> {
     /// Number of chunks of this run (fixed budget only), the unit of
     /// [`run_part`](Self::run_part); see [`Integrator::total_chunks`].
     ///

@@ -1,4 +1,4 @@
-//! [`Vector`]: the Integrator for integrands with several outputs, integrated over the same
+//! [`VectorRun`]: the Integrator for integrands with several outputs, integrated over the same
 //! points by the same engine as scalar ones.
 
 use super::Integrator;
@@ -43,13 +43,13 @@ use crate::{Error, Points, Result};
 ///     .unwrap();
 /// assert!((run.outputs[1].mean - 0.25).abs() < 5.0 * run.outputs[1].std_error.unwrap());
 /// ```
-pub struct Vector<E> {
+pub struct VectorRun<E> {
     pub(super) estimator: E,
     pub(super) output_tolerances: Option<Vec<Tolerance>>,
     pub(super) derived_tolerances: Vec<(Derived, Tolerance)>,
 }
 
-impl<F: Fn(&[f64], &mut [f64]) + Send + Sync> Integrator<Vector<VectorUniformEstimator<F>>> {
+impl<F: Fn(&[f64], &mut [f64]) + Send + Sync> Integrator<VectorRun<VectorUniformEstimator<F>>> {
     /// Integrates the `outputs` outputs of `f(x, out)` over a box with the uniform estimator
     /// (A.14); `f` writes output `k` to `out[k]`. See [`VectorUniformEstimator`]; a bad
     /// `outputs` (0, or above [`MAX_OUTPUTS`](crate::estimator::MAX_OUTPUTS)) is reported by
@@ -68,7 +68,9 @@ impl<F: Fn(&[f64], &mut [f64]) + Send + Sync> Integrator<Vector<VectorUniformEst
     }
 }
 
-impl<F: Fn(&Points, &mut [f64]) + Send + Sync> Integrator<Vector<BatchVectorUniformEstimator<F>>> {
+impl<F: Fn(&Points, &mut [f64]) + Send + Sync>
+    Integrator<VectorRun<BatchVectorUniformEstimator<F>>>
+{
     /// Integrates a batch integrand with `outputs` outputs over a box: `f(points, out)`
     /// writes output `k` of point `i` to `out[k * points.len() + i]`. See
     /// [`BatchVectorUniformEstimator`].
@@ -93,7 +95,7 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> Integrator<Vector<BatchVectorUnif
 }
 
 impl<F: Fn(&[f64], &mut [f64]) + Send + Sync, P: Pdf>
-    Integrator<Vector<VectorImportanceEstimator<F, P>>>
+    Integrator<VectorRun<VectorImportanceEstimator<F, P>>>
 {
     /// Integrates the `outputs` outputs of `f(x, out)` over the domain of `pdf`, sampling
     /// from `pdf` (A.19). See [`VectorImportanceEstimator`].
@@ -110,7 +112,7 @@ impl<F: Fn(&[f64], &mut [f64]) + Send + Sync, P: Pdf>
     }
 }
 
-impl<E: VectorEstimator> Integrator<Vector<E>> {
+impl<E: VectorEstimator> Integrator<VectorRun<E>> {
     /// An integrator for any vector estimator, with the defaults of [`Integrator::new`].
     ///
     /// ```
@@ -121,7 +123,7 @@ impl<E: VectorEstimator> Integrator<Vector<E>> {
     /// ```
     pub fn vector(estimator: E) -> Self {
         Integrator {
-            estimator: Vector {
+            estimator: VectorRun {
                 estimator,
                 output_tolerances: None,
                 derived_tolerances: Vec::new(),
@@ -195,7 +197,7 @@ impl<E: VectorEstimator> Integrator<Vector<E>> {
     }
 }
 
-impl<E: VectorEstimator> Vector<E> {
+impl<E: VectorEstimator> VectorRun<E> {
     /// Ok when the outputs and the tolerances agree.
     pub(super) fn validate(&self) -> Result<()> {
         let m = checked_outputs(self.estimator.outputs())?;

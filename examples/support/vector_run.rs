@@ -1,0 +1,226 @@
+//! `integrate --genz F1,F2,...`: one vector-valued run of several Genz families over the same
+//! points, with the covariance of their estimates and, with `--ratio I,J`, the ratio of two
+//! of them with a delta-method error bar.
+
+use mcint::sampler::Sampler;
+use mcint::stats::{Derived, StopReason, Tolerance};
+use mcint::testfns::{Genz, TestFunction};
+use mcint::{CancelToken, Integrator, VectorEstimate};
+
+use crate::checkpoint;
+
+/// What a vector run needs from the command line.
+pub struct VectorRunArgs<'a> {
+    pub functions: &'a [Genz],
+    pub sampler: Box<dyn Sampler>,
+    pub samples: Option<u64>,
+    pub replicates: u64,
+    pub seed: u64,
+    pub threads: Option<usize>,
+    pub tolerance: Option<Tolerance>,
+    /// `--ratio I,J`: output indices into the `--genz` list.
+    pub ratio: Option<(usize, usize)>,
+    pub label: String,
+    pub checkpoint: Option<checkpoint::Settings>,
+    pub cancel: CancelToken,
+}
+
+/// Runs the families as one vector integrand over the unit cube (plain or randomized QMC).
+/// With `--ratio`, a tolerance applies to the ratio (the quantity asked for); otherwise to
+/// every output. `Ok(None)` when a checkpointed run stopped early on purpose.
+pub fn run(args: VectorRunArgs<'_>) -> Result<Option<VectorEstimate>, String> {
+    let functions = args.functions;
+    let dims = functions[0].dims();
+    let integrand = |x: &[f64], out: &mut [f64]| {
+        for (y, f) in out.iter_mut().zip(functions) {
+            *y = f.eval(x);
+        }
+    };
+    let cube = mcint::pdf::UniformBox::unit(dims).map_err(|e| e.to_string())?;
+    let mut integrator = Integrator::over_box_vector(functions.len(), integrand, cube)
+        .sampler(args.sampler)
+        .replicates(args.replicates)
+        .seed(args.seed)
+        .label(args.label)
+        .cancel_token(args.cancel.clone());
+    if let Some(n) = args.samples {
+        integrator = integrator.samples(n);
+    }
+    if let Some(t) = args.threads {
+        integrator = integrator.threads(t);
+    }
+    match (args.tolerance, args.ratio) {
+        (Some(t), Some((i, j))) => {
+            integrator = integrator.derived_tolerance(Derived::ratio(i, j), t)
+        }
+        (Some(t), None) => integrator = integrator.tolerance(t),
+        (None, _) => {}
+    }
+    match args.checkpoint {
+        None => integrator.run().map(Some).map_err(|e| e.to_string()),
+        Some(settings) => checkpoint::run(
+            &checkpoint::VectorCheckpoint(&integrator),
+            &settings,
+            &args.cancel,
+        ),
+    }
+}
+
+/// Parses `--ratio I,J` against `m` outputs.
+pub fn parse_ratio(text: &str, m: usize) -> Result<(usize, usize), String> {
+    let bad = || {
+        format!(
+            "invalid --ratio '{text}': expected two output indices I,J below {m} (positions in \
+             the --genz list, from 0), I != J"
+        )
+    };
+    let (i, j) = text.split_once(',').ok_or_else(bad)?;
+    let (i, j): (usize, usize) = (
+        i.trim().parse().map_err(|_| bad())?,
+        j.trim().parse().map_err(|_| bad())?,
+    );
+    if i >= m || j >= m || i == j {
+        return Err(bad());
+    }
+    Ok((i, j))
+}
+
+/// The report of a vector run.
+pub struct VectorReport<'a> {
+    pub method: &'a str,
+    pub functions: &'a [Genz],
+    pub sampler: String,
+    pub scramble: String,
+    pub run: VectorEstimate,
+    pub ratio: Option<(usize, usize)>,
+    pub seconds: f64,
+}
+
+impl VectorReport<'_> {
+    /// The ratio's estimate and exact value, if one was asked for.
+    fn ratio(&self) -> Option<(mcint::Result<mcint::Estimate>, f64)> {
+        self.ratio.map(|(i, j)| {
+            let exact = self.functions[i].exact() / self.functions[j].exact();
+            (self.run.derived(&Derived::ratio(i, j)), exact)
+        })
+    }
+
+    pub fn warnings(&self) -> Vec<String> {
+        let mut lines = Vec::new();
+        for (k, e) in self.run.outputs.iter().enumerate() {
+            for w in &e.warnings {
+                lines.push(format!("output {k}: {w}"));
+            }
+        }
+        lines
+    }
+
+    pub fn print_json(&self) -> Result<(), String> {
+        let run = &self.run;
+        let m = run.len();
+        let number = |v: Option<f64>| v.filter(|v| v.is_finite());
+        let covariance: Option<Vec<Vec<f64>>> = run
+            .covariance_matrix
+            .as_ref()
+            .map(|c| c.chunks(m).map(<[f64]>::to_vec).collect());
+        let mut json = serde_json::json!({
+            "method": self.method,
+            "families": self.functions.iter().map(|f| f.family().name()).collect::<Vec<_>>(),
+            "dims": self.functions[0].dims(),
+            "sampler": self.sampler,
+            "scramble": self.scramble,
+            "estimates": run.outputs.iter().map(|e| e.mean).collect::<Vec<_>>(),
+            "std_errors": run.outputs.iter().map(|e| number(e.std_error)).collect::<Vec<_>>(),
+            "exact": self.functions.iter().map(|f| f.exact()).collect::<Vec<_>>(),
+            "covariance": covariance,
+            "n": run.outputs[0].n,
+            "replicates": run.outputs[0].replicates,
+            "evaluations": run.evaluations,
+            "converged": run.converged,
+            "stop": stop_name(run.stop),
+            "iterations": run.iterations,
+            "warnings": self.warnings(),
+            "seconds": self.seconds,
+        });
+        if let Some((estimate, exact)) = self.ratio() {
+            let estimate = estimate.map_err(|e| e.to_string())?;
+            json["ratio"] = serde_json::json!({
+                "numerator": self.ratio.map(|r| r.0),
+                "denominator": self.ratio.map(|r| r.1),
+                "estimate": estimate.mean,
+                "std_error": number(estimate.std_error),
+                "exact": exact,
+            });
+        }
+        println!("{json}");
+        Ok(())
+    }
+
+    pub fn print_text(&self) -> Result<(), String> {
+        let run = &self.run;
+        println!(
+            "{} outputs over the same points: {} in {} dimensions",
+            run.len(),
+            self.functions
+                .iter()
+                .map(|f| f.family().name())
+                .collect::<Vec<_>>()
+                .join(", "),
+            self.functions[0].dims()
+        );
+        println!(
+            "method {}, sampler {}, scramble {}, {} replicates, {} evaluations",
+            self.method, self.sampler, self.scramble, run.outputs[0].replicates, run.evaluations
+        );
+        println!(
+            "{:>3}  {:<14} {:>20} {:>20} {:>10} {:>8}",
+            "k", "family", "estimate", "exact", "std err", "|err|/se"
+        );
+        for (k, (e, f)) in run.outputs.iter().zip(self.functions).enumerate() {
+            let se = e.std_error.map_or("none".into(), |s| format!("{s:.3e}"));
+            let z = e.std_error.map_or("-".into(), |s| {
+                format!("{:.2}", (e.mean - f.exact()).abs() / s)
+            });
+            println!(
+                "{k:>3}  {:<14} {:>20.12e} {:>20.12e} {se:>10} {z:>8}",
+                f.family().name(),
+                e.mean,
+                f.exact()
+            );
+        }
+        if let Some((estimate, exact)) = self.ratio() {
+            let (i, j) = self.ratio.unwrap_or_default();
+            let estimate = estimate.map_err(|e| e.to_string())?;
+            let se = estimate
+                .std_error
+                .map_or("none".into(), |s| format!("{s:.3e}"));
+            println!(
+                "ratio {i}/{j}  {:>20.12e} {exact:>20.12e} {se:>10} (delta method)",
+                estimate.mean
+            );
+        }
+        if let Some(converged) = run.converged {
+            println!(
+                "tolerance {} ({}, {} stages)",
+                if converged { "met" } else { "NOT met" },
+                stop_name(run.stop),
+                run.iterations
+            );
+        }
+        println!("time {:.3} s", self.seconds);
+        Ok(())
+    }
+}
+
+/// How a run ended, in words.
+pub fn stop_name(stop: StopReason) -> &'static str {
+    match stop {
+        StopReason::Budget => "budget",
+        StopReason::ToleranceMet => "tolerance met",
+        StopReason::MaxEvaluations => "max evaluations",
+        StopReason::TimeLimit => "time limit",
+        StopReason::Cancelled => "cancelled",
+        StopReason::SamplerExhausted => "sampler exhausted",
+        _ => "other",
+    }
+}
