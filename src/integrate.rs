@@ -24,7 +24,6 @@ mod partial_format;
 mod pilot;
 mod plan;
 mod staged;
-mod targets;
 mod vector;
 
 use engine::RunEstimator;

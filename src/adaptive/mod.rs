@@ -17,5 +17,5 @@ mod vegas_grid;
 
 pub use miser::Miser;
 pub use two_stage::TwoStage;
-pub use vegas::Vegas;
+pub use vegas::{Vegas, VegasOutputs};
 pub use vegas_grid::VegasGrid;

@@ -40,18 +40,22 @@
 //! is over its finite values only (the skipped points are counted in the estimate).
 
 mod combination;
+mod integrand;
 mod moments;
 mod pass;
 mod strata;
 
 use super::vegas_grid::{VegasGrid, check_alpha, check_increments};
-use crate::engine::{RunConfig, Stopping, require_randomized, run_settings};
+use crate::engine::{RunConfig, Stopping, Targets, require_randomized, run_settings};
+use crate::estimator::checked_outputs;
 use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
 use crate::sampler::{PassKind, Sampler};
-use crate::stats::{Estimate, StopReason, Warning};
+use crate::stats::{Derived, Estimate, StopReason, Tolerance, VectorEstimate, Warning};
 use crate::{Error, Result};
-use combination::Combination;
+use combination::VectorCombination;
+pub use integrand::VegasOutputs;
+use integrand::{Integrand, Scalar};
 use pass::Pass;
 use strata::{ALLOCATION_SAFETY, Allocation, Strata, plan_chunks};
 
@@ -129,6 +133,33 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
         }
     }
 
+    /// Runs the warm-up and the iterations and combines the latter.
+    ///
+    /// Errors when a setting is out of range (the message names it), when the sampler does
+    /// not fit (dimension, passes, randomization), and when `J f` is NaN or infinite at any
+    /// point ([`Error::NonFiniteContribution`], with the iteration as the replicate and the
+    /// sampler's point).
+    ///
+    /// ```
+    /// use mcint::{adaptive::Vegas, pdf::UniformBox};
+    /// let bad = Vegas::new(|x: &[f64]| 1.0 / (x[0] - x[0]), UniformBox::unit(1).unwrap()).run();
+    /// assert!(bad.unwrap_err().to_string().contains("non-finite"));
+    /// ```
+    pub fn run(&self) -> Result<Estimate> {
+        let targets = Targets {
+            outputs: vec![self.config.tolerance],
+            derived: &[],
+        };
+        let run = self.run_engine(&Scalar(&self.f), &targets)?;
+        let single = run.outputs.into_iter().next();
+        single
+            .ok_or_else(|| Error::invalid("outputs", 0, "one output"))
+            .and_then(Estimate::checked)
+    }
+}
+
+/// The settings of scalar and vector runs.
+impl<F> Vegas<F> {
     run_settings! {
         setup: "use mcint::{adaptive::Vegas, pdf::UniformBox};\n\
                 const DIMS: usize = 2;\n\
@@ -240,36 +271,19 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
         self
     }
 
-    /// Runs the warm-up and the iterations and combines the latter.
-    ///
-    /// Errors when a setting is out of range (the message names it), when the sampler does
-    /// not fit (dimension, passes, randomization), and when `J f` is NaN or infinite at any
-    /// point ([`Error::NonFiniteContribution`], with the iteration as the replicate and the
-    /// sampler's point).
-    ///
-    /// ```
-    /// use mcint::{adaptive::Vegas, pdf::UniformBox};
-    /// let bad = Vegas::new(|x: &[f64]| 1.0 / (x[0] - x[0]), UniformBox::unit(1).unwrap()).run();
-    /// assert!(bad.unwrap_err().to_string().contains("non-finite"));
-    /// ```
-    pub fn run(&self) -> Result<Estimate> {
-        self.run_unchecked().and_then(Estimate::checked)
-    }
-
-    /// [`run`](Self::run) before its result is checked for overflow.
-    fn run_unchecked(&self) -> Result<Estimate> {
+    /// The run of the integrand `f` (scalar or vector) to `targets`, before its result is
+    /// checked for overflow.
+    fn run_engine<I: Integrand>(&self, f: &I, targets: &Targets<'_>) -> Result<VectorEstimate> {
+        let m = checked_outputs(f.outputs())?;
         let dims = self.domain.dims();
         let sampler = self
             .config
             .sampler(dims, "sampler (the domain's dimensions)")?;
-        let settings = self.settings(&*sampler)?;
+        let limit = targets.any().then(|| targets.limits());
+        let settings = self.settings(&*sampler, limit.as_ref())?;
         let executor = self.config.executor()?;
-        let limits = self.config.limits();
-        let stopping = self
-            .config
-            .tolerance
-            .as_ref()
-            .map(|t| Stopping::new(t, limits.clone()));
+        let limits = self.config.limits_with(limit.and_then(|t| t.time()));
+        let stopping = limit.as_ref().map(|t| Stopping::new(t, limits.clone()));
         let planned = settings.samples * (self.warmup + self.iterations);
         let strata = Strata::new(
             dims,
@@ -287,7 +301,12 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
         let mut next_sigf = vec![0.0; per_cube];
         let mut sum_sigf = per_cube as f64;
         let mut training = vec![0.0; 2 * grid.cells()];
-        let mut combination = Combination::default();
+        let mut combination = VectorCombination::new(m);
+        // Each output's weight in the training data and in sigma_h: 1 for a single output
+        // (the map and allocation do not depend on a common scale); for several, one over the
+        // previous iteration's mean of (J f_k)^2, so that every output shapes the map whatever
+        // its units (all 1 in the first iteration).
+        let mut weights = vec![1.0; m];
         let mut spent: u64 = 0;
         let mut measured_evaluations: u64 = 0;
         let mut non_finite: u64 = 0;
@@ -321,7 +340,8 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
             };
             training.fill(0.0);
             let pass = Pass {
-                f: &self.f,
+                f,
+                weights: &weights,
                 sampler: &*sampler,
                 grid: &grid,
                 strata: &strata,
@@ -347,14 +367,14 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                 break;
             };
             if totals.non_finite > 0 && self.config.non_finite == NonFinitePolicy::Fail {
-                let (index, value) = totals.first_non_finite.unwrap_or((0, f64::NAN));
+                let (index, value, output) = totals.first_non_finite.unwrap_or((0, f64::NAN, 0));
                 let mut point = vec![0.0; dims];
                 sampler.point(base + index, &mut point)?;
                 return Err(Error::NonFiniteContribution {
                     count: totals.non_finite,
                     first_index: index,
                     first_replicate: k,
-                    first_output: None,
+                    first_output: (m > 1).then_some(output),
                     first_value: value,
                     first_point: point,
                 });
@@ -370,20 +390,18 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                     sum_sigf = per_cube as f64;
                 }
             }
+            if m > 1 {
+                weights = output_weights(&totals, total);
+            }
             if !measured {
                 continue;
             }
-            combination.add(
-                totals.mean,
-                totals.variance,
-                total - strata.cubes,
-                totals.rounding,
-            );
+            combination.add(&totals, total - strata.cubes);
             measured_evaluations += total;
             non_finite += totals.non_finite;
-            if let Some(stopping) = &stopping {
+            if stopping.is_some() {
                 let so_far = combination.estimate(measured_evaluations, spent);
-                if stopping.judge(so_far).1 {
+                if targets.judge(so_far).1 {
                     stop = StopReason::ToleranceMet;
                     break;
                 }
@@ -396,23 +414,27 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                 evaluations: spent,
             });
         }
-        let mut estimate = combination.estimate(measured_evaluations, spent);
-        estimate.non_finite = non_finite;
-        estimate.stop = stop;
+        let mut run = combination.estimate(measured_evaluations, spent);
+        run.for_each_output(|_, estimate| {
+            estimate.non_finite = non_finite;
+            estimate.stop = stop;
+        });
         match &stopping {
-            Some(stopping) => stopping.finish(&mut estimate, stop, combination.count()),
-            None if stop != StopReason::Budget => estimate.warn(Warning::StoppedEarly {
-                stop,
-                done: spent,
-                planned,
+            Some(_) => targets.finish(&mut run, stop, combination.count()),
+            None if stop != StopReason::Budget => run.for_each_output(|_, estimate| {
+                estimate.warn(Warning::StoppedEarly {
+                    stop,
+                    done: spent,
+                    planned,
+                })
             }),
             None => {}
         }
-        estimate.finalize();
-        Ok(estimate)
+        run.for_each_output(|_, estimate| estimate.finalize());
+        Ok(run)
     }
 
-    fn settings(&self, sampler: &dyn Sampler) -> Result<Settings> {
+    fn settings(&self, sampler: &dyn Sampler, limit: Option<&Tolerance>) -> Result<Settings> {
         let n = self.config.samples.unwrap_or(DEFAULT_SAMPLES);
         if n < MIN_SAMPLES {
             return Err(Error::invalid(
@@ -492,13 +514,13 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
                 limit: u64::MAX,
             });
         }
-        let planned = match &self.config.tolerance {
+        let planned = match limit {
             Some(t) => t.evaluation_limit(),
             None => total_iterations.saturating_mul(n),
         };
         self.config
             .check_budget("samples x (warmup + iterations)", planned)?;
-        if let Some(t) = &self.config.tolerance {
+        if let Some(t) = limit {
             let needed = (self.warmup + 1).saturating_mul(n);
             if t.evaluation_limit() < needed {
                 return Err(Error::invalid(
@@ -526,4 +548,150 @@ struct Settings {
     /// Evaluations per iteration.
     samples: u64,
     increments: usize,
+}
+
+/// Each output's weight in the next iteration's training data and allocation: one over its
+/// mean of `(J f_k)^2` over y-space, `N var_k + I_k^2` from the iteration's `N` evaluations
+/// (0 for an output that is zero everywhere; all 1 should every output be).
+fn output_weights(totals: &pass::Totals, evaluations: u64) -> Vec<f64> {
+    let n = evaluations as f64;
+    let weights: Vec<f64> = totals
+        .mean
+        .iter()
+        .zip(&totals.variance)
+        .map(|(mean, var)| {
+            let square = n * var + mean * mean;
+            if square > 0.0 && square.is_finite() {
+                1.0 / square
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    if weights.iter().all(|&w| w == 0.0) {
+        vec![1.0; weights.len()]
+    } else {
+        weights
+    }
+}
+
+impl<G: Fn(&[f64], &mut [f64]) + Sync> Vegas<VegasOutputs<G>> {
+    /// VEGAS (or VEGAS+) for an integrand with `outputs` outputs, `f(x, out)` writing output
+    /// `k` to `out[k]`: every output is integrated over the same points, one evaluation per
+    /// point, with the defaults and settings of [`Vegas::new`].
+    ///
+    /// The map and the strata adapt to all outputs together: the grid is trained on
+    /// `sum_k w_k (J f_k)^2` and the allocation uses `sigma_h^2 = sum_k w_k sigma_hk^2`, where
+    /// `w_k` is one over the previous iteration's mean of `(J f_k)^2`, so that each output
+    /// counts in proportion to its own relative variation whatever its units (Lepage's
+    /// `vegas`, by contrast, adapts to one component only; integrands whose outputs peak in
+    /// different places are served by a compromise map rather than by the first output's).
+    /// A point with any non-finite output is left out of every output. Each output's
+    /// iterations are combined with its own inverse-variance weights; the covariance of the
+    /// combined outputs comes from the per-hypercube covariances of every iteration.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Vegas, pdf::UniformBox, stats::Derived};
+    /// // A peak and its first moment: the mean of x0 under the peak is 0.5.
+    /// let f = |x: &[f64], out: &mut [f64]| {
+    ///     let r2: f64 = x.iter().map(|v| (v - 0.5) * (v - 0.5)).sum();
+    ///     out[0] = (-r2 / 0.01).exp();
+    ///     out[1] = x[0] * out[0];
+    /// };
+    /// let run = Vegas::vector(2, f, UniformBox::unit(3).unwrap()).seed(1).run().unwrap();
+    /// let mean = run.derived(&Derived::ratio(1, 0)).unwrap();
+    /// assert!((mean.mean - 0.5).abs() < 5.0 * mean.std_error.unwrap());
+    /// assert_eq!(run.evaluations, run.outputs[1].evaluations);
+    /// ```
+    pub fn vector(outputs: usize, f: G, domain: UniformBox) -> Self {
+        Vegas {
+            f: VegasOutputs {
+                outputs,
+                f,
+                output_tolerances: None,
+                derived_tolerances: Vec::new(),
+            },
+            domain,
+            config: RunConfig::default(),
+            iterations: 10,
+            warmup: 5,
+            increments: 1000,
+            alpha: 0.5,
+            stratified: true,
+            beta: 0.75,
+        }
+    }
+
+    /// A tolerance for each output (one per output): the run stops when every output meets
+    /// its own (see [`Integrator::output_tolerances`](crate::Integrator::output_tolerances)).
+    ///
+    /// ```
+    /// use mcint::{adaptive::Vegas, pdf::UniformBox, stats::Tolerance};
+    /// let f = |x: &[f64], out: &mut [f64]| { out[0] = x[0]; out[1] = (x[0] * x[1]).exp(); };
+    /// let t = |rel| Tolerance::relative(rel).unwrap();
+    /// let run = Vegas::vector(2, f, UniformBox::unit(2).unwrap())
+    ///     .output_tolerances(vec![t(1e-3), t(1e-4)])
+    ///     .iterations(1000)
+    ///     .run()
+    ///     .unwrap();
+    /// assert_eq!(run.converged, Some(true));
+    /// ```
+    pub fn output_tolerances(mut self, tolerances: Vec<Tolerance>) -> Self {
+        self.f.output_tolerances = Some(tolerances);
+        self
+    }
+
+    /// A tolerance on a quantity derived from the integrals (see
+    /// [`Integrator::derived_tolerance`](crate::Integrator::derived_tolerance)).
+    ///
+    /// ```
+    /// use mcint::{adaptive::Vegas, pdf::UniformBox, stats::{Derived, Tolerance}};
+    /// let f = |x: &[f64], out: &mut [f64]| { out[0] = x[0].powi(4); out[1] = x[0].powi(3); };
+    /// let run = Vegas::vector(2, f, UniformBox::unit(1).unwrap())
+    ///     .derived_tolerance(Derived::ratio(0, 1), Tolerance::relative(1e-3).unwrap())
+    ///     .iterations(1000)
+    ///     .run()
+    ///     .unwrap();
+    /// assert_eq!(run.converged, Some(true));
+    /// ```
+    pub fn derived_tolerance(mut self, quantity: Derived, tolerance: Tolerance) -> Self {
+        self.f.derived_tolerances.push((quantity, tolerance));
+        self
+    }
+
+    /// Runs the warm-up and the iterations and combines the latter, for every output.
+    ///
+    /// Errors as [`Vegas::run`] does, and when the number of outputs is 0 or above
+    /// [`MAX_OUTPUTS`](crate::estimator::MAX_OUTPUTS), the per-output tolerances are not one
+    /// per output, or a derived quantity names an output that does not exist; a non-finite
+    /// value is reported with its output.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Vegas, pdf::UniformBox};
+    /// let f = |x: &[f64], out: &mut [f64]| out[0] = x[0]; // out[1] never written
+    /// let err = Vegas::vector(2, f, UniformBox::unit(1).unwrap()).run().unwrap_err();
+    /// assert!(err.to_string().contains("in output 1"), "{err}");
+    /// ```
+    pub fn run(&self) -> Result<VectorEstimate> {
+        let m = checked_outputs(self.f.outputs)?;
+        let outputs = match &self.f.output_tolerances {
+            Some(each) if each.len() != m => {
+                return Err(Error::invalid(
+                    "output tolerances",
+                    format!("{} tolerances", each.len()),
+                    format!("one tolerance per output ({m})"),
+                ));
+            }
+            Some(each) => each.iter().copied().map(Some).collect(),
+            None => vec![self.config.tolerance; m],
+        };
+        for (quantity, _) in &self.f.derived_tolerances {
+            quantity.check(m)?;
+        }
+        let targets = Targets {
+            outputs,
+            derived: &self.f.derived_tolerances,
+        };
+        self.run_engine(&self.f, &targets)?.checked()
+    }
 }

@@ -14,6 +14,7 @@ mod executor;
 mod limits;
 mod settings;
 mod stopping;
+mod targets;
 
 pub(crate) use config::{RunConfig, RunSampler, require_randomized, require_uniform_points};
 pub(crate) use executor::{ChunkJob, Executor, available_threads, guarded};
@@ -21,3 +22,4 @@ pub use limits::CancelToken;
 pub(crate) use limits::Limits;
 pub(crate) use settings::run_settings;
 pub(crate) use stopping::{DEFAULT_REPLICATES, REPLICATE_INFLATION, Stopping};
+pub(crate) use targets::Targets;

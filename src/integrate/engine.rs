@@ -3,10 +3,9 @@
 
 use super::layout::Layout;
 use super::plan::Plan;
-use super::targets::Targets;
 use super::{VectorRun, pilot};
 use crate::Result;
-use crate::engine::{Executor, Limits, RunConfig};
+use crate::engine::{Executor, Limits, RunConfig, Targets};
 use crate::estimator::{Estimator, SingleOutput, VectorEstimator};
 use crate::sampler::Sampler;
 

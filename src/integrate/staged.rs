@@ -6,8 +6,9 @@ use std::cell::Cell;
 
 use super::Plan;
 use super::plan::{Folded, balance_warning};
-use super::targets::Targets;
-use crate::engine::{DEFAULT_REPLICATES, Executor, RunConfig, Stopping, require_randomized};
+use crate::engine::{
+    DEFAULT_REPLICATES, Executor, RunConfig, Stopping, Targets, require_randomized,
+};
 use crate::estimator::VectorEstimator;
 use crate::sampler::{PassKind, Sampler};
 use crate::special::normal_quantile;
@@ -153,7 +154,7 @@ fn two_stage(stage: &Stage<'_>) -> Result<VectorEstimate> {
     let mut stages = 1;
     let stop = loop {
         let current = main.as_ref().unwrap_or(&pilot);
-        let needed = stage.targets.points_needed(current, z * SD_INFLATION);
+        let needed = points_needed(stage.targets, current, z * SD_INFLATION);
         let main_count = main.as_ref().map_or(0, |m| m.accumulators[0].count());
         let more = needed.saturating_sub(main_count).max(1);
         let more = match stage.limit(used, more) {
@@ -307,4 +308,43 @@ fn first_stage_and_stride(stage: &Stage<'_>, replicates: u64, limit: u64) -> Res
         }
         PassKind::Independent => unreachable!("independent points take the two-stage rule"),
     }
+}
+
+/// Points of independent samples the main stage needs for every target, from the
+/// per-sample spread seen in `folded` (one replicate), each standard deviation inflated
+/// by `z_inflated / z` (the two-stage rule's sizing, `(z * 1.1 * s / target)^2`).
+fn points_needed(targets: &Targets<'_>, folded: &Folded, z_inflated: f64) -> u64 {
+    let size = |sd: f64, target: f64| -> u64 {
+        if sd == 0.0 {
+            return 2;
+        }
+        let n = (z_inflated * sd / target).powi(2).ceil();
+        if n.is_finite() && n < u64::MAX as f64 {
+            (n as u64).max(2)
+        } else {
+            u64::MAX
+        }
+    };
+    let mut needed = 2u64;
+    for (k, t) in targets.outputs.iter().enumerate() {
+        if let Some(t) = t {
+            let acc = &folded.accumulators[k];
+            needed = needed.max(size(acc.variance().sqrt(), t.target(acc.mean())));
+        }
+    }
+    if !targets.derived.is_empty() {
+        let run = folded.independent_estimate();
+        let count = folded.accumulators[0].count();
+        for (quantity, t) in targets.derived {
+            needed = needed.max(match run.derived(quantity) {
+                Ok(e) => match e.std_error {
+                    Some(se) => size(se * (count as f64).sqrt(), t.target(e.mean)),
+                    None => count.saturating_mul(2),
+                },
+                // A ratio whose denominator is not yet known to be nonzero: more points.
+                Err(_) => count.saturating_mul(2),
+            });
+        }
+    }
+    needed
 }

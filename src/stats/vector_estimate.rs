@@ -211,7 +211,7 @@ impl VectorEstimate {
 
     /// The result with run-level fields from the first output, and each output's
     /// `std_error^2` on the diagonal of the covariance.
-    fn assemble(outputs: Vec<Estimate>, matrix: Option<Vec<f64>>) -> VectorEstimate {
+    pub(crate) fn assemble(outputs: Vec<Estimate>, matrix: Option<Vec<f64>>) -> VectorEstimate {
         let mut estimate = VectorEstimate {
             evaluations: outputs[0].evaluations,
             stop: outputs[0].stop,

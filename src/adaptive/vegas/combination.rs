@@ -1,8 +1,10 @@
 //! The inverse-variance combination of VEGAS iterations, with their `chi^2` agreement.
 
+use super::moments::pair;
+use super::pass::Totals;
 use crate::special::chi_square_sf;
 use crate::stats::rounding::gamma;
-use crate::stats::{ErrorBasis, Estimate, StopReason};
+use crate::stats::{ErrorBasis, Estimate, StopReason, VectorEstimate};
 
 /// Smallest iteration variance used as a weight, so that exact (zero-variance) iterations
 /// do not divide by zero (the `TINY` of `vegas`).
@@ -75,5 +77,63 @@ impl Combination {
         };
         estimate.finalize();
         estimate
+    }
+}
+
+/// The iterations of several outputs: each output combined with its own inverse-variance
+/// weights (as one output alone would be), and the covariance of the combined estimates,
+/// `cov(I_j, I_k) = sum_i w_ij w_ik cov_i(j, k) / (W_j W_k)` over iterations `i`, with
+/// `w_ij = 1 / var_ij` and `W_j = sum_i w_ij`.
+pub(super) struct VectorCombination {
+    outputs: Vec<Combination>,
+    /// Each iteration's covariance of each pair of outputs, as `Totals` lays them out.
+    covariances: Vec<Vec<f64>>,
+}
+
+impl VectorCombination {
+    pub(super) fn new(m: usize) -> VectorCombination {
+        VectorCombination {
+            outputs: (0..m).map(|_| Combination::default()).collect(),
+            covariances: Vec::new(),
+        }
+    }
+
+    pub(super) fn count(&self) -> u64 {
+        self.outputs[0].count()
+    }
+
+    /// Adds an iteration's totals, whose variances have `dof` degrees of freedom.
+    pub(super) fn add(&mut self, totals: &Totals, dof: u64) {
+        for (k, combination) in self.outputs.iter_mut().enumerate() {
+            combination.add(totals.mean[k], totals.variance[k], dof, totals.rounding[k]);
+        }
+        self.covariances.push(totals.covariance.clone());
+    }
+
+    /// The combined estimate of every output from `n` measured evaluations, `evaluations`
+    /// spent in all.
+    pub(super) fn estimate(&self, n: u64, evaluations: u64) -> VectorEstimate {
+        let outputs: Vec<Estimate> = self
+            .outputs
+            .iter()
+            .map(|c| c.estimate(n, evaluations))
+            .collect();
+        let m = outputs.len();
+        let mut matrix = vec![0.0; m * m];
+        for k in 1..m {
+            for j in 0..k {
+                let (a, b) = (&self.outputs[j], &self.outputs[k]);
+                let sum: f64 = self
+                    .covariances
+                    .iter()
+                    .zip(a.results.iter().zip(&b.results))
+                    .map(|(cov, ((_, var_j), (_, var_k)))| cov[pair(j, k)] / (var_j * var_k))
+                    .sum();
+                let c = sum / (a.sum_weights * b.sum_weights);
+                matrix[j * m + k] = c;
+                matrix[k * m + j] = c;
+            }
+        }
+        VectorEstimate::assemble(outputs, Some(matrix))
     }
 }

@@ -84,6 +84,8 @@ pub(super) struct CubeResult {
     pub(super) mean: f64,
     /// Its contribution to the variance.
     pub(super) variance: f64,
+    /// `V_h^2 s_h^2`, its variance before dividing by its points.
+    pub(super) sigma2: f64,
     /// `sigma_h^beta`, for the next allocation.
     pub(super) sigf: f64,
     /// A bound on the rounding error of `mean`, its share of the sum over `cubes` hypercubes
@@ -107,9 +109,184 @@ pub(super) fn cube_result(m: &Moments, cube_volume: f64, beta: f64, cubes: u64) 
     CubeResult {
         mean,
         variance,
+        sigma2,
         sigf: sigma2.powf(0.5 * beta),
         rounding: cube_volume * (m.rounding + contribution_allowance(scale))
             + (gamma(cubes as f64) + UNIT_ROUNDOFF) * mean.abs(),
+    }
+}
+
+/// Position of the pair `(j, k)`, `j < k`, among the outputs' cross products.
+#[inline]
+pub(super) fn pair(j: usize, k: usize) -> usize {
+    k * (k - 1) / 2 + j
+}
+
+/// The shifted sums of every output of one hypercube's points, with the sums of the products
+/// of each pair of outputs (none for a single output, whose arithmetic is the scalar one).
+#[derive(Clone, Default)]
+pub(super) struct CubeSums {
+    pub(super) outputs: Vec<ShiftedSums>,
+    cross: Vec<f64>,
+}
+
+impl CubeSums {
+    pub(super) fn new(m: usize) -> CubeSums {
+        CubeSums {
+            outputs: vec![ShiftedSums::default(); m],
+            cross: vec![0.0; m * (m - 1) / 2],
+        }
+    }
+
+    pub(super) fn clear(&mut self) {
+        self.outputs.fill(ShiftedSums::default());
+        self.cross.fill(0.0);
+    }
+
+    /// Adds one point's values `J f_k` (all finite).
+    #[inline]
+    pub(super) fn push(&mut self, values: &[f64]) {
+        for (sums, &v) in self.outputs.iter_mut().zip(values) {
+            sums.push(v);
+        }
+        for k in 1..values.len() {
+            let dk = values[k] - self.outputs[k].shift;
+            let row = &mut self.cross[pair(0, k)..pair(0, k) + k];
+            for ((c, &v), sums) in row.iter_mut().zip(&values[..k]).zip(&self.outputs) {
+                *c += (v - sums.shift) * dk;
+            }
+        }
+    }
+
+    pub(super) fn moments(&self) -> CubeMoments {
+        let outputs: Vec<Moments> = self.outputs.iter().map(ShiftedSums::moments).collect();
+        let n = self.outputs.first().map_or(0, |s| s.n) as f64;
+        let mut cross = vec![0.0; self.cross.len()];
+        if n > 0.0 {
+            for k in 1..self.outputs.len() {
+                for j in 0..k {
+                    let (a, b) = (&self.outputs[j], &self.outputs[k]);
+                    cross[pair(j, k)] = self.cross[pair(j, k)] - a.s1 * b.s1 / n;
+                }
+            }
+        }
+        CubeMoments { outputs, cross }
+    }
+}
+
+/// Every output's [`Moments`] of one hypercube's points, with the co-moments
+/// `sum (v_j - mean_j)(v_k - mean_k)` of each pair.
+#[derive(Clone, Default, Debug)]
+pub(super) struct CubeMoments {
+    pub(super) outputs: Vec<Moments>,
+    pub(super) cross: Vec<f64>,
+}
+
+impl CubeMoments {
+    pub(super) fn empty(m: usize) -> CubeMoments {
+        CubeMoments {
+            outputs: vec![Moments::default(); m],
+            cross: vec![0.0; m * (m - 1) / 2],
+        }
+    }
+
+    fn count(&self) -> u64 {
+        self.outputs.first().map_or(0, |m| m.n)
+    }
+
+    /// Chan's merge of every output and pair.
+    pub(super) fn merge(&mut self, other: &CubeMoments) {
+        if other.count() == 0 {
+            return;
+        }
+        if self.count() == 0 {
+            self.clone_from(other);
+            return;
+        }
+        let (na, nb) = (self.count() as f64, other.count() as f64);
+        let weight = na * nb / (na + nb);
+        for k in 1..self.outputs.len() {
+            let dk = other.outputs[k].mean - self.outputs[k].mean;
+            for j in 0..k {
+                let dj = other.outputs[j].mean - self.outputs[j].mean;
+                self.cross[pair(j, k)] += other.cross[pair(j, k)] + dj * dk * weight;
+            }
+        }
+        for (m, o) in self.outputs.iter_mut().zip(&other.outputs) {
+            m.merge(o);
+        }
+    }
+}
+
+/// A hypercube's contribution to every output, the covariances of its pairs
+/// (`V_h^2 c_jk / n_h`), and its `sigma_h^beta` for the next allocation: the scalar one for a
+/// single output, and `(sum_k w_k sigma_hk^2)^(beta/2)` for several, `w_k` scaling each
+/// output to a comparable size.
+pub(super) struct CubeTotals {
+    pub(super) outputs: Vec<CubeResult>,
+    pub(super) covariance: Vec<f64>,
+    pub(super) sigf: f64,
+}
+
+impl CubeTotals {
+    /// Nothing yet, for `m` outputs.
+    pub(super) fn zero(m: usize) -> CubeTotals {
+        CubeTotals {
+            outputs: vec![CubeResult::default(); m],
+            covariance: vec![0.0; m * (m - 1) / 2],
+            sigf: 0.0,
+        }
+    }
+
+    /// Adds another hypercube's means, variances, roundings and covariances.
+    pub(super) fn add(&mut self, other: &CubeTotals) {
+        for (total, cube) in self.outputs.iter_mut().zip(&other.outputs) {
+            total.mean += cube.mean;
+            total.variance += cube.variance;
+            total.rounding += cube.rounding;
+        }
+        for (total, c) in self.covariance.iter_mut().zip(&other.covariance) {
+            *total += c;
+        }
+    }
+}
+
+pub(super) fn cube_totals(
+    m: &CubeMoments,
+    cube_volume: f64,
+    beta: f64,
+    cubes: u64,
+    weights: &[f64],
+) -> CubeTotals {
+    let outputs: Vec<CubeResult> = m
+        .outputs
+        .iter()
+        .map(|o| cube_result(o, cube_volume, beta, cubes))
+        .collect();
+    let n = m.count() as f64;
+    let v2 = cube_volume * cube_volume;
+    let covariance = m
+        .cross
+        .iter()
+        .map(|&c| {
+            if n > 1.0 {
+                v2 * (c / (n - 1.0)) / n
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let sigf = match outputs.as_slice() {
+        [single] => single.sigf,
+        _ => {
+            let sigma2: f64 = outputs.iter().zip(weights).map(|(o, w)| w * o.sigma2).sum();
+            sigma2.powf(0.5 * beta)
+        }
+    };
+    CubeTotals {
+        outputs,
+        covariance,
+        sigf,
     }
 }
 

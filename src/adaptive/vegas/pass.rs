@@ -2,8 +2,13 @@
 //! points through the grid, evaluates them and sums them per hypercube, and the chunks' sums
 //! are folded in chunk order, so sums, training data and allocations (and hence the result)
 //! are bit-identical for any number of threads.
+//!
+//! An integrand with several outputs gets every output's sums per hypercube, and the sums of
+//! the products of each pair for their covariance; a point with any non-finite output is left
+//! out of every output.
 
-use super::moments::{CubeResult, Moments, ShiftedSums, cube_result};
+use super::integrand::Integrand;
+use super::moments::{CubeMoments, CubeSums, CubeTotals, cube_totals};
 use super::strata::{Allocation, ChunkStart, Strata};
 use crate::adaptive::VegasGrid;
 use crate::engine::{ChunkJob, Executor, Limits};
@@ -16,8 +21,8 @@ const BLOCK: usize = 512;
 const WINDOW: u64 = 64;
 
 /// Everything one iteration's chunks share.
-pub(super) struct Pass<'a, F> {
-    pub(super) f: &'a F,
+pub(super) struct Pass<'a, I> {
+    pub(super) f: &'a I,
     pub(super) sampler: &'a dyn Sampler,
     pub(super) grid: &'a VegasGrid,
     pub(super) strata: &'a Strata,
@@ -31,23 +36,54 @@ pub(super) struct Pass<'a, F> {
     pub(super) beta: f64,
     /// Whether `sigma_h^beta` is recorded for the next allocation (VEGAS+).
     pub(super) allocating: bool,
+    /// Each output's weight in the grid's training data and in `sigma_h` (`[1.0]` for a
+    /// single output, whose arithmetic is then the scalar one).
+    pub(super) weights: &'a [f64],
 }
 
-/// The iteration's sums, built chunk by chunk in order.
-#[derive(Default)]
+/// The iteration's sums, built chunk by chunk in order: per output, and per pair of outputs
+/// for their covariance.
 pub(super) struct Totals {
-    pub(super) mean: f64,
-    pub(super) variance: f64,
-    /// A bound on the rounding error of `mean`.
-    pub(super) rounding: f64,
+    pub(super) mean: Vec<f64>,
+    pub(super) variance: Vec<f64>,
+    /// A bound on the rounding error of each `mean`.
+    pub(super) rounding: Vec<f64>,
+    /// Covariances of the pairs of outputs' estimates, `(j, k)` at `pair(j, k)`.
+    pub(super) covariance: Vec<f64>,
     /// The hypercube that straddles the last merged chunk's end.
-    open: Moments,
+    open: CubeMoments,
+    /// Points with a non-finite output.
     pub(super) non_finite: u64,
-    /// Index within the iteration and value of the first non-finite `J f`.
-    pub(super) first_non_finite: Option<(u64, f64)>,
+    /// Index within the iteration, value and output of the first non-finite `J f`.
+    pub(super) first_non_finite: Option<(u64, f64, usize)>,
 }
 
-impl<F: Fn(&[f64]) -> f64 + Sync> Pass<'_, F> {
+impl Totals {
+    fn new(m: usize) -> Totals {
+        Totals {
+            mean: vec![0.0; m],
+            variance: vec![0.0; m],
+            rounding: vec![0.0; m],
+            covariance: vec![0.0; m * (m - 1) / 2],
+            open: CubeMoments::empty(m),
+            non_finite: 0,
+            first_non_finite: None,
+        }
+    }
+
+    fn add(&mut self, cube: &CubeTotals) {
+        for (k, c) in cube.outputs.iter().enumerate() {
+            self.mean[k] += c.mean;
+            self.variance[k] += c.variance;
+            self.rounding[k] += c.rounding;
+        }
+        for (total, c) in self.covariance.iter_mut().zip(&cube.covariance) {
+            *total += c;
+        }
+    }
+}
+
+impl<I: Integrand> Pass<'_, I> {
     /// Runs the iteration: its sums, with the grid's training data added to `training` and
     /// each hypercube's `sigma_h^beta` written to `next_sigf` (when allocating); `None` when a
     /// limit stopped it before its end. `progress` is told the evaluations of the iteration
@@ -60,7 +96,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Pass<'_, F> {
         next_sigf: &mut [f64],
         progress: &mut dyn FnMut(u64),
     ) -> Result<Option<Totals>> {
-        let mut totals = Totals::default();
+        let mut totals = Totals::new(self.f.outputs());
         let stop = executor.run(
             self,
             0..self.chunks.len() as u64,
@@ -77,14 +113,20 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Pass<'_, F> {
     }
 }
 
-impl<F> Pass<'_, F> {
+impl<I> Pass<'_, I> {
     /// The share of the iteration of a hypercube with moments `m`.
-    fn cube_result(&self, m: &Moments) -> CubeResult {
-        cube_result(m, self.strata.cube_volume, self.beta, self.strata.cubes)
+    fn cube_totals(&self, m: &CubeMoments) -> CubeTotals {
+        cube_totals(
+            m,
+            self.strata.cube_volume,
+            self.beta,
+            self.strata.cubes,
+            self.weights,
+        )
     }
 }
 
-impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for Pass<'_, F> {
+impl<I: Integrand> ChunkJob for Pass<'_, I> {
     type Scratch = Scratch;
     type Output = ChunkOutput;
 
@@ -105,35 +147,31 @@ impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for Pass<'_, F> {
 
 impl Totals {
     /// Adds one chunk's results; chunks arrive in index order.
-    fn merge<F>(
+    fn merge<I>(
         &mut self,
         out: &ChunkOutput,
-        pass: &Pass<F>,
+        pass: &Pass<I>,
         training: &mut [f64],
         next_sigf: &mut [f64],
     ) {
         if let Some(head) = &out.head {
             self.open.merge(head);
             if out.head_ends {
-                let cube = pass.cube_result(&self.open);
-                self.mean += cube.mean;
-                self.variance += cube.variance;
-                self.rounding += cube.rounding;
+                let cube = pass.cube_totals(&self.open);
+                self.add(&cube);
                 if let Some(slot) = next_sigf.get_mut(out.start_cube as usize) {
                     *slot = cube.sigf;
                 }
-                self.open = Moments::default();
+                self.open = CubeMoments::empty(self.mean.len());
             }
         }
-        self.mean += out.closed_mean;
-        self.variance += out.closed_variance;
-        self.rounding += out.closed_rounding;
+        self.add(&out.closed);
         if !next_sigf.is_empty() {
             let first = out.first_closed as usize;
             next_sigf[first..first + out.closed_sigf.len()].copy_from_slice(&out.closed_sigf);
         }
-        if let Some(tail) = out.tail {
-            self.open = tail;
+        if let Some(tail) = &out.tail {
+            self.open = tail.clone();
         }
         for (sum, &part) in training.iter_mut().zip(&out.training) {
             *sum += part;
@@ -151,31 +189,28 @@ pub(super) struct ChunkOutput {
     training: Vec<f64>,
     start_cube: u64,
     /// The piece of a hypercube begun in an earlier chunk, and whether it ends here.
-    head: Option<Moments>,
+    head: Option<CubeMoments>,
     head_ends: bool,
-    /// Hypercubes begun and ended in this chunk, from `first_closed` on.
+    /// Hypercubes begun and ended in this chunk, from `first_closed` on, summed.
     first_closed: u64,
-    closed_mean: f64,
-    closed_variance: f64,
-    closed_rounding: f64,
+    closed: CubeTotals,
     closed_sigf: Vec<f64>,
     /// The hypercube begun here that continues in the next chunk.
-    tail: Option<Moments>,
+    tail: Option<CubeMoments>,
     non_finite: u64,
-    first_non_finite: Option<(u64, f64)>,
+    first_non_finite: Option<(u64, f64, usize)>,
 }
 
 impl ChunkOutput {
-    fn new<F>(pass: &Pass<F>) -> ChunkOutput {
+    fn new<I: Integrand>(pass: &Pass<I>) -> ChunkOutput {
+        let m = pass.f.outputs();
         ChunkOutput {
             training: vec![0.0; 2 * pass.grid.cells()],
             start_cube: 0,
             head: None,
             head_ends: false,
             first_closed: 0,
-            closed_mean: 0.0,
-            closed_variance: 0.0,
-            closed_rounding: 0.0,
+            closed: CubeTotals::zero(m),
             closed_sigf: Vec::new(),
             tail: None,
             non_finite: 0,
@@ -194,9 +229,7 @@ impl ChunkOutput {
         } else {
             start.cube
         };
-        self.closed_mean = 0.0;
-        self.closed_variance = 0.0;
-        self.closed_rounding = 0.0;
+        self.closed = CubeTotals::zero(self.closed.outputs.len());
         self.closed_sigf.clear();
         self.tail = None;
         self.non_finite = 0;
@@ -204,17 +237,15 @@ impl ChunkOutput {
     }
 
     /// Records a hypercube that ends in this chunk.
-    fn close_cube<F>(&mut self, sums: &ShiftedSums, continued: bool, pass: &Pass<F>) {
+    fn close_cube<I>(&mut self, sums: &CubeSums, continued: bool, pass: &Pass<I>) {
         let moments = sums.moments();
         if continued {
             self.head = Some(moments);
             self.head_ends = true;
             return;
         }
-        let cube = pass.cube_result(&moments);
-        self.closed_mean += cube.mean;
-        self.closed_variance += cube.variance;
-        self.closed_rounding += cube.rounding;
+        let cube = pass.cube_totals(&moments);
+        self.closed.add(&cube);
         if pass.allocating {
             self.closed_sigf.push(cube.sigf);
         }
@@ -231,10 +262,12 @@ pub(super) struct Scratch {
     /// Coordinates of the current hypercube, as integers and as floats.
     coords: Vec<u64>,
     coords_f: Vec<f64>,
+    /// One point's outputs.
+    values: Vec<f64>,
 }
 
 impl Scratch {
-    fn new<F>(pass: &Pass<F>) -> Result<Scratch> {
+    fn new<I: Integrand>(pass: &Pass<I>) -> Result<Scratch> {
         let dims = pass.grid.dims();
         Ok(Scratch {
             points: Points::new(dims, BLOCK)?,
@@ -243,6 +276,7 @@ impl Scratch {
             cells: vec![0; dims],
             coords: vec![0; dims],
             coords_f: vec![0.0; dims],
+            values: vec![0.0; pass.f.outputs()],
         })
     }
 
@@ -279,9 +313,9 @@ impl Scratch {
     }
 
     /// Evaluates chunk `chunk` into `out`.
-    fn run_chunk<F: Fn(&[f64]) -> f64>(
+    fn run_chunk<I: Integrand>(
         &mut self,
-        pass: &Pass<F>,
+        pass: &Pass<I>,
         chunk: usize,
         out: &mut ChunkOutput,
     ) -> Result<()> {
@@ -300,7 +334,7 @@ impl Scratch {
         // Each point's share of y-space volume weights its training data, so that the
         // per-increment averages of (J f)^2 are consistent under any allocation.
         let mut share = strata.cube_volume / cube_n as f64;
-        let mut sums = ShiftedSums::default();
+        let mut sums = CubeSums::new(self.values.len());
 
         let mut index = start.index;
         while index < end {
@@ -316,7 +350,7 @@ impl Scratch {
                 if remaining == 0 {
                     out.close_cube(&sums, continued, pass);
                     continued = false;
-                    sums = ShiftedSums::default();
+                    sums.clear();
                     cube += 1;
                     self.next_coords(strata);
                     cube_n = pass.allocation.evaluations(cube);
@@ -333,14 +367,23 @@ impl Scratch {
                     self.cells[d] = cell;
                     jacobian *= factor;
                 }
-                let v = jacobian * (pass.f)(&self.x);
-                if !v.is_finite() {
+                pass.f.eval(&self.x, &mut self.values);
+                let mut weighted = 0.0;
+                let mut bad = None;
+                for (k, (y, w)) in self.values.iter_mut().zip(pass.weights).enumerate() {
+                    *y *= jacobian;
+                    if !y.is_finite() {
+                        bad.get_or_insert((k, *y));
+                    }
+                    weighted += w * (*y * *y);
+                }
+                if let Some((k, v)) = bad {
                     out.non_finite += 1;
-                    out.first_non_finite.get_or_insert((index + j as u64, v));
+                    out.first_non_finite.get_or_insert((index + j as u64, v, k));
                     continue;
                 }
-                sums.push(v);
-                let weighted = v * v * share;
+                sums.push(&self.values);
+                let weighted = weighted * share;
                 for &cell in &self.cells {
                     out.training[2 * cell] += weighted;
                     out.training[2 * cell + 1] += share;

@@ -3,8 +3,7 @@
 
 use std::time::Duration;
 
-use super::plan::Folded;
-use crate::engine::REPLICATE_INFLATION;
+use super::REPLICATE_INFLATION;
 use crate::stats::{Derived, ErrorBasis, StopReason, Tolerance, VectorEstimate, Warning};
 
 /// The tolerances of one run: `outputs[k]` for output `k` (none where only derived quantities
@@ -49,7 +48,7 @@ impl Targets<'_> {
     }
 
     /// Whether the estimate meets every target.
-    fn met(&self, run: &VectorEstimate) -> bool {
+    pub(crate) fn met(&self, run: &VectorEstimate) -> bool {
         let outputs = self
             .outputs
             .iter()
@@ -92,44 +91,5 @@ impl Targets<'_> {
             output.finalize();
         });
         run.converged = Some(all);
-    }
-
-    /// Points of independent samples the main stage needs for every target, from the
-    /// per-sample spread seen in `folded` (one replicate), each standard deviation inflated
-    /// by `z_inflated / z` (the two-stage rule's sizing, `(z * 1.1 * s / target)^2`).
-    pub(crate) fn points_needed(&self, folded: &Folded, z_inflated: f64) -> u64 {
-        let size = |sd: f64, target: f64| -> u64 {
-            if sd == 0.0 {
-                return 2;
-            }
-            let n = (z_inflated * sd / target).powi(2).ceil();
-            if n.is_finite() && n < u64::MAX as f64 {
-                (n as u64).max(2)
-            } else {
-                u64::MAX
-            }
-        };
-        let mut needed = 2u64;
-        for (k, t) in self.outputs.iter().enumerate() {
-            if let Some(t) = t {
-                let acc = &folded.accumulators[k];
-                needed = needed.max(size(acc.variance().sqrt(), t.target(acc.mean())));
-            }
-        }
-        if !self.derived.is_empty() {
-            let run = folded.independent_estimate();
-            let count = folded.accumulators[0].count();
-            for (quantity, t) in self.derived {
-                needed = needed.max(match run.derived(quantity) {
-                    Ok(e) => match e.std_error {
-                        Some(se) => size(se * (count as f64).sqrt(), t.target(e.mean)),
-                        None => count.saturating_mul(2),
-                    },
-                    // A ratio whose denominator is not yet known to be nonzero: more points.
-                    Err(_) => count.saturating_mul(2),
-                });
-            }
-        }
-        needed
     }
 }
