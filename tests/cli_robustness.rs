@@ -20,6 +20,7 @@ const TALKATIVE: &[(&str, &[&str])] = &[
         "integrate",
         &["--genz", "gaussian", "--dims", "3", "--n", "4096"],
     ),
+    ("sensitivity", &["--function", "ishigami", "--n", "1024"]),
 ];
 
 /// A program that exited with success and printed no panic.
@@ -110,6 +111,7 @@ fn an_argument_that_is_not_utf8_is_a_one_line_error() {
         "convergence",
         "quickstart",
         "variance_reduction",
+        "sensitivity",
     ] {
         let out = Command::new(example(name)).arg(bad).output().unwrap();
         assert_one_line_error(&out, "not valid UTF-8");
