@@ -222,19 +222,14 @@ fn run() -> Result<(), String> {
             functions.iter().map(|f| f.a().to_vec()).collect::<Vec<_>>(),
             functions.iter().map(|f| f.u().to_vec()).collect::<Vec<_>>()
         );
-        if method.is_adaptive() {
-            return Err(format!(
-                "--method {} integrates one output; several --genz families or --ratio take \
-                 --method plain or rqmc",
-                method.name()
-            ));
-        }
         let scramble_name = scramble.name().to_string();
         let Some(run) = vector_run::run(vector_run::VectorRunArgs {
+            method,
             functions: &functions,
             sampler,
             samples: (tolerance.is_none() || n_flag.is_some()).then_some(n),
-            replicates: replicates_flag.unwrap_or(default_replicates),
+            replicates: replicates_flag,
+            default_replicates,
             seed,
             threads,
             tolerance,
@@ -265,6 +260,12 @@ fn run() -> Result<(), String> {
         };
     }
     let estimate = if method.is_adaptive() {
+        if checkpoint.is_some() {
+            return Err(format!(
+                "--checkpoint applies to --method plain and rqmc, not {}",
+                method.name()
+            ));
+        }
         if estimator_kind != EstimatorKind::Uniform {
             return Err(format!(
                 "--estimator {} applies to --method plain and rqmc; {} adapts its own \

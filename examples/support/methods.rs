@@ -21,7 +21,7 @@ pub enum Method {
 pub const METHOD_NAMES: &str = "plain, rqmc, vegas, vegas-plus or miser";
 
 /// Iterations allowed to a VEGAS run to a tolerance: its evaluation limit stops it first.
-const VEGAS_ITERATIONS_TO_TOLERANCE: u64 = 1 << 20;
+pub const VEGAS_ITERATIONS_TO_TOLERANCE: u64 = 1 << 20;
 
 impl Method {
     pub fn name(self) -> &'static str {

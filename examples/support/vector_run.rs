@@ -2,19 +2,24 @@
 //! points, with the covariance of their estimates and, with `--ratio I,J`, the ratio of two
 //! of them with a delta-method error bar.
 
+use mcint::adaptive::Vegas;
 use mcint::sampler::Sampler;
 use mcint::stats::{Derived, StopReason, Tolerance};
 use mcint::testfns::{Genz, TestFunction};
 use mcint::{CancelToken, Integrator, VectorEstimate};
 
 use crate::checkpoint;
+use crate::methods::{Method, VEGAS_ITERATIONS_TO_TOLERANCE};
 
 /// What a vector run needs from the command line.
 pub struct VectorRunArgs<'a> {
+    pub method: Method,
     pub functions: &'a [Genz],
     pub sampler: Box<dyn Sampler>,
     pub samples: Option<u64>,
-    pub replicates: u64,
+    /// `--replicates`, or the default of the sampler (plain and rqmc only).
+    pub replicates: Option<u64>,
+    pub default_replicates: u64,
     pub seed: u64,
     pub threads: Option<usize>,
     pub tolerance: Option<Tolerance>,
@@ -25,10 +30,21 @@ pub struct VectorRunArgs<'a> {
     pub cancel: CancelToken,
 }
 
-/// Runs the families as one vector integrand over the unit cube (plain or randomized QMC).
-/// With `--ratio`, a tolerance applies to the ratio (the quantity asked for); otherwise to
-/// every output. `Ok(None)` when a checkpointed run stopped early on purpose.
+/// Runs the families as one vector integrand over the unit cube (plain, randomized QMC,
+/// VEGAS or VEGAS+). With `--ratio`, a tolerance applies to the ratio (the quantity asked
+/// for); otherwise to every output. `Ok(None)` when a checkpointed run stopped early on
+/// purpose.
 pub fn run(args: VectorRunArgs<'_>) -> Result<Option<VectorEstimate>, String> {
+    if matches!(args.method, Method::Vegas | Method::VegasPlus) {
+        return run_vegas(args).map(Some);
+    }
+    if args.method == Method::Miser {
+        return Err(
+            "--method miser integrates one output; several --genz families or --ratio take \
+             --method plain, rqmc, vegas or vegas-plus"
+                .into(),
+        );
+    }
     let functions = args.functions;
     let dims = functions[0].dims();
     let integrand = |x: &[f64], out: &mut [f64]| {
@@ -39,7 +55,7 @@ pub fn run(args: VectorRunArgs<'_>) -> Result<Option<VectorEstimate>, String> {
     let cube = mcint::pdf::UniformBox::unit(dims).map_err(|e| e.to_string())?;
     let mut integrator = Integrator::over_box_vector(functions.len(), integrand, cube)
         .sampler(args.sampler)
-        .replicates(args.replicates)
+        .replicates(args.replicates.unwrap_or(args.default_replicates))
         .seed(args.seed)
         .label(args.label)
         .cancel_token(args.cancel.clone());
@@ -64,6 +80,50 @@ pub fn run(args: VectorRunArgs<'_>) -> Result<Option<VectorEstimate>, String> {
             &args.cancel,
         ),
     }
+}
+
+/// VEGAS or VEGAS+ over every output together (`--n` evaluations per iteration).
+fn run_vegas(args: VectorRunArgs<'_>) -> Result<VectorEstimate, String> {
+    if args.replicates.is_some() {
+        return Err(format!(
+            "--replicates does not apply to --method {} (its error bar combines iterations)",
+            args.method.name()
+        ));
+    }
+    if args.checkpoint.is_some() {
+        return Err(format!(
+            "--checkpoint applies to --method plain and rqmc, not {}",
+            args.method.name()
+        ));
+    }
+    let functions = args.functions;
+    let integrand = |x: &[f64], out: &mut [f64]| {
+        for (y, f) in out.iter_mut().zip(functions) {
+            *y = f.eval(x);
+        }
+    };
+    let cube = mcint::pdf::UniformBox::unit(functions[0].dims()).map_err(|e| e.to_string())?;
+    let mut vegas = Vegas::vector(functions.len(), integrand, cube)
+        .sampler(args.sampler)
+        .stratified(args.method == Method::VegasPlus)
+        .seed(args.seed)
+        .cancel_token(args.cancel);
+    if let Some(n) = args.samples {
+        vegas = vegas.samples(n);
+    }
+    if let Some(t) = args.threads {
+        vegas = vegas.threads(t);
+    }
+    match (args.tolerance, args.ratio) {
+        (Some(t), Some((i, j))) => {
+            vegas = vegas
+                .derived_tolerance(Derived::ratio(i, j), t)
+                .iterations(VEGAS_ITERATIONS_TO_TOLERANCE)
+        }
+        (Some(t), None) => vegas = vegas.tolerance(t).iterations(VEGAS_ITERATIONS_TO_TOLERANCE),
+        (None, _) => {}
+    }
+    vegas.run().map_err(|e| e.to_string())
 }
 
 /// Parses `--ratio I,J` against `m` outputs.
@@ -169,8 +229,17 @@ impl VectorReport<'_> {
             self.functions[0].dims()
         );
         println!(
-            "method {}, sampler {}, scramble {}, {} replicates, {} evaluations",
-            self.method, self.sampler, self.scramble, run.outputs[0].replicates, run.evaluations
+            "method {}, sampler {}, scramble {}, {} {}, {} evaluations",
+            self.method,
+            self.sampler,
+            self.scramble,
+            run.outputs[0].replicates,
+            if self.method.starts_with("vegas") {
+                "iterations combined"
+            } else {
+                "replicates"
+            },
+            run.evaluations
         );
         println!(
             "{:>3}  {:<14} {:>20} {:>20} {:>10} {:>8}",
