@@ -2,7 +2,8 @@
 //! standard error and the exact value.
 //!
 //! ```text
-//! cargo run --release --example integrate -- --genz FAMILY --dims D [--a a1,a2,..] [--u u1,u2,..]
+//! cargo run --release --example integrate -- --genz FAMILY[,FAMILY..] --dims D [--ratio I,J]
+//!     [--a a1,a2,..] [--u u1,u2,..]
 //!     [--sampler NAME] [--scramble NAME] [--strength T] [--n N] [--replicates R] [--seed S]
 //!     [--threads T] [--estimator uniform|importance|mis|control]
 //!     [--method plain|rqmc|vegas|vegas-plus|miser] [--tol-abs X] [--tol-rel X]
@@ -39,6 +40,12 @@
 //! 16384 points to FILE every `--save-every` chunks (default 16) and, when FILE exists,
 //! resumes from it: however often it is stopped and restarted, the result has the same bits
 //! as an uninterrupted run. `--stop-after K` stops after K chunks, as an interruption would.
+//!
+//! Several families (`--genz gaussian,oscillatory`) or `--ratio I,J` make one vector-valued run
+//! over the same points (`--method plain`, `rqmc`, `vegas` or `vegas-plus`, `--estimator
+//! uniform`): the report has every family's estimate and the covariance of the estimates, and
+//! `--ratio` adds the ratio of outputs `I` and `J` (positions in the list, from 0) with its
+//! delta-method error bar; a tolerance then applies to the ratio, otherwise to every output.
 //!
 //! Warnings about the estimate (points per replicate that break a net, a tolerance not met,
 //! few replicates, skipped non-finite values, an error bar at the floating-point floor) go

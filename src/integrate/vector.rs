@@ -118,7 +118,7 @@ impl<E: VectorEstimator> Integrator<VectorRun<E>> {
     /// ```
     /// use mcint::{Integrator, estimator::VectorUniformEstimator, pdf::UniformBox};
     /// let f = |_: &[f64], out: &mut [f64]| { out[0] = 1.0; out[1] = 2.0; };
-    /// let e = VectorUniformEstimator::new(2, f, UniformBox::unit(1).unwrap()).unwrap();
+    /// let e = VectorUniformEstimator::new(2, f, UniformBox::unit(1).unwrap());
     /// assert_eq!(Integrator::vector(e).run().unwrap().means(), vec![1.0, 2.0]);
     /// ```
     pub fn vector(estimator: E) -> Self {
