@@ -5,7 +5,8 @@
 //! (and every scramble each accepts) for two seeds, and the `mean` / `std_error` bits with the
 //! counts of fixed-seed runs of every method: plain, importance, RQMC, stratified, both runs to
 //! a tolerance, VEGAS, VEGAS+, MISER (fixed and to a tolerance), TwoStage, control
-//! variates, a checkpointed run, a convergence study and a mean periodogram.
+//! variates, a checkpointed run, vector runs (plain, RQMC, VEGAS+: every output, the covariance
+//! and a ratio), a convergence study and a mean periodogram.
 //!
 //! A change that alters any of them must say so in its commit message and update the table on
 //! purpose: run `MCINT_PRINT_PINS=1 cargo test --release --test value_stability -- --nocapture`
@@ -15,9 +16,9 @@ use mcint::adaptive::{Miser, TwoStage, Vegas};
 use mcint::pdf::{Pdf1d, ProductPdf, TruncatedNormal, UniformBox};
 use mcint::quality::{Convergence, mean_periodogram_with_threads};
 use mcint::sampler::{Jittered, PassKind, Sampler, SamplerKind, Scramble, Sobol};
-use mcint::stats::{Estimate, Tolerance};
+use mcint::stats::{Derived, Estimate, Tolerance};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
-use mcint::{Integrator, Result};
+use mcint::{Integrator, Result, VectorEstimate};
 
 /// One pinned observation: a label and the values it must keep (f64 as IEEE-754 bits).
 type Observation = (String, Vec<u64>);
@@ -175,6 +176,32 @@ fn method_observations() -> Result<Vec<Observation>> {
             .map(|c| c.to_bits())
             .collect(),
     ));
+
+    // Vector runs: every output's bits, the covariance and a ratio.
+    let two = |x: &[f64], y: &mut [f64]| {
+        y[0] = g.eval(x);
+        y[1] = x[0] * y[0];
+    };
+    let mut pin_vector = |label: &str, run: &VectorEstimate| -> Result<()> {
+        let mut bits: Vec<u64> = run.outputs.iter().flat_map(estimate_bits).collect();
+        bits.extend(run.covariance_matrix.iter().flatten().map(|c| c.to_bits()));
+        bits.extend(estimate_bits(&run.derived(&Derived::ratio(1, 0))?));
+        out.push((label.to_string(), bits));
+        Ok(())
+    };
+    let plain_vector = Integrator::over_box_vector(2, two, unit()?)
+        .samples(50_000)
+        .seed(13)
+        .threads(2);
+    pin_vector("vector plain", &plain_vector.run()?)?;
+    let rqmc_vector = Integrator::over_box_vector(2, two, unit()?)
+        .sampler(Sobol::new(3, Scramble::Owen, 0)?)
+        .samples(4096)
+        .replicates(8)
+        .seed(14);
+    pin_vector("vector rqmc", &rqmc_vector.run()?)?;
+    let vegas_vector = Vegas::vector(2, two, unit()?).samples(4000).seed(15);
+    pin_vector("vector vegas+", &vegas_vector.run()?)?;
     Ok(out)
 }
 
@@ -356,6 +383,9 @@ const PINS: &[(&str, &[u64])] = &[
     ("two-stage", &[0x3fdc97db99c083bf, 0x3f4348ab5aacba38, 0x0000000000004d20, 0x0000000000004e20, 0x0000000000000002]),
     ("control variates", &[0x3feb7330db9965e5, 0x3f50c84009c1528d, 0x0000000000004e20, 0x00000000000055f0, 0x0000000000000001]),
     ("control variates: coefficients", &[0x3feba2386655738b, 0x3ffbd6001a8b7756]),
+    ("vector plain", &[0x3fdcb47e04c30ae3, 0x3f5349bdf3a1271f, 0x000000000000c350, 0x000000000000c350, 0x0000000000000001, 0x3fca009a299e75da, 0x3f467dd1f0c88748, 0x000000000000c350, 0x000000000000c350, 0x0000000000000001, 0x3eb7407700bcf5ac, 0x3e9b943ec2d66a01, 0x3e9b943ec2d66a01, 0x3e9f9ddec13c61e6, 0x3fdcfcb0b736a190, 0x3f569c9b8008e45a, 0x000000000000c350, 0x000000000000c350, 0x0000000000000001]),
+    ("vector rqmc", &[0x3fdc9f9ecd95b18e, 0x3eae6fb90b66ca26, 0x0000000000008000, 0x0000000000008000, 0x0000000000000001, 0x3fc9f60e7fe20f3f, 0x3ebb910285e910d1, 0x0000000000008000, 0x0000000000008000, 0x0000000000000001, 0x3d6cf301054ddffa, 0x3d16ab8ce50d59b7, 0x3d16ab8ce50d59b7, 0x3d87bf4560d70f77, 0x3fdd0609ad2cfd27, 0x3ecfab0724a16645, 0x0000000000008000, 0x0000000000008000, 0x0000000000000001]),
+    ("vector vegas+", &[0x3fdc9f2f54166a88, 0x3f1ccad421c2f450, 0x0000000000008f6b, 0x000000000000d6ca, 0x000000000000000a, 0x3fc9f6263d464df8, 0x3f13a736d697c705, 0x0000000000008f6b, 0x000000000000d6ca, 0x000000000000000a, 0x3e49e7f8d6bda853, 0xbe0e099503af0cce, 0xbe0e099503af0cce, 0x3e3823f5c7240cc5, 0x3fdd069541f44bc4, 0x3f2ba43efdec2c69, 0x0000000000008f6b, 0x000000000000d6ca, 0x000000000000000a]),
     ("convergence study", &[0x3f83db2ba3b88382, 0x3f632d1b69732dc0, 0x3f4cb3794ee57184, 0xbf39756ebee25800, 0x3f2b2b59bc649f42, 0xbf03bbc2e5a02000, 0xbff630bf778d37fa]),
     ("mean periodogram", &[0x3fddbf5bb72d0496, 0x3fe15fd94c5a40c0, 0x3fc61fee5650d016, 0x3f8f65989fbdbc24, 0x3f5260740c4e089c, 0x3f9d36032e4411cd, 0x3fc98da99ed08b5c, 0x3fcb64d768d8d3d5, 0x3fe64d5949c75d38, 0x3fd7453a801ea41d, 0x3fbeaf0787fdd5c7, 0x3fa64abb2e887f36, 0x3fa65ea067b08d2c, 0x3f2f069cfc7651be, 0x3fa022e47efad9d3, 0x3fb018decc905f17, 0x3fba58062f2466bd, 0x3fd0e6313af0288a, 0x3fb7d1f18fbca8ba, 0x3fb670b3a53ce8d1, 0x3f9a9aa1e059df4a, 0x3f7dd3472c84eafd, 0x3f29a9b1ab1f4d9e, 0x3f805afecb8baf1b, 0x3f9552fef6add2da, 0x3faef8f936b75882, 0x3fa31a2a8909a4cf, 0x3fa1fe7e70ece96b, 0x3f8775e756316db7, 0x3f9a09eb7d47a057, 0x3f55404637cb6aad, 0x3f072d255d372ab3, 0x3f567b59b48cc19e, 0x3f994a129d8020e1, 0x3fa2bddc600856a8, 0x3faa5749f92449f1, 0x3f37b9e6a4b21e8e, 0x3f21553e2eb7f961, 0x3f2badb59b9962d6, 0x3f0851acdeaac6cc, 0x4070000000000000, 0x3f0851acdeaac6cc, 0x3f2badb59b9962d6, 0x3f21553e2eb7f961, 0x3f37b9e6a4b21e8e, 0x3faa5749f92449f1, 0x3fa2bddc600856a8, 0x3f994a129d8020e1, 0x3f567b59b48cc19e, 0x3f072d255d372ab3, 0x3f55404637cb6aad, 0x3f9a09eb7d47a057, 0x3f8775e756316db7, 0x3fa1fe7e70ece96b, 0x3fa31a2a8909a4cf, 0x3faef8f936b75882, 0x3f9552fef6add2da, 0x3f805afecb8baf1b, 0x3f29a9b1ab1f4d9e, 0x3f7dd3472c84eafd, 0x3f9a9aa1e059df4a, 0x3fb670b3a53ce8d1, 0x3fb7d1f18fbca8ba, 0x3fd0e6313af0288a, 0x3fba58062f2466bd, 0x3fb018decc905f17, 0x3fa022e47efad9d3, 0x3f2f069cfc7651be, 0x3fa65ea067b08d2c, 0x3fa64abb2e887f36, 0x3fbeaf0787fdd5c7, 0x3fd7453a801ea41d, 0x3fe64d5949c75d38, 0x3fcb64d768d8d3d5, 0x3fc98da99ed08b5c, 0x3f9d36032e4411cd, 0x3f5260740c4e089c, 0x3f8f65989fbdbc24, 0x3fc61fee5650d016, 0x3fe15fd94c5a40c0, 0x3fddbf5bb72d0496]),
 ];
