@@ -74,8 +74,8 @@ fn json_has_every_output_the_covariance_and_the_ratio() {
             );
             assert_eq!(covariance[k].len(), 3);
             assert!((covariance[k][k] - errors[k] * errors[k]).abs() <= 1e-12 * covariance[k][k]);
-            for j in 0..3 {
-                assert_eq!(covariance[k][j], covariance[j][k]);
+            for (j, row) in covariance.iter().enumerate() {
+                assert_eq!(covariance[k][j], row[k]);
             }
         }
         let ratio = &v["ratio"];
