@@ -66,7 +66,7 @@ mod vector_run;
 use genz_estimators::EstimatorKind;
 use mcint::estimator::Estimator;
 use mcint::sampler::{PassKind, SamplerKind};
-use mcint::stats::{StopReason, Tolerance};
+use mcint::stats::Tolerance;
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
 use mcint::{CancelToken, Estimate, Integrator};
 use methods::{AdaptiveRun, METHOD_NAMES, Method};
@@ -74,6 +74,7 @@ use std::io::IsTerminal;
 use std::sync::OnceLock;
 use std::time::Instant;
 use support::{Args, fail};
+use vector_run::stop_name;
 
 /// Cancelled on SIGINT or SIGTERM: the run stops after its current chunks and reports what it
 /// has (a checkpoint is saved first), and the process exits with status 130.
@@ -560,19 +561,6 @@ impl Report {
             );
         }
         println!("time        {:.3} s", self.seconds);
-    }
-}
-
-/// How a run ended, in words.
-fn stop_name(stop: StopReason) -> &'static str {
-    match stop {
-        StopReason::Budget => "budget",
-        StopReason::ToleranceMet => "tolerance met",
-        StopReason::MaxEvaluations => "max evaluations",
-        StopReason::TimeLimit => "time limit",
-        StopReason::Cancelled => "cancelled",
-        StopReason::SamplerExhausted => "sampler exhausted",
-        _ => "other",
     }
 }
 

@@ -120,17 +120,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
     /// assert!((e.mean - 0.25).abs() < 5.0 * e.std_error.unwrap());
     /// ```
     pub fn new(f: F, domain: UniformBox) -> Self {
-        Vegas {
-            f,
-            domain,
-            config: RunConfig::default(),
-            iterations: 10,
-            warmup: 5,
-            increments: 1000,
-            alpha: 0.5,
-            stratified: true,
-            beta: 0.75,
-        }
+        Vegas::with_defaults(f, domain)
     }
 
     /// Runs the warm-up and the iterations and combines the latter.
@@ -160,6 +150,21 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
 
 /// The settings of scalar and vector runs.
 impl<F> Vegas<F> {
+    /// The run of `f` over `domain` with the default settings (see [`Vegas`]).
+    fn with_defaults(f: F, domain: UniformBox) -> Self {
+        Vegas {
+            f,
+            domain,
+            config: RunConfig::default(),
+            iterations: 10,
+            warmup: 5,
+            increments: 1000,
+            alpha: 0.5,
+            stratified: true,
+            beta: 0.75,
+        }
+    }
+
     run_settings! {
         setup: "use mcint::{adaptive::Vegas, pdf::UniformBox};\n\
                 const DIMS: usize = 2;\n\
@@ -604,22 +609,13 @@ impl<G: Fn(&[f64], &mut [f64]) + Sync> Vegas<VegasOutputs<G>> {
     /// assert_eq!(run.evaluations, run.outputs[1].evaluations);
     /// ```
     pub fn vector(outputs: usize, f: G, domain: UniformBox) -> Self {
-        Vegas {
-            f: VegasOutputs {
-                outputs,
-                f,
-                output_tolerances: None,
-                derived_tolerances: Vec::new(),
-            },
-            domain,
-            config: RunConfig::default(),
-            iterations: 10,
-            warmup: 5,
-            increments: 1000,
-            alpha: 0.5,
-            stratified: true,
-            beta: 0.75,
-        }
+        let f = VegasOutputs {
+            outputs,
+            f,
+            output_tolerances: None,
+            derived_tolerances: Vec::new(),
+        };
+        Vegas::with_defaults(f, domain)
     }
 
     /// A tolerance for each output (one per output): the run stops when every output meets
