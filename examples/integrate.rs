@@ -2,15 +2,16 @@
 //! standard error and the exact value.
 //!
 //! ```text
-//! cargo run --release --example integrate -- --genz FAMILY[,FAMILY..] --dims D [--ratio I,J]
+//! cargo run --release --example integrate -- --integrand NAME[,NAME..] --dims D [--ratio I,J]
 //!     [--a a1,a2,..] [--u u1,u2,..]
 //!     [--sampler NAME] [--scramble NAME] [--strength T] [--n N] [--replicates R] [--seed S]
 //!     [--threads T] [--estimator uniform|importance|mis|control]
 //!     [--method plain|rqmc|vegas|vegas-plus|miser] [--tol-abs X] [--tol-rel X]
 //!     [--max-evals N] [--checkpoint FILE [--save-every K] [--stop-after K]] [--json]
 //! ```
-//! FAMILY is one of oscillatory, product-peak, corner-peak, gaussian, continuous,
-//! discontinuous. Defaults: `a_i = 1 + 0.5 (i-1)`, `u_i = 0.2 + 0.6 (i-1)/(d-1)`, sampler
+//! NAME is `keister` (`cos|x| e^{-|x|^2}` over `R^D`, integrated after the normal transform to
+//! the unit cube) or a Genz family: oscillatory, product-peak, corner-peak, gaussian,
+//! continuous, discontinuous (`--genz` is a synonym of `--integrand`). Defaults: `a_i = 1 + 0.5 (i-1)`, `u_i = 0.2 + 0.6 (i-1)/(d-1)`, sampler
 //! `independent`, `--n` (points per replicate) 65536 (for `jittered` the largest `k^d` not
 //! above it), `--replicates` 1 for independent points or unscrambled sequences and 16
 //! otherwise, `--scramble` the sampler's default (owen for sobol, permute for halton and
@@ -56,6 +57,8 @@
 mod checkpoint;
 #[path = "support/genz_estimators.rs"]
 mod genz_estimators;
+#[path = "support/integrands.rs"]
+mod integrands;
 #[path = "support/methods.rs"]
 mod methods;
 #[path = "support/mod.rs"]
@@ -64,10 +67,11 @@ mod support;
 mod vector_run;
 
 use genz_estimators::EstimatorKind;
+use integrands::{INTEGRAND_NAMES, Named};
 use mcint::estimator::Estimator;
 use mcint::sampler::{PassKind, SamplerKind};
 use mcint::stats::Tolerance;
-use mcint::testfns::{Genz, GenzFamily, TestFunction};
+use mcint::testfns::TestFunction;
 use mcint::{CancelToken, Estimate, Integrator};
 use methods::{AdaptiveRun, METHOD_NAMES, Method};
 use std::io::IsTerminal;
@@ -81,6 +85,7 @@ use vector_run::stop_name;
 static CANCEL: OnceLock<CancelToken> = OnceLock::new();
 
 const SPEC: support::Spec = &[
+    ("integrand", true),
     ("genz", true),
     ("dims", true),
     ("a", true),
@@ -148,24 +153,28 @@ fn progress_bar() -> Option<impl Fn(u64, u64) + Send + Sync + 'static> {
 
 fn run() -> Result<(), String> {
     let args = Args::parse(SPEC)?;
-    let families = args
-        .require::<String>("genz", "a Genz family name, or several separated by commas")?
-        .split(',')
-        .map(|name| name.trim().parse())
-        .collect::<Result<Vec<GenzFamily>, mcint::Error>>()
-        .map_err(|e| e.to_string())?;
+    let names = match (
+        args.get::<String>("integrand", INTEGRAND_NAMES)?,
+        args.get::<String>("genz", INTEGRAND_NAMES)?,
+    ) {
+        (Some(_), Some(_)) => {
+            return Err("--genz is a synonym of --integrand: give one of them".into());
+        }
+        (Some(names), None) | (None, Some(names)) => names,
+        (None, None) => {
+            return Err(format!(
+                "missing --integrand: expected {INTEGRAND_NAMES}, or several separated by commas"
+            ));
+        }
+    };
     let dims: usize = args.require("dims", "a whole number of dimensions >= 1")?;
-    let functions = families
-        .iter()
-        .map(|&family| genz_function(&args, family, dims))
-        .collect::<Result<Vec<Genz>, String>>()?;
+    let functions = Named::parse_list(&args, &names, dims)?;
     let ratio = args
         .get::<String>("ratio", "two output indices I,J")?
         .map(|text| vector_run::parse_ratio(&text, functions.len()))
         .transpose()?;
     let vector = functions.len() > 1 || ratio.is_some();
     let f = functions[0].clone();
-    let family = families[0];
     let estimator_kind: EstimatorKind = args
         .get::<String>("estimator", genz_estimators::ESTIMATOR_NAMES)?
         .map_or(Ok(EstimatorKind::Uniform), |name| name.parse())?;
@@ -177,7 +186,17 @@ fn run() -> Result<(), String> {
             estimator_kind.name()
         ));
     }
-    let built = genz_estimators::build(estimator_kind, &f, seed)?;
+    let built = match f.genz() {
+        Some(genz) => genz_estimators::build(estimator_kind, genz, seed)?,
+        None if estimator_kind == EstimatorKind::Uniform => genz_estimators::uniform(&f)?,
+        None => {
+            return Err(format!(
+                "--estimator {} is built for the Genz families; {} takes --estimator uniform",
+                estimator_kind.name(),
+                f.name()
+            ));
+        }
+    };
     // The sampler feeds the estimator's canonical points (two per dimension for mis).
     let canonical_dims = built.estimator.canonical_dims();
     let method: Method = args
@@ -220,16 +239,11 @@ fn run() -> Result<(), String> {
     let checkpoint = checkpoint_settings(&args, tolerance.is_some())?;
     let started = Instant::now();
     if vector {
-        let label = format!(
-            "genz {} a={:?} u={:?}",
-            functions
-                .iter()
-                .map(|f| f.family().name())
-                .collect::<Vec<_>>()
-                .join(","),
-            functions.iter().map(|f| f.a().to_vec()).collect::<Vec<_>>(),
-            functions.iter().map(|f| f.u().to_vec()).collect::<Vec<_>>()
-        );
+        let label = functions
+            .iter()
+            .map(Named::label)
+            .collect::<Vec<_>>()
+            .join("; ");
         let scramble_name = scramble.name().to_string();
         let Some(run) = vector_run::run(vector_run::VectorRunArgs {
             method,
@@ -297,13 +311,7 @@ fn run() -> Result<(), String> {
     } else {
         // The integrand's name in checkpoints: another family, parameters or estimator is
         // refused on resume.
-        let label = format!(
-            "genz {} a={:?} u={:?} estimator {}",
-            family.name(),
-            f.a(),
-            f.u(),
-            estimator_kind.name()
-        );
+        let label = format!("{} estimator {}", f.label(), estimator_kind.name());
         let mut integrator = Integrator::new(built.estimator)
             .sampler(sampler)
             .replicates(replicates_flag.unwrap_or(default_replicates))
@@ -334,7 +342,7 @@ fn run() -> Result<(), String> {
     let seconds = started.elapsed().as_secs_f64();
     let report = Report {
         method,
-        family,
+        family: f.name(),
         dims,
         kind,
         scramble,
@@ -354,22 +362,6 @@ fn run() -> Result<(), String> {
         report.print_text()
     }
     Ok(())
-}
-
-/// The Genz function of `family` in `dims` dimensions, with `--a` and `--u` if given.
-fn genz_function(args: &Args, family: GenzFamily, dims: usize) -> Result<Genz, String> {
-    match (args.list("a")?, args.list("u")?) {
-        (None, None) => Genz::with_defaults(family, dims),
-        (a, u) => {
-            let defaults = Genz::with_defaults(family, dims).map_err(|e| e.to_string())?;
-            Genz::new(
-                family,
-                a.unwrap_or_else(|| defaults.a().to_vec()),
-                u.unwrap_or_else(|| defaults.u().to_vec()),
-            )
-        }
-    }
-    .map_err(|e| e.to_string())
 }
 
 /// `--checkpoint FILE [--save-every K] [--stop-after K]`, if given (fixed budgets only).
@@ -436,7 +428,7 @@ fn largest_power_not_above(n: u64, d: usize) -> u64 {
 
 struct Report {
     method: Method,
-    family: GenzFamily,
+    family: String,
     dims: usize,
     kind: SamplerKind,
     scramble: mcint::sampler::Scramble,
@@ -466,7 +458,7 @@ impl Report {
              \"evaluations\": {}, \"converged\": {}, \"stop\": \"{}\", \"iterations\": {}, \
              \"chi2_dof\": {}, \"rounding_error\": {}, \"warnings\": [{}], \"seconds\": {}}}",
             self.method.name(),
-            self.family.name(),
+            self.family,
             self.dims,
             self.kind.name(),
             self.scramble.name(),
@@ -500,8 +492,13 @@ impl Report {
         let e = &self.estimate;
         let error = (e.mean - self.exact).abs();
         println!(
-            "integrand   genz {} in {} dimensions",
-            self.family.name(),
+            "integrand   {}{} in {} dimensions",
+            if self.family == "keister" {
+                ""
+            } else {
+                "genz "
+            },
+            self.family,
             self.dims
         );
         println!("method      {}", self.method.name());

@@ -3,7 +3,8 @@
 //! ```text
 //! cargo run --release --example points -- --sampler latin --dims 2 --n 16 [--seed S] [--pass P]
 //!     [--scramble none|xor|lms|owen|permute|shift] [--strength T] [--format csv|bin|sum|svg|png]
-//!     [--pairs] [--out FILE]
+//!     [--pairs] [--out FILE] [--measure gaussian [--mean m1,m2,..] [--cov FILE]
+//!     [--factorization cholesky|pca]]
 //! ```
 //! `--n` is the number of points written; for samplers with fixed passes it is also the pass
 //! size (jittered needs `k^dims`, hammersley uses it as the set size). `--pass P` writes the
@@ -17,6 +18,13 @@
 //! sum of each coordinate (one line per dimension, `{:?}` of the f64 sum accumulated in index
 //! order), so a whole-process run measures generation alone.
 //!
+//! `--measure gaussian` maps the points to the normal law with `--mean` (default 0) and the
+//! covariance in `--cov FILE` (`d` rows of `d` numbers separated by commas or spaces; default
+//! the identity), by inverse cdfs and the `--factorization` of the covariance (default
+//! `cholesky`; `pca` orders the principal components first), as scipy's
+//! `MultivariateNormalQMC` does with its inverse transform: quasi-random points stay
+//! quasi-random.
+//!
 //! `--format svg` or `png` draws the first two dimensions (with `--pairs`, every pairwise
 //! projection) into `--out FILE`, whose name must end in `.svg` or `.png` accordingly.
 
@@ -26,6 +34,7 @@ mod plot;
 mod support;
 
 use mcint::Points;
+use mcint::measure::{Factorization, Gaussian, Measure};
 use mcint::sampler::{PassKind, SamplerKind};
 use std::io::{BufWriter, Write};
 use support::{Args, fail};
@@ -41,6 +50,10 @@ const SPEC: support::Spec = &[
     ("format", true),
     ("pairs", false),
     ("out", true),
+    ("measure", true),
+    ("mean", true),
+    ("cov", true),
+    ("factorization", true),
 ];
 
 /// The most dimensions whose pairwise projections `--pairs` draws (120 panels).
@@ -92,6 +105,10 @@ fn run() -> Result<(), String> {
     }
     if n == 0 {
         return Err("invalid --n 0: expected at least 1 point".into());
+    }
+    let gaussian = gaussian(&args, dims)?;
+    if gaussian.is_some() && image {
+        return Err("--measure writes numbers: use --format csv, bin or sum".into());
     }
     let kind: SamplerKind = name.parse().map_err(|e: mcint::Error| e.to_string())?;
     let scramble = args.scramble_for(kind)?;
@@ -162,6 +179,9 @@ fn run() -> Result<(), String> {
         sampler
             .fill(start + written, &mut block)
             .map_err(|e| e.to_string())?;
+        if let Some(g) = &gaussian {
+            map_block(g, &mut block);
+        }
         if format == "sum" {
             add_columns(&mut sums, &block);
         } else {
@@ -175,6 +195,112 @@ fn run() -> Result<(), String> {
         }
     }
     out.flush().map_err(write_failed)
+}
+
+/// The normal law of `--measure gaussian`, `--mean`, `--cov` and `--factorization`, if asked
+/// for.
+fn gaussian(args: &Args, dims: usize) -> Result<Option<Gaussian>, String> {
+    let measure: Option<String> = args.get("measure", "gaussian")?;
+    let given = ["mean", "cov", "factorization"]
+        .into_iter()
+        .find(|name| args.get::<String>(name, "").ok().flatten().is_some());
+    match measure.as_deref() {
+        None => {
+            return match given {
+                Some(name) => Err(format!("--{name} applies to --measure gaussian")),
+                None => Ok(None),
+            };
+        }
+        Some("gaussian") => {}
+        Some(other) => return Err(format!("invalid --measure '{other}': expected gaussian")),
+    }
+    let mean = args.list("mean")?.unwrap_or_else(|| vec![0.0; dims]);
+    if mean.len() != dims {
+        return Err(format!(
+            "invalid --mean: {} values for --dims {dims} (one per dimension)",
+            mean.len()
+        ));
+    }
+    let covariance = match args.get::<String>("cov", "a file path")? {
+        None => (0..dims * dims)
+            .map(|k| if k / dims == k % dims { 1.0 } else { 0.0 })
+            .collect(),
+        Some(path) => read_matrix(&path, dims)?,
+    };
+    let factorization = match args
+        .get::<String>("factorization", "cholesky or pca")?
+        .as_deref()
+    {
+        None | Some("cholesky") => Factorization::Cholesky,
+        Some("pca") => Factorization::Pca,
+        Some(other) => {
+            return Err(format!(
+                "invalid --factorization '{other}': expected cholesky or pca"
+            ));
+        }
+    };
+    Gaussian::new(mean, covariance, factorization)
+        .map(Some)
+        .map_err(|e| e.to_string())
+}
+
+/// A `dims x dims` matrix from a text file: rows of numbers separated by commas or spaces.
+fn read_matrix(path: &str, dims: usize) -> Result<Vec<f64>, String> {
+    const MAX_BYTES: u64 = 64 << 20;
+    let mut text = String::new();
+    std::io::Read::read_to_string(
+        &mut std::io::Read::take(
+            std::fs::File::open(path).map_err(|e| format!("cannot read --cov '{path}': {e}"))?,
+            MAX_BYTES + 1,
+        ),
+        &mut text,
+    )
+    .map_err(|e| format!("cannot read --cov '{path}': {e}"))?;
+    if text.len() as u64 > MAX_BYTES {
+        return Err(format!("--cov '{path}' is larger than {MAX_BYTES} bytes"));
+    }
+    let rows: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
+    if rows.len() != dims {
+        return Err(format!(
+            "--cov '{path}' has {} rows: expected {dims} (one per dimension)",
+            rows.len()
+        ));
+    }
+    let mut values = Vec::with_capacity(dims * dims);
+    for (i, row) in rows.iter().enumerate() {
+        let entries: Vec<&str> = row
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|e| !e.is_empty())
+            .collect();
+        if entries.len() != dims {
+            return Err(format!(
+                "--cov '{path}' row {} has {} entries: expected {dims}",
+                i + 1,
+                entries.len()
+            ));
+        }
+        for entry in entries {
+            values.push(
+                entry.parse::<f64>().map_err(|_| {
+                    format!("--cov '{path}' row {}: '{entry}' is not a number", i + 1)
+                })?,
+            );
+        }
+    }
+    Ok(values)
+}
+
+/// Maps every point of `block` through the normal law, in place.
+fn map_block(gaussian: &Gaussian, block: &mut Points) {
+    let dims = block.dims();
+    let (mut u, mut x) = (vec![0.0; dims], vec![0.0; dims]);
+    for i in 0..block.len() {
+        block.copy_point(i, &mut u);
+        gaussian.map(&u, &mut x);
+        for (d, &v) in x.iter().enumerate() {
+            block.column_mut(d)[i] = v;
+        }
+    }
 }
 
 /// Largest point set `--format svg|png` draws.

@@ -8,8 +8,10 @@
 
 use crate::engine::{Executor, Limits, RunConfig, run_settings};
 use crate::estimator::{
-    BatchUniformEstimator, Estimator, ImportanceEstimator, UniformEstimator, VectorEstimator,
+    BatchUniformEstimator, Estimator, ExpectationEstimator, ImportanceEstimator, UniformEstimator,
+    VectorEstimator,
 };
+use crate::measure::Measure;
 use crate::pdf::{Pdf, UniformBox};
 use crate::sampler::Sampler;
 use crate::stats::{Estimate, VectorEstimate};
@@ -136,6 +138,29 @@ impl<F: Fn(&[f64]) -> f64 + Send + Sync, P: Pdf> Integrator<ImportanceEstimator<
     /// ```
     pub fn with_pdf(f: F, pdf: P) -> Self {
         Integrator::new(ImportanceEstimator::new(f, pdf))
+    }
+}
+
+impl<F: Fn(&[f64]) -> f64 + Send + Sync, M: Measure> Integrator<ExpectationEstimator<F, M>> {
+    /// Integrates `f` against `measure`: `E[f(X)]` under a probability law (a
+    /// [`Gaussian`](crate::measure::Gaussian), a [`BrownianMotion`](crate::measure::BrownianMotion)
+    /// path, ...), or the integral of `f` over an unbounded box
+    /// ([`Lebesgue`](crate::measure::Lebesgue)). Any sampler of the measure's canonical
+    /// dimension serves; see [`ExpectationEstimator`].
+    ///
+    /// ```
+    /// use mcint::{Integrator, measure::Gaussian, sampler::{Scramble, Sobol}};
+    /// // E[|X|^2] = 3 for a standard normal in 3-D, with scrambled Sobol' points.
+    /// let e = Integrator::expectation(|x: &[f64]| x.iter().map(|v| v * v).sum(), Gaussian::standard(3).unwrap())
+    ///     .sampler(Sobol::new(3, Scramble::Owen, 1).unwrap())
+    ///     .samples(4096)
+    ///     .replicates(16)
+    ///     .run()
+    ///     .unwrap();
+    /// assert!((e.mean - 3.0).abs() < 5.0 * e.std_error.unwrap());
+    /// ```
+    pub fn expectation(f: F, measure: M) -> Self {
+        Integrator::new(ExpectationEstimator::new(f, measure))
     }
 }
 

@@ -49,6 +49,7 @@ pub mod estimator;
 mod float;
 mod hash;
 mod integrate;
+pub mod measure;
 pub mod pdf;
 mod points;
 pub mod points_f32;

@@ -20,7 +20,7 @@ fn assert_one_line_error(name: &str, args: &[&str], needle: &str) {
 }
 
 /// A flag each binary takes with a value, and valid values of its required flags.
-const BINARIES: [(&str, &str, &[&str]); 7] = [
+const BINARIES: [(&str, &str, &[&str]); 8] = [
     ("points", "--n", &["--sampler", "sobol", "--dims", "2"]),
     ("integrate", "--n", &["--genz", "gaussian", "--dims", "2"]),
     ("variance_reduction", "--n", &[]),
@@ -32,6 +32,7 @@ const BINARIES: [(&str, &str, &[&str]); 7] = [
     ),
     ("quality", "--input", &["--measure", "star"]),
     ("sensitivity", "--n", &["--function", "ishigami"]),
+    ("asian_option", "--n", &[]),
 ];
 
 #[test]

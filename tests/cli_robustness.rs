@@ -21,6 +21,7 @@ const TALKATIVE: &[(&str, &[&str])] = &[
         &["--genz", "gaussian", "--dims", "3", "--n", "4096"],
     ),
     ("sensitivity", &["--function", "ishigami", "--n", "1024"]),
+    ("asian_option", &["--dates", "8", "--n", "256"]),
 ];
 
 /// A program that exited with success and printed no panic.
@@ -112,6 +113,7 @@ fn an_argument_that_is_not_utf8_is_a_one_line_error() {
         "quickstart",
         "variance_reduction",
         "sensitivity",
+        "asian_option",
     ] {
         let out = Command::new(example(name)).arg(bad).output().unwrap();
         assert_one_line_error(&out, "not valid UTF-8");

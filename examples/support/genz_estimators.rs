@@ -65,6 +65,17 @@ pub struct Built {
     pub description: String,
 }
 
+/// The uniform estimator (A.14) of any test function over the unit cube.
+pub fn uniform(f: &(impl TestFunction + Clone + 'static)) -> Result<Built, String> {
+    let cube = UniformBox::unit(f.dims()).map_err(|e| e.to_string())?;
+    let f = f.clone();
+    Ok(Built {
+        estimator: Box::new(UniformEstimator::new(move |x: &[f64]| f.eval(x), cube)),
+        evaluations_per_contribution: 1,
+        description: "uniform points, f(x) * volume (A.14)".into(),
+    })
+}
+
 /// Builds the chosen estimator of the integral of `f` over the unit cube.
 pub fn build(kind: EstimatorKind, f: &Genz, seed: u64) -> Result<Built, String> {
     let dims = f.a().len();

@@ -6,7 +6,7 @@ use mcint::adaptive::{Miser, Vegas};
 use mcint::pdf::UniformBox;
 use mcint::sampler::Sampler;
 use mcint::stats::Tolerance;
-use mcint::testfns::{Genz, TestFunction};
+use mcint::testfns::TestFunction;
 
 /// The integration methods `--method` accepts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -68,7 +68,7 @@ impl std::str::FromStr for Method {
 /// What an adaptive run needs from the command line.
 pub struct AdaptiveRun<'a> {
     pub method: Method,
-    pub f: &'a Genz,
+    pub f: &'a dyn TestFunction,
     pub sampler: Box<dyn Sampler>,
     /// `--n`: evaluations per iteration (VEGAS) or per replicate (MISER; with a tolerance, of
     /// the first stage).

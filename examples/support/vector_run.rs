@@ -5,16 +5,17 @@
 use mcint::adaptive::Vegas;
 use mcint::sampler::Sampler;
 use mcint::stats::{Derived, StopReason, Tolerance};
-use mcint::testfns::{Genz, TestFunction};
+use mcint::testfns::TestFunction;
 use mcint::{CancelToken, Integrator, VectorEstimate};
 
 use crate::checkpoint;
+use crate::integrands::Named;
 use crate::methods::{Method, VEGAS_ITERATIONS_TO_TOLERANCE};
 
 /// What a vector run needs from the command line.
 pub struct VectorRunArgs<'a> {
     pub method: Method,
-    pub functions: &'a [Genz],
+    pub functions: &'a [Named],
     pub sampler: Box<dyn Sampler>,
     pub samples: Option<u64>,
     /// `--replicates`, or the default of the sampler (plain and rqmc only).
@@ -148,7 +149,7 @@ pub fn parse_ratio(text: &str, m: usize) -> Result<(usize, usize), String> {
 /// The report of a vector run.
 pub struct VectorReport<'a> {
     pub method: &'a str,
-    pub functions: &'a [Genz],
+    pub functions: &'a [Named],
     pub sampler: String,
     pub scramble: String,
     pub run: VectorEstimate,
@@ -185,7 +186,7 @@ impl VectorReport<'_> {
             .map(|c| c.chunks(m).map(<[f64]>::to_vec).collect());
         let mut json = serde_json::json!({
             "method": self.method,
-            "families": self.functions.iter().map(|f| f.family().name()).collect::<Vec<_>>(),
+            "families": self.functions.iter().map(TestFunction::name).collect::<Vec<_>>(),
             "dims": self.functions[0].dims(),
             "sampler": self.sampler,
             "scramble": self.scramble,
@@ -223,7 +224,7 @@ impl VectorReport<'_> {
             run.len(),
             self.functions
                 .iter()
-                .map(|f| f.family().name())
+                .map(TestFunction::name)
                 .collect::<Vec<_>>()
                 .join(", "),
             self.functions[0].dims()
@@ -252,7 +253,7 @@ impl VectorReport<'_> {
             });
             println!(
                 "{k:>3}  {:<14} {:>20.12e} {:>20.12e} {se:>10} {z:>8}",
-                f.family().name(),
+                f.name(),
                 e.mean,
                 f.exact()
             );

@@ -4,9 +4,10 @@
 use super::Integrator;
 use crate::engine::RunConfig;
 use crate::estimator::{
-    BatchVectorUniformEstimator, VectorEstimator, VectorImportanceEstimator,
-    VectorUniformEstimator, checked_outputs,
+    BatchVectorUniformEstimator, VectorEstimator, VectorExpectationEstimator,
+    VectorImportanceEstimator, VectorUniformEstimator, checked_outputs,
 };
+use crate::measure::Measure;
 use crate::pdf::{Pdf, UniformBox};
 use crate::stats::{Derived, Tolerance, VectorEstimate};
 use crate::{Error, Points, Result};
@@ -109,6 +110,30 @@ impl<F: Fn(&[f64], &mut [f64]) + Send + Sync, P: Pdf>
     /// ```
     pub fn with_pdf_vector(outputs: usize, f: F, pdf: P) -> Self {
         Integrator::vector(VectorImportanceEstimator::new(outputs, f, pdf))
+    }
+}
+
+impl<F: Fn(&[f64], &mut [f64]) + Send + Sync, M: Measure>
+    Integrator<VectorRun<VectorExpectationEstimator<F, M>>>
+{
+    /// Integrates the `outputs` outputs of `f(x, out)` against `measure` (see
+    /// [`Integrator::expectation`]).
+    ///
+    /// ```
+    /// use mcint::{Integrator, measure::Gaussian, stats::Derived};
+    /// // P(X > 1) and E[X | X > 1] for a standard normal, over the same points.
+    /// let f = |x: &[f64], out: &mut [f64]| {
+    ///     let above = f64::from(u8::from(x[0] > 1.0));
+    ///     out[0] = above;
+    ///     out[1] = above * x[0];
+    /// };
+    /// let run = Integrator::expectation_vector(2, f, Gaussian::standard(1).unwrap()).samples(400_000).run().unwrap();
+    /// let conditional = run.derived(&Derived::ratio(1, 0)).unwrap();
+    /// let exact = (-0.5f64).exp() / (2.0 * std::f64::consts::PI).sqrt() / 0.158_655_253_931_457_05;
+    /// assert!((conditional.mean - exact).abs() < 5.0 * conditional.std_error.unwrap());
+    /// ```
+    pub fn expectation_vector(outputs: usize, f: F, measure: M) -> Self {
+        Integrator::vector(VectorExpectationEstimator::new(outputs, f, measure))
     }
 }
 

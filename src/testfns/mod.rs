@@ -8,12 +8,14 @@
 
 mod genz;
 mod graphics;
+mod keister;
 mod polynomial;
 mod roos_arnold;
 mod sobol_g;
 
 pub use genz::{Genz, GenzFamily};
 pub use graphics::GraphicsIntegrand;
+pub use keister::{KEISTER_MAX_DIMS, Keister};
 pub use polynomial::Polynomial;
 pub use roos_arnold::RoosArnold;
 pub use sobol_g::SobolG;

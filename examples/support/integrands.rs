@@ -1,0 +1,97 @@
+//! The test integrands `integrate --integrand` offers: the Genz families (with `--a`, `--u`)
+//! and the Keister integrand over `R^d` (by its normal transform to the unit cube).
+
+use mcint::testfns::{Genz, GenzFamily, Keister, TestFunction};
+
+use crate::support::Args;
+
+/// One integrand of the command line.
+#[derive(Debug, Clone)]
+pub enum Named {
+    Genz(Genz),
+    Keister(Keister),
+}
+
+/// What `--integrand` accepts.
+pub const INTEGRAND_NAMES: &str = "keister or a Genz family (oscillatory, product-peak, \
+                                   corner-peak, gaussian, continuous, discontinuous)";
+
+impl Named {
+    /// The integrands named in `list` (comma-separated) in `dims` dimensions; `--a` and `--u`
+    /// apply to the Genz families.
+    pub fn parse_list(args: &Args, list: &str, dims: usize) -> Result<Vec<Named>, String> {
+        list.split(',')
+            .map(|name| Named::parse(args, name.trim(), dims))
+            .collect()
+    }
+
+    fn parse(args: &Args, name: &str, dims: usize) -> Result<Named, String> {
+        if name == "keister" {
+            return Keister::new(dims)
+                .map(Named::Keister)
+                .map_err(|e| e.to_string());
+        }
+        let family: GenzFamily = name
+            .parse()
+            .map_err(|_| format!("invalid integrand '{name}': expected {INTEGRAND_NAMES}"))?;
+        match (args.list("a")?, args.list("u")?) {
+            (None, None) => Genz::with_defaults(family, dims),
+            (a, u) => {
+                let defaults = Genz::with_defaults(family, dims).map_err(|e| e.to_string())?;
+                Genz::new(
+                    family,
+                    a.unwrap_or_else(|| defaults.a().to_vec()),
+                    u.unwrap_or_else(|| defaults.u().to_vec()),
+                )
+            }
+        }
+        .map(Named::Genz)
+        .map_err(|e| e.to_string())
+    }
+
+    /// The Genz function, if this is one.
+    pub fn genz(&self) -> Option<&Genz> {
+        match self {
+            Named::Genz(g) => Some(g),
+            Named::Keister(_) => None,
+        }
+    }
+
+    /// The integrand's name in checkpoints: another family or parameters are refused.
+    pub fn label(&self) -> String {
+        match self {
+            Named::Genz(g) => format!("genz {} a={:?} u={:?}", g.family().name(), g.a(), g.u()),
+            Named::Keister(k) => format!("keister d={}", k.dims()),
+        }
+    }
+}
+
+impl TestFunction for Named {
+    fn dims(&self) -> usize {
+        match self {
+            Named::Genz(g) => g.dims(),
+            Named::Keister(k) => k.dims(),
+        }
+    }
+
+    fn eval(&self, x: &[f64]) -> f64 {
+        match self {
+            Named::Genz(g) => g.eval(x),
+            Named::Keister(k) => k.eval(x),
+        }
+    }
+
+    fn exact(&self) -> f64 {
+        match self {
+            Named::Genz(g) => g.exact(),
+            Named::Keister(k) => k.exact(),
+        }
+    }
+
+    fn name(&self) -> String {
+        match self {
+            Named::Genz(g) => g.name(),
+            Named::Keister(k) => k.name(),
+        }
+    }
+}

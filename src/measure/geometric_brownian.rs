@@ -1,0 +1,82 @@
+//! [`GeometricBrownianMotion`]: asset prices `S(t) = S0 exp((r - sigma^2/2) t + sigma W(t))`.
+
+use super::Measure;
+use super::brownian::{BrownianMotion, Construction};
+use crate::{Error, Result};
+
+/// The law of `(S(t_1), ..., S(t_n))` for geometric Brownian motion
+/// `S(t) = S0 exp((r - sigma^2 / 2) t + sigma W(t))`, the Black-Scholes model of an asset under
+/// the risk-neutral measure with rate `r`: one canonical coordinate per date, the path built
+/// by any [`Construction`].
+///
+/// ```
+/// use mcint::{Integrator, measure::{Construction, GeometricBrownianMotion}};
+/// // Under the risk-neutral measure the discounted price is a martingale: E[S(T)] = S0 e^{rT}.
+/// let gbm = GeometricBrownianMotion::new(100.0, 0.05, 0.2, vec![0.5, 1.0], Construction::Bridge).unwrap();
+/// let e = Integrator::expectation(|s: &[f64]| s[1], gbm).samples(200_000).run().unwrap();
+/// assert!((e.mean - 100.0 * 0.05f64.exp()).abs() < 5.0 * e.std_error.unwrap());
+/// ```
+#[derive(Debug, Clone)]
+pub struct GeometricBrownianMotion {
+    s0: f64,
+    path: BrownianMotion,
+}
+
+impl GeometricBrownianMotion {
+    /// Prices from `s0` (finite, `> 0`) with rate `rate` (finite) and volatility `sigma`
+    /// (finite, `>= 0`) at `times` (strictly increasing, above 0).
+    ///
+    /// ```
+    /// use mcint::measure::{Construction, GeometricBrownianMotion};
+    /// assert!(GeometricBrownianMotion::new(0.0, 0.05, 0.2, vec![1.0], Construction::Pca).is_err());
+    /// assert!(GeometricBrownianMotion::new(100.0, f64::NAN, 0.2, vec![1.0], Construction::Pca).is_err());
+    /// ```
+    pub fn new(
+        s0: f64,
+        rate: f64,
+        sigma: f64,
+        times: Vec<f64>,
+        construction: Construction,
+    ) -> Result<Self> {
+        if !(s0.is_finite() && s0 > 0.0) {
+            return Err(Error::invalid("s0", s0, "a finite price > 0"));
+        }
+        if !(sigma.is_finite() && sigma >= 0.0) {
+            return Err(Error::invalid("sigma", sigma, "a finite volatility >= 0"));
+        }
+        if !rate.is_finite() {
+            return Err(Error::invalid("rate", rate, "a finite rate"));
+        }
+        let path = BrownianMotion::new(times, rate - 0.5 * sigma * sigma, sigma, construction)?;
+        Ok(GeometricBrownianMotion { s0, path })
+    }
+
+    /// The dates.
+    ///
+    /// ```
+    /// use mcint::measure::{Construction, GeometricBrownianMotion};
+    /// let g = GeometricBrownianMotion::new(1.0, 0.0, 0.1, vec![0.25, 1.0], Construction::Standard).unwrap();
+    /// assert_eq!(g.times(), &[0.25, 1.0]);
+    /// ```
+    pub fn times(&self) -> &[f64] {
+        self.path.times()
+    }
+}
+
+impl Measure for GeometricBrownianMotion {
+    fn canonical_dims(&self) -> usize {
+        self.path.canonical_dims()
+    }
+
+    fn dims(&self) -> usize {
+        self.path.dims()
+    }
+
+    fn map(&self, u: &[f64], x: &mut [f64]) -> f64 {
+        let weight = self.path.map(u, x);
+        for v in x.iter_mut().take(self.path.dims()) {
+            *v = self.s0 * v.exp();
+        }
+        weight
+    }
+}

@@ -1,0 +1,26 @@
+//! The inverse normal cdf applied to canonical coordinates, shared by the Gaussian measures.
+
+use crate::special::normal_quantile;
+
+/// The smallest canonical coordinate used: `u = 0` (which only unrandomized points produce)
+/// is read as `2^-54`, the mirror of the largest coordinate below 1, so that every point
+/// maps to a finite normal value (about -8.3).
+const SMALLEST: f64 = 1.0 / (1u64 << 54) as f64;
+
+/// `Phi^-1(u)` for `u` in `[0, 1)`.
+#[inline]
+pub(super) fn standard_normal(u: f64) -> f64 {
+    normal_quantile(u.max(SMALLEST))
+}
+
+/// Checks that every value is finite, naming `what` otherwise.
+pub(super) fn check_finite(what: &'static str, values: &[f64]) -> crate::Result<()> {
+    match values.iter().position(|v| !v.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(crate::Error::invalid(
+            what,
+            format!("{} at index {i}", values[i]),
+            "finite values",
+        )),
+    }
+}
