@@ -6,13 +6,15 @@
 //! counts of fixed-seed runs of every method: plain, importance, RQMC, stratified, both runs to
 //! a tolerance, VEGAS, VEGAS+, MISER (fixed and to a tolerance), TwoStage, control
 //! variates, a checkpointed run, vector runs (plain, RQMC, VEGAS+: every output, the covariance
-//! and a ratio), a convergence study and a mean periodogram.
+//! and a ratio), an expectation under geometric Brownian motion, a convergence study and a
+//! mean periodogram.
 //!
 //! A change that alters any of them must say so in its commit message and update the table on
 //! purpose: run `MCINT_PRINT_PINS=1 cargo test --release --test value_stability -- --nocapture`
 //! and paste the printed table over [`PINS`] (a failing run prints it too).
 
 use mcint::adaptive::{Miser, TwoStage, Vegas};
+use mcint::measure::{Construction, GeometricBrownianMotion};
 use mcint::pdf::{Pdf1d, ProductPdf, TruncatedNormal, UniformBox};
 use mcint::quality::{Convergence, mean_periodogram_with_threads};
 use mcint::sampler::{Jittered, PassKind, Sampler, SamplerKind, Scramble, Sobol};
@@ -202,6 +204,20 @@ fn method_observations() -> Result<Vec<Observation>> {
     pin_vector("vector rqmc", &rqmc_vector.run()?)?;
     let vegas_vector = Vegas::vector(2, two, unit()?).samples(4000).seed(15);
     pin_vector("vector vegas+", &vegas_vector.run()?)?;
+
+    // An expectation under a measure: an Asian payoff over Brownian-bridge paths, by RQMC.
+    let times: Vec<f64> = (1..=8).map(|i| f64::from(i) / 8.0).collect();
+    let paths = GeometricBrownianMotion::new(100.0, 0.05, 0.2, times, Construction::Bridge)?;
+    let asian = |s: &[f64]| (s.iter().sum::<f64>() / 8.0 - 100.0).max(0.0);
+    let expectation = Integrator::expectation(asian, paths)
+        .sampler(Sobol::new(8, Scramble::Owen, 0)?)
+        .samples(1024)
+        .replicates(8)
+        .seed(16);
+    out.push((
+        "expectation gbm bridge rqmc".into(),
+        estimate_bits(&expectation.run()?),
+    ));
     Ok(out)
 }
 
@@ -386,6 +402,7 @@ const PINS: &[(&str, &[u64])] = &[
     ("vector plain", &[0x3fdcb47e04c30ae3, 0x3f5349bdf3a1271f, 0x000000000000c350, 0x000000000000c350, 0x0000000000000001, 0x3fca009a299e75da, 0x3f467dd1f0c88748, 0x000000000000c350, 0x000000000000c350, 0x0000000000000001, 0x3eb7407700bcf5ac, 0x3e9b943ec2d66a01, 0x3e9b943ec2d66a01, 0x3e9f9ddec13c61e6, 0x3fdcfcb0b736a190, 0x3f569c9b8008e45a, 0x000000000000c350, 0x000000000000c350, 0x0000000000000001]),
     ("vector rqmc", &[0x3fdc9f9ecd95b18e, 0x3eae6fb90b66ca26, 0x0000000000008000, 0x0000000000008000, 0x0000000000000001, 0x3fc9f60e7fe20f3f, 0x3ebb910285e910d1, 0x0000000000008000, 0x0000000000008000, 0x0000000000000001, 0x3d6cf301054ddffa, 0x3d16ab8ce50d59b7, 0x3d16ab8ce50d59b7, 0x3d87bf4560d70f77, 0x3fdd0609ad2cfd27, 0x3ecfab0724a16645, 0x0000000000008000, 0x0000000000008000, 0x0000000000000001]),
     ("vector vegas+", &[0x3fdc9f2f54166a88, 0x3f1ccad421c2f450, 0x0000000000008f6b, 0x000000000000d6ca, 0x000000000000000a, 0x3fc9f6263d464df8, 0x3f13a736d697c705, 0x0000000000008f6b, 0x000000000000d6ca, 0x000000000000000a, 0x3e49e7f8d6bda853, 0xbe0e099503af0cce, 0xbe0e099503af0cce, 0x3e3823f5c7240cc5, 0x3fdd069541f44bc4, 0x3f2ba43efdec2c69, 0x0000000000008f6b, 0x000000000000d6ca, 0x000000000000000a]),
+    ("expectation gbm bridge rqmc", &[0x401ab87b5c3daafc, 0x3f6e68e92d523f12, 0x0000000000002000, 0x0000000000002000, 0x0000000000000001]),
     ("convergence study", &[0x3f83db2ba3b88382, 0x3f632d1b69732dc0, 0x3f4cb3794ee57184, 0xbf39756ebee25800, 0x3f2b2b59bc649f42, 0xbf03bbc2e5a02000, 0xbff630bf778d37fa]),
     ("mean periodogram", &[0x3fddbf5bb72d0496, 0x3fe15fd94c5a40c0, 0x3fc61fee5650d016, 0x3f8f65989fbdbc24, 0x3f5260740c4e089c, 0x3f9d36032e4411cd, 0x3fc98da99ed08b5c, 0x3fcb64d768d8d3d5, 0x3fe64d5949c75d38, 0x3fd7453a801ea41d, 0x3fbeaf0787fdd5c7, 0x3fa64abb2e887f36, 0x3fa65ea067b08d2c, 0x3f2f069cfc7651be, 0x3fa022e47efad9d3, 0x3fb018decc905f17, 0x3fba58062f2466bd, 0x3fd0e6313af0288a, 0x3fb7d1f18fbca8ba, 0x3fb670b3a53ce8d1, 0x3f9a9aa1e059df4a, 0x3f7dd3472c84eafd, 0x3f29a9b1ab1f4d9e, 0x3f805afecb8baf1b, 0x3f9552fef6add2da, 0x3faef8f936b75882, 0x3fa31a2a8909a4cf, 0x3fa1fe7e70ece96b, 0x3f8775e756316db7, 0x3f9a09eb7d47a057, 0x3f55404637cb6aad, 0x3f072d255d372ab3, 0x3f567b59b48cc19e, 0x3f994a129d8020e1, 0x3fa2bddc600856a8, 0x3faa5749f92449f1, 0x3f37b9e6a4b21e8e, 0x3f21553e2eb7f961, 0x3f2badb59b9962d6, 0x3f0851acdeaac6cc, 0x4070000000000000, 0x3f0851acdeaac6cc, 0x3f2badb59b9962d6, 0x3f21553e2eb7f961, 0x3f37b9e6a4b21e8e, 0x3faa5749f92449f1, 0x3fa2bddc600856a8, 0x3f994a129d8020e1, 0x3f567b59b48cc19e, 0x3f072d255d372ab3, 0x3f55404637cb6aad, 0x3f9a09eb7d47a057, 0x3f8775e756316db7, 0x3fa1fe7e70ece96b, 0x3fa31a2a8909a4cf, 0x3faef8f936b75882, 0x3f9552fef6add2da, 0x3f805afecb8baf1b, 0x3f29a9b1ab1f4d9e, 0x3f7dd3472c84eafd, 0x3f9a9aa1e059df4a, 0x3fb670b3a53ce8d1, 0x3fb7d1f18fbca8ba, 0x3fd0e6313af0288a, 0x3fba58062f2466bd, 0x3fb018decc905f17, 0x3fa022e47efad9d3, 0x3f2f069cfc7651be, 0x3fa65ea067b08d2c, 0x3fa64abb2e887f36, 0x3fbeaf0787fdd5c7, 0x3fd7453a801ea41d, 0x3fe64d5949c75d38, 0x3fcb64d768d8d3d5, 0x3fc98da99ed08b5c, 0x3f9d36032e4411cd, 0x3f5260740c4e089c, 0x3f8f65989fbdbc24, 0x3fc61fee5650d016, 0x3fe15fd94c5a40c0, 0x3fddbf5bb72d0496]),
 ];
