@@ -256,9 +256,7 @@ impl<E> Integrator<E> {
         let sampler = self.run_sampler()?;
         let executor = self.config.executor()?;
         let targets = self.estimator.targets(&self.config);
-        let limits = self
-            .config
-            .limits_with(targets.any().then(|| targets.time()).flatten());
+        let limits = self.config.limits_with(targets.time());
         self.estimator.with_main(
             &self.config,
             &executor,

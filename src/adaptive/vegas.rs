@@ -284,7 +284,7 @@ impl<F> Vegas<F> {
         let sampler = self
             .config
             .sampler(dims, "sampler (the domain's dimensions)")?;
-        let limit = targets.any().then(|| targets.limits());
+        let limit = targets.limits();
         let settings = self.settings(&*sampler, limit.as_ref())?;
         let executor = self.config.executor()?;
         let limits = self.config.limits_with(limit.and_then(|t| t.time()));

@@ -20,16 +20,15 @@ impl Targets<'_> {
     }
 
     /// The run's limits, as a tolerance: the fewest evaluations and the shortest time any of
-    /// the tolerances allows.
-    pub(crate) fn limits(&self) -> Tolerance {
-        let all: Vec<&Tolerance> = self
+    /// the tolerances allows (`None` without targets: a fixed budget).
+    pub(crate) fn limits(&self) -> Option<Tolerance> {
+        let mut all = self
             .outputs
             .iter()
             .flatten()
-            .chain(self.derived.iter().map(|(_, t)| t))
-            .collect();
-        let mut limits = *all[0];
-        for t in &all[1..] {
+            .chain(self.derived.iter().map(|(_, t)| t));
+        let mut limits = *all.next()?;
+        for t in all {
             if t.evaluation_limit() < limits.evaluation_limit() {
                 limits = limits
                     .max_evaluations(t.evaluation_limit())
@@ -39,12 +38,12 @@ impl Targets<'_> {
                 limits = limits.time_limit(limits.time().map_or(time, |own| own.min(time)));
             }
         }
-        limits
+        Some(limits)
     }
 
     /// The shortest time limit of the tolerances, if any.
     pub(crate) fn time(&self) -> Option<Duration> {
-        self.limits().time()
+        self.limits().and_then(|t| t.time())
     }
 
     /// Whether the estimate meets every target.

@@ -47,7 +47,13 @@ pub(super) fn run_to_tolerance(
             ),
         )
     })?;
-    let limits = targets.limits();
+    let Some(limits) = targets.limits() else {
+        return Err(Error::invalid(
+            "tolerance",
+            "none",
+            "a tolerance for a run to a tolerance",
+        ));
+    };
     config.check_budget("max_evals", limits.evaluation_limit())?;
     let stage = Stage {
         estimator,
