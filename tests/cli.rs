@@ -253,7 +253,7 @@ fn integrate_rejects_bad_input_with_one_line() {
         ),
         "nearest valid",
     );
-    assert_one_line_error(&run("integrate", &["--dims", "2"]), "missing --genz");
+    assert_one_line_error(&run("integrate", &["--dims", "2"]), "missing --integrand");
 }
 
 #[test]

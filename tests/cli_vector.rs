@@ -172,7 +172,7 @@ fn bad_input_is_refused_with_what_is_allowed() {
     );
     assert_one_line_error(
         &run("integrate", &["--genz", "gaussian,nope", "--dims", "3"]),
-        "expected one of",
+        "keister or a Genz family",
     );
     assert_one_line_error(
         &run(

@@ -15,7 +15,13 @@ use super::TestFunction;
 use crate::special::normal_quantile;
 use crate::{Error, Result};
 
-/// The most dimensions: the recurrence for the exact value loses accuracy beyond.
+/// The most dimensions (the recurrence for the exact value was checked against quadrature up
+/// to here).
+///
+/// ```
+/// use mcint::testfns::{KEISTER_MAX_DIMS, Keister};
+/// assert!(Keister::new(KEISTER_MAX_DIMS).is_ok() && Keister::new(KEISTER_MAX_DIMS + 1).is_err());
+/// ```
 pub const KEISTER_MAX_DIMS: usize = 64;
 
 /// The Keister integrand `cos(|x|) exp(-|x|^2)` over `R^d` (`integrand`), and, as a

@@ -25,7 +25,19 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Integrand for Scalar<'_, F> {
 }
 
 /// The integrand of a vector VEGAS run, with what the run must reach: see
-/// [`Vegas::vector`](super::super::Vegas::vector).
+/// [`Vegas::vector`](super::super::Vegas::vector), which builds it.
+///
+/// ```
+/// use mcint::adaptive::{Vegas, VegasOutputs};
+/// use mcint::pdf::UniformBox;
+/// fn both(x: &[f64], out: &mut [f64]) {
+///     out[0] = x[0];
+///     out[1] = x[0] * x[0];
+/// }
+/// let run: Vegas<VegasOutputs<fn(&[f64], &mut [f64])>> =
+///     Vegas::vector(2, both as fn(&[f64], &mut [f64]), UniformBox::unit(1).unwrap());
+/// assert_eq!(run.run().unwrap().len(), 2);
+/// ```
 pub struct VegasOutputs<F> {
     pub(super) outputs: usize,
     pub(super) f: F,
