@@ -5,6 +5,11 @@
 //! threads and folds in chunk order, so the result is bit-identical for every thread count,
 //! and for any split into parts ([`PartialRun`]). Runs to a tolerance ([`staged`]) repeat
 //! such runs over growing index ranges, judged by the engine's stopping rule.
+//!
+//! The engine runs every estimator as a vector of outputs (`engine::RunEstimator`): a
+//! scalar [`Estimator`] is one output, with the very arithmetic it always had, and a
+//! [`VectorRun`] carries `m` outputs and their tolerances through the same plan, stages and
+//! checkpoints.
 
 use crate::engine::{Executor, Limits, RunConfig, run_settings};
 use crate::estimator::{

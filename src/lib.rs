@@ -10,8 +10,13 @@
 //! * [`sampler`]: points in the unit cube, each a pure function of `(seed, pass, index, dim)`,
 //!   with random access and structure-of-arrays batch fills into [`Points`].
 //! * [`pdf`]: warps from canonical points to a domain with their densities.
-//! * [`estimator`]: one contribution `Y_i` per point (`f/pdf`, A.19).
-//! * [`stats`]: Welford/Chan accumulators and [`Estimate`]s with Student-t intervals.
+//! * [`estimator`]: one contribution `Y_i` per point (`f/pdf`, A.19), or `m` of them for an
+//!   integrand with several outputs ([`estimator::VectorEstimator`]).
+//! * [`measure`]: Gaussian, lognormal and Brownian-motion laws and unbounded Lebesgue
+//!   measure, seen from the unit cube, for expectations `E[f(X)]`.
+//! * [`stats`]: Welford/Chan accumulators, [`Estimate`]s with Student-t intervals,
+//!   [`VectorEstimate`]s with the covariance of several outputs, and derived quantities
+//!   (ratios, smooth functions) with delta-method errors.
 //! * [`Integrator`]: the front door; runs blocks on threads, with results that do not depend
 //!   on the thread count, and error bars from independent replicates wherever the points are
 //!   not independent.
