@@ -277,6 +277,21 @@ fn bad_input_is_an_error_that_says_what_is_allowed() {
         .run()
         .unwrap();
     assert!(run.derived(&Derived::ratio(5, 0)).is_err());
+    // A derived quantity that is not finite, or whose function panics, is an error.
+    let err = run
+        .derived(&Derived::smooth(|i: &[f64]| (i[0] - 10.0).sqrt()))
+        .unwrap_err();
+    assert!(
+        err.to_string().contains("finite value and gradient"),
+        "{err}"
+    );
+    let err = run
+        .derived(&Derived::smooth(|_: &[f64]| panic!("no g here")))
+        .unwrap_err();
+    assert!(
+        matches!(err, Error::IntegrandPanicked { ref message, .. } if message == "no g here"),
+        "{err}"
+    );
 }
 
 /// A ratio whose denominator's interval contains zero is refused with an error that says so,

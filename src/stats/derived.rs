@@ -214,22 +214,21 @@ impl Derived {
                 value,
                 gradient: given,
             } => {
-                let at = value(&means);
-                match given {
-                    Some(g) => g(&means, &mut gradient),
-                    None => {
-                        let mut shifted = means.clone();
-                        for k in 0..m {
-                            let scale = means[k].abs().max(run.outputs[k].std_error.unwrap_or(0.0));
-                            let h = f64::EPSILON.cbrt() * if scale > 0.0 { scale } else { 1.0 };
-                            shifted[k] = means[k] + h;
-                            let up = value(&shifted);
-                            shifted[k] = means[k] - h;
-                            let down = value(&shifted);
-                            shifted[k] = means[k];
-                            gradient[k] = (up - down) / (2.0 * h);
-                        }
+                // A panic in the user's function is an error, as one in an integrand is.
+                let at = crate::engine::guarded((0, 0), || {
+                    let at = value(&means);
+                    match given {
+                        Some(g) => g(&means, &mut gradient),
+                        None => central_differences(value, &means, run, &mut gradient),
                     }
+                    Ok(at)
+                })?;
+                if !at.is_finite() || gradient.iter().any(|g| !g.is_finite()) {
+                    return Err(Error::invalid(
+                        "derived quantity",
+                        format!("g = {at} with gradient {gradient:?} at the estimates {means:?}"),
+                        "a function with a finite value and gradient at the estimated integrals",
+                    ));
                 }
                 Ok((at, gradient))
             }
@@ -273,5 +272,21 @@ impl Derived {
             + 4.0 * UNIT_ROUNDOFF * value.abs();
         estimate.finalize();
         estimate.checked()
+    }
+}
+
+/// `dg/dI_k` by central differences with steps of `eps^(1/3)` relative to each integral (or
+/// its standard error, whichever is larger).
+fn central_differences(value: &Value, means: &[f64], run: &VectorEstimate, gradient: &mut [f64]) {
+    let mut shifted = means.to_vec();
+    for (k, slot) in gradient.iter_mut().enumerate() {
+        let scale = means[k].abs().max(run.outputs[k].std_error.unwrap_or(0.0));
+        let h = f64::EPSILON.cbrt() * if scale > 0.0 { scale } else { 1.0 };
+        shifted[k] = means[k] + h;
+        let up = value(&shifted);
+        shifted[k] = means[k] - h;
+        let down = value(&shifted);
+        shifted[k] = means[k];
+        *slot = (up - down) / (2.0 * h);
     }
 }
