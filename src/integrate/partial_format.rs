@@ -57,6 +57,11 @@ impl TryFrom<Saved> for PartialRun {
         }
         let total = layout.total_chunks;
         let m = layout.outputs;
+        if crate::estimator::checked_outputs(m).is_err() {
+            return Err(format!(
+                "an inconsistent partial run: {m} outputs per point"
+            ));
+        }
         let replicates_ok = saved.folded.outputs == m
             && saved.folded.accumulators.len() as u64 == layout.replicates.saturating_mul(m as u64)
             && saved.chunks.iter().all(|(_, r)| r.accumulators.len() == m);
