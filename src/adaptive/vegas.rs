@@ -588,8 +588,9 @@ impl<G: Fn(&[f64], &mut [f64]) + Sync> Vegas<VegasOutputs<G>> {
     /// The map and the strata adapt to all outputs together: the grid is trained on
     /// `sum_k w_k (J f_k)^2` and the allocation uses `sigma_h^2 = sum_k w_k sigma_hk^2`, where
     /// `w_k` is one over the previous iteration's mean of `(J f_k)^2`, so that each output
-    /// counts in proportion to its own relative variation whatever its units (integrands
-    /// whose outputs peak in different places are served by a compromise map).
+    /// counts in proportion to its own relative variation whatever its units. Lepage's `vegas`
+    /// (its `_vegas.pyx`) trains the map and the allocation on the first component only; here
+    /// integrands whose outputs peak in different places get a map that serves them all.
     /// A point with any non-finite output is left out of every output. Each output's
     /// iterations are combined with its own inverse-variance weights; the covariance of the
     /// combined outputs comes from the per-hypercube covariances of every iteration.
