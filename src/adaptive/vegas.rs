@@ -561,11 +561,11 @@ struct Settings {
 fn output_weights(totals: &pass::Totals, evaluations: u64) -> Vec<f64> {
     let n = evaluations as f64;
     let weights: Vec<f64> = totals
-        .mean
+        .sums
+        .outputs
         .iter()
-        .zip(&totals.variance)
-        .map(|(mean, var)| {
-            let square = n * var + mean * mean;
+        .map(|cube| {
+            let square = n * cube.variance + cube.mean * cube.mean;
             if square > 0.0 && square.is_finite() {
                 1.0 / square
             } else {

@@ -105,9 +105,10 @@ impl VectorCombination {
     /// Adds an iteration's totals, whose variances have `dof` degrees of freedom.
     pub(super) fn add(&mut self, totals: &Totals, dof: u64) {
         for (k, combination) in self.outputs.iter_mut().enumerate() {
-            combination.add(totals.mean[k], totals.variance[k], dof, totals.rounding[k]);
+            let sums = &totals.sums.outputs[k];
+            combination.add(sums.mean, sums.variance, dof, sums.rounding);
         }
-        self.covariances.push(totals.covariance.clone());
+        self.covariances.push(totals.sums.covariance.clone());
     }
 
     /// The combined estimate of every output from `n` measured evaluations, `evaluations`

@@ -138,6 +138,7 @@ impl CubeSums {
         }
     }
 
+    #[inline(always)]
     pub(super) fn clear(&mut self) {
         self.outputs.fill(ShiftedSums::default());
         self.cross.fill(0.0);
@@ -159,18 +160,34 @@ impl CubeSums {
     }
 
     pub(super) fn moments(&self) -> CubeMoments {
-        let outputs: Vec<Moments> = self.outputs.iter().map(ShiftedSums::moments).collect();
+        let mut moments = CubeMoments::empty(self.outputs.len());
+        self.moments_into(&mut moments);
+        moments
+    }
+
+    /// [`moments`](Self::moments) into `out` (of the same number of outputs), without
+    /// allocating: a hypercube closes every few points.
+    #[inline(always)]
+    pub(super) fn moments_into(&self, out: &mut CubeMoments) {
+        if let ([moments], [sums]) = (&mut out.outputs[..], &self.outputs[..]) {
+            // One output: no pairs (the common case, kept as lean as the scalar code).
+            *moments = sums.moments();
+            return;
+        }
+        for (moments, sums) in out.outputs.iter_mut().zip(&self.outputs) {
+            *moments = sums.moments();
+        }
         let n = self.outputs.first().map_or(0, |s| s.n) as f64;
-        let mut cross = vec![0.0; self.cross.len()];
-        if n > 0.0 {
-            for k in 1..self.outputs.len() {
-                for j in 0..k {
-                    let (a, b) = (&self.outputs[j], &self.outputs[k]);
-                    cross[pair(j, k)] = self.cross[pair(j, k)] - a.s1 * b.s1 / n;
-                }
+        for k in 1..self.outputs.len() {
+            for j in 0..k {
+                let (a, b) = (&self.outputs[j], &self.outputs[k]);
+                out.cross[pair(j, k)] = if n > 0.0 {
+                    self.cross[pair(j, k)] - a.s1 * b.s1 / n
+                } else {
+                    0.0
+                };
             }
         }
-        CubeMoments { outputs, cross }
     }
 }
 
@@ -192,6 +209,12 @@ impl CubeMoments {
 
     fn count(&self) -> u64 {
         self.outputs.first().map_or(0, |m| m.n)
+    }
+
+    /// Back to no points, keeping the buffers.
+    pub(super) fn clear(&mut self) {
+        self.outputs.fill(Moments::default());
+        self.cross.fill(0.0);
     }
 
     /// Chan's merge of every output and pair.
@@ -218,14 +241,13 @@ impl CubeMoments {
     }
 }
 
-/// A hypercube's contribution to every output, the covariances of its pairs
-/// (`V_h^2 c_jk / n_h`), and its `sigma_h^beta` for the next allocation: the scalar one for a
-/// single output, and `(sum_k w_k sigma_hk^2)^(beta/2)` for several, `w_k` scaling each
-/// output to a comparable size.
+/// Hypercubes' shares of an iteration, summed: per output the `mean`, `variance` and
+/// `rounding` of [`CubeResult`], and per pair of outputs the covariance, each hypercube
+/// adding `V_h^2 c_jk / n_h`.
+#[derive(Debug, Clone)]
 pub(super) struct CubeTotals {
     pub(super) outputs: Vec<CubeResult>,
     pub(super) covariance: Vec<f64>,
-    pub(super) sigf: f64,
 }
 
 impl CubeTotals {
@@ -234,11 +256,16 @@ impl CubeTotals {
         CubeTotals {
             outputs: vec![CubeResult::default(); m],
             covariance: vec![0.0; m * (m - 1) / 2],
-            sigf: 0.0,
         }
     }
 
-    /// Adds another hypercube's means, variances, roundings and covariances.
+    /// Back to nothing, keeping the buffers.
+    pub(super) fn clear(&mut self) {
+        self.outputs.fill(CubeResult::default());
+        self.covariance.fill(0.0);
+    }
+
+    /// Adds other sums of hypercubes.
     pub(super) fn add(&mut self, other: &CubeTotals) {
         for (total, cube) in self.outputs.iter_mut().zip(&other.outputs) {
             total.mean += cube.mean;
@@ -249,44 +276,46 @@ impl CubeTotals {
             *total += c;
         }
     }
-}
 
-pub(super) fn cube_totals(
-    m: &CubeMoments,
-    cube_volume: f64,
-    beta: f64,
-    cubes: u64,
-    weights: &[f64],
-) -> CubeTotals {
-    let outputs: Vec<CubeResult> = m
-        .outputs
-        .iter()
-        .map(|o| cube_result(o, cube_volume, beta, cubes))
-        .collect();
-    let n = m.count() as f64;
-    let v2 = cube_volume * cube_volume;
-    let covariance = m
-        .cross
-        .iter()
-        .map(|&c| {
-            if n > 1.0 {
+    /// Adds the hypercube with moments `m` and returns its `sigma_h^beta` for the next
+    /// allocation: the scalar one for a single output, and `(sum_k w_k sigma_hk^2)^(beta/2)`
+    /// for several, `w_k` scaling each output to a comparable size. Allocates nothing: it
+    /// runs once per hypercube.
+    #[inline(always)]
+    pub(super) fn add_cube(
+        &mut self,
+        m: &CubeMoments,
+        cube_volume: f64,
+        beta: f64,
+        cubes: u64,
+        weights: &[f64],
+    ) -> f64 {
+        if let ([total], [moments]) = (&mut self.outputs[..], &m.outputs[..]) {
+            // One output: no pairs and no weights (the scalar arithmetic, as lean as it was).
+            let cube = cube_result(moments, cube_volume, beta, cubes);
+            total.mean += cube.mean;
+            total.variance += cube.variance;
+            total.rounding += cube.rounding;
+            return cube.sigf;
+        }
+        let mut weighted = 0.0;
+        for ((total, moments), w) in self.outputs.iter_mut().zip(&m.outputs).zip(weights) {
+            let cube = cube_result(moments, cube_volume, beta, cubes);
+            total.mean += cube.mean;
+            total.variance += cube.variance;
+            total.rounding += cube.rounding;
+            weighted += w * cube.sigma2;
+        }
+        let n = m.count() as f64;
+        let v2 = cube_volume * cube_volume;
+        for (total, &c) in self.covariance.iter_mut().zip(&m.cross) {
+            *total += if n > 1.0 {
                 v2 * (c / (n - 1.0)) / n
             } else {
                 0.0
-            }
-        })
-        .collect();
-    let sigf = match outputs.as_slice() {
-        [single] => single.sigf,
-        _ => {
-            let sigma2: f64 = outputs.iter().zip(weights).map(|(o, w)| w * o.sigma2).sum();
-            sigma2.powf(0.5 * beta)
+            };
         }
-    };
-    CubeTotals {
-        outputs,
-        covariance,
-        sigf,
+        weighted.powf(0.5 * beta)
     }
 }
 

@@ -8,7 +8,7 @@
 //! out of every output.
 
 use super::integrand::Integrand;
-use super::moments::{CubeMoments, CubeSums, CubeTotals, cube_totals};
+use super::moments::{CubeMoments, CubeSums, CubeTotals};
 use super::strata::{Allocation, ChunkStart, Strata};
 use crate::adaptive::VegasGrid;
 use crate::engine::{ChunkJob, Executor, Limits};
@@ -44,12 +44,9 @@ pub(super) struct Pass<'a, I> {
 /// The iteration's sums, built chunk by chunk in order: per output, and per pair of outputs
 /// for their covariance.
 pub(super) struct Totals {
-    pub(super) mean: Vec<f64>,
-    pub(super) variance: Vec<f64>,
-    /// A bound on the rounding error of each `mean`.
-    pub(super) rounding: Vec<f64>,
-    /// Covariances of the pairs of outputs' estimates, `(j, k)` at `pair(j, k)`.
-    pub(super) covariance: Vec<f64>,
+    /// Per output `mean`, `variance` and a bound on the rounding error of `mean`; per pair of
+    /// outputs `(j, k)` their covariance at `pair(j, k)`.
+    pub(super) sums: CubeTotals,
     /// The hypercube that straddles the last merged chunk's end.
     open: CubeMoments,
     /// Points with a non-finite output.
@@ -61,24 +58,10 @@ pub(super) struct Totals {
 impl Totals {
     fn new(m: usize) -> Totals {
         Totals {
-            mean: vec![0.0; m],
-            variance: vec![0.0; m],
-            rounding: vec![0.0; m],
-            covariance: vec![0.0; m * (m - 1) / 2],
+            sums: CubeTotals::zero(m),
             open: CubeMoments::empty(m),
             non_finite: 0,
             first_non_finite: None,
-        }
-    }
-
-    fn add(&mut self, cube: &CubeTotals) {
-        for (k, c) in cube.outputs.iter().enumerate() {
-            self.mean[k] += c.mean;
-            self.variance[k] += c.variance;
-            self.rounding[k] += c.rounding;
-        }
-        for (total, c) in self.covariance.iter_mut().zip(&cube.covariance) {
-            *total += c;
         }
     }
 }
@@ -114,9 +97,10 @@ impl<I: Integrand> Pass<'_, I> {
 }
 
 impl<I> Pass<'_, I> {
-    /// The share of the iteration of a hypercube with moments `m`.
-    fn cube_totals(&self, m: &CubeMoments) -> CubeTotals {
-        cube_totals(
+    /// Adds the share of the iteration of a hypercube with moments `m` to `totals`, and
+    /// returns its `sigma_h^beta`.
+    fn add_cube(&self, totals: &mut CubeTotals, m: &CubeMoments) -> f64 {
+        totals.add_cube(
             m,
             self.strata.cube_volume,
             self.beta,
@@ -157,21 +141,20 @@ impl Totals {
         if let Some(head) = &out.head {
             self.open.merge(head);
             if out.head_ends {
-                let cube = pass.cube_totals(&self.open);
-                self.add(&cube);
+                let sigf = pass.add_cube(&mut self.sums, &self.open);
                 if let Some(slot) = next_sigf.get_mut(out.start_cube as usize) {
-                    *slot = cube.sigf;
+                    *slot = sigf;
                 }
-                self.open = CubeMoments::empty(self.mean.len());
+                self.open.clear();
             }
         }
-        self.add(&out.closed);
+        self.sums.add(&out.closed);
         if !next_sigf.is_empty() {
             let first = out.first_closed as usize;
             next_sigf[first..first + out.closed_sigf.len()].copy_from_slice(&out.closed_sigf);
         }
         if let Some(tail) = &out.tail {
-            self.open = tail.clone();
+            self.open.clone_from(tail);
         }
         for (sum, &part) in training.iter_mut().zip(&out.training) {
             *sum += part;
@@ -195,6 +178,8 @@ pub(super) struct ChunkOutput {
     first_closed: u64,
     closed: CubeTotals,
     closed_sigf: Vec<f64>,
+    /// The moments of the hypercube being closed (a buffer, reused).
+    moments: CubeMoments,
     /// The hypercube begun here that continues in the next chunk.
     tail: Option<CubeMoments>,
     non_finite: u64,
@@ -212,6 +197,7 @@ impl ChunkOutput {
             first_closed: 0,
             closed: CubeTotals::zero(m),
             closed_sigf: Vec::new(),
+            moments: CubeMoments::empty(m),
             tail: None,
             non_finite: 0,
             first_non_finite: None,
@@ -229,7 +215,7 @@ impl ChunkOutput {
         } else {
             start.cube
         };
-        self.closed = CubeTotals::zero(self.closed.outputs.len());
+        self.closed.clear();
         self.closed_sigf.clear();
         self.tail = None;
         self.non_finite = 0;
@@ -237,17 +223,17 @@ impl ChunkOutput {
     }
 
     /// Records a hypercube that ends in this chunk.
+    #[inline(always)]
     fn close_cube<I>(&mut self, sums: &CubeSums, continued: bool, pass: &Pass<I>) {
-        let moments = sums.moments();
         if continued {
-            self.head = Some(moments);
+            self.head = Some(sums.moments());
             self.head_ends = true;
             return;
         }
-        let cube = pass.cube_totals(&moments);
-        self.closed.add(&cube);
+        sums.moments_into(&mut self.moments);
+        let sigf = pass.add_cube(&mut self.closed, &self.moments);
         if pass.allocating {
-            self.closed_sigf.push(cube.sigf);
+            self.closed_sigf.push(sigf);
         }
     }
 }
@@ -334,7 +320,9 @@ impl Scratch {
         // Each point's share of y-space volume weights its training data, so that the
         // per-increment averages of (J f)^2 are consistent under any allocation.
         let mut share = strata.cube_volume / cube_n as f64;
-        let mut sums = CubeSums::new(self.values.len());
+        // Known at compile time for a scalar integrand, so its loops over outputs vanish.
+        let m = pass.f.outputs();
+        let mut sums = CubeSums::new(m);
 
         let mut index = start.index;
         while index < end {
@@ -367,10 +355,11 @@ impl Scratch {
                     self.cells[d] = cell;
                     jacobian *= factor;
                 }
-                pass.f.eval(&self.x, &mut self.values);
+                let values = &mut self.values[..m];
+                pass.f.eval(&self.x, values);
                 let mut weighted = 0.0;
                 let mut bad = None;
-                for (k, (y, w)) in self.values.iter_mut().zip(pass.weights).enumerate() {
+                for (k, (y, w)) in values.iter_mut().zip(&pass.weights[..m]).enumerate() {
                     *y *= jacobian;
                     if !y.is_finite() {
                         bad.get_or_insert((k, *y));
@@ -382,7 +371,7 @@ impl Scratch {
                     out.first_non_finite.get_or_insert((index + j as u64, v, k));
                     continue;
                 }
-                sums.push(&self.values);
+                sums.push(values);
                 let weighted = weighted * share;
                 for &cell in &self.cells {
                     out.training[2 * cell] += weighted;
