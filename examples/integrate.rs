@@ -181,7 +181,7 @@ fn run() -> Result<(), String> {
     let seed: u64 = args.get("seed", "a whole number")?.unwrap_or(0);
     if vector && estimator_kind != EstimatorKind::Uniform {
         return Err(format!(
-            "--estimator {} integrates one output; several --genz families or --ratio take \
+            "--estimator {} integrates one output; several integrands or --ratio take \
              --estimator uniform",
             estimator_kind.name()
         ));

@@ -116,8 +116,7 @@ fn asian_option_refuses_bad_input() {
 
 #[test]
 fn points_with_a_gaussian_measure_have_its_mean_and_covariance() {
-    let dir = std::env::temp_dir().join(format!("mcint-cli-measures-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("cli-measures");
     let cov = dir.join("cov.txt");
     std::fs::write(&cov, "2, 0.6\n0.6 1\n").unwrap();
     let n = 1 << 14;

@@ -133,8 +133,7 @@ fn outputs_match_the_library_and_the_scalar_runs() {
 
 #[test]
 fn a_checkpointed_vector_run_resumes_to_the_same_numbers() {
-    let dir = std::env::temp_dir().join(format!("mcint-cli-vector-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("cli-vector");
     let file = dir.join("run.json");
     let path = file.to_str().unwrap();
     let args = [

@@ -145,29 +145,17 @@ fn the_geometric_closed_form_matches_quadrature() {
         maturity: 1.5,
         dates: 12,
     };
-    let times = c.times();
-    let n = times.len() as f64;
-    let mean_t = times.iter().sum::<f64>() / n;
-    let sum_min: f64 = times
-        .iter()
-        .map(|&s| times.iter().map(|&t| s.min(t)).sum::<f64>())
-        .sum();
-    let sd = c.sigma * (sum_min / (n * n)).sqrt();
-    let mu = c.s0.ln() + (c.rate - 0.5 * c.sigma * c.sigma) * mean_t;
-    // Simpson's rule over z in [z*, 12] of (e^{mu + sd z} - K) phi(z), z* where the payoff's
-    // kink is (so the integrand is smooth and Simpson's rule converges at its h^4 rate).
+    // The pricing formula against a quadrature of the same lognormal law (the law itself is
+    // checked by the RQMC coverage test below): Simpson's rule over z in [z*, 12] of
+    // (e^{mu + sd z} - K) phi(z), z* where the payoff's kink is, so that the integrand is
+    // smooth and Simpson's rule converges at its h^4 rate.
+    let (mu, sd) = c.log_geometric_average();
     let kink = (c.strike.ln() - mu) / sd;
-    let steps = 200_000;
-    let h = (12.0 - kink) / steps as f64;
     let f = |z: f64| {
         ((mu + sd * z).exp() - c.strike) * (-0.5 * z * z).exp()
             / (2.0 * std::f64::consts::PI).sqrt()
     };
-    let mut sum = f(kink) + f(12.0);
-    for k in 1..steps {
-        sum += if k % 2 == 1 { 4.0 } else { 2.0 } * f(kink + k as f64 * h);
-    }
-    let quadrature = (-c.rate * c.maturity).exp() * sum * h / 3.0;
+    let quadrature = (-c.rate * c.maturity).exp() * simpson(f, kink, 12.0, 200_000);
     assert!(
         (c.geometric_price() - quadrature).abs() < 1e-10,
         "{} vs {quadrature}",
@@ -234,15 +222,19 @@ fn geometric_asian_prices_by_rqmc_cover_the_closed_form() {
 
 /// Simpson's rule for the radial integral `S_{d-1} int_0^40 r^{d-1} cos(r) e^{-r^2} dr`.
 fn keister_by_quadrature(d: usize) -> f64 {
-    let steps = 400_000;
-    let h = 40.0 / steps as f64;
     let f = |r: f64| r.powi(d as i32 - 1) * r.cos() * (-r * r).exp();
-    let mut sum = f(0.0) + f(40.0);
-    for k in 1..steps {
-        sum += if k % 2 == 1 { 4.0 } else { 2.0 } * f(k as f64 * h);
-    }
     let sphere = 2.0 * std::f64::consts::PI.powf(0.5 * d as f64) / libm::tgamma(0.5 * d as f64);
-    sphere * sum * h / 3.0
+    sphere * simpson(f, 0.0, 40.0, 400_000)
+}
+
+/// Simpson's rule for `f` over `[a, b]` with `steps` (even) intervals.
+fn simpson(f: impl Fn(f64) -> f64, a: f64, b: f64, steps: usize) -> f64 {
+    let h = (b - a) / steps as f64;
+    let mut sum = f(a) + f(b);
+    for k in 1..steps {
+        sum += if k % 2 == 1 { 4.0 } else { 2.0 } * f(a + k as f64 * h);
+    }
+    sum * h / 3.0
 }
 
 #[test]

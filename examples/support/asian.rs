@@ -42,9 +42,10 @@ impl Contract {
         self.discount() * (log_average.exp() - self.strike).max(0.0)
     }
 
-    /// The exact price of the geometric-average call: `log G` is normal with mean
-    /// `log S0 + (r - sigma^2/2) mean(t)` and variance `sigma^2 / n^2 sum_ij min(t_i, t_j)`.
-    pub fn geometric_price(&self) -> f64 {
+    /// The law of the log of the geometric average: normal with mean
+    /// `log S0 + (r - sigma^2/2) mean(t)` and standard deviation
+    /// `sigma sqrt(sum_ij min(t_i, t_j)) / n`, as `(mean, standard deviation)`.
+    pub fn log_geometric_average(&self) -> (f64, f64) {
         let times = self.times();
         let n = times.len() as f64;
         let mean_t = times.iter().sum::<f64>() / n;
@@ -52,9 +53,15 @@ impl Contract {
             .iter()
             .map(|&s| times.iter().map(|&t| s.min(t)).sum::<f64>())
             .sum();
-        let variance = self.sigma * self.sigma * sum_min / (n * n);
         let mu = self.s0.ln() + (self.rate - 0.5 * self.sigma * self.sigma) * mean_t;
-        let sd = variance.sqrt();
+        (mu, self.sigma * (sum_min / (n * n)).sqrt())
+    }
+
+    /// The exact price of the geometric-average call (a Black-Scholes formula for the
+    /// lognormal average of [`log_geometric_average`](Self::log_geometric_average)).
+    pub fn geometric_price(&self) -> f64 {
+        let (mu, sd) = self.log_geometric_average();
+        let variance = sd * sd;
         let d2 = (mu - self.strike.ln()) / sd;
         let d1 = d2 + sd;
         self.discount()

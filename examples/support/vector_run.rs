@@ -1,4 +1,4 @@
-//! `integrate --genz F1,F2,...`: one vector-valued run of several Genz families over the same
+//! `integrate --integrand F1,F2,...`: one vector-valued run of several integrands over the same
 //! points, with the covariance of their estimates and, with `--ratio I,J`, the ratio of two
 //! of them with a delta-method error bar.
 
@@ -24,7 +24,7 @@ pub struct VectorRunArgs<'a> {
     pub seed: u64,
     pub threads: Option<usize>,
     pub tolerance: Option<Tolerance>,
-    /// `--ratio I,J`: output indices into the `--genz` list.
+    /// `--ratio I,J`: output indices into the `--integrand` list.
     pub ratio: Option<(usize, usize)>,
     pub label: String,
     pub checkpoint: Option<checkpoint::Settings>,
@@ -41,18 +41,14 @@ pub fn run(args: VectorRunArgs<'_>) -> Result<Option<VectorEstimate>, String> {
     }
     if args.method == Method::Miser {
         return Err(
-            "--method miser integrates one output; several --genz families or --ratio take \
+            "--method miser integrates one output; several integrands or --ratio take \
              --method plain, rqmc, vegas or vegas-plus"
                 .into(),
         );
     }
     let functions = args.functions;
     let dims = functions[0].dims();
-    let integrand = |x: &[f64], out: &mut [f64]| {
-        for (y, f) in out.iter_mut().zip(functions) {
-            *y = f.eval(x);
-        }
-    };
+    let integrand = |x: &[f64], out: &mut [f64]| evaluate_all(functions, x, out);
     let cube = mcint::pdf::UniformBox::unit(dims).map_err(|e| e.to_string())?;
     let mut integrator = Integrator::over_box_vector(functions.len(), integrand, cube)
         .sampler(args.sampler)
@@ -98,11 +94,7 @@ fn run_vegas(args: VectorRunArgs<'_>) -> Result<VectorEstimate, String> {
         ));
     }
     let functions = args.functions;
-    let integrand = |x: &[f64], out: &mut [f64]| {
-        for (y, f) in out.iter_mut().zip(functions) {
-            *y = f.eval(x);
-        }
-    };
+    let integrand = |x: &[f64], out: &mut [f64]| evaluate_all(functions, x, out);
     let cube = mcint::pdf::UniformBox::unit(functions[0].dims()).map_err(|e| e.to_string())?;
     let mut vegas = Vegas::vector(functions.len(), integrand, cube)
         .sampler(args.sampler)
@@ -127,12 +119,19 @@ fn run_vegas(args: VectorRunArgs<'_>) -> Result<VectorEstimate, String> {
     vegas.run().map_err(|e| e.to_string())
 }
 
+/// Every function at `x`, output `k` from function `k`.
+fn evaluate_all(functions: &[Named], x: &[f64], out: &mut [f64]) {
+    for (y, f) in out.iter_mut().zip(functions) {
+        *y = f.eval(x);
+    }
+}
+
 /// Parses `--ratio I,J` against `m` outputs.
 pub fn parse_ratio(text: &str, m: usize) -> Result<(usize, usize), String> {
     let bad = || {
         format!(
             "invalid --ratio '{text}': expected two output indices I,J below {m} (positions in \
-             the --genz list, from 0), I != J"
+             the --integrand list, from 0), I != J"
         )
     };
     let (i, j) = text.split_once(',').ok_or_else(bad)?;

@@ -15,6 +15,13 @@ pub fn example(name: &str) -> PathBuf {
         .join(format!("{name}{}", std::env::consts::EXE_SUFFIX))
 }
 
+/// A fresh directory for one test's files, `tag` and the process id in its name.
+pub fn scratch_dir(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("mcint-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a writable temporary directory");
+    dir
+}
+
 pub fn run(name: &str, args: &[&str]) -> Output {
     let path = example(name);
     Command::new(&path).args(args).output().unwrap_or_else(|e| {
