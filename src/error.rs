@@ -95,6 +95,15 @@ pub enum Error {
         /// The type or value that does not support it, and what to use instead if anything.
         reason: String,
     },
+    /// Another MPI rank of a run spread over a [`Cluster`](crate::Cluster) failed with this
+    /// error, which every rank then reports (the errors that say where an integrand failed,
+    /// such as [`IntegrandPanicked`](Error::IntegrandPanicked), arrive as themselves).
+    OnRank {
+        /// The rank that failed.
+        rank: usize,
+        /// Its error's message.
+        message: String,
+    },
 }
 
 impl Error {
@@ -205,6 +214,7 @@ impl fmt::Display for Error {
             Error::Unsupported { operation, reason } => {
                 write!(f, "{operation} is not supported: {reason}")
             }
+            Error::OnRank { rank, message } => write!(f, "on MPI rank {rank}: {message}"),
         }
     }
 }

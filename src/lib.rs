@@ -66,9 +66,15 @@ pub mod stats;
 pub mod testfns;
 
 pub use engine::CancelToken;
+#[cfg(feature = "mpi")]
+pub use engine::Cluster;
 pub use error::{Error, MAX_BUFFER_BYTES, Result};
 pub use estimator::Estimator;
 pub use integrate::{Integrator, NonFinitePolicy, PartialRun, VectorRun};
+/// The MPI bindings (rsmpi) the `mpi` feature is built on, for `mpi::initialize` and anything
+/// else a distributed program needs, at the version mcint uses.
+#[cfg(feature = "mpi")]
+pub use mpi;
 pub use pdf::Pdf;
 pub use points::{PointBlock, Points};
 pub use sampler::Sampler;

@@ -118,7 +118,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
                 const DIMS: usize = 2;\n\
                 let runner = || Miser::new(|x: &[f64]| (x[0] * x[1]).exp(), UniformBox::unit(DIMS).unwrap()).samples(2048);",
         run: ".run().unwrap()";
-        sampler, seed, threads, tolerance, non_finite, time_limit, cancel_token, progress
+        sampler, seed, threads, tolerance, non_finite, time_limit, cancel_token, progress, cluster
     }
 
     /// Integrand evaluations per replicate, exploration included (at least 1; default
@@ -261,7 +261,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
             .config
             .tolerance
             .as_ref()
-            .map(|t| Stopping::new(t, limits.clone()));
+            .map(|t| Stopping::new(t, limits.clone(), executor));
         let planned = match &stopping {
             Some(stopping) => stopping.tolerance().evaluation_limit(),
             None => per_replicate.saturating_mul(r),
@@ -319,7 +319,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
             let stop = if met {
                 Some(StopReason::ToleranceMet)
             } else {
-                stopping.limit(spent, next)
+                stopping.limit(spent, next)?
             };
             if let Some(stop) = stop {
                 stopping.finish(&mut estimate, stop, stage);
@@ -421,6 +421,7 @@ struct Run<'a, F> {
 }
 
 /// Where a replicate's first non-finite value occurred.
+#[cfg_attr(feature = "mpi", derive(serde::Serialize, serde::Deserialize))]
 #[derive(Debug, Clone)]
 struct FirstNonFinite {
     /// Position of the point in the replicate's share of the evaluations.
@@ -432,6 +433,7 @@ struct FirstNonFinite {
 
 /// The outcome of one region: its integral over the unit cube's measure (the domain volume is
 /// applied at the end) and the non-finite values met.
+#[cfg_attr(feature = "mpi", derive(serde::Serialize, serde::Deserialize))]
 #[derive(Debug, Clone, Default)]
 struct Partial {
     integral: f64,

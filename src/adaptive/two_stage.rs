@@ -97,7 +97,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
                 const DIMS: usize = 2;\n\
                 let runner = || TwoStage::new(|x: &[f64]| (x[0] * x[1]).exp(), UniformBox::unit(DIMS).unwrap(), 8).samples(4096);",
         run: ".run().unwrap()";
-        sampler, seed, threads, non_finite, time_limit, cancel_token, progress
+        sampler, seed, threads, non_finite, time_limit, cancel_token, progress, cluster
     }
 
     /// Pilot points per stratum (at least 2, for a standard deviation; default 8).

@@ -170,7 +170,7 @@ impl<F> Vegas<F> {
                 const DIMS: usize = 2;\n\
                 let runner = || Vegas::new(|x: &[f64]| (x[0] * x[1]).exp(), UniformBox::unit(DIMS).unwrap()).samples(4000);",
         run: ".run().unwrap()";
-        sampler, seed, threads, tolerance, non_finite, time_limit, cancel_token, progress
+        sampler, seed, threads, tolerance, non_finite, time_limit, cancel_token, progress, cluster
     }
 
     /// Evaluations per iteration, `N` (at least 50; default `10_000`). With stratification
@@ -288,7 +288,9 @@ impl<F> Vegas<F> {
         let settings = self.settings(&*sampler, limit.as_ref())?;
         let executor = self.config.executor()?;
         let limits = self.config.limits_with(limit.and_then(|t| t.time()));
-        let stopping = limit.as_ref().map(|t| Stopping::new(t, limits.clone()));
+        let stopping = limit
+            .as_ref()
+            .map(|t| Stopping::new(t, limits.clone(), executor));
         let planned = settings.samples * (self.warmup + self.iterations);
         let strata = Strata::new(
             dims,
@@ -330,12 +332,13 @@ impl<F> Vegas<F> {
             let (chunks, total) = plan_chunks(&strata, &allocation);
             if measured
                 && combination.count() > 0
-                && let Some(reason) = stopping.as_ref().and_then(|s| s.limit(spent, total))
+                && let Some(stopping) = &stopping
+                && let Some(reason) = stopping.limit(spent, total)?
             {
                 stop = reason;
                 break;
             }
-            if let Some(reason) = limits.reached() {
+            if let Some(reason) = executor.reached(&limits)? {
                 stop = reason;
                 break;
             }
@@ -359,17 +362,19 @@ impl<F> Vegas<F> {
                 allocating,
             };
             let mut progress = |done: u64| self.config.report(spent + done, planned);
-            let Some(totals) = pass.run(
+            let totals = match pass.run(
                 &executor,
                 &limits,
                 &mut training,
                 &mut next_sigf,
                 &mut progress,
-            )?
-            else {
+            )? {
+                Ok(totals) => totals,
                 // An iteration cut short is discarded: its hypercubes are unevenly sampled.
-                stop = limits.reached().unwrap_or(StopReason::Cancelled);
-                break;
+                Err(reason) => {
+                    stop = reason;
+                    break;
+                }
             };
             if totals.non_finite > 0 && self.config.non_finite == NonFinitePolicy::Fail {
                 let (index, value, output) = totals.first_non_finite.unwrap_or((0, f64::NAN, 0));

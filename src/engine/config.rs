@@ -32,6 +32,9 @@ pub(crate) struct RunConfig {
     pub(crate) cancel: Option<CancelToken>,
     /// Told `(evaluations done, evaluations planned or 0 if unknown)` as the run goes.
     pub(crate) progress: Option<Progress>,
+    /// The MPI ranks the run's work is spread over.
+    #[cfg(feature = "mpi")]
+    pub(crate) cluster: Option<super::Cluster>,
 }
 
 /// A progress callback: `(evaluations done, evaluations planned, or 0 when unknown)`.
@@ -63,9 +66,12 @@ impl RunConfig {
         self.seed
     }
 
-    /// The executor of the thread setting.
+    /// The executor of the thread setting (spread over the cluster, if one is set).
     pub(crate) fn executor(&self) -> Result<Executor> {
-        Executor::new(self.threads)
+        let executor = Executor::new(self.threads)?;
+        #[cfg(feature = "mpi")]
+        let executor = executor.spread_over(self.cluster);
+        Ok(executor)
     }
 
     /// The limits of a run that starts now: the shorter of the time limit and the

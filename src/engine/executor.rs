@@ -10,6 +10,10 @@
 //!
 //! Nested use (an integrand that itself integrates) runs on the pool it is already on:
 //! rayon's work stealing then shares the outer run's threads instead of starting more.
+//!
+//! With a [`Cluster`] (the `mpi` feature), each window is dealt to the MPI ranks and the
+//! outputs of every rank are gathered to all before the fold (see `distributed`), so every
+//! rank folds the same outputs in the same order as one process would.
 
 use std::any::Any;
 use std::ops::Range;
@@ -20,6 +24,8 @@ use rayon::prelude::*;
 use rayon::{ThreadPool, ThreadPoolBuilder};
 
 use super::Limits;
+#[cfg(feature = "mpi")]
+use super::cluster::Cluster;
 use crate::stats::StopReason;
 use crate::{Error, Result};
 
@@ -28,7 +34,7 @@ pub(crate) trait ChunkJob: Sync {
     /// Buffers a thread reuses from chunk to chunk.
     type Scratch;
     /// What one chunk produces.
-    type Output: Send;
+    type Output: Send + Transfer;
 
     /// A fresh scratch space.
     fn scratch(&self) -> Result<Self::Scratch>;
@@ -42,6 +48,23 @@ pub(crate) trait ChunkJob: Sync {
     fn origin(&self, chunk: u64) -> (u64, u64);
 }
 
+/// What a chunk's output needs to travel between MPI ranks: serde's traits with the `mpi`
+/// feature, nothing without it.
+#[cfg(feature = "mpi")]
+pub(crate) trait Transfer: serde::Serialize + serde::de::DeserializeOwned {}
+#[cfg(feature = "mpi")]
+impl<T: serde::Serialize + serde::de::DeserializeOwned> Transfer for T {}
+/// What a chunk's output needs to travel between MPI ranks: nothing without the `mpi`
+/// feature.
+#[cfg(not(feature = "mpi"))]
+pub(crate) trait Transfer {}
+#[cfg(not(feature = "mpi"))]
+impl<T> Transfer for T {}
+
+/// The outputs of a window of chunks in chunk order (`None` for the chunks a limit skipped)
+/// and the limit reached, if one was.
+pub(super) type WindowOutputs<T> = (Vec<Option<T>>, Option<StopReason>);
+
 /// The most threads started per available core, whatever a run asks for.
 const MAX_THREADS_PER_CORE: usize = 4;
 
@@ -49,6 +72,9 @@ const MAX_THREADS_PER_CORE: usize = 4;
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Executor {
     threads: usize,
+    /// The MPI ranks that share the work, if the run is spread over several.
+    #[cfg(feature = "mpi")]
+    cluster: Option<Cluster>,
 }
 
 impl Executor {
@@ -61,7 +87,28 @@ impl Executor {
             Some(t) => t.min(MAX_THREADS_PER_CORE * available_threads()),
             None => available_threads(),
         };
-        Ok(Executor { threads })
+        Ok(Executor {
+            threads,
+            #[cfg(feature = "mpi")]
+            cluster: None,
+        })
+    }
+
+    /// This executor, spreading its work over `cluster` (when it has more than one rank).
+    #[cfg(feature = "mpi")]
+    pub(crate) fn spread_over(mut self, cluster: Option<Cluster>) -> Executor {
+        self.cluster = cluster.filter(|c| c.size() > 1);
+        self
+    }
+
+    /// Why the run must stop now, if it must: the reading of `limits` on this process, or,
+    /// over a cluster, the first reading in rank order, so that every rank agrees.
+    pub(crate) fn reached(&self, limits: &Limits) -> Result<Option<StopReason>> {
+        #[cfg(feature = "mpi")]
+        if let Some(cluster) = self.cluster {
+            return super::distributed::agreed(cluster, limits.reached());
+        }
+        Ok(limits.reached())
     }
 
     /// The number of threads.
@@ -87,14 +134,15 @@ impl Executor {
         let window = window.max(1);
         let mut start = chunks.start;
         while start < chunks.end {
-            if let Some(reason) = limits.reached() {
+            if let Some(reason) = self.reached(limits)? {
                 return Ok(Some(reason));
             }
             let end = start.saturating_add(window).min(chunks.end);
-            for (chunk, output) in (start..end).zip(self.window(job, start..end, limits)?) {
+            let (outputs, stop) = self.outputs(job, start..end, limits)?;
+            for (chunk, output) in (start..end).zip(outputs) {
                 match output {
                     Some(output) => fold(chunk, output)?,
-                    None => return Ok(Some(limits.reached().unwrap_or(StopReason::Cancelled))),
+                    None => return Ok(Some(stop.unwrap_or(StopReason::Cancelled))),
                 }
             }
             start = end;
@@ -102,9 +150,25 @@ impl Executor {
         Ok(None)
     }
 
+    /// The outputs of one window, in chunk order (`None` for chunks a limit skipped), and the
+    /// limit reached if one was: computed here, or by the ranks of the cluster and gathered.
+    fn outputs<J: ChunkJob>(
+        &self,
+        job: &J,
+        chunks: Range<u64>,
+        limits: &Limits,
+    ) -> Result<WindowOutputs<J::Output>> {
+        #[cfg(feature = "mpi")]
+        if let Some(cluster) = self.cluster {
+            return self.gathered(cluster, job, chunks, limits);
+        }
+        let outputs = self.window(job, chunks, limits)?;
+        Ok((outputs, limits.reached()))
+    }
+
     /// The outputs of chunks `chunks`, in order; `None` for the chunks not started because a
     /// limit was reached.
-    fn window<J: ChunkJob>(
+    pub(super) fn window<J: ChunkJob>(
         &self,
         job: &J,
         chunks: Range<u64>,

@@ -8,14 +8,23 @@
 //!   threads, points, replicates, tolerance and non-finite policy that every runner's builder
 //!   holds, with setters written once.
 //! * [`Stopping`]: when a run to a tolerance stops, and with which interval.
+//! * `Cluster` (the `mpi` feature): the executor deals each window of chunks to MPI ranks
+//!   and gathers their outputs to every rank before the fold, so every rank holds the state
+//!   of a one-process run and takes the same decisions.
 
+#[cfg(feature = "mpi")]
+mod cluster;
 mod config;
+#[cfg(feature = "mpi")]
+mod distributed;
 mod executor;
 mod limits;
 mod settings;
 mod stopping;
 mod targets;
 
+#[cfg(feature = "mpi")]
+pub use cluster::Cluster;
 pub(crate) use config::{RunConfig, RunSampler, require_randomized, require_uniform_points};
 pub(crate) use executor::{ChunkJob, Executor, available_threads, guarded};
 pub use limits::CancelToken;

@@ -166,6 +166,24 @@ macro_rules! run_settings {
             self
         }
     };
+    (@cluster $setup:literal $run:literal) => {
+        /// Spreads the run over the ranks of an MPI job (the `mpi` feature; see
+        /// [`Cluster`](crate::Cluster)): call `run` on every rank with the same settings, and
+        /// every rank gets the result of a one-process run, bit for bit.
+        ///
+        #[doc = concat!(
+            "```\n", $setup, "\n",
+            "let _universe = mcint::mpi::initialize().unwrap();\n",
+            "let cluster = mcint::Cluster::world().unwrap();\n",
+            "assert_eq!(runner().cluster(cluster)", $run, ", runner()", $run, ");\n",
+            "```"
+        )]
+        #[cfg(feature = "mpi")]
+        pub fn cluster(mut self, cluster: $crate::Cluster) -> Self {
+            self.config.cluster = Some(cluster);
+            self
+        }
+    };
 }
 
 pub(crate) use run_settings;

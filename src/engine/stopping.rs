@@ -13,7 +13,8 @@
 //! factor by default. Per-sample errors of independent points (two-stage rule, VEGAS) are
 //! judged as they are: their `n` is large and their variance estimate stable.
 
-use super::Limits;
+use super::{Executor, Limits};
+use crate::Result;
 use crate::stats::{ErrorBasis, Estimate, StopReason, Tolerance, Warning};
 
 /// Inflation of a replicate-based standard error in a run to a tolerance.
@@ -26,12 +27,19 @@ pub(crate) const DEFAULT_REPLICATES: u64 = 16;
 pub(crate) struct Stopping<'a> {
     tolerance: &'a Tolerance,
     limits: Limits,
+    /// Reads the limits, agreed between the ranks of a run spread over a cluster.
+    executor: Executor,
 }
 
 impl<'a> Stopping<'a> {
-    /// The rule for a run that starts now, under `limits` (its time limit and cancellation).
-    pub(crate) fn new(tolerance: &'a Tolerance, limits: Limits) -> Self {
-        Stopping { tolerance, limits }
+    /// The rule for a run that starts now, under `limits` (its time limit and cancellation),
+    /// on `executor`.
+    pub(crate) fn new(tolerance: &'a Tolerance, limits: Limits, executor: Executor) -> Self {
+        Stopping {
+            tolerance,
+            limits,
+            executor,
+        }
     }
 
     /// The run's limits of time and cancellation, which its stages also check chunk by chunk.
@@ -47,17 +55,17 @@ impl<'a> Stopping<'a> {
     /// Why the run should stop before spending `next` more evaluations, `used` spent so far:
     /// the time limit has passed, the run was cancelled, or `next` would exceed the
     /// evaluation limit.
-    pub(crate) fn limit(&self, used: u64, next: u64) -> Option<StopReason> {
-        if let Some(reason) = self.limits.reached() {
-            return Some(reason);
+    pub(crate) fn limit(&self, used: u64, next: u64) -> Result<Option<StopReason>> {
+        if let Some(reason) = self.executor.reached(&self.limits)? {
+            return Ok(Some(reason));
         }
         if used
             .checked_add(next)
             .is_none_or(|total| total > self.tolerance.evaluation_limit())
         {
-            return Some(StopReason::MaxEvaluations);
+            return Ok(Some(StopReason::MaxEvaluations));
         }
-        None
+        Ok(None)
     }
 
     /// The estimate a stage reports (a replicate-based standard error inflated, see the

@@ -61,7 +61,7 @@ pub(super) fn run_to_tolerance(
         sampler,
         executor,
         targets,
-        stopping: Stopping::new(&limits, config.limits()),
+        stopping: Stopping::new(&limits, config.limits(), *executor),
         cost: estimator.evaluations_per_contribution().max(1),
         spent: Cell::new(0),
     };
@@ -88,7 +88,7 @@ struct Stage<'a> {
 
 impl Stage<'_> {
     /// Why the run should stop before `next` more contributions, `used` spent so far.
-    fn limit(&self, used: u64, next: u64) -> Option<StopReason> {
+    fn limit(&self, used: u64, next: u64) -> Result<Option<StopReason>> {
         self.stopping.limit(
             used.saturating_mul(self.cost),
             next.saturating_mul(self.cost),
@@ -163,7 +163,7 @@ fn two_stage(stage: &Stage<'_>) -> Result<VectorEstimate> {
         let needed = points_needed(stage.targets, current, z * SD_INFLATION);
         let main_count = main.as_ref().map_or(0, |m| m.accumulators[0].count());
         let more = needed.saturating_sub(main_count).max(1);
-        let more = match stage.limit(used, more) {
+        let more = match stage.limit(used, more)? {
             None => more,
             Some(StopReason::MaxEvaluations) => {
                 let left = stage.contribution_limit().saturating_sub(used);
@@ -225,7 +225,7 @@ fn doubling(stage: &Stage<'_>) -> Result<VectorEstimate> {
             break StopReason::SamplerExhausted;
         }
         let cost = (next - done).saturating_mul(replicates);
-        if let Some(reason) = stage.limit(done * replicates, cost) {
+        if let Some(reason) = stage.limit(done * replicates, cost)? {
             // A first stage past the evaluation limit is refused below; limits of time and
             // cancellation stop the first stage inside it.
             if stages > 0 || reason == StopReason::MaxEvaluations {

@@ -8,6 +8,7 @@ use crate::stats::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
 const ROUNDOFF: f64 = 10.0 * f64::EPSILON;
 
 /// Count, mean and sum of squared deviations, merged exactly (Chan, Golub & LeVeque 1979).
+#[cfg_attr(feature = "mpi", derive(serde::Serialize, serde::Deserialize))]
 #[derive(Clone, Copy, Default, Debug)]
 pub(super) struct Moments {
     pub(super) n: u64,
@@ -78,6 +79,7 @@ impl ShiftedSums {
 }
 
 /// A hypercube's share of an iteration.
+#[cfg_attr(feature = "mpi", derive(serde::Serialize, serde::Deserialize))]
 #[derive(Clone, Copy, Default, Debug)]
 pub(super) struct CubeResult {
     /// Its contribution to the estimate, `V_h mean_h`.
@@ -193,6 +195,7 @@ impl CubeSums {
 
 /// Every output's [`Moments`] of one hypercube's points, with the co-moments
 /// `sum (v_j - mean_j)(v_k - mean_k)` of each pair.
+#[cfg_attr(feature = "mpi", derive(serde::Serialize, serde::Deserialize))]
 #[derive(Clone, Default, Debug)]
 pub(super) struct CubeMoments {
     pub(super) outputs: Vec<Moments>,
@@ -244,6 +247,7 @@ impl CubeMoments {
 /// Hypercubes' shares of an iteration, summed: per output the `mean`, `variance` and
 /// `rounding` of [`CubeResult`], and per pair of outputs the covariance, each hypercube
 /// adding `V_h^2 c_jk / n_h`.
+#[cfg_attr(feature = "mpi", derive(serde::Serialize, serde::Deserialize))]
 #[derive(Debug, Clone)]
 pub(super) struct CubeTotals {
     pub(super) outputs: Vec<CubeResult>,

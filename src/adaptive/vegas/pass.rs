@@ -13,6 +13,7 @@ use super::strata::{Allocation, ChunkStart, Strata};
 use crate::adaptive::VegasGrid;
 use crate::engine::{ChunkJob, Executor, Limits};
 use crate::sampler::Sampler;
+use crate::stats::StopReason;
 use crate::{Points, Result};
 
 /// Points drawn from the sampler at once.
@@ -68,8 +69,8 @@ impl Totals {
 
 impl<I: Integrand> Pass<'_, I> {
     /// Runs the iteration: its sums, with the grid's training data added to `training` and
-    /// each hypercube's `sigma_h^beta` written to `next_sigf` (when allocating); `None` when a
-    /// limit stopped it before its end. `progress` is told the evaluations of the iteration
+    /// each hypercube's `sigma_h^beta` written to `next_sigf` (when allocating); or the limit
+    /// that stopped it before its end. `progress` is told the evaluations of the iteration
     /// folded so far, after every chunk.
     pub(super) fn run(
         &self,
@@ -78,7 +79,7 @@ impl<I: Integrand> Pass<'_, I> {
         training: &mut [f64],
         next_sigf: &mut [f64],
         progress: &mut dyn FnMut(u64),
-    ) -> Result<Option<Totals>> {
+    ) -> Result<std::result::Result<Totals, StopReason>> {
         let mut totals = Totals::new(self.f.outputs());
         let stop = executor.run(
             self,
@@ -92,7 +93,10 @@ impl<I: Integrand> Pass<'_, I> {
                 Ok(())
             },
         )?;
-        Ok(stop.is_none().then_some(totals))
+        Ok(match stop {
+            None => Ok(totals),
+            Some(reason) => Err(reason),
+        })
     }
 }
 
@@ -167,6 +171,7 @@ impl Totals {
 }
 
 /// What one chunk contributes, merged in chunk order.
+#[cfg_attr(feature = "mpi", derive(serde::Serialize, serde::Deserialize))]
 pub(super) struct ChunkOutput {
     /// Training data of the grid, as [`VegasGrid`] lays it out.
     training: Vec<f64>,
@@ -178,7 +183,8 @@ pub(super) struct ChunkOutput {
     first_closed: u64,
     closed: CubeTotals,
     closed_sigf: Vec<f64>,
-    /// The moments of the hypercube being closed (a buffer, reused).
+    /// The moments of the hypercube being closed (a buffer, reused; not sent to other ranks).
+    #[cfg_attr(feature = "mpi", serde(skip))]
     moments: CubeMoments,
     /// The hypercube begun here that continues in the next chunk.
     tail: Option<CubeMoments>,
