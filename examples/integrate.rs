@@ -7,7 +7,7 @@
 //!     [--sampler NAME] [--scramble NAME] [--strength T] [--n N] [--replicates R] [--seed S]
 //!     [--threads T] [--estimator uniform|importance|mis|control]
 //!     [--method plain|rqmc|vegas|vegas-plus|miser] [--tol-abs X] [--tol-rel X]
-//!     [--max-evals N] [--checkpoint FILE [--save-every K] [--stop-after K]] [--json]
+//!     [--max-evals N] [--checkpoint FILE [--save-every K] [--stop-after K]] [--json] [--mpi]
 //! ```
 //! NAME is `keister` (`cos|x| e^{-|x|^2}` over `R^D`, integrated after the normal transform to
 //! the unit cube) or a Genz family: oscillatory, product-peak, corner-peak, gaussian,
@@ -48,6 +48,11 @@
 //! `--ratio` adds the ratio of outputs `I` and `J` (positions in the list, from 0) with its
 //! delta-method error bar; a tolerance then applies to the ratio, otherwise to every output.
 //!
+//! `--mpi` (a build with `--features mpi`, launched as `mpirun -n N .../integrate --mpi ...`)
+//! spreads the run over the job's ranks, each on its own `--threads`; the result has the same
+//! bits as one process. Rank 0 prints it (`ranks` in the JSON) and writes the checkpoint,
+//! which a job with another number of ranks resumes.
+//!
 //! Warnings about the estimate (points per replicate that break a net, a tolerance not met,
 //! few replicates, skipped non-finite values, an error bar at the floating-point floor) go
 //! to stderr, one `warning: ...` line each; `--json` also lists them in its `warnings` array
@@ -61,6 +66,8 @@ mod genz_estimators;
 mod integrands;
 #[path = "support/methods.rs"]
 mod methods;
+#[path = "support/ranks.rs"]
+mod ranks;
 #[path = "support/mod.rs"]
 mod support;
 #[path = "support/vector_run.rs"]
@@ -76,6 +83,7 @@ use mcint::{CancelToken, Estimate, Integrator};
 use methods::{AdaptiveRun, METHOD_NAMES, Method};
 use std::io::IsTerminal;
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use support::{Args, fail};
 use vector_run::stop_name;
@@ -83,6 +91,10 @@ use vector_run::stop_name;
 /// Cancelled on SIGINT or SIGTERM: the run stops after its current chunks and reports what it
 /// has (a checkpoint is saved first), and the process exits with status 130.
 static CANCEL: OnceLock<CancelToken> = OnceLock::new();
+
+/// Set on the ranks of an MPI job other than 0: they print nothing, not even the error that
+/// rank 0 prints for all of them.
+static QUIET: AtomicBool = AtomicBool::new(false);
 
 const SPEC: support::Spec = &[
     ("integrand", true),
@@ -107,6 +119,7 @@ const SPEC: support::Spec = &[
     ("save-every", true),
     ("stop-after", true),
     ("json", false),
+    ("mpi", false),
 ];
 
 const DEFAULT_POINTS: u64 = 1 << 16;
@@ -118,6 +131,9 @@ fn main() {
     let result = run();
     let cancelled = CANCEL.get().is_some_and(CancelToken::is_cancelled);
     if let Err(message) = result {
+        if QUIET.load(Ordering::Relaxed) {
+            std::process::exit(2);
+        }
         fail(message);
     }
     if cancelled {
@@ -153,6 +169,10 @@ fn progress_bar() -> Option<impl Fn(u64, u64) + Send + Sync + 'static> {
 
 fn run() -> Result<(), String> {
     let args = Args::parse(SPEC)?;
+    // Lives until the run ends: MPI stays up as long as it.
+    let ranks = ranks::Ranks::new(args.has("mpi"))?;
+    let spread = ranks.spread;
+    QUIET.store(!spread.is_root(), Ordering::Relaxed);
     let names = match (
         args.get::<String>("integrand", INTEGRAND_NAMES)?,
         args.get::<String>("genz", INTEGRAND_NAMES)?,
@@ -236,7 +256,7 @@ fn run() -> Result<(), String> {
     } else {
         16
     };
-    let checkpoint = checkpoint_settings(&args, tolerance.is_some())?;
+    let checkpoint = checkpoint_settings(&args, tolerance.is_some(), spread.is_root())?;
     let started = Instant::now();
     if vector {
         let label = functions
@@ -259,10 +279,14 @@ fn run() -> Result<(), String> {
             label,
             checkpoint,
             cancel: cancel_token(),
+            spread,
         })?
         else {
             return Ok(());
         };
+        if !spread.is_root() {
+            return Ok(());
+        }
         let report = vector_run::VectorReport {
             method: method.name(),
             functions: &functions,
@@ -270,6 +294,7 @@ fn run() -> Result<(), String> {
             scramble: scramble_name,
             run,
             ratio,
+            ranks: spread.size,
             seconds: started.elapsed().as_secs_f64(),
         };
         for warning in report.warnings() {
@@ -306,6 +331,7 @@ fn run() -> Result<(), String> {
             seed,
             threads,
             cancel: cancel_token(),
+            spread,
         }
         .run()?
     } else {
@@ -318,9 +344,12 @@ fn run() -> Result<(), String> {
             .seed(seed)
             .label(label)
             .cancel_token(cancel_token());
-        if let Some(bar) = progress_bar() {
+        if spread.is_root()
+            && let Some(bar) = progress_bar()
+        {
             integrator = integrator.progress(bar);
         }
+        let mut integrator = ranks::spread!(integrator, spread);
         // With a tolerance the run picks its own first stage unless --n says otherwise.
         if tolerance.is_none() || n_flag.is_some() {
             integrator = integrator.samples(n);
@@ -340,6 +369,9 @@ fn run() -> Result<(), String> {
         }
     };
     let seconds = started.elapsed().as_secs_f64();
+    if !spread.is_root() {
+        return Ok(());
+    }
     let report = Report {
         method,
         family: f.name(),
@@ -351,6 +383,7 @@ fn run() -> Result<(), String> {
         evaluations_per_contribution: built.evaluations_per_contribution,
         estimate,
         exact: f.exact(),
+        ranks: spread.size,
         seconds,
     };
     for warning in &report.estimate.warnings {
@@ -368,6 +401,7 @@ fn run() -> Result<(), String> {
 fn checkpoint_settings(
     args: &Args,
     to_tolerance: bool,
+    saves: bool,
 ) -> Result<Option<checkpoint::Settings>, String> {
     let Some(path) = args.get::<String>("checkpoint", "a file path")? else {
         return Ok(None);
@@ -389,6 +423,7 @@ fn checkpoint_settings(
         path: path.into(),
         save_every,
         stop_after,
+        saves,
     }))
 }
 
@@ -437,6 +472,8 @@ struct Report {
     evaluations_per_contribution: u64,
     estimate: Estimate,
     exact: f64,
+    /// MPI ranks the run was spread over (1 without `--mpi`).
+    ranks: usize,
     seconds: f64,
 }
 
@@ -456,7 +493,8 @@ impl Report {
              \"scramble\": \"{}\", \"estimator\": \"{}\", \"estimate\": {}, \"std_error\": {}, \
              \"variance_per_evaluation\": {}, \"exact\": {}, \"n\": {}, \"replicates\": {}, \
              \"evaluations\": {}, \"converged\": {}, \"stop\": \"{}\", \"iterations\": {}, \
-             \"chi2_dof\": {}, \"rounding_error\": {}, \"warnings\": [{}], \"seconds\": {}}}",
+             \"chi2_dof\": {}, \"rounding_error\": {}, \"warnings\": [{}], \"ranks\": {}, \
+             \"seconds\": {}}}",
             self.method.name(),
             self.family,
             self.dims,
@@ -484,6 +522,7 @@ impl Report {
                 ))
                 .collect::<Vec<_>>()
                 .join(", "),
+            self.ranks,
             json_number(Some(self.seconds)),
         );
     }
@@ -556,6 +595,9 @@ impl Report {
                 e.iterations,
                 e.q_value.unwrap_or(f64::NAN)
             );
+        }
+        if self.ranks > 1 {
+            println!("ranks       {} MPI processes", self.ranks);
         }
         println!("time        {:.3} s", self.seconds);
     }

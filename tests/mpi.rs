@@ -5,9 +5,13 @@
 //! 3 and 4 ranks. Each rank runs every case twice, spread over the ranks and alone, and
 //! compares every bit; then a checkpoint saved by 3 ranks is resumed by 2. A rank records a
 //! failed comparison and goes on (leaving early would strand the others in a collective), and
-//! exits non-zero at the end, which fails `mpirun` and this test.
+//! exits non-zero at the end, which fails `mpirun` and this test. Last, the `integrate`
+//! example (built with `cargo build --release --features mpi --examples`) run with `--mpi` on 2
+//! and 3 ranks prints the one-process result.
 //!
 //! Set `MPIRUN` to use another launcher.
+
+mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -47,13 +51,103 @@ fn launch() -> ExitCode {
         failed.push("a checkpoint saved on 3 ranks, resumed on 2".to_string());
     }
     let _ = std::fs::remove_dir_all(&dir);
+    for ranks in [2, 3] {
+        if let Err(e) = cli_matches_one_process(ranks) {
+            eprintln!("mpi: {e}");
+            failed.push(format!("integrate --mpi on {ranks} ranks"));
+        }
+    }
     if failed.is_empty() {
-        println!("mpi: every case matched the one-process run on 1, 2, 3 and 4 ranks");
+        println!(
+            "mpi: every case matched the one-process run on 1, 2, 3 and 4 ranks, and so did \
+             integrate --mpi on 2 and 3"
+        );
         ExitCode::SUCCESS
     } else {
         eprintln!("mpi: FAILED: {}", failed.join("; "));
         ExitCode::FAILURE
     }
+}
+
+/// `mpirun -n ranks integrate --mpi ...` prints one JSON result, the one-process result with
+/// `ranks` set, for a run to a tolerance and for VEGAS+.
+fn cli_matches_one_process(ranks: usize) -> Result<(), String> {
+    let integrate = common::example("integrate");
+    let launcher = std::env::var("MPIRUN").unwrap_or_else(|_| "mpirun".to_string());
+    let runs: [&[&str]; 2] = [
+        &[
+            "--integrand",
+            "oscillatory",
+            "--dims",
+            "5",
+            "--method",
+            "rqmc",
+            "--tol-abs",
+            "1e-6",
+        ],
+        &[
+            "--integrand",
+            "gaussian,continuous",
+            "--ratio",
+            "1,0",
+            "--dims",
+            "4",
+            "--method",
+            "vegas-plus",
+            "--n",
+            "20000",
+        ],
+    ];
+    for flags in runs {
+        let alone = Command::new(&integrate)
+            .args(flags)
+            .args(["--json", "--threads", "1"])
+            .output()
+            .map_err(|e| {
+                format!(
+                    "cannot run {} ({e}): build it with cargo build --release --features mpi --examples",
+                    integrate.display()
+                )
+            })?;
+        let spread = Command::new(&launcher)
+            .args(["--oversubscribe", "-n", &ranks.to_string()])
+            .arg(&integrate)
+            .args(flags)
+            .args(["--json", "--threads", "1", "--mpi"])
+            .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+            .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+            .output()
+            .map_err(|e| format!("cannot start {launcher}: {e}"))?;
+        let text = String::from_utf8_lossy(&spread.stdout);
+        if !spread.status.success() || text.lines().count() != 1 {
+            return Err(format!(
+                "{flags:?} on {ranks} ranks: expected one JSON line from rank 0, got {text:?} ({})",
+                String::from_utf8_lossy(&spread.stderr)
+            ));
+        }
+        let parse = |bytes: &[u8]| -> serde_json::Value {
+            serde_json::from_slice(bytes).unwrap_or(serde_json::Value::Null)
+        };
+        let (mut alone, mut spread) = (parse(&alone.stdout), parse(&spread.stdout));
+        if spread["ranks"] != ranks || alone["ranks"] != 1 {
+            return Err(format!(
+                "{flags:?}: ranks {} and {}",
+                spread["ranks"], alone["ranks"]
+            ));
+        }
+        for json in [&mut alone, &mut spread] {
+            if let Some(fields) = json.as_object_mut() {
+                fields.remove("ranks");
+                fields.remove("seconds");
+            }
+        }
+        if alone != spread || alone.is_null() {
+            return Err(format!(
+                "{flags:?} on {ranks} ranks: {spread} differs from {alone}"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Runs this program on `ranks` ranks in `role`; whether every rank succeeded.

@@ -26,6 +26,9 @@ pub struct Settings {
     pub path: PathBuf,
     pub save_every: u64,
     pub stop_after: Option<u64>,
+    /// Whether this process writes the checkpoint and says so (rank 0 of an MPI job, whose
+    /// ranks all hold the same part).
+    pub saves: bool,
 }
 
 /// A run that can be split into parts: the scalar and the vector Integrator.
@@ -96,7 +99,7 @@ pub fn run<R: Checkpointed>(
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             fresh = true;
             let first = integrator.run_part(0..1).map_err(|e| e.to_string())?;
-            save(path, &first)?;
+            save(settings, &first)?;
             first
         }
         Err(e) => return Err(format!("cannot read checkpoint '{}': {e}", path.display())),
@@ -105,11 +108,14 @@ pub fn run<R: Checkpointed>(
     while !part.is_complete() {
         let step = budget.map_or(save_every, |left| left.min(save_every));
         if step == 0 {
-            eprintln!(
-                "checkpoint: {} of {} chunks saved in '{}'; run the same command again to continue",
-                part.chunks_done(),
-                part.total_chunks(),
-                path.display()
+            say(
+                settings,
+                format!(
+                    "checkpoint: {} of {} chunks saved in '{}'; run the same command again to continue",
+                    part.chunks_done(),
+                    part.total_chunks(),
+                    path.display()
+                ),
             );
             return Ok(None);
         }
@@ -121,14 +127,17 @@ pub fn run<R: Checkpointed>(
             )
         })?;
         budget = budget.map(|left| left - step);
-        save(path, &part)?;
+        save(settings, &part)?;
         if cancel.is_cancelled() {
-            eprintln!(
-                "checkpoint: cancelled; {} of {} chunks saved in '{}'; run the same command \
+            say(
+                settings,
+                format!(
+                    "checkpoint: cancelled; {} of {} chunks saved in '{}'; run the same command \
                  again to continue",
-                part.chunks_done(),
-                part.total_chunks(),
-                path.display()
+                    part.chunks_done(),
+                    part.total_chunks(),
+                    path.display()
+                ),
             );
             return Ok(None);
         }
@@ -154,9 +163,24 @@ fn read_bounded(path: &Path) -> std::io::Result<String> {
     Ok(text)
 }
 
+/// Prints `message` on stderr from the process that saves.
+fn say(settings: &Settings, message: String) {
+    if settings.saves {
+        eprintln!("{message}");
+    }
+}
+
+/// Saves `part` to the checkpoint (from the process that saves; see [`write`]).
+fn save(settings: &Settings, part: &PartialRun) -> Result<(), String> {
+    if !settings.saves {
+        return Ok(());
+    }
+    write(&settings.path, part)
+}
+
 /// Writes the checkpoint to a temporary file of its own next to `path`, syncs it and renames
 /// it into place, so an interrupted save never leaves a truncated checkpoint.
-fn save(path: &Path, part: &PartialRun) -> Result<(), String> {
+fn write(path: &Path, part: &PartialRun) -> Result<(), String> {
     let text = serde_json::to_string(part).map_err(|e| format!("cannot encode checkpoint: {e}"))?;
     let temporary = temporary_path(path);
     let written = (|| {

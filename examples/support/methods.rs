@@ -80,6 +80,8 @@ pub struct AdaptiveRun<'a> {
     pub threads: Option<usize>,
     /// Stops the run early (SIGINT or SIGTERM).
     pub cancel: mcint::CancelToken,
+    /// `--mpi`: the ranks to spread the run over.
+    pub spread: crate::ranks::Spread,
 }
 
 impl AdaptiveRun<'_> {
@@ -111,7 +113,7 @@ impl AdaptiveRun<'_> {
                 if let Some(t) = self.tolerance {
                     vegas = vegas.tolerance(t).iterations(VEGAS_ITERATIONS_TO_TOLERANCE);
                 }
-                vegas.run()
+                crate::ranks::spread!(vegas, self.spread).run()
             }
             Method::Miser => {
                 let mut miser = Miser::new(integrand, domain)
@@ -130,7 +132,7 @@ impl AdaptiveRun<'_> {
                 if let Some(t) = self.tolerance {
                     miser = miser.tolerance(t);
                 }
-                miser.run()
+                crate::ranks::spread!(miser, self.spread).run()
             }
             Method::Plain | Method::Rqmc => {
                 return Err(format!("{} is not an adaptive method", self.method.name()));

@@ -29,6 +29,8 @@ pub struct VectorRunArgs<'a> {
     pub label: String,
     pub checkpoint: Option<checkpoint::Settings>,
     pub cancel: CancelToken,
+    /// `--mpi`: the ranks to spread the run over.
+    pub spread: crate::ranks::Spread,
 }
 
 /// Runs the families as one vector integrand over the unit cube (plain, randomized QMC,
@@ -69,6 +71,7 @@ pub fn run(args: VectorRunArgs<'_>) -> Result<Option<VectorEstimate>, String> {
         (Some(t), None) => integrator = integrator.tolerance(t),
         (None, _) => {}
     }
+    let integrator = crate::ranks::spread!(integrator, args.spread);
     match args.checkpoint {
         None => integrator.run().map(Some).map_err(|e| e.to_string()),
         Some(settings) => checkpoint::run(
@@ -116,7 +119,9 @@ fn run_vegas(args: VectorRunArgs<'_>) -> Result<VectorEstimate, String> {
         (Some(t), None) => vegas = vegas.tolerance(t).iterations(VEGAS_ITERATIONS_TO_TOLERANCE),
         (None, _) => {}
     }
-    vegas.run().map_err(|e| e.to_string())
+    crate::ranks::spread!(vegas, args.spread)
+        .run()
+        .map_err(|e| e.to_string())
 }
 
 /// Every function at `x`, output `k` from function `k`.
@@ -153,6 +158,8 @@ pub struct VectorReport<'a> {
     pub scramble: String,
     pub run: VectorEstimate,
     pub ratio: Option<(usize, usize)>,
+    /// MPI ranks the run was spread over (1 without `--mpi`).
+    pub ranks: usize,
     pub seconds: f64,
 }
 
@@ -200,6 +207,7 @@ impl VectorReport<'_> {
             "stop": stop_name(run.stop),
             "iterations": run.iterations,
             "warnings": self.warnings(),
+            "ranks": self.ranks,
             "seconds": self.seconds,
         });
         if let Some((estimate, exact)) = self.ratio() {
