@@ -95,7 +95,7 @@ pub enum Error {
         /// The type or value that does not support it, and what to use instead if anything.
         reason: String,
     },
-    /// Another MPI rank of a run spread over a [`Cluster`](crate::Cluster) failed with this
+    /// Another MPI rank of a run spread over a `Cluster` (the `mpi` feature) failed with this
     /// error, which every rank then reports (the errors that say where an integrand failed,
     /// such as [`IntegrandPanicked`](Error::IntegrandPanicked), arrive as themselves).
     OnRank {

@@ -28,6 +28,9 @@
 //! [`Error::IntegrandPanicked`]); one run configuration whose setters (`sampler`, `seed`,
 //! `threads`, `tolerance`, `non_finite`) every builder shares; and one stopping rule that
 //! every run to a [`Tolerance`](stats::Tolerance) asks when to stop and with which interval.
+//! With the `mpi` feature, a `Cluster` spreads any runner's chunks over MPI ranks: every rank
+//! gathers every chunk's result and folds them in the same order, so every rank gets the
+//! one-process result, bit for bit.
 //! * [`testfns`]: the Genz families and other integrands with known integrals.
 //!
 //! ```
