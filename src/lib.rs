@@ -73,6 +73,9 @@ pub use engine::CancelToken;
 pub use engine::Cluster;
 pub use error::{Error, MAX_BUFFER_BYTES, Result};
 pub use estimator::Estimator;
+/// The vector types of the geometric warps and integrands (`DVec2`, `DVec3`, ...), at the
+/// version mcint uses.
+pub use glam;
 pub use integrate::{Integrator, NonFinitePolicy, PartialRun, VectorRun};
 /// The MPI bindings (rsmpi) the `mpi` feature is built on, for `mpi::initialize` and anything
 /// else a distributed program needs, at the version mcint uses.
@@ -80,8 +83,9 @@ pub use integrate::{Integrator, NonFinitePolicy, PartialRun, VectorRun};
 pub use mpi;
 pub use pdf::Pdf;
 pub use points::{PointBlock, Points};
-pub use sampler::Sampler;
-pub use stats::{Accumulator, Estimate, VectorEstimate};
+pub use points_f32::PointsF32;
+pub use sampler::{Sampler, SamplerKind, Scramble};
+pub use stats::{Accumulator, Estimate, StopReason, Tolerance, VectorEstimate};
 
 /// The README's Rust examples, compiled and run as doctests so they cannot go stale.
 #[doc = include_str!("../README.md")]

@@ -200,4 +200,150 @@ impl<T: Copy + Default> PointBlock<T> {
             .chain(std::iter::repeat_with(|| &mut [][..]))
             .take(dims)
     }
+
+    /// Point `index` as a row of coordinates, or `None` past the last point.
+    ///
+    /// ```
+    /// let mut block = mcint::Points::new(2, 3).unwrap();
+    /// block.column_mut(1)[2] = 0.5;
+    /// assert_eq!(block.row(2), Some(vec![0.0, 0.5]));
+    /// assert_eq!(block.row(3), None);
+    /// ```
+    pub fn row(&self, index: usize) -> Option<Vec<T>> {
+        (index < self.len).then(|| (0..self.dims).map(|d| self.get(index, d)).collect())
+    }
+
+    /// The points as rows, in order.
+    ///
+    /// ```
+    /// let block = mcint::Points::from_rows(&[[0.1, 0.2], [0.3, 0.4]]).unwrap();
+    /// let sums: Vec<f64> = block.rows().map(|r| r.iter().sum()).collect();
+    /// assert_eq!(sums.len(), 2);
+    /// assert!((sums[1] - 0.7).abs() < 1e-15);
+    /// ```
+    pub fn rows(&self) -> impl ExactSizeIterator<Item = Vec<T>> + '_ {
+        (0..self.len).map(|i| (0..self.dims).map(|d| self.get(i, d)).collect())
+    }
+
+    /// The points as a vector of rows, as scipy's `(n, d)` arrays hold them.
+    ///
+    /// ```
+    /// use mcint::sampler::{Sampler, Scramble, Sobol};
+    /// let rows = Sobol::new(10, Scramble::Owen, 0).unwrap().random(1024).unwrap().to_rows();
+    /// assert_eq!((rows.len(), rows[0].len()), (1024, 10));
+    /// ```
+    pub fn to_rows(&self) -> Vec<Vec<T>> {
+        self.rows().collect()
+    }
+
+    /// A block from rows of equal length (at least one row, of at least one coordinate).
+    ///
+    /// ```
+    /// use mcint::Points;
+    /// let block = Points::from_rows(&[vec![0.1, 0.2], vec![0.3, 0.4]]).unwrap();
+    /// assert_eq!(block.column(1), &[0.2, 0.4]);
+    /// assert_eq!(Points::from_rows(&block.to_rows()).unwrap(), block);
+    /// assert!(Points::from_rows(&[vec![0.1], vec![0.2, 0.3]]).is_err());
+    /// assert!(Points::from_rows::<Vec<f64>>(&[]).is_err());
+    /// ```
+    pub fn from_rows<R: AsRef<[T]>>(rows: &[R]) -> Result<Self> {
+        let Some(first) = rows.first() else {
+            return Err(Error::invalid(
+                "rows",
+                "none",
+                "at least one row (its length is the dimension)",
+            ));
+        };
+        let mut block = Self::new(first.as_ref().len(), rows.len())?;
+        for (i, row) in rows.iter().enumerate() {
+            let row = row.as_ref();
+            if row.len() != block.dims {
+                return Err(Error::DimensionMismatch {
+                    what: "row",
+                    expected: block.dims,
+                    found: row.len(),
+                });
+            }
+            for (d, &x) in row.iter().enumerate() {
+                block.data[d * block.len + i] = x;
+            }
+        }
+        Ok(block)
+    }
+}
+
+impl Points {
+    /// The points mapped from the unit cube to the box `[lower, upper)`, coordinate by
+    /// coordinate (scipy's `qmc.scale`): `lower + u (upper - lower)`.
+    ///
+    /// ```
+    /// use mcint::Points;
+    /// let unit = Points::from_rows(&[[0.5, 0.25]]).unwrap();
+    /// let scaled = unit.scale(&[-1.0, 10.0], &[1.0, 20.0]).unwrap();
+    /// assert_eq!(scaled.row(0), Some(vec![0.0, 12.5]));
+    /// assert_eq!(scaled.unscale(&[-1.0, 10.0], &[1.0, 20.0]).unwrap(), unit);
+    /// assert!(unit.scale(&[0.0, 1.0], &[1.0, 1.0]).is_err()); // an empty side
+    /// ```
+    pub fn scale(&self, lower: &[f64], upper: &[f64]) -> Result<Points> {
+        self.check_box(lower, upper)?;
+        let mut out = self.clone();
+        for (d, (&l, &u)) in lower.iter().zip(upper).enumerate() {
+            for x in out.column_mut(d) {
+                *x = l + *x * (u - l);
+            }
+        }
+        Ok(out)
+    }
+
+    /// The inverse of [`scale`](Self::scale) (scipy's `qmc.scale(..., reverse=True)`):
+    /// points of the box `[lower, upper]` mapped to the unit cube; a point outside the box is
+    /// refused.
+    ///
+    /// ```
+    /// use mcint::Points;
+    /// let data = Points::from_rows(&[[5.0], [7.5]]).unwrap();
+    /// assert_eq!(data.unscale(&[5.0], &[10.0]).unwrap().column(0), &[0.0, 0.5]);
+    /// assert!(data.unscale(&[6.0], &[10.0]).is_err()); // 5 is outside [6, 10]
+    /// ```
+    pub fn unscale(&self, lower: &[f64], upper: &[f64]) -> Result<Points> {
+        self.check_box(lower, upper)?;
+        let mut out = self.clone();
+        for (d, (&l, &u)) in lower.iter().zip(upper).enumerate() {
+            for (i, x) in out.column_mut(d).iter_mut().enumerate() {
+                if !(l..=u).contains(x) {
+                    return Err(Error::invalid(
+                        "point",
+                        format!("{x} at point {i}, dimension {d}"),
+                        format!("inside the box's side [{l}, {u}]"),
+                    ));
+                }
+                *x = (*x - l) / (u - l);
+            }
+        }
+        Ok(out)
+    }
+
+    /// Checks that `lower` and `upper` bound a box of this block's dimension with sides of
+    /// finite, positive length.
+    fn check_box(&self, lower: &[f64], upper: &[f64]) -> Result<()> {
+        for (what, bounds) in [("lower bounds", lower), ("upper bounds", upper)] {
+            if bounds.len() != self.dims {
+                return Err(Error::DimensionMismatch {
+                    what,
+                    expected: self.dims,
+                    found: bounds.len(),
+                });
+            }
+        }
+        for (d, (&l, &u)) in lower.iter().zip(upper).enumerate() {
+            if !(l < u && (u - l).is_finite()) {
+                return Err(Error::invalid(
+                    "box",
+                    format!("[{l}, {u}] in dimension {d}"),
+                    "finite bounds with lower < upper",
+                ));
+            }
+        }
+        Ok(())
+    }
 }

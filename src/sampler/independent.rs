@@ -49,6 +49,22 @@ impl Independent {
         })
     }
 
+    /// Independent points in `dims` dimensions, seeded from a random number generator the
+    /// caller already has (one `u64` drawn from it): any `rand_core::SeedableRng` seeded as
+    /// the caller likes.
+    ///
+    /// ```
+    /// use mcint::sampler::{Independent, Sampler};
+    /// use rand_core::SeedableRng;
+    /// let mut rng = rand_pcg::Pcg64::from_seed([7; 32]);
+    /// let a = Independent::from_rng(3, &mut rng).unwrap();
+    /// let b = Independent::from_rng(3, &mut rand_pcg::Pcg64::from_seed([7; 32])).unwrap();
+    /// assert_eq!(a.random(4).unwrap(), b.random(4).unwrap());
+    /// ```
+    pub fn from_rng(dims: usize, rng: &mut dyn rand_core::Rng) -> Result<Self> {
+        Independent::new(dims, rng.next_u64())
+    }
+
     /// The generator positioned at value number `position` of the stream.
     fn at(&self, position: u128) -> Pcg64 {
         let mut rng = self.origin.clone();

@@ -14,6 +14,7 @@
 mod antithetic;
 mod best_candidate;
 mod correlated_multi_jittered;
+mod draw;
 mod halton;
 mod hammersley;
 mod independent;
@@ -58,7 +59,7 @@ pub use scramble::Scramble;
 pub use sobol::Sobol;
 
 use crate::points_f32::{PointsF32, to_unit_f32};
-use crate::{Error, Points, Result};
+use crate::{Error, PointBlock, Points, Result};
 
 /// How a sampler's points relate to each other, which decides how error bars are computed.
 ///
@@ -146,6 +147,73 @@ pub trait Sampler: Send + Sync {
 
     /// Writes point `index` into `out` (`out.len()` must equal [`dims`](Self::dims)).
     fn point(&self, index: u64, out: &mut [f64]) -> Result<()>;
+
+    /// Points `0..n` of pass 0 as a block, as scipy's `qmc.Sobol(d).random(n)` gives them
+    /// (rows with [`Points::to_rows`]). A sampler with fixed passes takes `n` equal to its pass
+    /// size (part of a pass is not stratified); an extensible one at most its length.
+    ///
+    /// ```
+    /// use mcint::sampler::{Jittered, Sampler, Scramble, Sobol};
+    /// let sobol = Sobol::new(10, Scramble::Owen, 0).unwrap();
+    /// let points = sobol.random(1024).unwrap();
+    /// assert_eq!((points.len(), points.dims()), (1024, 10));
+    /// assert_eq!(points.row(3).unwrap()[0], points.get(3, 0));
+    /// let grid = Jittered::new(2, 4, 0).unwrap(); // 16 points per pass
+    /// assert!(grid.random(16).is_ok());
+    /// assert!(grid.random(10).unwrap_err().to_string().contains("pass size"));
+    /// ```
+    fn random(&self, n: usize) -> Result<Points> {
+        draw::random(self, n)
+    }
+
+    /// Points `0..2^m` of pass 0 (scipy's `random_base2`), refused where `2^m` points would
+    /// break the sampler's nets (see [`unbalanced_by`](Self::unbalanced_by)).
+    ///
+    /// ```
+    /// use mcint::sampler::{Lattice, Sampler, Scramble, Sobol};
+    /// let sobol = Sobol::new(3, Scramble::Owen, 1).unwrap();
+    /// assert_eq!(sobol.random_base2(8).unwrap(), sobol.random(256).unwrap());
+    /// assert!(sobol.random_base2(64).is_err());
+    /// ```
+    fn random_base2(&self, m: u32) -> Result<Points> {
+        draw::random_base2(self, m)
+    }
+
+    /// Points `0..n` of pass 0 mapped to integers (scipy's `integers` with `endpoint=False`):
+    /// coordinate `j` becomes `floor(u_j (upper[j] - lower[j]) + lower[j])`, in
+    /// `lower[j]..upper[j]`, for lattice-valued designs. The bounds need `lower < upper`, both
+    /// within `+-2^53`.
+    ///
+    /// ```
+    /// use mcint::sampler::{Sampler, Scramble, Sobol};
+    /// let sobol = Sobol::new(2, Scramble::Owen, 4).unwrap();
+    /// let levels = sobol.integers(&[0, -5], &[4, 5], 64).unwrap();
+    /// assert!(levels.column(0).iter().all(|&k| (0..4).contains(&k)));
+    /// // A net: each of the 4 levels of the first factor gets 64 / 4 points.
+    /// assert_eq!(levels.column(0).iter().filter(|&&k| k == 2).count(), 16);
+    /// assert!(sobol.integers(&[3, 0], &[3, 1], 8).is_err()); // empty range
+    /// ```
+    fn integers(&self, lower: &[i64], upper: &[i64], n: usize) -> Result<PointBlock<i64>> {
+        draw::integers(self, lower, upper, n)
+    }
+
+    /// Reseeds from a random number generator the caller already has (one `u64` drawn from
+    /// it), as [`reseed`](Self::reseed) does from a seed.
+    ///
+    /// ```
+    /// use mcint::sampler::{Sampler, Scramble, Sobol};
+    /// use rand_core::SeedableRng;
+    /// let mut rng = rand_pcg::Pcg64::seed_from_u64(9);
+    /// let mut a = Sobol::new(2, Scramble::Owen, 0).unwrap();
+    /// a.reseed_from_rng(&mut rng);
+    /// let mut again = rand_pcg::Pcg64::seed_from_u64(9);
+    /// let mut b = Sobol::new(2, Scramble::Owen, 0).unwrap();
+    /// b.reseed_from_rng(&mut again);
+    /// assert_eq!(a.random(8).unwrap(), b.random(8).unwrap());
+    /// ```
+    fn reseed_from_rng(&mut self, rng: &mut dyn rand_core::Rng) {
+        self.reseed(rng.next_u64());
+    }
 
     /// Writes points `start .. start + points.len()` into `points` (which must have
     /// [`dims`](Self::dims) columns). The default calls [`point`](Self::point) for each index;
