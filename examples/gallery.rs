@@ -21,7 +21,7 @@ mod support;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use mcint::Points;
-use mcint::quality::{Periodogram, centered_l2, l2_star, mean_periodogram, t_value};
+use mcint::quality::{Discrepancy, Periodogram, mean_periodogram, t_value};
 use mcint::sampler::{Sampler, SamplerKind};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -214,8 +214,12 @@ fn draw_sampler(kind: SamplerKind, settings: &Settings, out: &Path) -> Result<Ro
         } else {
             None
         },
-        l2_star: l2_star(&points).map_err(|e| e.to_string())?,
-        centered_l2: centered_l2(&points).map_err(|e| e.to_string())?,
+        l2_star: Discrepancy::L2Star
+            .root(&points)
+            .map_err(|e| e.to_string())?,
+        centered_l2: Discrepancy::Centered
+            .root(&points)
+            .map_err(|e| e.to_string())?,
         low_frequency_power,
     })
 }

@@ -28,13 +28,10 @@ use support::{Args, fail};
 
 const SPEC: support::Spec = &[("input", true), ("measure", true), ("squared", false)];
 
-/// A measure of the library, as a function of the point set.
-type Measure = fn(&Points) -> mcint::Result<f64>;
-
 /// What `--measure` asked for.
 enum Choice {
-    /// An L2 discrepancy: its root and its square.
-    L2(Measure, Measure),
+    /// An L2 discrepancy (its root or, with `--squared`, its square).
+    L2(mcint::quality::Discrepancy),
     Star,
     TValue,
 }
@@ -56,10 +53,9 @@ fn run() -> Result<String, String> {
     let squared = args.has("squared");
     // Check the flags before reading a possibly large file.
     let choice = match measure.as_str() {
-        "l2-star" => Choice::L2(quality::l2_star, quality::l2_star_squared),
-        "centered" => Choice::L2(quality::centered_l2, quality::centered_l2_squared),
-        "wrap-around" => Choice::L2(quality::wrap_around_l2, quality::wrap_around_l2_squared),
-        "mixture" => Choice::L2(quality::mixture_l2, quality::mixture_l2_squared),
+        "l2-star" | "centered" | "wrap-around" | "mixture" => {
+            Choice::L2(measure.parse().map_err(|e: mcint::Error| e.to_string())?)
+        }
         "star" => Choice::Star,
         "t-value" => Choice::TValue,
         other => return Err(format!("invalid --measure '{other}': expected {MEASURES}")),
@@ -71,11 +67,11 @@ fn run() -> Result<String, String> {
     }
     let points = read_points(&path)?;
     let value = match choice {
-        Choice::L2(root, square) => {
+        Choice::L2(kind) => {
             if squared {
-                square(&points)
+                kind.squared(&points)
             } else {
-                root(&points)
+                kind.root(&points)
             }
         }
         Choice::Star => quality::star_discrepancy(&points),

@@ -4,6 +4,7 @@
 
 use mcint::Points;
 use mcint::quality;
+use mcint::quality::Discrepancy;
 use std::path::PathBuf;
 use std::process::Output;
 
@@ -67,14 +68,24 @@ fn each_measure_prints_the_library_value() {
     let file5 = write(&dir, "five.csv", &text5);
     type Measure = fn(&Points) -> mcint::Result<f64>;
     let cases: [(&str, bool, Measure); 8] = [
-        ("l2-star", false, quality::l2_star),
-        ("l2-star", true, quality::l2_star_squared),
-        ("centered", false, quality::centered_l2),
-        ("centered", true, quality::centered_l2_squared),
-        ("wrap-around", false, quality::wrap_around_l2),
-        ("wrap-around", true, quality::wrap_around_l2_squared),
-        ("mixture", false, quality::mixture_l2),
-        ("mixture", true, quality::mixture_l2_squared),
+        ("l2-star", false, |p: &Points| Discrepancy::L2Star.root(p)),
+        ("l2-star", true, |p: &Points| Discrepancy::L2Star.squared(p)),
+        ("centered", false, |p: &Points| {
+            Discrepancy::Centered.root(p)
+        }),
+        ("centered", true, |p: &Points| {
+            Discrepancy::Centered.squared(p)
+        }),
+        ("wrap-around", false, |p: &Points| {
+            Discrepancy::WrapAround.root(p)
+        }),
+        ("wrap-around", true, |p: &Points| {
+            Discrepancy::WrapAround.squared(p)
+        }),
+        ("mixture", false, |p: &Points| Discrepancy::Mixture.root(p)),
+        ("mixture", true, |p: &Points| {
+            Discrepancy::Mixture.squared(p)
+        }),
     ];
     for (measure, squared, f) in cases {
         for (file, points) in [(&file2, &points2), (&file5, &points5)] {

@@ -7,10 +7,7 @@
 //! sums its `N^2` pair terms naively, and its own rounding error reaches `1e-6` relative on
 //! low-discrepancy sets; the exact values are the primary reference.
 
-use mcint::quality::{
-    STAR_DISCREPANCY_MAX_POINTS, centered_l2, centered_l2_squared, l2_star, l2_star_squared,
-    mixture_l2, mixture_l2_squared, star_discrepancy, wrap_around_l2, wrap_around_l2_squared,
-};
+use mcint::quality::{Discrepancy, STAR_DISCREPANCY_MAX_POINTS, star_discrepancy};
 use mcint::sampler::{Sampler, Scramble, Sobol};
 use mcint::{Points, Result};
 
@@ -18,14 +15,24 @@ type Measure = fn(&Points) -> Result<f64>;
 
 /// The nine measures with their names, for the checks that apply to all of them.
 const ALL: [(&str, Measure); 9] = [
-    ("l2_star", l2_star),
-    ("l2_star_squared", l2_star_squared),
-    ("centered_l2", centered_l2),
-    ("centered_l2_squared", centered_l2_squared),
-    ("wrap_around_l2", wrap_around_l2),
-    ("wrap_around_l2_squared", wrap_around_l2_squared),
-    ("mixture_l2", mixture_l2),
-    ("mixture_l2_squared", mixture_l2_squared),
+    ("l2_star", |p: &Points| Discrepancy::L2Star.root(p)),
+    ("l2_star_squared", |p: &Points| {
+        Discrepancy::L2Star.squared(p)
+    }),
+    ("centered_l2", |p: &Points| Discrepancy::Centered.root(p)),
+    ("centered_l2_squared", |p: &Points| {
+        Discrepancy::Centered.squared(p)
+    }),
+    ("wrap_around_l2", |p: &Points| {
+        Discrepancy::WrapAround.root(p)
+    }),
+    ("wrap_around_l2_squared", |p: &Points| {
+        Discrepancy::WrapAround.squared(p)
+    }),
+    ("mixture_l2", |p: &Points| Discrepancy::Mixture.root(p)),
+    ("mixture_l2_squared", |p: &Points| {
+        Discrepancy::Mixture.squared(p)
+    }),
     ("star_discrepancy", star_discrepancy),
 ];
 
@@ -33,10 +40,10 @@ const ALL: [(&str, Measure); 9] = [
 /// otherwise).
 fn scipy_form(method: &str) -> Measure {
     match method {
-        "L2-star" => l2_star,
-        "CD" => centered_l2_squared,
-        "WD" => wrap_around_l2_squared,
-        "MD" => mixture_l2_squared,
+        "L2-star" => |p: &Points| Discrepancy::L2Star.root(p),
+        "CD" => |p: &Points| Discrepancy::Centered.squared(p),
+        "WD" => |p: &Points| Discrepancy::WrapAround.squared(p),
+        "MD" => |p: &Points| Discrepancy::Mixture.squared(p),
         "star" => star_discrepancy,
         other => panic!("unknown method {other}"),
     }
@@ -270,7 +277,7 @@ fn hammersley_set_matches_halton_zaremba_and_de_clerck() {
             - mf / 2f64.powi(m as i32 + 4)
             + 1.0 / 2f64.powi(m as i32 + 2)
             - 1.0 / (9.0 * 2f64.powi(2 * m as i32 + 3));
-        let t = l2_star(&points).unwrap();
+        let t = Discrepancy::L2Star.root(&points).unwrap();
         assert!(
             relative((n * t).powi(2), halton_zaremba) < 1e-13,
             "m = {m}: (N T)^2 = {}, formula {halton_zaremba}",
@@ -308,22 +315,37 @@ fn invariances_under_shifts_reflections_and_permutations() {
 
     // Toroidal shift by a different dyadic amount per dimension: only WD is invariant.
     let shifted = map_columns(&points, |dim, x| (x + 0.3125 + dim as f64 / 8.0).fract());
-    let wd = value(wrap_around_l2_squared, &points);
-    assert!(relative(value(wrap_around_l2_squared, &shifted), wd) < 1e-13);
-    let cd = value(centered_l2_squared, &points);
-    assert!(relative(value(centered_l2_squared, &shifted), cd) > 1e-3);
+    let wd = value(|p: &Points| Discrepancy::WrapAround.squared(p), &points);
+    assert!(
+        relative(
+            value(|p: &Points| Discrepancy::WrapAround.squared(p), &shifted),
+            wd
+        ) < 1e-13
+    );
+    let cd = value(|p: &Points| Discrepancy::Centered.squared(p), &points);
+    assert!(
+        relative(
+            value(|p: &Points| Discrepancy::Centered.squared(p), &shifted),
+            cd
+        ) > 1e-3
+    );
 
     // Reflecting dimensions 1 and 3: CD, WD and MD are invariant, L2-star is not.
     let reflected = map_columns(&points, |dim, x| if dim % 2 == 1 { 1.0 - x } else { x });
     for f in [
-        centered_l2_squared,
-        wrap_around_l2_squared,
-        mixture_l2_squared,
+        |p: &Points| Discrepancy::Centered.squared(p),
+        |p: &Points| Discrepancy::WrapAround.squared(p),
+        |p: &Points| Discrepancy::Mixture.squared(p),
     ] {
         assert!(relative(value(f, &reflected), value(f, &points)) < 1e-13);
     }
-    let t = value(l2_star, &points);
-    assert!(relative(value(l2_star, &reflected), t) > 1e-2);
+    let t = value(|p: &Points| Discrepancy::L2Star.root(p), &points);
+    assert!(
+        relative(
+            value(|p: &Points| Discrepancy::L2Star.root(p), &reflected),
+            t
+        ) > 1e-2
+    );
 
     // Reordering points and dimensions changes nothing but the summation order.
     let mut reordered = Points::new(4, 256).unwrap();
@@ -551,10 +573,22 @@ fn high_dimension_results_are_right_or_errors() {
     for (method, style, n, d, exact_squared, exact_root) in cases {
         let points = high_dim_points(style, n, d);
         let (root, squared): (Measure, Measure) = match method {
-            "L2-star" => (l2_star, l2_star_squared),
-            "CD" => (centered_l2, centered_l2_squared),
-            "WD" => (wrap_around_l2, wrap_around_l2_squared),
-            "MD" => (mixture_l2, mixture_l2_squared),
+            "L2-star" => (
+                |p: &Points| Discrepancy::L2Star.root(p),
+                |p: &Points| Discrepancy::L2Star.squared(p),
+            ),
+            "CD" => (
+                |p: &Points| Discrepancy::Centered.root(p),
+                |p: &Points| Discrepancy::Centered.squared(p),
+            ),
+            "WD" => (
+                |p: &Points| Discrepancy::WrapAround.root(p),
+                |p: &Points| Discrepancy::WrapAround.squared(p),
+            ),
+            "MD" => (
+                |p: &Points| Discrepancy::Mixture.root(p),
+                |p: &Points| Discrepancy::Mixture.squared(p),
+            ),
             other => panic!("unknown method {other}"),
         };
         let label = format!("{method} {style} n = {n} d = {d}");

@@ -186,3 +186,60 @@ fn rows_round_trip_and_refuse_ragged_input() {
     assert!(points.scale(&[0.0; 5], &[f64::INFINITY; 5]).is_err());
     assert!(points.scale(&[0.0; 4], &[1.0; 4]).is_err());
 }
+
+#[test]
+fn geometric_discrepancy_matches_scipy() {
+    use mcint::quality::{GeometricCriterion, geometric_discrepancy};
+    let sobol = Sobol::new(3, Scramble::None, 0)
+        .unwrap()
+        .random(64)
+        .unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-15 * b;
+    let min = geometric_discrepancy(&sobol, GeometricCriterion::MinDistance).unwrap();
+    assert!(close(min, 0.10364452469860624), "{min}");
+    let mst = geometric_discrepancy(&sobol, GeometricCriterion::MinimumSpanningTree).unwrap();
+    assert!(close(mst, 0.2101623405823559), "{mst}");
+    // A duplicated point: scipy leaves its zero-length edge out of both measures.
+    let mut rows = Halton::new(2, Scramble::None, 0)
+        .unwrap()
+        .random(30)
+        .unwrap()
+        .to_rows();
+    rows.push(rows[7].clone());
+    let dup = Points::from_rows(&rows).unwrap();
+    let min = geometric_discrepancy(&dup, GeometricCriterion::MinDistance).unwrap();
+    assert!(close(min, 0.09694702502451269), "{min}");
+    let mst = geometric_discrepancy(&dup, GeometricCriterion::MinimumSpanningTree).unwrap();
+    assert!(close(mst, 0.16011377931067597), "{mst}");
+    let same = Points::from_rows(&[[0.5, 0.5], [0.5, 0.5]]).unwrap();
+    assert!(geometric_discrepancy(&same, GeometricCriterion::MinDistance).is_err());
+}
+
+#[test]
+fn update_discrepancy_is_the_discrepancy_of_the_larger_set() {
+    use mcint::quality::{Discrepancy, update_discrepancy};
+    // Grow a 5-D set one point at a time from one point to 200; every update is the fresh
+    // CD^2 of the set so far, to the rounding of recovering the pair sum (a few eps (13/12)^d
+    // per update, summed over the updates).
+    let all = Independent::new(5, 3)
+        .unwrap()
+        .random(200)
+        .unwrap()
+        .to_rows();
+    let mut cd2 = Discrepancy::Centered
+        .squared(&Points::from_rows(&all[..1]).unwrap())
+        .unwrap();
+    let scale = (13.0f64 / 12.0).powi(5);
+    for n in 1..all.len() {
+        let set = Points::from_rows(&all[..n]).unwrap();
+        cd2 = update_discrepancy(&all[n], &set, cd2).unwrap();
+        let fresh = Discrepancy::Centered
+            .squared(&Points::from_rows(&all[..=n]).unwrap())
+            .unwrap();
+        let bound = 16.0 * n as f64 * f64::EPSILON * scale;
+        assert!((cd2 - fresh).abs() <= bound, "{n}: {cd2} vs {fresh}");
+    }
+    let set = Points::from_rows(&all[..3]).unwrap();
+    assert!(update_discrepancy(&[0.5; 4], &set, 0.1).is_err());
+    assert!(update_discrepancy(&[0.5; 5], &set, f64::NAN).is_err());
+}

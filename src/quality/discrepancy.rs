@@ -20,23 +20,15 @@
 //! 1998 for `CD` and `WD`; Zhou, Fang & Ning 2013, eqs. 9, 10 and 18, for `CD`, `WD` and `MD`).
 //! The L2-star discrepancy is anchored at the origin; the other three are invariant under
 //! reflecting any coordinate (`x -> 1 - x`), and the wrap-around discrepancy also under shifting
-//! all points modulo 1. The public functions repeat what a user needs from this (the module is
-//! private; they are re-exported from `mcint::quality`).
+//! all points modulo 1. [`Discrepancy`]'s documentation repeats what a user needs from this (the
+//! module is private; it is re-exported from `mcint::quality`).
 //!
-//! # Which form each function returns, and scipy
+//! # Roots, squares and scipy
 //!
-//! Every measure has a function for the discrepancy itself (the root) and one for its square:
-//!
-//! | function | returns | `scipy.stats.qmc.discrepancy(sample, method=...)` |
-//! |---|---|---|
-//! | [`l2_star`] | `T_N` | `'L2-star'` (scipy takes the root) |
-//! | [`l2_star_squared`] | `T_N^2` | the square of `'L2-star'` |
-//! | [`centered_l2`] | `CD` | the root of `'CD'` |
-//! | [`centered_l2_squared`] | `CD^2` | `'CD'` (scipy returns the square) |
-//! | [`wrap_around_l2`] | `WD` | the root of `'WD'` |
-//! | [`wrap_around_l2_squared`] | `WD^2` | `'WD'` (scipy returns the square) |
-//! | [`mixture_l2`] | `MD` | the root of `'MD'` |
-//! | [`mixture_l2_squared`] | `MD^2` | `'MD'` (scipy returns the square) |
+//! [`Discrepancy`] names the four; each gives the discrepancy itself
+//! ([`root`](Discrepancy::root)), its square ([`squared`](Discrepancy::squared)), or what
+//! `scipy.stats.qmc.discrepancy(sample, method=...)` returns ([`scipy`](Discrepancy::scipy): the
+//! root of `'L2-star'`, the square of `'CD'`, `'WD'` and `'MD'`).
 //!
 //! # Cost and accuracy
 //!
@@ -132,7 +124,7 @@ pub(super) fn check_unit_cube(points: &Points) -> Result<()> {
 
 /// One discrepancy of the closed form in the module documentation.
 trait Kernel {
-    /// The discrepancy's symbol and the names of its two public functions, for error messages.
+    /// The discrepancy's symbol and its variant of [`Discrepancy`], for error messages.
     const NAME: &'static str;
     const ROOT_FN: &'static str;
     /// How the result grows (or, for L2-star, shrinks) with the dimension, and from which
@@ -163,7 +155,7 @@ fn distance_to_centre(x: f64) -> DoubleDouble {
 struct Star;
 impl Kernel for Star {
     const NAME: &'static str = "T_N";
-    const ROOT_FN: &'static str = "l2_star";
+    const ROOT_FN: &'static str = "Discrepancy::L2Star.root";
     const LIMIT: &'static str = "T_N^2 shrinks with the dimension (its terms are products of d \
         factors of at most 1, such as 3^-d and prod_k (1 - x_ik)), and can fall below 2.2e-308 \
         from about 645 dimensions, T_N from about 1290";
@@ -182,7 +174,7 @@ impl Kernel for Star {
 struct Centered;
 impl Kernel for Centered {
     const NAME: &'static str = "CD";
-    const ROOT_FN: &'static str = "centered_l2";
+    const ROOT_FN: &'static str = "Discrepancy::Centered.root";
     const LIMIT: &'static str = "CD^2 grows with the dimension (its terms are products of d \
         factors, up to 1.5^d per point: prod_k (1 + |x_ik - 1/2|)), and can pass 1.8e308 from \
         about 1750 dimensions, CD from about 3500";
@@ -201,7 +193,7 @@ impl Kernel for Centered {
 struct WrapAround;
 impl Kernel for WrapAround {
     const NAME: &'static str = "WD";
-    const ROOT_FN: &'static str = "wrap_around_l2";
+    const ROOT_FN: &'static str = "Discrepancy::WrapAround.root";
     const LIMIT: &'static str = "WD^2 grows with the dimension (its terms are products of d \
         factors, 1.5^d per point), and can pass 1.8e308 from about 1750 dimensions, WD from \
         about 3500";
@@ -221,7 +213,7 @@ impl Kernel for WrapAround {
 struct Mixture;
 impl Kernel for Mixture {
     const NAME: &'static str = "MD";
-    const ROOT_FN: &'static str = "mixture_l2";
+    const ROOT_FN: &'static str = "Discrepancy::Mixture.root";
     const LIMIT: &'static str = "MD^2 grows with the dimension (its terms are products of d \
         factors, 1.625^d to 1.875^d per point: prod_k (15/8 - |x_ik - 1/2| / 2)), and can pass \
         1.8e308 from about 1130 dimensions, MD from about 2260";
@@ -574,194 +566,253 @@ fn root_value<K: Kernel>(points: &Points) -> Result<f64> {
     Err(out_of_range::<K>(points, K::NAME, log10, ""))
 }
 
-/// The L2-star discrepancy `T_N` (Warnock 1972): the root mean square over `t` in `[0,1]^d` of
-/// `vol([0, t)) - #{x_i in [0, t)} / N`, the root of [`l2_star_squared`]. The same quantity as
-/// scipy's `qmc.discrepancy(sample, method='L2-star')`, which also returns the root.
+/// An L2 discrepancy of a point set in `[0, 1]^d` (scipy's `qmc.discrepancy` methods), each
+/// as a root ([`root`](Self::root)) or a square ([`squared`](Self::squared)); see the module
+/// documentation for the closed forms.
 ///
-/// ```
-/// use mcint::{Points, quality::l2_star};
-/// // The N midpoints (2i - 1) / (2N) of [0, 1] have T_N = 1 / (sqrt(12) N).
-/// let mut points = Points::new(1, 4)?;
-/// points.column_mut(0).copy_from_slice(&[0.125, 0.375, 0.625, 0.875]);
-/// let t = l2_star(&points)?;
-/// assert!((t - 1.0 / (12f64.sqrt() * 4.0)).abs() < 1e-15);
-/// # Ok::<(), mcint::Error>(())
-/// ```
+/// | variant | scipy `method` | [`scipy`](Self::scipy) returns, as scipy does |
+/// |---|---|---|
+/// | [`L2Star`](Self::L2Star) `T_N` | `'L2-star'` | the root |
+/// | [`Centered`](Self::Centered) `CD` | `'CD'` | the square |
+/// | [`WrapAround`](Self::WrapAround) `WD` | `'WD'` | the square |
+/// | [`Mixture`](Self::Mixture) `MD` | `'MD'` | the square |
 ///
 #[doc = cost_accuracy_errors!()]
-pub fn l2_star(points: &Points) -> Result<f64> {
-    root_value::<Star>(points)
-}
-
-/// The squared L2-star discrepancy `T_N^2`, by Warnock's (1972) closed form
-///
-/// ```text
-/// T_N^2 = 3^-d - (2^(1-d) / N) sum_i prod_k (1 - x_ik^2)
-///              + (1 / N^2) sum_i sum_j prod_k (1 - max(x_ik, x_jk))
-/// ```
-///
-/// The square of scipy's `qmc.discrepancy(sample, method='L2-star')` (scipy returns the root).
 ///
 /// ```
-/// use mcint::{Points, quality::l2_star_squared};
-/// // One point x in one dimension: T^2 = 1/3 - (1 - x^2) + (1 - x) = x^2 - x + 1/3.
-/// let mut points = Points::new(1, 1)?;
-/// points.column_mut(0)[0] = 0.25;
-/// let t2 = l2_star_squared(&points)?;
-/// assert!((t2 - (0.0625 - 0.25 + 1.0 / 3.0)).abs() < 1e-16);
-/// // Coordinates must lie in [0, 1].
-/// points.column_mut(0)[0] = 1.5;
-/// assert!(l2_star_squared(&points).is_err());
-/// # Ok::<(), mcint::Error>(())
-/// ```
-///
-#[doc = cost_accuracy_errors!()]
-pub fn l2_star_squared(points: &Points) -> Result<f64> {
-    squared_value::<Star>(points)
-}
-
-/// The centered L2 discrepancy `CD` (Hickernell 1998), the root of [`centered_l2_squared`]:
-/// the root mean square local discrepancy of the boxes spanned by a point `t` and the corner of
-/// the unit cube nearest to `t`. The square root of scipy's
-/// `qmc.discrepancy(sample, method='CD')`, which returns `CD^2`.
-///
-/// ```
-/// use mcint::{Points, quality::centered_l2};
-/// // One point at the centre of [0, 1]: CD^2 = 13/12 - 2 + 1 = 1/12.
-/// let mut points = Points::new(1, 1)?;
-/// points.column_mut(0)[0] = 0.5;
-/// assert!((centered_l2(&points)? - (1.0f64 / 12.0).sqrt()).abs() < 1e-15);
-/// # Ok::<(), mcint::Error>(())
-/// ```
-///
-#[doc = cost_accuracy_errors!()]
-pub fn centered_l2(points: &Points) -> Result<f64> {
-    root_value::<Centered>(points)
-}
-
-/// The squared centered L2 discrepancy `CD^2` (Hickernell 1998), with `a_ik = |x_ik - 1/2|`:
-///
-/// ```text
-/// CD^2 = (13/12)^d - (2 / N) sum_i prod_k (1 + a_ik / 2 - a_ik^2 / 2)
-///      + (1 / N^2) sum_i sum_j prod_k (1 + a_ik / 2 + a_jk / 2 - |x_ik - x_jk| / 2)
-/// ```
-///
-/// The same quantity as scipy's `qmc.discrepancy(sample, method='CD')`, which returns the
-/// square. Invariant under reflecting any coordinate, `x -> 1 - x`.
-///
-/// ```
-/// use mcint::{Points, quality::centered_l2_squared};
-/// // Reflecting a coordinate (x -> 1 - x) leaves CD unchanged.
-/// let mut points = Points::new(2, 3)?;
-/// points.column_mut(0).copy_from_slice(&[0.125, 0.5, 0.75]);
-/// points.column_mut(1).copy_from_slice(&[0.25, 0.875, 0.5]);
-/// let before = centered_l2_squared(&points)?;
-/// for x in points.column_mut(1) {
-///     *x = 1.0 - *x;
+/// use mcint::quality::Discrepancy;
+/// use mcint::sampler::{Independent, Sampler, Scramble, Sobol};
+/// let sobol = Sobol::new(3, Scramble::Owen, 1)?.random(256)?;
+/// let random = Independent::new(3, 1)?.random(256)?;
+/// for kind in Discrepancy::ALL {
+///     assert!(kind.root(&sobol)? < kind.root(&random)?, "{}", kind.name());
 /// }
-/// assert!((centered_l2_squared(&points)? - before).abs() < 1e-15);
+/// assert_eq!("CD".parse::<Discrepancy>()?, Discrepancy::Centered);
 /// # Ok::<(), mcint::Error>(())
 /// ```
-///
-#[doc = cost_accuracy_errors!()]
-pub fn centered_l2_squared(points: &Points) -> Result<f64> {
-    squared_value::<Centered>(points)
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Discrepancy {
+    /// The L2-star discrepancy `T_N` (Warnock 1972): the root mean square over `t` in
+    /// `[0,1]^d` of `vol([0, t)) - #{x_i in [0, t)} / N`, by Warnock's closed form
+    ///
+    /// ```text
+    /// T_N^2 = 3^-d - (2^(1-d) / N) sum_i prod_k (1 - x_ik^2)
+    ///              + (1 / N^2) sum_i sum_j prod_k (1 - max(x_ik, x_jk))
+    /// ```
+    ///
+    /// ```
+    /// use mcint::{Points, quality::Discrepancy};
+    /// // The N midpoints (2i - 1) / (2N) of [0, 1] have T_N = 1 / (sqrt(12) N).
+    /// let points = Points::from_rows(&[[0.125], [0.375], [0.625], [0.875]])?;
+    /// let t = Discrepancy::L2Star.root(&points)?;
+    /// assert!((t - 1.0 / (12f64.sqrt() * 4.0)).abs() < 1e-15);
+    /// // One point x in one dimension: T^2 = 1/3 - (1 - x^2) + (1 - x) = x^2 - x + 1/3.
+    /// let one = Points::from_rows(&[[0.25]])?;
+    /// let t2 = Discrepancy::L2Star.squared(&one)?;
+    /// assert!((t2 - (0.0625 - 0.25 + 1.0 / 3.0)).abs() < 1e-16);
+    /// // Coordinates must lie in [0, 1].
+    /// assert!(Discrepancy::L2Star.squared(&Points::from_rows(&[[1.5]])?).is_err());
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    L2Star,
+    /// The centered L2 discrepancy `CD` (Hickernell 1998): the root mean square local
+    /// discrepancy of the boxes spanned by a point `t` and the corner of the unit cube nearest
+    /// to `t`. With `a_ik = |x_ik - 1/2|`:
+    ///
+    /// ```text
+    /// CD^2 = (13/12)^d - (2 / N) sum_i prod_k (1 + a_ik / 2 - a_ik^2 / 2)
+    ///      + (1 / N^2) sum_i sum_j prod_k (1 + a_ik / 2 + a_jk / 2 - |x_ik - x_jk| / 2)
+    /// ```
+    ///
+    /// Invariant under reflecting any coordinate, `x -> 1 - x`.
+    ///
+    /// ```
+    /// use mcint::{Points, quality::Discrepancy};
+    /// // One point at the centre of [0, 1]: CD^2 = 13/12 - 2 + 1 = 1/12.
+    /// let centre = Points::from_rows(&[[0.5]])?;
+    /// assert!((Discrepancy::Centered.root(&centre)? - (1.0f64 / 12.0).sqrt()).abs() < 1e-15);
+    /// // Reflecting a coordinate leaves CD unchanged.
+    /// let mut points = Points::from_rows(&[[0.125, 0.25], [0.5, 0.875], [0.75, 0.5]])?;
+    /// let before = Discrepancy::Centered.squared(&points)?;
+    /// for x in points.column_mut(1) {
+    ///     *x = 1.0 - *x;
+    /// }
+    /// assert!((Discrepancy::Centered.squared(&points)? - before).abs() < 1e-15);
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    Centered,
+    /// The wrap-around L2 discrepancy `WD` (Hickernell 1998): the root mean square local
+    /// discrepancy of boxes that may wrap around the faces of the unit cube (boxes on the
+    /// torus). With `t_ijk = |x_ik - x_jk|`:
+    ///
+    /// ```text
+    /// WD^2 = -(4/3)^d + (1 / N^2) sum_i sum_j prod_k (3/2 - t_ijk + t_ijk^2)
+    /// ```
+    ///
+    /// Invariant under reflecting any coordinate and under shifting all points modulo 1.
+    ///
+    /// ```
+    /// use mcint::{Points, quality::Discrepancy};
+    /// // One point anywhere in [0, 1]: WD^2 = -4/3 + 3/2 = 1/6.
+    /// let one = Points::from_rows(&[[0.9]])?;
+    /// assert!((Discrepancy::WrapAround.root(&one)? - (1.0f64 / 6.0).sqrt()).abs() < 1e-15);
+    /// // Shifting every point by the same amount modulo 1 leaves WD unchanged.
+    /// let before = Discrepancy::WrapAround.squared(&Points::from_rows(&[[0.0], [0.25], [0.625]])?)?;
+    /// let after = Discrepancy::WrapAround.squared(&Points::from_rows(&[[0.5], [0.75], [0.125]])?)?;
+    /// assert!((after - before).abs() < 1e-15);
+    /// // One point in 2000 dimensions: WD^2 = 1.5^2000 - (4/3)^2000, about 10^352, is beyond
+    /// // f64, but its root, about 1.5^1000 = 1.2e176, is returned.
+    /// let far = Points::new(2000, 1)?;
+    /// let err = Discrepancy::WrapAround.squared(&far).unwrap_err();
+    /// assert!(err.to_string().contains("1.8e308"));
+    /// let wd = Discrepancy::WrapAround.root(&far)?;
+    /// assert!((wd / 1.5f64.powi(1000) - 1.0).abs() < 1e-12);
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    WrapAround,
+    /// The mixture L2 discrepancy `MD` (Zhou, Fang & Ning 2013, eq. 18), which mixes the
+    /// centered and wrap-around families of boxes. With `a_ik = |x_ik - 1/2|` and
+    /// `t_ijk = |x_ik - x_jk|`:
+    ///
+    /// ```text
+    /// MD^2 = (19/12)^d - (2 / N) sum_i prod_k (5/3 - a_ik / 4 - a_ik^2 / 4)
+    ///      + (1 / N^2) sum_i sum_j prod_k (15/8 - a_ik / 4 - a_jk / 4 - 3 t_ijk / 4 + t_ijk^2 / 2)
+    /// ```
+    ///
+    /// Invariant under reflecting any coordinate.
+    ///
+    /// ```
+    /// use mcint::{Points, quality::Discrepancy};
+    /// // One point at the centre of [0, 1]: MD^2 = 19/12 - 2 * 5/3 + 15/8 = 1/8.
+    /// let centre = Points::from_rows(&[[0.5]])?;
+    /// assert!((Discrepancy::Mixture.root(&centre)? - 0.125f64.sqrt()).abs() < 1e-15);
+    /// // An empty set or a NaN coordinate is an error, not a panic.
+    /// assert!(Discrepancy::Mixture.squared(&Points::new(3, 0)?).is_err());
+    /// let err = Discrepancy::Mixture.squared(&Points::from_rows(&[[0.0, f64::NAN]])?).unwrap_err();
+    /// assert!(err.to_string().contains("point 0, dimension 1"));
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    Mixture,
 }
 
-/// The wrap-around L2 discrepancy `WD` (Hickernell 1998), the root of
-/// [`wrap_around_l2_squared`]: the root mean square local discrepancy of boxes that may wrap
-/// around the faces of the unit cube (boxes on the torus). The square root of scipy's
-/// `qmc.discrepancy(sample, method='WD')`, which returns `WD^2`.
-///
-/// ```
-/// use mcint::{Points, quality::wrap_around_l2};
-/// // One point anywhere in [0, 1]: WD^2 = -4/3 + 3/2 = 1/6.
-/// let mut points = Points::new(1, 1)?;
-/// points.column_mut(0)[0] = 0.9;
-/// assert!((wrap_around_l2(&points)? - (1.0f64 / 6.0).sqrt()).abs() < 1e-15);
-/// # Ok::<(), mcint::Error>(())
-/// ```
-///
-#[doc = cost_accuracy_errors!()]
-pub fn wrap_around_l2(points: &Points) -> Result<f64> {
-    root_value::<WrapAround>(points)
+impl Discrepancy {
+    /// Every discrepancy, in the order of the table above.
+    ///
+    /// ```
+    /// assert_eq!(mcint::quality::Discrepancy::ALL.len(), 4);
+    /// ```
+    pub const ALL: [Discrepancy; 4] = [
+        Discrepancy::L2Star,
+        Discrepancy::Centered,
+        Discrepancy::WrapAround,
+        Discrepancy::Mixture,
+    ];
+
+    /// The discrepancy itself: `T_N`, `CD`, `WD` or `MD`.
+    ///
+    /// ```
+    /// use mcint::{Points, quality::Discrepancy};
+    /// let p = Points::from_rows(&[[0.2, 0.7], [0.6, 0.1]])?;
+    /// let (root, square) = (Discrepancy::Centered.root(&p)?, Discrepancy::Centered.squared(&p)?);
+    /// assert!((root * root - square).abs() < 1e-15);
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    pub fn root(self, points: &Points) -> Result<f64> {
+        match self {
+            Discrepancy::L2Star => root_value::<Star>(points),
+            Discrepancy::Centered => root_value::<Centered>(points),
+            Discrepancy::WrapAround => root_value::<WrapAround>(points),
+            Discrepancy::Mixture => root_value::<Mixture>(points),
+        }
+    }
+
+    /// The square of the discrepancy: `T_N^2`, `CD^2`, `WD^2` or `MD^2`.
+    ///
+    /// ```
+    /// use mcint::{Points, quality::Discrepancy};
+    /// let one = Points::from_rows(&[[0.5]])?;
+    /// assert!((Discrepancy::Centered.squared(&one)? - 1.0 / 12.0).abs() < 1e-15);
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    pub fn squared(self, points: &Points) -> Result<f64> {
+        match self {
+            Discrepancy::L2Star => squared_value::<Star>(points),
+            Discrepancy::Centered => squared_value::<Centered>(points),
+            Discrepancy::WrapAround => squared_value::<WrapAround>(points),
+            Discrepancy::Mixture => squared_value::<Mixture>(points),
+        }
+    }
+
+    /// The value scipy's `qmc.discrepancy(sample, method=...)` returns: the root of L2-star,
+    /// the square of the others.
+    ///
+    /// ```
+    /// use mcint::{Points, quality::Discrepancy};
+    /// let p = Points::from_rows(&[[0.2, 0.7], [0.6, 0.1]])?;
+    /// assert_eq!(Discrepancy::L2Star.scipy(&p)?, Discrepancy::L2Star.root(&p)?);
+    /// assert_eq!(Discrepancy::Mixture.scipy(&p)?, Discrepancy::Mixture.squared(&p)?);
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    pub fn scipy(self, points: &Points) -> Result<f64> {
+        match self {
+            Discrepancy::L2Star => self.root(points),
+            _ => self.squared(points),
+        }
+    }
+
+    /// The name the `quality` binary takes: `l2-star`, `centered`, `wrap-around`, `mixture`.
+    ///
+    /// ```
+    /// assert_eq!(mcint::quality::Discrepancy::WrapAround.name(), "wrap-around");
+    /// ```
+    pub fn name(self) -> &'static str {
+        match self {
+            Discrepancy::L2Star => "l2-star",
+            Discrepancy::Centered => "centered",
+            Discrepancy::WrapAround => "wrap-around",
+            Discrepancy::Mixture => "mixture",
+        }
+    }
+
+    /// scipy's name of the method: `L2-star`, `CD`, `WD`, `MD`.
+    ///
+    /// ```
+    /// assert_eq!(mcint::quality::Discrepancy::Centered.scipy_name(), "CD");
+    /// ```
+    pub fn scipy_name(self) -> &'static str {
+        match self {
+            Discrepancy::L2Star => "L2-star",
+            Discrepancy::Centered => "CD",
+            Discrepancy::WrapAround => "WD",
+            Discrepancy::Mixture => "MD",
+        }
+    }
 }
 
-/// The squared wrap-around L2 discrepancy `WD^2` (Hickernell 1998), with
-/// `t_ijk = |x_ik - x_jk|`:
-///
-/// ```text
-/// WD^2 = -(4/3)^d + (1 / N^2) sum_i sum_j prod_k (3/2 - t_ijk + t_ijk^2)
-/// ```
-///
-/// The same quantity as scipy's `qmc.discrepancy(sample, method='WD')`, which returns the
-/// square. Invariant under reflecting any coordinate and under shifting all points modulo 1.
-///
-/// ```
-/// use mcint::{Points, quality::wrap_around_l2_squared};
-/// // Shifting every point by the same amount modulo 1 leaves WD unchanged.
-/// let mut points = Points::new(1, 3)?;
-/// points.column_mut(0).copy_from_slice(&[0.0, 0.25, 0.625]);
-/// let before = wrap_around_l2_squared(&points)?;
-/// points.column_mut(0).copy_from_slice(&[0.5, 0.75, 0.125]);
-/// assert!((wrap_around_l2_squared(&points)? - before).abs() < 1e-15);
-/// // One point in 2000 dimensions: WD^2 = 1.5^2000 - (4/3)^2000, about 10^352, is beyond
-/// // f64, but its root, about 1.5^1000 = 1.2e176, is returned by wrap_around_l2.
-/// let one = Points::new(2000, 1)?;
-/// assert!(wrap_around_l2_squared(&one).unwrap_err().to_string().contains("1.8e308"));
-/// let wd = mcint::quality::wrap_around_l2(&one)?;
-/// assert!((wd / 1.5f64.powi(1000) - 1.0).abs() < 1e-12);
-/// # Ok::<(), mcint::Error>(())
-/// ```
-///
-#[doc = cost_accuracy_errors!()]
-pub fn wrap_around_l2_squared(points: &Points) -> Result<f64> {
-    squared_value::<WrapAround>(points)
-}
+impl std::str::FromStr for Discrepancy {
+    type Err = Error;
 
-/// The mixture L2 discrepancy `MD` (Zhou, Fang & Ning 2013), the root of
-/// [`mixture_l2_squared`], which mixes the centered and wrap-around families of boxes. The
-/// square root of scipy's `qmc.discrepancy(sample, method='MD')`, which returns `MD^2`.
-///
-/// ```
-/// use mcint::{Points, quality::mixture_l2};
-/// // One point at the centre of [0, 1]: MD^2 = 19/12 - 2 * 5/3 + 15/8 = 1/8.
-/// let mut points = Points::new(1, 1)?;
-/// points.column_mut(0)[0] = 0.5;
-/// assert!((mixture_l2(&points)? - (0.125f64).sqrt()).abs() < 1e-15);
-/// # Ok::<(), mcint::Error>(())
-/// ```
-///
-#[doc = cost_accuracy_errors!()]
-pub fn mixture_l2(points: &Points) -> Result<f64> {
-    root_value::<Mixture>(points)
-}
-
-/// The squared mixture L2 discrepancy `MD^2` (Zhou, Fang & Ning 2013, eq. 18), with
-/// `a_ik = |x_ik - 1/2|` and `t_ijk = |x_ik - x_jk|`:
-///
-/// ```text
-/// MD^2 = (19/12)^d - (2 / N) sum_i prod_k (5/3 - a_ik / 4 - a_ik^2 / 4)
-///      + (1 / N^2) sum_i sum_j prod_k (15/8 - a_ik / 4 - a_jk / 4 - 3 t_ijk / 4 + t_ijk^2 / 2)
-/// ```
-///
-/// The same quantity as scipy's `qmc.discrepancy(sample, method='MD')`, which returns the
-/// square. Invariant under reflecting any coordinate.
-///
-/// ```
-/// use mcint::{Points, quality::mixture_l2_squared};
-/// // An empty set or a NaN coordinate is an error, not a panic.
-/// assert!(mixture_l2_squared(&Points::new(3, 0)?).is_err());
-/// let mut points = Points::new(2, 1)?;
-/// points.column_mut(1)[0] = f64::NAN;
-/// let err = mixture_l2_squared(&points).unwrap_err();
-/// assert!(err.to_string().contains("point 0, dimension 1"));
-/// # Ok::<(), mcint::Error>(())
-/// ```
-///
-#[doc = cost_accuracy_errors!()]
-pub fn mixture_l2_squared(points: &Points) -> Result<f64> {
-    squared_value::<Mixture>(points)
+    /// A discrepancy by its name or scipy's (`centered` or `CD`, ...).
+    ///
+    /// ```
+    /// use mcint::quality::Discrepancy;
+    /// assert_eq!("mixture".parse::<Discrepancy>()?, Discrepancy::Mixture);
+    /// assert!("star".parse::<Discrepancy>().is_err());
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    fn from_str(name: &str) -> Result<Discrepancy> {
+        Discrepancy::ALL
+            .into_iter()
+            .find(|d| name == d.name() || name == d.scipy_name())
+            .ok_or_else(|| {
+                Error::invalid(
+                    "discrepancy",
+                    name,
+                    "one of l2-star, centered, wrap-around, mixture (or scipy's L2-star, CD, \
+                     WD, MD)",
+                )
+            })
+    }
 }
 
 #[cfg(test)]

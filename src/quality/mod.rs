@@ -6,15 +6,15 @@
 
 mod convergence;
 mod discrepancy;
+mod geometric_discrepancy;
 mod nets;
 mod spectrum;
 mod star_discrepancy;
+mod update_discrepancy;
 
 pub use convergence::{Convergence, ConvergencePoint, ConvergenceStudy};
-pub use discrepancy::{
-    centered_l2, centered_l2_squared, l2_star, l2_star_squared, mixture_l2, mixture_l2_squared,
-    wrap_around_l2, wrap_around_l2_squared,
-};
+pub use discrepancy::Discrepancy;
+pub use geometric_discrepancy::{GeometricCriterion, geometric_discrepancy};
 pub use nets::{
     NetCheck, UnbalancedInterval, elementary_intervals_balanced, shape_balanced, t_value,
 };
@@ -23,3 +23,4 @@ pub use spectrum::{
     periodogram_with_threads,
 };
 pub use star_discrepancy::{STAR_DISCREPANCY_MAX_POINTS, star_discrepancy};
+pub use update_discrepancy::update_discrepancy;
