@@ -118,11 +118,11 @@ fn mean_tree_edge(n: usize, distance: impl Fn(usize, usize) -> f64) -> f64 {
                 next = Some(u);
             }
         }
-        if let Some(u) = next {
-            if nearest[u].is_finite() {
-                total += nearest[u];
-                edges += 1;
-            }
+        if let Some(u) = next
+            && nearest[u].is_finite()
+        {
+            total += nearest[u];
+            edges += 1;
         }
     }
     if edges == 0 {
