@@ -104,7 +104,7 @@ use crate::{Error, Points, Result};
 use double_double::DoubleDouble;
 
 /// Checks that `points` holds at least one point and that every coordinate is in `[0, 1]`.
-pub(super) fn check_unit_cube(points: &Points) -> Result<()> {
+pub(crate) fn check_unit_cube(points: &Points) -> Result<()> {
     if points.is_empty() {
         return Err(Error::invalid("number of points", 0, "at least 1"));
     }

@@ -14,6 +14,7 @@ mod update_discrepancy;
 
 pub use convergence::{Convergence, ConvergencePoint, ConvergenceStudy};
 pub use discrepancy::Discrepancy;
+pub(crate) use discrepancy::check_unit_cube;
 pub use geometric_discrepancy::{GeometricCriterion, geometric_discrepancy};
 pub use nets::{
     NetCheck, UnbalancedInterval, elementary_intervals_balanced, shape_balanced, t_value,
