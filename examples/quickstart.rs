@@ -186,6 +186,10 @@ fn run() -> Result<()> {
         "\nstd err: from the per-sample variance for independent points, and from the spread of \
          {REPLICATES} independently randomized replicates otherwise (their samples are not independent)."
     );
+    println!(
+        "A.x: equations of W. Jarosz, \"Efficient Monte Carlo Methods for Light Transport in \
+         Scattering Media\", PhD dissertation, UC San Diego, 2008, Appendix A."
+    );
     Ok(())
 }
 

@@ -1,4 +1,4 @@
-//! The seed's variance-reduction scenarios side by side: for each, every technique's estimate,
+//! Jarosz's variance-reduction scenarios side by side: for each, every technique's estimate,
 //! its standard error, the exact answer, and the variance per integrand evaluation (the
 //! variance of the estimate times the evaluations it took), so techniques compare at equal
 //! work.
@@ -13,7 +13,7 @@
 //!    glossy reflection `g` (a sharp lobe plus a diffuse floor) times a broad light `h`.
 //!    Sampling the lobe misses the floor, sampling the light misses the lobe, MIS combines
 //!    both; sampling all of `g` exactly (A.25) is the ideal when `g` is fully known.
-//! 3. Control variates (A.26-A.29): `e^x` with the control `1 + x`, with the seed's
+//! 3. Control variates (A.26-A.29): `e^x` with the control `1 + x`, with Jarosz's
 //!    coefficient 1, with the least-squares coefficient, with two controls, and antithetic
 //!    pairs for comparison.
 

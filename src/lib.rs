@@ -1,7 +1,9 @@
 //! # mcint: Monte Carlo integration with honest error bars
 //!
-//! The crate follows the Monte Carlo appendix it was built from (equation numbers A.x refer
-//! to it) in three layers, with one direction of data:
+//! The crate follows the Monte Carlo appendix it was built from, W. Jarosz, "Efficient Monte
+//! Carlo Methods for Light Transport in Scattering Media", PhD dissertation, UC San Diego,
+//! 2008, Appendix A "Monte Carlo Integration" (equation numbers A.x, here and throughout the
+//! documentation, are that appendix's), in three layers, with one direction of data:
 //!
 //! ```text
 //! Sampler --u in [0,1)^k--> Pdf (warp) --x, pdf(x)--> Estimator --Y_i--> Accumulator --> Estimate
@@ -27,7 +29,7 @@
 //! are bit-identical for any thread count, and a panic becomes
 //! [`Error::IntegrandPanicked`]); one run configuration whose setters (`sampler`, `seed`,
 //! `threads`, `tolerance`, `non_finite`) every builder shares; and one stopping rule that
-//! every run to a [`Tolerance`](stats::Tolerance) asks when to stop and with which interval.
+//! every run to a [`Tolerance`] asks when to stop and with which interval.
 //! With the `mpi` feature, a `Cluster` spreads any runner's chunks over MPI ranks: every rank
 //! gathers every chunk's result and folds them in the same order, so every rank gets the
 //! one-process result, bit for bit.

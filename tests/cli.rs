@@ -267,6 +267,8 @@ fn quickstart_prints_its_table() {
         "jittered",
         "latin hypercube",
         "genz gaussian",
+        // The source the equation numbers refer to.
+        "W. Jarosz, \"Efficient Monte Carlo Methods for Light Transport in Scattering Media\"",
     ] {
         assert!(text.contains(needle), "missing {needle:?} in\n{text}");
     }
@@ -624,7 +626,7 @@ fn integrate_estimators_reduce_variance_from_the_command_line() {
     assert_one_line_error(&out, "uniform, importance, mis, control");
 }
 
-/// `variance_reduction` prints the seed's three scenarios; every estimate lies within its
+/// `variance_reduction` prints Jarosz's three scenarios; every estimate lies within its
 /// error bar of the exact value and the orderings the seed describes hold by wide margins.
 #[test]
 fn variance_reduction_example_shows_the_seeds_scenarios() {

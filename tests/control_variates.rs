@@ -1,4 +1,4 @@
-//! Control variates (the seed's A.26-A.29) checked against closed forms.
+//! Control variates (Jarosz's A.26-A.29) checked against closed forms.
 //!
 //! - The known-`G` estimator is unbiased for every coefficient and its per-sample variance is
 //!   `Var[f] - 2 beta Cov[f, g] + beta^2 Var[g]`, smallest at `beta* = Cov[f, g] / Var[g]`.

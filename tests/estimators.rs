@@ -166,7 +166,7 @@ fn estimator_variance_is_sigma2_over_n() {
     }
 }
 
-/// A.17/A.22: quadrupling N halves the standard deviation (not the seed's "O(sqrt N)").
+/// A.17/A.22: quadrupling N halves the standard deviation (not Jarosz's "O(sqrt N)").
 /// The ratio of sample standard deviations has relative standard error
 /// sqrt(Var(s1^2)/(4 s1^4) + Var(s2^2)/(4 s2^4)) by the delta method.
 #[test]

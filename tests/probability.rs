@@ -1,4 +1,4 @@
-//! The probability identities of the seed's section A.1.3 (A.6-A.10), checked exactly on
+//! The probability identities of Jarosz's section A.1.3 (A.6-A.10), checked exactly on
 //! random discrete distributions. These are the facts the estimators' proofs (A.15, A.20,
 //! A.21) rest on.
 

@@ -8,7 +8,7 @@
 //! recurses; a region with fewer than `min_points_per_bisection` points is integrated by
 //! plain Monte Carlo. Only those leaf samples enter the estimate. Each exploration is drawn
 //! before, and independently of, the samples its decisions steer, so the estimate is
-//! unbiased (the seed's A.3.5 caveat does not apply).
+//! unbiased (Jarosz's A.3.5 caveat does not apply).
 //!
 //! The choice of `alpha` comes from Press & Farrar's model: if the variance of a half's
 //! estimate falls as `sigma^2 / N^alpha` (faster than `1/N` because the half is stratified

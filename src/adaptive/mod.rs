@@ -1,5 +1,5 @@
 //! Adaptive integrators: methods that learn where the integrand matters while they sample
-//! (the seed's A.3.4), with the caveats of A.3.5 (adaptive reuse of samples can bias an
+//! (Jarosz's A.3.4), with the caveats of A.3.5 (adaptive reuse of samples can bias an
 //! estimate unless, as here, every estimate comes from samples drawn after the decisions that
 //! shaped it).
 //!

@@ -1,9 +1,9 @@
-//! The seed's example of a biased but consistent estimator (A.34, A.35).
+//! Jarosz's example of a biased but consistent estimator (A.34, A.35).
 
 use super::Estimator;
 use crate::{Points, Result, sampler::check_block};
 
-/// `(1/(N+1)) sum_{i=0}^{N-1} Y_i`: the seed's A.35, kept as a documented teaching example.
+/// `(1/(N+1)) sum_{i=0}^{N-1} Y_i`: Jarosz's A.35, kept as a documented teaching example.
 ///
 /// Its expectation is `N F / (N + 1)`, so its bias (A.34) is `-F / (N + 1)`: wrong for every
 /// finite `N`, yet consistent, since the bias vanishes as `N` grows. Use the ordinary mean

@@ -1,4 +1,4 @@
-//! Control variates with a known integral (the seed's A.26-A.29).
+//! Control variates with a known integral (Jarosz's A.26-A.29).
 //!
 //! With a control `g` whose integral `G` over the domain is known exactly,
 //! `F = int (f - g) + G` (A.26), and averaging `(f - g)/pdf` over samples from `pdf` and adding

@@ -1,7 +1,7 @@
 //! [`ControlVariates`]: several control variates whose coefficients are fitted by least
 //! squares on a pilot stage, then held fixed for the main run.
 //!
-//! With controls `g_1..g_k` of known integrals `G_1..G_k` (the seed's A.26-A.29 with several
+//! With controls `g_1..g_k` of known integrals `G_1..G_k` (Jarosz's A.26-A.29 with several
 //! controls), write `Y = f(X)/pdf(X)` and `Z_j = g_j(X)/pdf(X)`, so that `E[Z_j] = G_j`. For any
 //! fixed `beta`, `Y - beta^T (Z - G)` has mean `E[Y]`; its variance is smallest at
 //! `beta* = Cov(Z)^-1 Cov(Z, Y)`, where it is `(1 - R^2) Var(Y)` with `R^2` the squared multiple

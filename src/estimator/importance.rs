@@ -1,4 +1,4 @@
-//! The general `f/pdf` estimator (the seed's A.19): importance sampling.
+//! The general `f/pdf` estimator (Jarosz's A.19): importance sampling.
 
 use super::Estimator;
 use crate::pdf::Pdf;

@@ -2,13 +2,13 @@
 //!
 //! An estimator owns the integrand and whatever maps canonical points into its domain. The
 //! integral estimate is the mean of the contributions, `<F^N> = (1/N) sum Y_i`, whose
-//! variance is `sigma^2[Y] / N` for independent samples (the seed's A.21). The uniform
-//! estimator is the seed's A.14, the importance-sampling estimator A.19; the biased but
+//! variance is `sigma^2[Y] / N` for independent samples (Jarosz's A.21). The uniform
+//! estimator is Jarosz's A.14, the importance-sampling estimator A.19; the biased but
 //! consistent estimator of A.35 is kept as a teaching example ([`ConsistentBiased`]).
 //! [`BatchUniformEstimator`] is the uniform estimator for an integrand that evaluates a whole
 //! block of points per call (`Fn(&Points, &mut [f64])`), so users can vectorize it.
 //!
-//! Importance sampling and multiple importance sampling (the seed's A.3.1):
+//! Importance sampling and multiple importance sampling (Jarosz's A.3.1):
 //! - [`ProductImportanceEstimator`]: importance sampling one known factor of `f = g h` (A.25).
 //! - [`MultiSampleMis`] and [`OneSampleMis`]: multiple importance sampling (Veach & Guibas
 //!   1995), weighted by a [`MisHeuristic`] (balance, power, maximum, cutoff) or any

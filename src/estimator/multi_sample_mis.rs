@@ -1,7 +1,7 @@
 //! Veach's multi-sample MIS estimator: `n_i` samples from each of several techniques per
 //! contribution, combined with weights that sum to one.
 //!
-//! The seed's section on multiple importance sampling (after A.25) proposes drawing samples
+//! Jarosz's section on multiple importance sampling (after A.25) proposes drawing samples
 //! from several pdfs, for example one proportional to `g` and one to `h` when `f = g h`, and
 //! combining them (Veach & Guibas 1995; Veach 1997, chapter 9). With `n_i` samples `X_ij` of
 //! technique `i` the multi-sample estimator is
@@ -11,7 +11,7 @@
 //! ```
 //!
 //! (Veach 1997, chapter 9: the multi-sample model), unbiased whenever the weights sum to one
-//! wherever `f != 0`. Each term is the seed's `f/pdf` (A.19) scaled by a weight, so a point is
+//! wherever `f != 0`. Each term is Jarosz's `f/pdf` (A.19) scaled by a weight, so a point is
 //! counted by whichever techniques are good at it instead of by all of them.
 
 use super::mis_weighting::{weighted_term, with_densities};

@@ -1,6 +1,6 @@
 //! Veach's one-sample MIS estimator: each contribution picks one technique at random.
 //!
-//! The seed's multiple importance sampling (after A.25), in the form Veach calls the one-sample
+//! Jarosz's multiple importance sampling (after A.25), in the form Veach calls the one-sample
 //! model (Veach & Guibas 1995; Veach 1997, chapter 9): technique `i` is chosen with probability
 //! `c_i`, a sample `X` is drawn from it, and the contribution is
 //!
@@ -9,7 +9,7 @@
 //! ```
 //!
 //! with weights computed from `q_j = c_j p_j(X)`. It is unbiased whenever the weights sum to one
-//! wherever `f != 0`. With the balance heuristic it is exactly the seed's A.19 with the mixture
+//! wherever `f != 0`. With the balance heuristic it is exactly Jarosz's A.19 with the mixture
 //! density `sum_j c_j p_j` (see [`Mixture`]), and in this model no other weighting has a lower
 //! variance: `E[F^2] = sum_i integral w_i^2 f^2 / q_i`, and minimising `sum_i w_i^2 / q_i`
 //! subject to `sum_i w_i = 1` gives `w_i = q_i / sum_j q_j`.

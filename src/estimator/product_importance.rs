@@ -1,4 +1,4 @@
-//! Importance sampling one known factor of a product integrand: the seed's A.25.
+//! Importance sampling one known factor of a product integrand: Jarosz's A.25.
 //!
 //! When `f(x) = g(x) h(x)` and `g` can be sampled exactly, the seed takes
 //! `pdf_g(x) = c g(x)`, so that `c = 1 / integral g` (the normalisation of A.24 applied to `g`),
@@ -67,7 +67,7 @@ impl<H: Fn(&[f64]) -> f64 + Send + Sync, P: Pdf> ProductImportanceEstimator<H, P
         })
     }
 
-    /// The same estimator in the seed's notation: `pdf_g = c g`, so `c = 1 / integral g`
+    /// The same estimator in Jarosz's notation: `pdf_g = c g`, so `c = 1 / integral g`
     /// (finite and `> 0`) and each contribution is `h(X) / c` (A.25).
     ///
     /// ```
@@ -84,7 +84,7 @@ impl<H: Fn(&[f64]) -> f64 + Send + Sync, P: Pdf> ProductImportanceEstimator<H, P
             return Err(Error::invalid(
                 "c",
                 c,
-                "the seed's normalisation pdf_g = c g: finite and > 0",
+                "Jarosz's normalisation pdf_g = c g: finite and > 0",
             ));
         }
         let g_integral = 1.0 / c;
@@ -102,7 +102,7 @@ impl<H: Fn(&[f64]) -> f64 + Send + Sync, P: Pdf> ProductImportanceEstimator<H, P
         })
     }
 
-    /// `G`, the integral of `g` (the seed's `1/c`).
+    /// `G`, the integral of `g` (Jarosz's `1/c`).
     ///
     /// ```
     /// use mcint::estimator::ProductImportanceEstimator;

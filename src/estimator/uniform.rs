@@ -1,4 +1,4 @@
-//! The basic Monte Carlo estimator over a box (the seed's A.14).
+//! The basic Monte Carlo estimator over a box (Jarosz's A.14).
 
 use super::Estimator;
 use super::box_block::{is_unit, with_mapped};
@@ -8,7 +8,7 @@ use crate::pdf::{Pdf, UniformBox};
 /// `<F^N> = V (1/N) sum f(X_i)` with `X_i` uniform in a box of volume `V`: equation A.14,
 /// `(b - a) (1/N) sum_{i=0}^{N-1} f(a + xi_i (b - a))`, in any dimension.
 ///
-/// (The seed's A.12 prints `1/(N-1)` and a sum to `N`; that is a typo, the estimator is A.14.)
+/// (Jarosz's A.12 prints `1/(N-1)` and a sum to `N`; that is a typo, the estimator is A.14.)
 ///
 /// ```
 /// use mcint::estimator::{Estimator, UniformEstimator};

@@ -1,4 +1,4 @@
-//! The `f/pdf` estimator (the seed's A.19) for an integrand with several outputs.
+//! The `f/pdf` estimator (Jarosz's A.19) for an integrand with several outputs.
 
 use super::VectorEstimator;
 use crate::pdf::Pdf;

@@ -1,4 +1,4 @@
-//! The basic Monte Carlo estimator over a box (the seed's A.14) for an integrand with several
+//! The basic Monte Carlo estimator over a box (Jarosz's A.14) for an integrand with several
 //! outputs, written per point.
 
 use super::VectorEstimator;

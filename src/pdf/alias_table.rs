@@ -8,7 +8,7 @@
 //! construction (M. D. Vose, "A linear algorithm for generating random numbers with a given
 //! distribution", *IEEE TSE* 17(9), 1991), as in pbrt-v4's `AliasTable` (Pharr, Jakob &
 //! Humphreys, *Physically Based Rendering*, 4th ed., sec. A.1); the code is our own. This is the
-//! discrete counterpart of the seed's A.19: a sample `i` drawn with probability `p_i` has the
+//! discrete counterpart of Jarosz's A.19: a sample `i` drawn with probability `p_i` has the
 //! estimator `f(i) / p_i` for a sum `sum_i f(i)`.
 
 use super::piecewise_constant::{check_weights, into_canonical};

@@ -1,6 +1,6 @@
 //! Cosine-weighted directions on the hemisphere around `+z`, by Malley's method.
 //!
-//! Importance sampling (the seed's A.19 with a pdf close to the integrand, A.23-A.24) of the
+//! Importance sampling (Jarosz's A.19 with a pdf close to the integrand, A.23-A.24) of the
 //! ubiquitous `cos theta` factor of rendering integrals. Malley's method (T. Malley, "A
 //! shading method for computer generated images", MSc thesis, University of Utah, 1988)
 //! samples the unit disk uniformly and lifts the point straight up to the hemisphere: the

@@ -1,7 +1,7 @@
 //! Weighted mixtures of densities, including defensive importance sampling (Hesterberg 1995).
 //!
 //! A mixture `p(x) = sum_i w_i p_i(x)` is sampled by choosing component `i` with probability
-//! `w_i` and then sampling `p_i`. Used as the pdf of the seed's importance-sampling estimator
+//! `w_i` and then sampling `p_i`. Used as the pdf of Jarosz's importance-sampling estimator
 //! (A.19), it is the combined density behind multiple importance sampling with the balance
 //! heuristic (Veach & Guibas 1995): one-sample MIS with the balance heuristic is exactly
 //! importance sampling from the mixture. With a uniform component of weight `alpha` it is

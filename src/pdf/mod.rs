@@ -1,7 +1,7 @@
 //! Pdfs (warps): maps from canonical points `u` in `[0,1)^k` to points `x` of a domain, with
 //! the density of the result.
 //!
-//! This is the seed's warping step (equation A.13, `X_i = a + xi_i (b - a)`) generalised to
+//! This is Jarosz's warping step (equation A.13, `X_i = a + xi_i (b - a)`) generalised to
 //! inverse-cdf sampling of any density, which the `f/pdf` estimator (A.19) needs. As in pbrt and
 //! Mitsuba, each pdf keeps `sample`, `pdf` and (where it exists) `invert` side by side. The
 //! one-dimensional densities implement [`Pdf1d`] and get [`Pdf`] for free; they sample by the

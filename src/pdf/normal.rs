@@ -1,6 +1,6 @@
 //! The normal (Gaussian) density on the whole line, sampled by its inverse cdf.
 //!
-//! Inverse-cdf sampling (the warp behind the seed's A.13 and A.19) with Wichura's AS 241
+//! Inverse-cdf sampling (the warp behind Jarosz's A.13 and A.19) with Wichura's AS 241
 //! quantile ([`normal_quantile`]; Wichura, *Applied Statistics* 37, 1988), rather than
 //! Box-Muller or the ziggurat: the warp is monotone and uses one coordinate per sample, so
 //! stratified and quasi-random `u` stay stratified (the reason Owen, *Monte Carlo theory,

@@ -1,7 +1,7 @@
 //! A density proportional to a table of weights on equal cells of an interval, sampled by
 //! binary search on its cdf.
 //!
-//! This is inverse-cdf sampling (the warp behind the seed's A.13 and A.19) of a step function:
+//! This is inverse-cdf sampling (the warp behind Jarosz's A.13 and A.19) of a step function:
 //! the discrete cdf picks a cell, and the leftover fraction of `u` places the point inside it
 //! uniformly, so the warp stays monotone and stratified `u` stay stratified. The method is the
 //! classic one of pbrt-v4's `PiecewiseConstant1D` (Pharr, Jakob & Humphreys, *Physically Based

@@ -2,7 +2,7 @@
 //! then a point within the row.
 //!
 //! Writing the density as `p(x, y) = p(y) p(x | y)` turns two-dimensional inverse-cdf sampling
-//! into two one-dimensional ones (the warp of the seed's A.13/A.19 applied coordinate by
+//! into two one-dimensional ones (the warp of Jarosz's A.13/A.19 applied coordinate by
 //! coordinate): `u[1]` picks `y` from the marginal density of the rows, and `u[0]` picks `x`
 //! from the conditional density within that row. Each step is monotone, so stratified `u`
 //! give stratified rows and, within a row, stratified columns. This is the marginal-conditional

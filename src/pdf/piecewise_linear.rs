@@ -1,7 +1,7 @@
 //! A density proportional to the linear interpolation of values at breakpoints, sampled by
 //! choosing a segment from the cdf and inverting the linear density within it.
 //!
-//! Inverse-cdf sampling (the warp behind the seed's A.13 and A.19) in two steps: the segments'
+//! Inverse-cdf sampling (the warp behind Jarosz's A.13 and A.19) in two steps: the segments'
 //! masses form a discrete cdf that picks a segment, and the rest of `u` inverts the segment's
 //! quadratic cdf. The quadratic is solved in the form that has no cancellation (Press et al.,
 //! *Numerical Recipes*, 3rd ed., sec. 5.6; the same rearrangement as [`Linear`](super::Linear)

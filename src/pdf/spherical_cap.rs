@@ -1,7 +1,7 @@
 //! Uniformly distributed directions in a cone: the spherical cap within `theta_max` of an
 //! axis.
 //!
-//! The solid angle (the measure of the seed's A.18) of the cap is `2 pi (1 - cos theta_max)`,
+//! The solid angle (the measure of Jarosz's A.18) of the cap is `2 pi (1 - cos theta_max)`,
 //! and it is uniform in `cos theta`, so `1 - cos theta = u0 (1 - cos theta_max)`,
 //! `phi = 2 pi u1` samples it with density `1 / (2 pi (1 - cos theta_max))` (pbrt-v4
 //! `SampleUniformCone`; Mitsuba 3's `square_to_uniform_cone`). Light sampling for spherical

@@ -1,6 +1,6 @@
 //! The triangular (tent) density on an interval, sampled by its exact inverse cdf.
 //!
-//! Inverse-cdf sampling (the warp behind the seed's A.13 and A.19): the cdf is quadratic on
+//! Inverse-cdf sampling (the warp behind Jarosz's A.13 and A.19): the cdf is quadratic on
 //! each side of the mode, so its inverse is a square root there. The symmetric tent is pbrt's
 //! tent filter (Pharr, Jakob & Humphreys, *Physically Based Rendering*, 4th ed., sec. A.4.1,
 //! `SampleTent`), generalised to any mode; inversion itself is as in Devroye, *Non-Uniform

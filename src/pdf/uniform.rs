@@ -1,4 +1,4 @@
-//! The uniform density on an interval: the warp of the seed's equation A.13.
+//! The uniform density on an interval: the warp of Jarosz's equation A.13.
 
 use super::{Pdf1d, check_interval};
 use crate::Result;

@@ -1,6 +1,6 @@
 //! Uniformly distributed directions on the hemisphere around `+z`.
 //!
-//! The solid-angle measure `d omega = d(cos theta) d phi` (the measure of the seed's A.18) is
+//! The solid-angle measure `d omega = d(cos theta) d phi` (the measure of Jarosz's A.18) is
 //! uniform in `cos theta`, so `cos theta = 1 - u0`, `phi = 2 pi u1` samples the hemisphere
 //! with density `1 / (2 pi)` (pbrt-v4 section A.5.2; Mitsuba 3's
 //! `square_to_uniform_hemisphere`). It is the spherical cap of height `1 - cos theta_max = 1`

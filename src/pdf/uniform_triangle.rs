@@ -1,6 +1,6 @@
 //! The uniform density on a triangle in 3-D, sampled by Heitz's low-distortion map.
 //!
-//! The measure (the seed's A.18) is area on the triangle, so the density is `1 / area`; any
+//! The measure (Jarosz's A.18) is area on the triangle, so the density is `1 / area`; any
 //! map from the square to the triangle with a constant Jacobian samples it. The classic one is
 //! the square-root map `b_a = 1 - sqrt(u0)`, `b_b = u1 sqrt(u0)` (Turk, "Generating random
 //! points in triangles", Graphics Gems, 1990), which squeezes strata near vertex `a`. This

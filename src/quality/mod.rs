@@ -1,5 +1,5 @@
 //! Measures of point-set quality and of convergence: how a user chooses a sampler by measuring
-//! it (the seed's discussion of discrepancy, blue-noise spectra and convergence rates).
+//! it (Jarosz's discussion of discrepancy, blue-noise spectra and convergence rates).
 //!
 //! Every measure takes a [`Points`](crate::Points) block (or a sampler), works in `[0,1)^d`,
 //! and returns plain numbers, so the example binaries can print and plot them.

@@ -1,4 +1,4 @@
-//! Independent uniform points from a PCG stream: plain Monte Carlo (the seed's A.14).
+//! Independent uniform points from a PCG stream: plain Monte Carlo (Jarosz's A.14).
 
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
 use crate::hash::{hash_words, unit_f64};

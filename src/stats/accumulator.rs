@@ -349,7 +349,7 @@ impl Accumulator {
     }
 
     /// The estimate of the mean of independent values: standard error `sqrt(s^2 / n)` with
-    /// `n - 1` degrees of freedom (the seed's A.22 with the sample variance for `sigma^2`).
+    /// `n - 1` degrees of freedom (Jarosz's A.22 with the sample variance for `sigma^2`).
     /// With fewer than two values no standard error is given.
     ///
     /// ```

@@ -3,7 +3,7 @@
 //! LeVeque (1979), as in Pébay (2008), "Formulas for robust, one-pass parallel computation of
 //! covariances and arbitrary-order statistical moments".
 //!
-//! The regression estimator of control variates (the coefficient-estimating form of the seed's
+//! The regression estimator of control variates (the coefficient-estimating form of Jarosz's
 //! A.29) needs the means of `(f, g_1, ..., g_k)` and their covariance matrix from one pass over
 //! the samples, split over threads; this accumulator gives both.
 
