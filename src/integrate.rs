@@ -14,10 +14,10 @@
 use crate::engine::{Executor, Limits, RunConfig, run_settings};
 use crate::estimator::{
     BatchUniformEstimator, Estimator, ExpectationEstimator, ImportanceEstimator, UniformEstimator,
-    VectorEstimator,
+    VectorEstimator, WarpImportanceEstimator,
 };
 use crate::measure::Measure;
-use crate::pdf::{Pdf, UniformBox};
+use crate::pdf::{Pdf, UniformBox, Warp3};
 use crate::sampler::Sampler;
 use crate::stats::{Estimate, VectorEstimate};
 use crate::{Error, Points, Result};
@@ -143,6 +143,27 @@ impl<F: Fn(&[f64]) -> f64 + Send + Sync, P: Pdf> Integrator<ImportanceEstimator<
     /// ```
     pub fn with_pdf(f: F, pdf: P) -> Self {
         Integrator::new(ImportanceEstimator::new(f, pdf))
+    }
+}
+
+impl<F: Fn(glam::DVec3) -> f64 + Send + Sync, W: Warp3> Integrator<WarpImportanceEstimator<F, W>> {
+    /// Integrates `f` over directions (or the points of a triangle), handed to it as a glam
+    /// `DVec3`, sampling from `warp` (see [`WarpImportanceEstimator`]): a sphere, a hemisphere
+    /// or cap about any normal ([`Warp3::about`]), a triangle.
+    ///
+    /// ```
+    /// use mcint::glam::DVec3;
+    /// use mcint::pdf::{UniformHemisphere, Warp3};
+    /// use mcint::Integrator;
+    /// // The cosine-weighted integral of a constant over the hemisphere about n is pi.
+    /// let n = DVec3::new(1.0, -2.0, 0.5);
+    /// let f = move |d: DVec3| d.dot(n.normalize()).max(0.0);
+    /// let e = Integrator::over_warp(f, UniformHemisphere.about(n)?).samples(100_000).run()?;
+    /// assert!((e.mean - std::f64::consts::PI).abs() < 5.0 * e.std_error.unwrap());
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    pub fn over_warp(f: F, warp: W) -> Self {
+        Integrator::new(WarpImportanceEstimator::new(f, warp))
     }
 }
 

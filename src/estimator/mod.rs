@@ -42,6 +42,7 @@ mod vector;
 mod vector_batch_uniform;
 mod vector_importance;
 mod vector_uniform;
+mod warp_importance;
 
 pub use batch_uniform::BatchUniformEstimator;
 pub use consistent_biased::ConsistentBiased;
@@ -63,6 +64,7 @@ pub use vector::VectorEstimator;
 pub use vector_batch_uniform::BatchVectorUniformEstimator;
 pub use vector_importance::VectorImportanceEstimator;
 pub use vector_uniform::VectorUniformEstimator;
+pub use warp_importance::WarpImportanceEstimator;
 
 use crate::Points;
 

@@ -46,6 +46,7 @@ mod uniform_disk;
 mod uniform_hemisphere;
 mod uniform_sphere;
 mod uniform_triangle;
+mod warp3;
 mod warp_to_3d;
 
 use warp_to_3d::warp_to_3d;
@@ -93,6 +94,7 @@ pub use uniform_disk::UniformDisk;
 pub use uniform_hemisphere::UniformHemisphere;
 pub use uniform_sphere::UniformSphere;
 pub use uniform_triangle::UniformTriangle;
+pub use warp3::{Frame, Oriented, Warp3};
 
 use crate::{Error, Result};
 

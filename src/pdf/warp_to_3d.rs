@@ -2,7 +2,8 @@
 //! space (directions on a sphere, points of a triangle), written once.
 //!
 //! A type with `sample_point(DVec2) -> DVec3`, `pdf_point(DVec3) -> f64` and
-//! `invert_point(DVec3) -> DVec2` gets `impl Pdf` from `warp_to_3d!(Type, "what x must be")`:
+//! `invert_point(DVec3) -> DVec2` gets `impl Pdf` and `impl Warp3` from
+//! `warp_to_3d!(Type, "what x must be")`:
 //! two canonical coordinates in, three out, and `invert` refusing a non-finite point with
 //! an error that says what a point of its domain is.
 
@@ -39,6 +40,20 @@ macro_rules! warp_to_3d {
                 }
                 self.invert_point(x).write_to_slice(&mut u[..2]);
                 Ok(())
+            }
+        }
+
+        impl $crate::pdf::Warp3 for $warp {
+            fn sample_point(&self, u: glam::DVec2) -> glam::DVec3 {
+                <$warp>::sample_point(self, u)
+            }
+
+            fn pdf_point(&self, x: glam::DVec3) -> f64 {
+                <$warp>::pdf_point(self, x)
+            }
+
+            fn invert_point(&self, x: glam::DVec3) -> glam::DVec2 {
+                <$warp>::invert_point(self, x)
             }
         }
     };
