@@ -257,24 +257,6 @@ fn integrate_rejects_bad_input_with_one_line() {
 }
 
 #[test]
-fn quickstart_prints_its_table() {
-    let out = run("quickstart", &[]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let text = stdout(&out);
-    for needle in [
-        "uniform, independent",
-        "importance",
-        "jittered",
-        "latin hypercube",
-        "genz gaussian",
-        // The source the equation numbers refer to.
-        "W. Jarosz, \"Efficient Monte Carlo Methods for Light Transport in Scattering Media\"",
-    ] {
-        assert!(text.contains(needle), "missing {needle:?} in\n{text}");
-    }
-}
-
-#[test]
 fn qmc_samplers_and_scrambles_from_the_command_line() {
     // Unscrambled Sobol' starts at the origin and has no honest error bar.
     let out = run(

@@ -36,12 +36,6 @@ const BINARIES: [(&str, &str, &[&str]); 8] = [
 ];
 
 #[test]
-fn quickstart_takes_no_flags() {
-    assert_one_line_error("quickstart", &["--n", "5"], "unknown flag '--n'");
-    assert_one_line_error("quickstart", &["stray"], "unexpected argument 'stray'");
-}
-
-#[test]
 fn unknown_flags_are_refused_with_the_list_of_known_ones() {
     for (name, _, required) in BINARIES {
         let mut args = required.to_vec();

@@ -14,7 +14,6 @@ const TALKATIVE: &[(&str, &[&str])] = &[
         "points",
         &["--sampler", "sobol", "--dims", "2", "--n", "1048576"],
     ),
-    ("quickstart", &[]),
     ("variance_reduction", &["--n", "4096"]),
     (
         "integrate",
@@ -110,7 +109,6 @@ fn an_argument_that_is_not_utf8_is_a_one_line_error() {
         "quality",
         "gallery",
         "convergence",
-        "quickstart",
         "variance_reduction",
         "sensitivity",
         "asian_option",

@@ -2,12 +2,10 @@
 //! next to the reported standard error.
 //!
 //! ```text
-//! cargo run --release --example quickstart
+//! cargo run --release -p mcint-demo
 //! ```
-//! It takes no flags.
-
-#[path = "support/mod.rs"]
-mod support;
+//! It takes no flags. It is a crate of its own so that it builds with the library alone (no
+//! dev-dependencies, no serde): the fewest crates a first build compiles.
 
 use mcint::estimator::{ImportanceEstimator, UniformEstimator};
 use mcint::pdf::{Exponential, Pdf1d, ProductPdf, TruncatedNormal, UniformBox};
@@ -21,12 +19,20 @@ const POINTS: u64 = 1 << 16;
 const REPLICATES: u64 = 16;
 
 fn main() {
-    if let Err(message) = support::Args::parse(&[]) {
-        support::fail(message);
+    if let Some(flag) = std::env::args().nth(1) {
+        fail(format!(
+            "unexpected argument '{flag}' (quickstart takes no flags)"
+        ));
     }
     if let Err(e) = run() {
-        support::fail(e);
+        fail(e);
     }
+}
+
+/// Prints `error: message` and exits with status 2.
+fn fail(message: impl std::fmt::Display) -> ! {
+    eprintln!("error: {message}");
+    std::process::exit(2)
 }
 
 fn run() -> Result<()> {
