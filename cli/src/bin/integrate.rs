@@ -2,7 +2,7 @@
 //! standard error and the exact value.
 //!
 //! ```text
-//! cargo run --release --example integrate -- --integrand NAME[,NAME..] --dims D [--ratio I,J]
+//! cargo run --release --bin integrate -- --integrand NAME[,NAME..] --dims D [--ratio I,J]
 //!     [--a a1,a2,..] [--u u1,u2,..]
 //!     [--sampler NAME] [--scramble NAME] [--strength T] [--n N] [--replicates R] [--seed S]
 //!     [--threads T] [--estimator uniform|importance|mis|control]

@@ -1,5 +1,5 @@
 //! The arithmetic- and geometric-average Asian call under Black-Scholes, and the closed-form
-//! price of the geometric one (Kemna & Vorst 1990), for `examples/asian_option.rs`.
+//! price of the geometric one (Kemna & Vorst 1990), for the `asian_option` program.
 
 use mcint::measure::{Construction, GeometricBrownianMotion};
 

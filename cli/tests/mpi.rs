@@ -1,12 +1,12 @@
 //! Runs spread over MPI ranks give the bits of a one-process run.
 //!
-//! `cargo test --release --features mpi --test mpi` builds this file as a program that
+//! `cargo test --release -p mcint-cli --features mpi --test mpi` builds this file as a program that
 //! launches itself under `mpirun` (Open MPI, oversubscribed, allowed to run as root) with 1, 2,
 //! 3 and 4 ranks. Each rank runs every case twice, spread over the ranks and alone, and
 //! compares every bit; then a checkpoint saved by 3 ranks is resumed by 2. A rank records a
 //! failed comparison and goes on (leaving early would strand the others in a collective), and
 //! exits non-zero at the end, which fails `mpirun` and this test. Last, the `integrate`
-//! example (built with `cargo build --release --features mpi --examples`) run with `--mpi` on 2
+//! program (built with this test, `cargo test -p mcint-cli --features mpi`) run with `--mpi` on 2
 //! and 3 ranks prints the one-process result.
 //!
 //! Set `MPIRUN` to use another launcher.
@@ -105,7 +105,7 @@ fn cli_matches_one_process(ranks: usize) -> Result<(), String> {
             .output()
             .map_err(|e| {
                 format!(
-                    "cannot run {} ({e}): build it with cargo build --release --features mpi --examples",
+                    "cannot run {} ({e}): build it with cargo build --release -p mcint-cli --features mpi",
                     integrate.display()
                 )
             })?;

@@ -3,7 +3,7 @@
 //! families, with the fitted slopes printed as a table.
 //!
 //! ```text
-//! cargo run --release --example convergence -- --out DIR [--passes R] [--max-log2 M]
+//! cargo run --release --bin convergence -- --out DIR [--passes R] [--max-log2 M]
 //!     [--seed S] [--format png|svg] [--publication]
 //! ```
 //! Point counts run over powers of two from 2^4 to 2^M (default 12; jittered 2-D uses the

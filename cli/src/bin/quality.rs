@@ -2,7 +2,7 @@
 //! line.
 //!
 //! ```text
-//! cargo run --release --example quality -- --input FILE
+//! cargo run --release --bin quality -- --input FILE
 //!     --measure l2-star|centered|wrap-around|mixture|star|t-value [--squared]
 //! ```
 //! FILE holds one point per line, coordinates in `[0, 1]` separated by commas, as the `points`
@@ -15,8 +15,8 @@
 //! gives a one-line error on stderr and exit status 2.
 //!
 //! ```text
-//! cargo run --release --example points -- --sampler sobol --dims 2 --n 1024 --out sobol.csv
-//! cargo run --release --example quality -- --input sobol.csv --measure star
+//! cargo run --release --bin points -- --sampler sobol --dims 2 --n 1024 --out sobol.csv
+//! cargo run --release --bin quality -- --input sobol.csv --measure star
 //! ```
 
 #[path = "support/mod.rs"]

@@ -4,15 +4,15 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-/// Path of a built example next to this test binary (`target/<profile>/examples/<name>`).
+/// Path of a program of this crate, built next to this test binary (`target/<profile>/<name>`;
+/// cargo builds every binary of the crate before its tests).
 pub fn example(name: &str) -> PathBuf {
     let mut dir = std::env::current_exe().expect("test binary path");
     dir.pop(); // the test binary
     if dir.ends_with("deps") {
         dir.pop();
     }
-    dir.join("examples")
-        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX))
+    dir.join(format!("{name}{}", std::env::consts::EXE_SUFFIX))
 }
 
 /// A fresh directory for one test's files, `tag` and the process id in its name.
@@ -26,7 +26,7 @@ pub fn run(name: &str, args: &[&str]) -> Output {
     let path = example(name);
     Command::new(&path).args(args).output().unwrap_or_else(|e| {
         panic!(
-            "cannot run {}: {e} (build it with cargo test or cargo build --examples)",
+            "cannot run {}: {e} (build it with cargo test or cargo build -p mcint-cli)",
             path.display()
         )
     })

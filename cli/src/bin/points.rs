@@ -1,7 +1,7 @@
 //! Writes the points of a sampler, as CSV (exact round-trip text) or little-endian f64.
 //!
 //! ```text
-//! cargo run --release --example points -- --sampler latin --dims 2 --n 16 [--seed S] [--pass P]
+//! cargo run --release --bin points -- --sampler latin --dims 2 --n 16 [--seed S] [--pass P]
 //!     [--scramble none|xor|lms|owen|permute|shift] [--strength T] [--format csv|bin|sum|svg|png]
 //!     [--pairs] [--out FILE] [--measure gaussian [--mean m1,m2,..] [--cov FILE]
 //!     [--factorization cholesky|pca]]

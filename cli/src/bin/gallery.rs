@@ -3,7 +3,7 @@
 //! measures of each set.
 //!
 //! ```text
-//! cargo run --release --example gallery -- --out DIR [--n 256] [--passes 16] [--frequency 32]
+//! cargo run --release --bin gallery -- --out DIR [--n 256] [--passes 16] [--frequency 32]
 //!     [--format png|svg] [--seed S] [--publication]
 //! ```
 //! `--n` points per set (samplers that cannot make exactly `n` use the nearest size they

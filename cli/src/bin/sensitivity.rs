@@ -3,7 +3,7 @@
 //! values.
 //!
 //! ```text
-//! cargo run --release --example sensitivity -- --function ishigami|sobol-g [--dims D]
+//! cargo run --release --bin sensitivity -- --function ishigami|sobol-g [--dims D]
 //!     [--n N] [--replicates R] [--seed S] [--json]
 //! ```
 //! `ishigami` is `sin x1 + 7 sin^2 x2 + 0.1 x3^4 sin x1` on `[-pi, pi]^3`; `sobol-g` is the

@@ -2,7 +2,7 @@
 //! construction decides how much QMC gains.
 //!
 //! ```text
-//! cargo run --release --example asian_option -- [--dates 64] [--s0 100 --strike 100 --rate 0.05
+//! cargo run --release --bin asian_option -- [--dates 64] [--s0 100 --strike 100 --rate 0.05
 //!     --sigma 0.2 --maturity 1] [--payoff arithmetic|geometric] [--construction standard|bridge|pca]
 //!     [--sampler sobol|independent|lattice|halton] [--control geometric|none] [--tol-rel X]
 //!     [--max-evals N] [--n N --replicates R] [--seed S] [--threads T] [--json] [--table]

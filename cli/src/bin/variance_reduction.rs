@@ -4,7 +4,7 @@
 //! work.
 //!
 //! ```text
-//! cargo run --release --example variance_reduction [-- --n N] [--seed S]
+//! cargo run --release --bin variance_reduction [-- --n N] [--seed S]
 //! ```
 //! 1. Importance sampling (A.19, Figure A.2, A.23-A.24): a Gaussian bump sampled uniformly,
 //!    from a density of similar shape, from one of the wrong shape (more variance than

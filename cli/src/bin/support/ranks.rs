@@ -60,8 +60,8 @@ impl Ranks {
         }
         #[cfg(not(feature = "mpi"))]
         Err(
-            "--mpi needs a build with MPI: cargo build --release --features mpi --examples \
-             (with Open MPI and libclang installed), then mpirun -n N target/release/examples/..."
+            "--mpi needs a build with MPI: cargo build --release -p mcint-cli --features mpi \
+             (with Open MPI and libclang installed), then mpirun -n N target/release/..."
                 .into(),
         )
     }

@@ -2,8 +2,8 @@
 //! costs: the figures behind the README's MPI section.
 //!
 //! ```text
-//! cargo build --release --features mpi --example mpi_scaling
-//! mpirun -n P target/release/examples/mpi_scaling [--cost-us C] [--points N] [--threads T]
+//! cargo build --release -p mcint-cli --features mpi
+//! mpirun -n P target/release/mpi_scaling [--cost-us C] [--points N] [--threads T]
 //! ```
 //!
 //! Rank 0 prints two kinds of lines:
