@@ -75,3 +75,17 @@ fn stray_arguments_are_refused() {
         assert_one_line_error(name, &args, "unexpected argument 'stray'");
     }
 }
+
+#[test]
+fn every_program_answers_help_with_its_flags() {
+    for (name, flag, _) in BINARIES {
+        let out = run(name, &["--help"]);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{name} --help failed");
+        assert!(text.contains(&format!("Usage: {name}")), "{name}: {text}");
+        assert!(
+            text.contains(flag),
+            "{name} --help does not list {flag}: {text}"
+        );
+    }
+}

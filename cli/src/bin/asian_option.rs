@@ -36,6 +36,10 @@ use mcint::{Estimate, Integrator};
 use std::time::Instant;
 use support::{Args, fail};
 
+/// What `--help` says the program does.
+const ABOUT: &str =
+    "Prices an Asian call on a Black-Scholes asset by (randomized quasi-) Monte Carlo.";
+
 const SPEC: support::Spec = &[
     ("dates", true),
     ("s0", true),
@@ -85,7 +89,7 @@ struct Budget {
 }
 
 fn run() -> Result<(), String> {
-    let args = Args::parse(SPEC)?;
+    let args = Args::parse(ABOUT, SPEC)?;
     let contract = contract(&args)?;
     let choice = Choice {
         arithmetic: match args

@@ -25,6 +25,10 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use support::{Args, fail};
 
+/// What `--help` says the program does.
+const ABOUT: &str =
+    "RMSE against the number of points, log-log, for several samplers on test integrands.";
+
 const SPEC: support::Spec = &[
     ("out", true),
     ("passes", true),
@@ -112,7 +116,7 @@ fn sizes(kind: SamplerKind, dims: usize, max_log2: u32) -> Vec<u64> {
 }
 
 fn run() -> Result<(), String> {
-    let args = Args::parse(SPEC)?;
+    let args = Args::parse(ABOUT, SPEC)?;
     let out: PathBuf = args
         .require::<String>("out", "the folder to write the plots into")?
         .into();

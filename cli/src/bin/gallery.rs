@@ -27,6 +27,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use support::{Args, fail};
 
+/// What `--help` says the program does.
+const ABOUT: &str = "Draws every sampler's 2-D points and Fourier spectrum, one image per sampler, with an index page.";
+
 const SPEC: support::Spec = &[
     ("out", true),
     ("n", true),
@@ -55,7 +58,7 @@ struct Settings {
 }
 
 fn run() -> Result<(), String> {
-    let args = Args::parse(SPEC)?;
+    let args = Args::parse(ABOUT, SPEC)?;
     let out: PathBuf = args
         .require::<String>("out", "the folder to write the gallery into")?
         .into();

@@ -96,6 +96,9 @@ static CANCEL: OnceLock<CancelToken> = OnceLock::new();
 /// rank 0 prints for all of them.
 static QUIET: AtomicBool = AtomicBool::new(false);
 
+/// What `--help` says the program does.
+const ABOUT: &str = "Integrates Genz families or the Keister function with a chosen sampler and method; reports the estimate, its standard error and the exact value.";
+
 const SPEC: support::Spec = &[
     ("integrand", true),
     ("genz", true),
@@ -168,7 +171,7 @@ fn progress_bar() -> Option<impl Fn(u64, u64) + Send + Sync + 'static> {
 }
 
 fn run() -> Result<(), String> {
-    let args = Args::parse(SPEC)?;
+    let args = Args::parse(ABOUT, SPEC)?;
     // Lives until the run ends: MPI stays up as long as it.
     let ranks = ranks::Ranks::new(args.has("mpi"))?;
     let spread = ranks.spread;

@@ -23,6 +23,9 @@ use std::hint::black_box;
 use std::time::Instant;
 use support::{Args, fail};
 
+/// What `--help` says the program does.
+const ABOUT: &str = "Strong scaling over MPI ranks and the cost of one exchange between them.";
+
 const SPEC: support::Spec = &[("cost-us", true), ("points", true), ("threads", true)];
 
 fn main() {
@@ -41,7 +44,7 @@ fn busy(x: &[f64], rounds: u64) -> f64 {
 }
 
 fn run() -> Result<(), String> {
-    let args = Args::parse(SPEC)?;
+    let args = Args::parse(ABOUT, SPEC)?;
     let cost_us: f64 = args.get("cost-us", "a positive number")?.unwrap_or(1.0);
     let points: u64 = args
         .get("points", "a whole number >= 1")?

@@ -39,6 +39,10 @@ use mcint::sampler::{PassKind, SamplerKind};
 use std::io::{BufWriter, Write};
 use support::{Args, fail};
 
+/// What `--help` says the program does.
+const ABOUT: &str =
+    "Writes the points of a sampler as CSV (exact round-trip text), binary f64, or their sum.";
+
 const SPEC: support::Spec = &[
     ("sampler", true),
     ("dims", true),
@@ -66,7 +70,7 @@ fn main() {
 }
 
 fn run() -> Result<(), String> {
-    let args = Args::parse(SPEC)?;
+    let args = Args::parse(ABOUT, SPEC)?;
     let name: String = args.require(
         "sampler",
         "a sampler name such as independent, jittered, latin",

@@ -26,6 +26,10 @@ use mcint::Points;
 use mcint::quality;
 use support::{Args, fail};
 
+/// What `--help` says the program does.
+const ABOUT: &str =
+    "Measures the quality of a point set read from a CSV file; prints the value alone.";
+
 const SPEC: support::Spec = &[("input", true), ("measure", true), ("squared", false)];
 
 /// What `--measure` asked for.
@@ -47,7 +51,7 @@ fn main() {
 
 /// The measured value, formatted for printing (`{:?}` of an f64 reads back to the same f64).
 fn run() -> Result<String, String> {
-    let args = Args::parse(SPEC)?;
+    let args = Args::parse(ABOUT, SPEC)?;
     let path: String = args.require("input", "a CSV file of points, one per line")?;
     let measure: String = args.require("measure", MEASURES)?;
     let squared = args.has("squared");

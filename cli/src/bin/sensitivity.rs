@@ -37,6 +37,10 @@ use pick_freeze::{MAX_INPUTS, PickFreeze};
 use sensitivity_models::Model;
 use support::{Args, fail};
 
+/// What `--help` says the program does.
+const ABOUT: &str =
+    "First-order and total Sobol' indices of a test model from one vector-valued RQMC run.";
+
 const SPEC: support::Spec = &[
     ("function", true),
     ("dims", true),
@@ -80,7 +84,7 @@ fn main() {
 }
 
 fn run() -> Result<(), String> {
-    let args = Args::parse(SPEC)?;
+    let args = Args::parse(ABOUT, SPEC)?;
     if args.has("help") {
         print!("{}", usage());
         return Ok(());

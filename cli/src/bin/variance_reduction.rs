@@ -29,6 +29,9 @@ use mcint::sampler::{Antithetic, Independent};
 use mcint::{Estimate, Integrator};
 use support::{Args, fail};
 
+/// What `--help` says the program does.
+const ABOUT: &str = "Jarosz's variance-reduction scenarios: every technique's estimate, standard error and variance per evaluation.";
+
 const SPEC: support::Spec = &[("n", true), ("seed", true)];
 
 fn main() {
@@ -38,7 +41,7 @@ fn main() {
 }
 
 fn run() -> Result<(), String> {
-    let args = Args::parse(SPEC)?;
+    let args = Args::parse(ABOUT, SPEC)?;
     let n: u64 = args
         .get("n", "a whole, even number of samples >= 4")?
         .unwrap_or(1 << 16);

@@ -1,4 +1,5 @@
-//! Command-line plumbing shared by the example binaries: `--flag value` parsing with one-line
+//! Command-line plumbing shared by the programs: `--flag value` parsing (clap, with `--help`)
+//! with one-line
 #![allow(dead_code)] // each example binary uses a different subset of these helpers
 //! errors that say what is allowed.
 
@@ -16,10 +17,12 @@ pub struct Args {
 pub type Spec = &'static [(&'static str, bool)];
 
 impl Args {
-    /// Parses the process arguments against `spec`; unknown flags, missing values and
-    /// arguments that are not UTF-8 are errors. Every program calls it first, so it also makes
-    /// a closed stdout (`| head -1`) end the program quietly instead of with a panic.
-    pub fn parse(spec: Spec) -> Result<Args, String> {
+    /// Parses the process arguments against `spec` with clap: `--help` prints the program's
+    /// `about` line and its flags and exits; unknown flags, missing values, repeated flags and
+    /// arguments that are not UTF-8 are one-line errors. Every program calls it first, so it
+    /// also makes a closed stdout (`| head -1`) end the program quietly instead of with a
+    /// panic.
+    pub fn parse(about: &'static str, spec: Spec) -> Result<Args, String> {
         quiet_on_broken_pipe();
         let args = std::env::args_os()
             .skip(1)
@@ -28,43 +31,51 @@ impl Args {
                     .map_err(|bad| format!("argument {bad:?} is not valid UTF-8"))
             })
             .collect::<Result<Vec<String>, String>>()?;
-        Args::parse_from(args.into_iter(), spec)
+        let name = std::env::args()
+            .next()
+            .and_then(|path| {
+                std::path::Path::new(&path)
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+            })
+            .unwrap_or_else(|| "mcint".to_string());
+        Args::parse_from(name, about, args, spec)
     }
 
-    fn parse_from(args: impl Iterator<Item = String>, spec: Spec) -> Result<Args, String> {
+    fn parse_from(
+        name: String,
+        about: &'static str,
+        args: Vec<String>,
+        spec: Spec,
+    ) -> Result<Args, String> {
+        let mut command = clap::Command::new(name)
+            .about(about)
+            .no_binary_name(true)
+            .disable_version_flag(true);
+        for &(flag, takes_value) in spec {
+            let arg = clap::Arg::new(flag).long(flag);
+            command = command.arg(if takes_value {
+                arg.action(clap::ArgAction::Set)
+                    .value_name("VALUE")
+                    .allow_negative_numbers(true)
+            } else {
+                arg.action(clap::ArgAction::SetTrue)
+            });
+        }
+        let matches = match command.try_get_matches_from(args) {
+            Ok(matches) => matches,
+            Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelp => e.exit(),
+            Err(e) => return Err(one_line(&e, spec)),
+        };
         let mut values = HashMap::new();
         let mut switches = Vec::new();
-        let mut args = args.peekable();
-        let known = || {
-            if spec.is_empty() {
-                return "none".to_string();
-            }
-            spec.iter()
-                .map(|(n, _)| format!("--{n}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
-        while let Some(arg) = args.next() {
-            let Some(name) = arg.strip_prefix("--") else {
-                return Err(format!(
-                    "unexpected argument '{arg}' (flags are: {})",
-                    known()
-                ));
-            };
-            let Some(&(_, takes_value)) = spec.iter().find(|(n, _)| *n == name) else {
-                return Err(format!("unknown flag '{arg}' (flags are: {})", known()));
-            };
+        for &(flag, takes_value) in spec {
             if takes_value {
-                match args.next() {
-                    Some(v) if !v.starts_with("--") => {
-                        if values.insert(name.to_string(), v).is_some() {
-                            return Err(format!("flag '{arg}' given twice"));
-                        }
-                    }
-                    _ => return Err(format!("flag '{arg}' needs a value")),
+                if let Some(value) = matches.get_one::<String>(flag) {
+                    values.insert(flag.to_string(), value.clone());
                 }
-            } else {
-                switches.push(name.to_string());
+            } else if matches.get_flag(flag) {
+                switches.push(flag.to_string());
             }
         }
         Ok(Args { values, switches })
@@ -113,6 +124,42 @@ impl Args {
     /// Whether `--name` (a switch) was given.
     pub fn has(&self, name: &str) -> bool {
         self.switches.iter().any(|s| s == name)
+    }
+}
+
+/// clap's error as one line that names the flag and what is allowed.
+fn one_line(error: &clap::Error, spec: Spec) -> String {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    let known = || {
+        if spec.is_empty() {
+            return "none".to_string();
+        }
+        spec.iter()
+            .map(|(n, _)| format!("--{n}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    // The flag as the user wrote it, without clap's `<VALUE>`.
+    let arg = match error.get(ContextKind::InvalidArg) {
+        Some(ContextValue::String(a)) => a.split_whitespace().next().unwrap_or("").to_string(),
+        _ => String::new(),
+    };
+    match error.kind() {
+        ErrorKind::UnknownArgument if arg.starts_with("--") => {
+            format!("unknown flag '{arg}' (flags are: {})", known())
+        }
+        ErrorKind::UnknownArgument => {
+            format!("unexpected argument '{arg}' (flags are: {})", known())
+        }
+        ErrorKind::ArgumentConflict => format!("flag '{arg}' given twice"),
+        ErrorKind::InvalidValue | ErrorKind::NoEquals => format!("flag '{arg}' needs a value"),
+        _ => error
+            .to_string()
+            .lines()
+            .next()
+            .unwrap_or("invalid arguments")
+            .trim_start_matches("error: ")
+            .to_string(),
     }
 }
 
