@@ -37,10 +37,6 @@ use pick_freeze::{MAX_INPUTS, PickFreeze};
 use sensitivity_models::Model;
 use support::{Args, fail};
 
-/// What `--help` says the program does.
-const ABOUT: &str =
-    "First-order and total Sobol' indices of a test model from one vector-valued RQMC run.";
-
 const SPEC: support::Spec = &[
     ("function", true),
     ("dims", true),
@@ -48,10 +44,9 @@ const SPEC: support::Spec = &[
     ("replicates", true),
     ("seed", true),
     ("json", false),
-    ("help", false),
 ];
 
-/// The `--help` text.
+/// What `--help` says before the list of flags.
 fn usage() -> String {
     format!(
         "\
@@ -68,7 +63,6 @@ usage: sensitivity --function ishigami|sobol-g [--dims D] [--n N] [--replicates 
   --replicates R independent scrambles, at least 2 (default {DEFAULT_REPLICATES})
   --seed S       seed of the scrambles (default 0)
   --json         one JSON object instead of the table
-  --help         this text
 "
     )
 }
@@ -84,11 +78,7 @@ fn main() {
 }
 
 fn run() -> Result<(), String> {
-    let args = Args::parse(ABOUT, SPEC)?;
-    if args.has("help") {
-        print!("{}", usage());
-        return Ok(());
-    }
+    let args = Args::parse(&usage(), SPEC)?;
     let settings = Settings::from_args(&args)?;
     let report = analyse(settings)?;
     for warning in &report.warnings {

@@ -22,7 +22,7 @@ impl Args {
     /// arguments that are not UTF-8 are one-line errors. Every program calls it first, so it
     /// also makes a closed stdout (`| head -1`) end the program quietly instead of with a
     /// panic.
-    pub fn parse(about: &'static str, spec: Spec) -> Result<Args, String> {
+    pub fn parse(about: &str, spec: Spec) -> Result<Args, String> {
         quiet_on_broken_pipe();
         let args = std::env::args_os()
             .skip(1)
@@ -44,12 +44,12 @@ impl Args {
 
     fn parse_from(
         name: String,
-        about: &'static str,
+        about: &str,
         args: Vec<String>,
         spec: Spec,
     ) -> Result<Args, String> {
         let mut command = clap::Command::new(name)
-            .about(about)
+            .about(about.to_string())
             .no_binary_name(true)
             .disable_version_flag(true);
         for &(flag, takes_value) in spec {
