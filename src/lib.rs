@@ -60,6 +60,7 @@ mod float;
 mod hash;
 mod integrate;
 pub mod measure;
+mod method;
 pub mod pdf;
 mod points;
 pub mod points_f32;
@@ -79,6 +80,7 @@ pub use estimator::Estimator;
 /// version mcint uses.
 pub use glam;
 pub use integrate::{Integrator, NonFinitePolicy, PartialRun, VectorRun};
+pub use method::Method;
 /// The MPI bindings (rsmpi) the `mpi` feature is built on, for `mpi::initialize` and anything
 /// else a distributed program needs, at the version mcint uses.
 #[cfg(feature = "mpi")]

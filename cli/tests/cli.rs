@@ -141,16 +141,15 @@ fn points_rejects_bad_input_with_one_line() {
     assert_one_line_error(&run("points", &["--sampler"]), "needs a value");
 }
 
-/// Minimal extraction of a field from the one-line JSON object `integrate --json` prints.
-fn json_field<'a>(json: &'a str, key: &str) -> &'a str {
-    let start = json
-        .find(&format!("\"{key}\": "))
-        .unwrap_or_else(|| panic!("no {key} in {json}"))
-        + key.len()
-        + 4;
-    let rest = &json[start..];
-    let end = rest.find([',', '}']).unwrap();
-    rest[..end].trim().trim_matches('"')
+/// A field of the one-line JSON object `integrate --json` prints, as text (strings unquoted).
+fn json_field(json: &str, key: &str) -> String {
+    let value: serde_json::Value =
+        serde_json::from_str(json).unwrap_or_else(|e| panic!("not JSON ({e}): {json}"));
+    match &value[key] {
+        serde_json::Value::Null if value.get(key).is_none() => panic!("no {key} in {json}"),
+        serde_json::Value::String(s) => s.clone(),
+        other => other.to_string(),
+    }
 }
 
 /// The reported estimate of an `integrate --json` run with 8 replicates is within 10 of its
@@ -1117,5 +1116,48 @@ fn convergence_draws_plots_and_a_slope_table() {
     assert_one_line_error(
         &run("convergence", &["--out", "/tmp/x", "--max-log2", "40"]),
         "--max-log2",
+    );
+}
+
+#[test]
+fn integrate_runs_two_stage_sampling_with_the_library_defaults() {
+    let out = run(
+        "integrate",
+        &[
+            "--genz",
+            "gaussian",
+            "--dims",
+            "3",
+            "--method",
+            "two-stage",
+            "--n",
+            "50000",
+            "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json = stdout(&out);
+    assert_eq!(json_field(&json, "method"), "two-stage");
+    assert_eq!(json_field(&json, "evaluations"), "50000");
+    // One run of independent points: 5 standard errors.
+    let estimate: f64 = json_field(&json, "estimate").parse().unwrap();
+    let exact: f64 = json_field(&json, "exact").parse().unwrap();
+    let se: f64 = json_field(&json, "std_error").parse().unwrap();
+    assert!((estimate - exact).abs() < 5.0 * se, "{json}");
+    assert_one_line_error(
+        &run(
+            "integrate",
+            &[
+                "--genz",
+                "gaussian",
+                "--dims",
+                "3",
+                "--method",
+                "two-stage",
+                "--tol-abs",
+                "1e-3",
+            ],
+        ),
+        "fixed budget",
     );
 }

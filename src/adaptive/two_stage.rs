@@ -92,6 +92,31 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
         }
     }
 
+    /// The most strata per axis a run of `evaluations` in `dims` dimensions affords with the
+    /// default pilot (8 points per stratum, a total of 4 pilots): the largest `k >= 1` with
+    /// `32 k^dims <= evaluations`.
+    ///
+    /// ```
+    /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
+    /// assert_eq!(TwoStage::<fn(&[f64]) -> f64>::strata_per_axis_for(2, 65536), 45);
+    /// let k = TwoStage::<fn(&[f64]) -> f64>::strata_per_axis_for(3, 100_000);
+    /// let e = TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(3).unwrap(), k).samples(100_000).run();
+    /// assert!(e.is_ok());
+    /// ```
+    pub fn strata_per_axis_for(dims: usize, evaluations: u64) -> usize {
+        let per_stratum = 4 * DEFAULT_PILOT;
+        let exponent = u32::try_from(dims).unwrap_or(u32::MAX);
+        let mut k = 1u64;
+        while (k + 1)
+            .checked_pow(exponent)
+            .and_then(|strata| strata.checked_mul(per_stratum))
+            .is_some_and(|n| n <= evaluations)
+        {
+            k += 1;
+        }
+        usize::try_from(k).unwrap_or(usize::MAX)
+    }
+
     run_settings! {
         setup: "use mcint::{adaptive::TwoStage, pdf::UniformBox};\n\
                 const DIMS: usize = 2;\n\

@@ -38,6 +38,24 @@ pub struct Jittered {
 }
 
 impl Jittered {
+    /// The largest pass size `k^dims` (`k >= 1`) not above `n`: the most points a jittered
+    /// pass of `dims` dimensions can have within a budget of `n` (1 when `n < 2^dims`).
+    ///
+    /// ```
+    /// use mcint::sampler::Jittered;
+    /// assert_eq!(Jittered::points_not_above(2, 1000), 961); // 31^2
+    /// assert_eq!(Jittered::points_not_above(5, 65536), 59049); // 9^5
+    /// assert_eq!(Jittered::points_not_above(30, 1000), 1);
+    /// ```
+    pub fn points_not_above(dims: usize, n: u64) -> u64 {
+        let exponent = u32::try_from(dims).unwrap_or(u32::MAX);
+        let mut k = 1u64;
+        while (k + 1).checked_pow(exponent).is_some_and(|p| p <= n) {
+            k += 1;
+        }
+        k.pow(exponent)
+    }
+
     /// `strata_per_axis = k >= 1` cells along each of `dims >= 1` axes: `k^dims` points a
     /// pass, which must fit in a `u64`. With `dims = 1` this is A.30 with `N = k`.
     ///

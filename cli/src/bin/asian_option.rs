@@ -309,7 +309,6 @@ fn price(contract: &Contract, choice: Choice, budget: &Budget) -> Result<Estimat
             c.arithmetic(prices)
         }
     };
-    let independent = choice.sampler == SamplerKind::Independent;
     let scramble = match choice.sampler {
         SamplerKind::Sobol => Scramble::Owen,
         SamplerKind::Halton => Scramble::Permute,
@@ -321,13 +320,13 @@ fn price(contract: &Contract, choice: Choice, budget: &Budget) -> Result<Estimat
         .sampler
         .build_with(contract.dates, n, scramble, None, budget.seed)
         .map_err(|e| e.to_string())?;
+    let default_replicates = mcint::Method::Rqmc.default_replicates(&*sampler);
     let mut integrator = Integrator::expectation(payoff, paths)
         .sampler(sampler)
         .seed(budget.seed);
     if budget.tolerance.is_none() || budget.n.is_some() {
         integrator = integrator.samples(n);
     }
-    let default_replicates = if independent { 1 } else { 16 };
     if budget.tolerance.is_none() || budget.replicates.is_some() {
         integrator = integrator.replicates(budget.replicates.unwrap_or(default_replicates));
     }

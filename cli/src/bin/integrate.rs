@@ -6,7 +6,7 @@
 //!     [--a a1,a2,..] [--u u1,u2,..]
 //!     [--sampler NAME] [--scramble NAME] [--strength T] [--n N] [--replicates R] [--seed S]
 //!     [--threads T] [--estimator uniform|importance|mis|control]
-//!     [--method plain|rqmc|vegas|vegas-plus|miser] [--tol-abs X] [--tol-rel X]
+//!     [--method plain|rqmc|vegas|vegas-plus|miser|two-stage] [--tol-abs X] [--tol-rel X]
 //!     [--max-evals N] [--checkpoint FILE [--save-every K] [--stop-after K]] [--json] [--mpi]
 //! ```
 //! NAME is `keister` (`cos|x| e^{-|x|^2}` over `R^D`, integrated after the normal transform to
@@ -29,7 +29,9 @@
 //! default with 16 replicates; `vegas` and `vegas-plus` are VEGAS without and with adaptive
 //! stratification (`--n` evaluations per iteration, default 10^4, after 5 warm-up
 //! iterations; 10 iterations, or as many as a tolerance needs), `miser` is MISER (`--n`
-//! evaluations per replicate, default 2^14, in `--replicates` independent runs, default 16). The
+//! evaluations per replicate, default 2^14, in `--replicates` independent runs, default 16),
+//! `two-stage` is two-stage stratified sampling (`--n` evaluations in all, default 2^16, with as
+//! many strata as 32 evaluations each afford; a fixed budget only). The
 //! adaptive methods take their uniform points from `--sampler` (default `independent`) and
 //! accept only `--estimator uniform`. `--tol-abs` and/or `--tol-rel` make the run stop once the 95%
 //! half-width is at most `max(tol-abs, tol-rel * |estimate|)` (then `--n` is the first stage:
@@ -75,12 +77,13 @@ mod vector_run;
 
 use genz_estimators::EstimatorKind;
 use integrands::{INTEGRAND_NAMES, Named};
+use mcint::Method;
 use mcint::estimator::Estimator;
-use mcint::sampler::{PassKind, SamplerKind};
+use mcint::sampler::{Jittered, PassKind, SamplerKind};
 use mcint::stats::Tolerance;
 use mcint::testfns::TestFunction;
 use mcint::{CancelToken, Estimate, Integrator};
-use methods::{AdaptiveRun, METHOD_NAMES, Method};
+use methods::{AdaptiveRun, METHOD_NAMES, parse_method};
 use std::io::IsTerminal;
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -224,18 +227,17 @@ fn run() -> Result<(), String> {
     let canonical_dims = built.estimator.canonical_dims();
     let method: Method = args
         .get::<String>("method", METHOD_NAMES)?
-        .map_or(Ok(Method::Plain), |name| name.parse())?;
-    let kind: SamplerKind = args
-        .get::<String>("sampler", "a sampler name")?
-        .unwrap_or_else(|| method.default_sampler().into())
-        .parse()
-        .map_err(|e: mcint::Error| e.to_string())?;
+        .map_or(Ok(Method::Plain), |name| parse_method(&name))?;
+    let kind: SamplerKind = match args.get::<String>("sampler", "a sampler name")? {
+        Some(name) => name.parse().map_err(|e: mcint::Error| e.to_string())?,
+        None => method.default_sampler(),
+    };
     let tolerance = tolerance_from(&args)?;
     let n_flag = args.get::<u64>("n", "a whole number of points >= 1")?;
     let n = match n_flag {
         Some(n) => n,
         None if kind == SamplerKind::Jittered => {
-            largest_power_not_above(DEFAULT_POINTS, canonical_dims)
+            Jittered::points_not_above(canonical_dims, DEFAULT_POINTS)
         }
         None => DEFAULT_POINTS,
     };
@@ -254,11 +256,7 @@ fn run() -> Result<(), String> {
     }
     let replicates_flag: Option<u64> = args.get("replicates", "a whole number >= 1")?;
     let threads: Option<usize> = args.get("threads", "a whole number of threads >= 1")?;
-    let default_replicates = if independent || !sampler.is_randomized() {
-        1
-    } else {
-        16
-    };
+    let default_replicates = method.default_replicates(&*sampler);
     let checkpoint = checkpoint_settings(&args, tolerance.is_some(), spread.is_root())?;
     let started = Instant::now();
     if vector {
@@ -454,16 +452,6 @@ fn tolerance_from(args: &Args) -> Result<Option<Tolerance>, String> {
     Ok(Some(tolerance))
 }
 
-/// Largest `k^d <= n` with `k >= 1`.
-fn largest_power_not_above(n: u64, d: usize) -> u64 {
-    let exponent = u32::try_from(d).unwrap_or(u32::MAX);
-    let mut k = 1u64;
-    while (k + 1).checked_pow(exponent).is_some_and(|p| p <= n) {
-        k += 1;
-    }
-    k.pow(exponent)
-}
-
 struct Report {
     method: Method,
     family: String,
@@ -491,43 +479,34 @@ impl Report {
 
     fn print_json(&self) {
         let e = &self.estimate;
-        println!(
-            "{{\"method\": \"{}\", \"family\": \"{}\", \"dims\": {}, \"sampler\": \"{}\", \
-             \"scramble\": \"{}\", \"estimator\": \"{}\", \"estimate\": {}, \"std_error\": {}, \
-             \"variance_per_evaluation\": {}, \"exact\": {}, \"n\": {}, \"replicates\": {}, \
-             \"evaluations\": {}, \"converged\": {}, \"stop\": \"{}\", \"iterations\": {}, \
-             \"chi2_dof\": {}, \"rounding_error\": {}, \"warnings\": [{}], \"ranks\": {}, \
-             \"seconds\": {}}}",
-            self.method.name(),
-            self.family,
-            self.dims,
-            self.kind.name(),
-            self.scramble.name(),
-            self.estimator.name(),
-            json_number(Some(e.mean)),
-            json_number(e.std_error),
-            json_number(self.variance_per_evaluation()),
-            json_number(Some(self.exact)),
-            e.n,
-            e.replicates,
-            e.evaluations,
-            e.converged.map_or("null".into(), |c| c.to_string()),
-            stop_name(e.stop),
-            e.iterations,
-            json_number(e.chi2_dof),
-            json_number(Some(e.rounding_error)),
-            e.warnings
-                .iter()
-                .map(|w| format!(
-                    "{{\"kind\": \"{}\", \"message\": {}}}",
-                    w.kind(),
-                    serde_json::to_string(&w.to_string()).expect("a string serializes")
-                ))
-                .collect::<Vec<_>>()
-                .join(", "),
-            self.ranks,
-            json_number(Some(self.seconds)),
-        );
+        let number = |v: Option<f64>| v.filter(|v| v.is_finite());
+        let json = serde_json::json!({
+            "method": self.method.name(),
+            "family": self.family,
+            "dims": self.dims,
+            "sampler": self.kind.name(),
+            "scramble": self.scramble.name(),
+            "estimator": self.estimator.name(),
+            "estimate": number(Some(e.mean)),
+            "std_error": number(e.std_error),
+            "variance_per_evaluation": number(self.variance_per_evaluation()),
+            "exact": number(Some(self.exact)),
+            "n": e.n,
+            "replicates": e.replicates,
+            "evaluations": e.evaluations,
+            "converged": e.converged,
+            "stop": stop_name(e.stop),
+            "iterations": e.iterations,
+            "chi2_dof": number(e.chi2_dof),
+            "rounding_error": number(Some(e.rounding_error)),
+            "warnings": e.warnings.iter().map(|w| serde_json::json!({
+                "kind": w.kind(),
+                "message": w.to_string(),
+            })).collect::<Vec<_>>(),
+            "ranks": self.ranks,
+            "seconds": number(Some(self.seconds)),
+        });
+        println!("{json}");
     }
 
     fn print_text(&self) {
@@ -603,13 +582,5 @@ impl Report {
             println!("ranks       {} MPI processes", self.ranks);
         }
         println!("time        {:.3} s", self.seconds);
-    }
-}
-
-/// A JSON number, or `null` for a missing or non-finite value.
-fn json_number(value: Option<f64>) -> String {
-    match value {
-        Some(v) if v.is_finite() => format!("{v:?}"),
-        _ => "null".into(),
     }
 }

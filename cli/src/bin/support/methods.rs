@@ -1,68 +1,26 @@
-//! The integration methods of `integrate --method`: the `Integrator` with plain or
-//! randomized quasi-Monte Carlo points, and the adaptive VEGAS, VEGAS+ and MISER.
+//! The adaptive methods of `integrate --method` (VEGAS, VEGAS+, MISER, two-stage), run from
+//! the command line's settings; the library's [`Method`] names them and gives their defaults.
 
-use mcint::Estimate;
-use mcint::adaptive::{Miser, Vegas};
+use mcint::adaptive::{Miser, TwoStage, Vegas};
 use mcint::pdf::UniformBox;
 use mcint::sampler::Sampler;
 use mcint::stats::Tolerance;
 use mcint::testfns::TestFunction;
+use mcint::{Estimate, Method};
 
-/// The integration methods `--method` accepts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Method {
-    Plain,
-    Rqmc,
-    Vegas,
-    VegasPlus,
-    Miser,
-}
-
-pub const METHOD_NAMES: &str = "plain, rqmc, vegas, vegas-plus or miser";
+/// The names `--method` accepts (the library's [`Method`]s).
+pub const METHOD_NAMES: &str = "plain, rqmc, vegas, vegas-plus, miser or two-stage";
 
 /// Iterations allowed to a VEGAS run to a tolerance: its evaluation limit stops it first.
 pub const VEGAS_ITERATIONS_TO_TOLERANCE: u64 = 1 << 20;
 
-impl Method {
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Plain => "plain",
-            Method::Rqmc => "rqmc",
-            Method::Vegas => "vegas",
-            Method::VegasPlus => "vegas-plus",
-            Method::Miser => "miser",
-        }
-    }
+/// Evaluations of a two-stage run when `--n` is not given (pilot included).
+const DEFAULT_TWO_STAGE_EVALUATIONS: u64 = 1 << 16;
 
-    /// The sampler used when `--sampler` is not given.
-    pub fn default_sampler(self) -> &'static str {
-        match self {
-            Method::Rqmc => "sobol",
-            _ => "independent",
-        }
-    }
-
-    /// Whether the method is one of the adaptive integrators (VEGAS, VEGAS+, MISER).
-    pub fn is_adaptive(self) -> bool {
-        matches!(self, Method::Vegas | Method::VegasPlus | Method::Miser)
-    }
-}
-
-impl std::str::FromStr for Method {
-    type Err = String;
-
-    fn from_str(name: &str) -> Result<Method, String> {
-        match name {
-            "plain" => Ok(Method::Plain),
-            "rqmc" => Ok(Method::Rqmc),
-            "vegas" => Ok(Method::Vegas),
-            "vegas-plus" => Ok(Method::VegasPlus),
-            "miser" => Ok(Method::Miser),
-            _ => Err(format!(
-                "unknown --method '{name}': expected {METHOD_NAMES}"
-            )),
-        }
-    }
+/// `--method NAME`, with the flag's own message for an unknown name.
+pub fn parse_method(name: &str) -> Result<Method, String> {
+    name.parse()
+        .map_err(|_| format!("unknown --method '{name}': expected {METHOD_NAMES}"))
 }
 
 /// What an adaptive run needs from the command line.
@@ -85,7 +43,7 @@ pub struct AdaptiveRun<'a> {
 }
 
 impl AdaptiveRun<'_> {
-    /// Runs VEGAS, VEGAS+ or MISER over the unit cube.
+    /// Runs VEGAS, VEGAS+, MISER or two-stage sampling over the unit cube.
     pub fn run(self) -> Result<Estimate, String> {
         let f = self.f;
         let integrand = |x: &[f64]| f.eval(x);
@@ -133,6 +91,26 @@ impl AdaptiveRun<'_> {
                     miser = miser.tolerance(t);
                 }
                 crate::ranks::spread!(miser, self.spread).run()
+            }
+            Method::TwoStage => {
+                if self.replicates.is_some() || self.tolerance.is_some() {
+                    return Err(
+                        "--method two-stage takes a fixed budget (--n evaluations), without \
+                         --replicates or a tolerance"
+                            .into(),
+                    );
+                }
+                let n = self.n.unwrap_or(DEFAULT_TWO_STAGE_EVALUATIONS);
+                let strata = TwoStage::<fn(&[f64]) -> f64>::strata_per_axis_for(f.dims(), n);
+                let mut two_stage = TwoStage::new(integrand, domain, strata)
+                    .sampler(self.sampler)
+                    .samples(n)
+                    .seed(self.seed)
+                    .cancel_token(self.cancel);
+                if let Some(t) = self.threads {
+                    two_stage = two_stage.threads(t);
+                }
+                crate::ranks::spread!(two_stage, self.spread).run()
             }
             Method::Plain | Method::Rqmc => {
                 return Err(format!("{} is not an adaptive method", self.method.name()));

@@ -10,7 +10,8 @@ use mcint::{CancelToken, Integrator, VectorEstimate};
 
 use crate::checkpoint;
 use crate::integrands::Named;
-use crate::methods::{Method, VEGAS_ITERATIONS_TO_TOLERANCE};
+use crate::methods::VEGAS_ITERATIONS_TO_TOLERANCE;
+use mcint::Method;
 
 /// What a vector run needs from the command line.
 pub struct VectorRunArgs<'a> {
@@ -41,12 +42,12 @@ pub fn run(args: VectorRunArgs<'_>) -> Result<Option<VectorEstimate>, String> {
     if matches!(args.method, Method::Vegas | Method::VegasPlus) {
         return run_vegas(args).map(Some);
     }
-    if args.method == Method::Miser {
-        return Err(
-            "--method miser integrates one output; several integrands or --ratio take \
-             --method plain, rqmc, vegas or vegas-plus"
-                .into(),
-        );
+    if matches!(args.method, Method::Miser | Method::TwoStage) {
+        return Err(format!(
+            "--method {} integrates one output; several integrands or --ratio take \
+                 --method plain, rqmc, vegas or vegas-plus",
+            args.method
+        ));
     }
     let functions = args.functions;
     let dims = functions[0].dims();
