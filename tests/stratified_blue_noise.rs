@@ -312,9 +312,9 @@ fn pass_means_are_unbiased() {
 fn errors_name_the_parameter_and_the_range() {
     let message = |e: mcint::Error| e.to_string();
     let e = message(PoissonDisk::new(0, 10, 0).unwrap_err());
-    assert!(e.contains("dims") && e.contains("1 ..= 4"), "{e}");
-    let e = message(PoissonDisk::new(5, 10, 0).unwrap_err());
-    assert!(e.contains("dims") && e.contains("1 ..= 4"), "{e}");
+    assert!(e.contains("dims") && e.contains("1 ..= 8"), "{e}");
+    let e = message(PoissonDisk::new(9, 10, 0).unwrap_err());
+    assert!(e.contains("dims") && e.contains("1 ..= 8"), "{e}");
     let e = message(PoissonDisk::new(1, 0, 0).unwrap_err());
     assert!(e.contains("points") && e.contains("1 ..= 1048576"), "{e}");
     let e = message(PoissonDisk::new(1, (1 << 20) + 1, 0).unwrap_err());
@@ -345,4 +345,43 @@ fn errors_name_the_parameter_and_the_range() {
     assert!(s.point(0, &mut [0.0; 3]).is_err());
     let b = BestCandidate::new(2, 10, 0).unwrap();
     assert!(b.fill(0, &mut Points::new(1, 4).unwrap()).is_err());
+}
+
+/// Poisson-disk passes in 5 to 8 dimensions (Bridson's sets, as scipy's): no two points of a
+/// pass closer than the radius (toroidal distance), and every point uniform, so the mean of
+/// the pass means of `x_0 + .. + x_{d-1}` over the passes is `d / 2` within 5 standard errors.
+/// (Radii near the torus limit keep the sets small: an 8-D pass of 570 points takes 0.25 s.)
+#[test]
+fn poisson_disk_passes_in_five_to_eight_dimensions() {
+    let gap = |a: f64, b: f64| {
+        let t = (a - b).abs();
+        t.min(1.0 - t)
+    };
+    for (dims, radius, passes) in [(5, 0.3, 32u64), (8, 0.45, 16)] {
+        let s = PoissonDisk::with_radius(dims, radius, 11).unwrap();
+        let mcint::sampler::PassKind::Fixed { size: points } = s.passes() else {
+            unreachable!("Poisson-disk passes are fixed")
+        };
+        let r2 = s.radius() * s.radius();
+        let mut means = Vec::new();
+        for pass in 0..passes {
+            let mut block = mcint::Points::new(dims, points as usize).unwrap();
+            s.fill(pass * points, &mut block).unwrap();
+            let rows = block.to_rows();
+            for i in 0..rows.len() {
+                for j in 0..i {
+                    let d2: f64 = (0..dims).map(|k| gap(rows[i][k], rows[j][k]).powi(2)).sum();
+                    assert!(d2 >= r2 * (1.0 - 1e-12), "{dims}-D pass {pass}: {i}, {j}");
+                }
+            }
+            means.push(rows.iter().map(|r| r.iter().sum::<f64>()).sum::<f64>() / rows.len() as f64);
+        }
+        let mean = means.iter().sum::<f64>() / passes as f64;
+        let var = means.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (passes as f64 - 1.0);
+        let se = (var / passes as f64).sqrt();
+        assert!(
+            (mean - dims as f64 / 2.0).abs() < 5.0 * se,
+            "{dims}-D: {mean} +- {se}"
+        );
+    }
 }

@@ -40,7 +40,7 @@ use super::torus::{MAX_TORUS_DIMS, random_shift, torus_dist2};
 use crate::{Error, Result};
 
 /// Largest supported dimension.
-const MAX_DIMS: usize = MAX_TORUS_DIMS;
+const MAX_DIMS: usize = 4;
 /// Largest number of points per pass (the build is quadratic in it).
 const MAX_POINTS: u64 = 1 << 14;
 /// Mitchell's candidate factor: point `i` is the best of `CANDIDATE_FACTOR * i + 1`

@@ -11,8 +11,8 @@
 //! grid with cells at least `r` wide (`TorusGrid`) lists the points of each cell, so each
 //! distance check looks at the few cells within `r`.
 //!
-//! Bridson's finite `k` leaves small holes, so the set it returns is only nearly maximal. To
-//! make it truly maximal we finish with the cell-refinement dart throwing of Ebeida et al.
+//! Bridson's finite `k` leaves small holes, so the set it returns is only nearly maximal. In 1
+//! to 4 dimensions, to make it truly maximal we finish with the cell-refinement dart throwing of Ebeida et al.
 //! (2012, "A simple algorithm for maximal Poisson-disk sampling in high dimensions"): grid
 //! cells not covered by the ball of a single point are kept as "active" cells, darts are
 //! thrown uniformly into them, and then every active cell is split into `2^d` children of
@@ -20,7 +20,9 @@
 //! into it). A cell inside one ball is certainly covered (a box
 //! lies inside a ball when its farthest corner does), so the only thing lost is after
 //! `MAX_REFINEMENTS` (30) halvings, when the cells left are smaller than `r * 2^-30` per side: a
-//! volume far below anything a Monte Carlo estimate can see.
+//! volume far below anything a Monte Carlo estimate can see. In 5 to 8 dimensions gap filling
+//! would take minutes, and a pass is Bridson's set alone (as scipy's `qmc.PoissonDisk` is): the
+//! minimum distance holds, maximality does not.
 //!
 //! Everything happens on the unit **torus**: distances are periodic (`min(|a - b|, 1 - |a - b|)`
 //! per axis), so points near opposite faces repel each other and there is no boundary effect.
@@ -50,22 +52,32 @@ use crate::float::ONE_BELOW;
 use crate::hash::hash_words;
 use crate::{Error, Result};
 
-/// Largest supported dimension. Making the set maximal is what limits it: a gap-filling cell
-/// is dropped only once it lies inside a single ball, and the cells covered by the union of
-/// balls but by no single one multiply by up to `2^d` per halving. Measured on one core: 4096
-/// points take 0.07 s in 2-D, 0.36 s in 3-D and 4.9 s in 4-D, while in 5-D even 256 points
-/// took 9 s and 1024 points 36 s, so 5-D and above are not offered.
-const MAX_DIMS: usize = 4;
+/// Largest supported dimension, as scipy's `qmc.PoissonDisk` users need it. Making the set
+/// maximal is what limits the maximal sets to four: a gap-filling cell is dropped only once it
+/// lies inside a single ball, and the cells covered by the union of balls but by no single one
+/// multiply by up to `2^d` per halving (measured on one core: 4096 points take 0.07 s in 2-D,
+/// 0.36 s in 3-D and 4.9 s in 4-D, while in 5-D even 256 points took 9 s). In 5 to 8
+/// dimensions a pass is Bridson's set alone, as scipy's is: every two points are still at
+/// least `r` apart, but room for more points is left (see [`BRIDSON_DENSITY`]).
+const MAX_DIMS: usize = 8;
+/// The most dimensions in which the sets are made maximal (gap filling); above, a pass is
+/// Bridson's set alone.
+const MAX_MAXIMAL_DIMS: usize = 4;
 /// Largest number of points per pass.
 const MAX_POINTS: u64 = 1 << 20;
-/// Largest expected size of a maximal set in 1 to 4 dimensions: about ten seconds of building
-/// per pass on one core (measured: 14, 82 and 900 microseconds a point in 2, 3 and 4
-/// dimensions), so that no size or radius asks for a pass that does not finish.
+/// Largest expected size of a set in 1 to 8 dimensions: about ten seconds of building per pass
+/// on one core (measured: 14, 82 and 900 microseconds a point in 2, 3 and 4 dimensions; 150,
+/// 600, 1200 and 1300 in 5 to 8 at these sizes), so that no size or radius asks for a pass that
+/// does not finish.
 const MAX_SET_POINTS: [f64; MAX_DIMS] = [
     (1u64 << 21) as f64,
     (1u64 << 19) as f64,
     (1u64 << 17) as f64,
     (1u64 << 13) as f64,
+    (1u64 << 15) as f64,
+    (1u64 << 14) as f64,
+    (1u64 << 13) as f64,
+    (1u64 << 12) as f64,
 ];
 /// Bridson's number of candidates per active point.
 const BRIDSON_K: usize = 30;
@@ -77,14 +89,20 @@ const MAX_REFINEMENTS: u32 = 30;
 /// Uche & Stillinger (2006, "Random sequential addition of hard spheres in high Euclidean
 /// dimensions"), 4-D from the fit `(c1 + c2 d) / 2^d` given in the same paper's abstract. Bridson's front-growing order gives sets of very nearly the same density
 /// (the unit tests check the point counts).
-const PACKING_DENSITY: [f64; MAX_DIMS] = [0.747_598, 0.547_07, 0.384_13, 0.2561];
+const PACKING_DENSITY: [f64; MAX_MAXIMAL_DIMS] = [0.747_598, 0.547_07, 0.384_13, 0.2561];
 /// Measured ratio of the size of our maximal sets to the packing estimate. Bridson's
 /// algorithm grows the set from a front instead of adding points anywhere at random, which
 /// packs worse in 1-D (each gap is drawn uniformly from `[r, 2r]`, and refilling the rare
 /// gaps wider than `2r` does not make up for it), almost identically in 2-D and 3-D, and a
 /// little denser in 4-D, where gap filling places about a third of the points; the
 /// unit test `maximal_set_sizes_match_the_density_constants` checks these within 4%.
-const BRIDSON_RATIO: [f64; MAX_DIMS] = [0.88, 0.985, 1.0, 1.025];
+const BRIDSON_RATIO: [f64; MAX_MAXIMAL_DIMS] = [0.88, 0.985, 1.0, 1.025];
+/// Measured density (points per unit volume times `V_d(r / 2)`) of Bridson's sets alone in
+/// 5 to 8 dimensions, where they are not made maximal: 0.0975, 0.0536, 0.0290 and 0.0152,
+/// against random-sequential-adsorption saturation densities about 1.7 to 2.9 times larger
+/// (Bridson's 30 candidates per point leave ever more room as the dimension grows). Measured
+/// on sets of 600 to 15000 points (`bridson_set_sizes_match_the_measured_densities`).
+const BRIDSON_DENSITY: [f64; MAX_DIMS - MAX_MAXIMAL_DIMS] = [0.0975, 0.0536, 0.0290, 0.0152];
 /// Relative margin on the expected size of the maximal set.
 const MARGIN_RELATIVE: f64 = 0.06;
 /// Margin in units of `sqrt(N)`; the count of a saturated packing fluctuates much less than
@@ -97,7 +115,8 @@ const RETRIES_AT_RADIUS: u64 = 8;
 /// Salt of the generator of a Poisson-disk pass.
 const TAG_POISSON: u64 = 0x706f_6973;
 
-/// A maximal Poisson-disk set on the unit torus; a pass is `N` of its points in random order.
+/// A Poisson-disk set on the unit torus (maximal in 1 to 4 dimensions, Bridson's set in 5 to
+/// 8); a pass is `N` of its points in random order.
 ///
 /// Every pass is a fresh maximal set (independent generator per pass), translated by a
 /// uniform random vector, so each point is uniform on `[0,1)^d` and pass means are unbiased.
@@ -130,7 +149,7 @@ pub struct PoissonDisk {
 
 impl PoissonDisk {
     /// `points` per pass (`1 ..=` [`max_points(dims)`](Self::max_points)) in `dims`
-    /// dimensions (`1 ..= 4`).
+    /// dimensions (`1 ..= 8`; sets are maximal up to 4 dimensions, Bridson's sets above).
     ///
     /// The radius is chosen so that a maximal set is expected to hold
     /// `1.06 N + 6 sqrt(N)` points: a maximal set of radius `r` holds about
@@ -146,7 +165,8 @@ impl PoissonDisk {
     /// let s = PoissonDisk::new(2, 1000, 1).unwrap();
     /// assert_eq!(s.passes(), PassKind::Fixed { size: 1000 });
     /// assert!(PoissonDisk::new(2, 0, 1).is_err());
-    /// assert!(PoissonDisk::new(5, 10, 1).is_err());
+    /// assert!(PoissonDisk::new(8, 100, 1).is_ok());
+    /// assert!(PoissonDisk::new(9, 10, 1).is_err());
     /// ```
     pub fn new(dims: usize, points: u64, seed: u64) -> Result<Self> {
         let most = Self::max_points(dims)?;
@@ -179,7 +199,8 @@ impl PoissonDisk {
     /// use mcint::sampler::PoissonDisk;
     /// assert_eq!(PoissonDisk::max_points(1).unwrap(), 1 << 20);
     /// assert!(PoissonDisk::max_points(4).unwrap() >= 4096);
-    /// assert!(PoissonDisk::max_points(5).is_err());
+    /// assert!(PoissonDisk::max_points(8).unwrap() >= 2048);
+    /// assert!(PoissonDisk::max_points(9).is_err());
     /// ```
     pub fn max_points(dims: usize) -> Result<u64> {
         check_supported_dims(dims, MAX_DIMS)?;
@@ -238,7 +259,8 @@ impl PoissonDisk {
         self.radius
     }
 
-    /// The whole maximal set of pass `pass`, one `Vec` of `dims` coordinates per point, in
+    /// The whole set of pass `pass` (maximal in 1 to 4 dimensions), one `Vec` of `dims`
+    /// coordinates per point, in
     /// the pass's order: its first `N` points are the pass.
     ///
     /// ```
@@ -273,9 +295,13 @@ impl PoissonDisk {
 
 sampler_from_cached_passes!(PoissonDisk, "poisson");
 
-/// Points per unit volume times `V_d(r / 2)` in our maximal sets.
+/// Points per unit volume times `V_d(r / 2)` in our sets.
 fn density(dims: usize) -> f64 {
-    PACKING_DENSITY[dims - 1] * BRIDSON_RATIO[dims - 1]
+    if dims <= MAX_MAXIMAL_DIMS {
+        PACKING_DENSITY[dims - 1] * BRIDSON_RATIO[dims - 1]
+    } else {
+        BRIDSON_DENSITY[dims - MAX_MAXIMAL_DIMS - 1]
+    }
 }
 
 /// Expected size of the maximal set to ask for so that `n` points are there.
@@ -290,15 +316,13 @@ fn count_for_expected(expected: f64) -> u64 {
     ((t * t).floor() as u64).max(1)
 }
 
-/// Volume of the `dims`-ball of radius `rho`.
+/// Volume of the `dims`-ball of radius `rho`: `V_d = (2 pi / d) V_(d-2)`, `V_0 = 1`, `V_1 = 2`.
 fn ball_volume(dims: usize, rho: f64) -> f64 {
     use std::f64::consts::PI;
-    let unit = match dims {
-        1 => 2.0,
-        2 => PI,
-        3 => 4.0 / 3.0 * PI,
-        _ => PI * PI / 2.0,
-    };
+    let mut unit = if dims.is_multiple_of(2) { 1.0 } else { 2.0 };
+    for d in (2 + dims % 2..=dims).step_by(2) {
+        unit *= 2.0 * PI / d as f64;
+    }
     unit * rho.powi(dims as i32)
 }
 
@@ -309,7 +333,8 @@ fn radius_for_count(dims: usize, expected: f64) -> f64 {
     2.0 * half
 }
 
-/// One maximal set: Bridson's algorithm, then gap filling; point-major, not yet shuffled.
+/// One maximal set: Bridson's algorithm, then gap filling (up to [`MAX_MAXIMAL_DIMS`]
+/// dimensions; above, Bridson's set alone); point-major, not yet shuffled.
 fn maximal_set(dims: usize, radius: f64, rng: &mut Pcg64) -> Vec<f64> {
     let mut grid = TorusGrid::new(dims, radius);
     let r2 = radius * radius;
@@ -358,6 +383,9 @@ fn maximal_set(dims: usize, radius: f64, rng: &mut Pcg64) -> Vec<f64> {
         }
     }
 
+    if dims > MAX_MAXIMAL_DIMS {
+        return grid.into_points();
+    }
     // Gap filling (Ebeida et al. 2012), starting from the background grid's cells. Each
     // round drops the cells inside one ball, throws one dart into each remaining cell (kept
     // when it is at least r from every point), and splits the cell into 2^d children, of
@@ -496,7 +524,7 @@ mod tests {
     /// at these sizes, so 4% leaves room only for a wrong density constant).
     #[test]
     fn maximal_set_sizes_match_the_density_constants() {
-        for dims in 1..=MAX_DIMS {
+        for dims in 1..=MAX_MAXIMAL_DIMS {
             let radius = [0.002, 0.02, 0.06, 0.16][dims - 1];
             let expected = density(dims) / ball_volume(dims, radius / 2.0);
             for seed in 0..2 {
@@ -509,6 +537,43 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Above four dimensions the sets are Bridson's alone: their sizes match the measured
+    /// densities within 4% (sets of 370 to 620 points; in debug builds this takes long, so
+    /// the release run checks it).
+    #[test]
+    #[cfg_attr(debug_assertions, ignore)]
+    fn bridson_set_sizes_match_the_measured_densities() {
+        for (dims, radius) in [(5, 0.25), (6, 0.35), (7, 0.4), (8, 0.45)] {
+            let expected = density(dims) / ball_volume(dims, radius / 2.0);
+            for seed in 0..2 {
+                let mut rng = pass_rng(seed, 0, 1);
+                let n = (maximal_set(dims, radius, &mut rng).len() / dims) as f64;
+                let ratio = n / expected;
+                assert!(
+                    (0.96..1.04).contains(&ratio),
+                    "dims {dims}: {n} vs {expected}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn ball_volumes_are_the_closed_forms() {
+        use std::f64::consts::PI;
+        let closed = [
+            2.0,
+            PI,
+            4.0 * PI / 3.0,
+            PI * PI / 2.0,
+            8.0 * PI * PI / 15.0,
+            PI.powi(3) / 6.0,
+        ];
+        for (d, v) in closed.iter().enumerate() {
+            assert!((ball_volume(d + 1, 1.0) - v).abs() < 1e-14 * v, "{}", d + 1);
+        }
+        assert!((ball_volume(8, 0.5) - PI.powi(4) / 24.0 / 256.0).abs() < 1e-16);
     }
 
     #[test]

@@ -9,7 +9,7 @@ use crate::float::ONE_BELOW;
 
 /// The most dimensions of the torus constructions: room for coordinates and cell indices in
 /// fixed-size arrays.
-pub(super) const MAX_TORUS_DIMS: usize = 4;
+pub(super) const MAX_TORUS_DIMS: usize = 8;
 
 /// Periodic distance between two coordinates in `[0, 1)`.
 #[inline]
