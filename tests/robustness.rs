@@ -562,9 +562,16 @@ mod samplers {
 
         #[test]
         fn poisson_disk(dims in dims(), n in count(), seed in any::<u64>(), extra in any::<u64>()) {
-            let valid = (1..=4).contains(&dims)
+            let valid = (1..=8).contains(&dims)
                 && (1..=PoissonDisk::max_points(dims).unwrap()).contains(&n);
-            check_sampler(PoissonDisk::new(dims, n, seed), valid, dims, extra, &["dims", "points"]);
+            let result = PoissonDisk::new(dims, n, seed);
+            if dims > 4 {
+                // Building 5-8-D passes takes seconds in debug builds: the constructor's
+                // answer is checked here, the passes by tests/stratified_blue_noise.rs.
+                prop_assert_eq!(result.is_ok(), valid);
+                return Ok(());
+            }
+            check_sampler(result, valid, dims, extra, &["dims", "points"]);
         }
 
         #[test]
@@ -575,8 +582,11 @@ mod samplers {
             extra in any::<u64>(),
         ) {
             let result = PoissonDisk::with_radius(dims, radius, seed);
-            if !(radius > 0.0 && radius < 0.5 && (1..=4).contains(&dims)) {
+            if !(radius > 0.0 && radius < 0.5 && (1..=8).contains(&dims)) {
                 prop_assert!(result.is_err());
+            }
+            if dims > 4 {
+                return Ok(()); // as above: the passes are checked elsewhere
             }
             check(result, &["dims", "radius"], |s| {
                 exercise(&s, dims, extra);
