@@ -170,7 +170,7 @@ fn say(settings: &Settings, message: String) {
     }
 }
 
-/// Saves `part` to the checkpoint (from the process that saves; see [`write`]).
+/// Saves `part` to the checkpoint (from the process that saves; see `write`).
 fn save(settings: &Settings, part: &PartialRun) -> Result<(), String> {
     if !settings.saves {
         return Ok(());
