@@ -35,6 +35,10 @@
 //! one-process result, bit for bit.
 //! * [`testfns`]: the Genz families and other integrands with known integrals.
 //!
+//! Cargo features, all off by default: `serde` (serialization of accumulators, estimates and
+//! [`PartialRun`] checkpoints) and `mpi` (runs spread over MPI ranks with the bits of one
+//! process; needs an MPI library and libclang, and implies `serde`).
+//!
 //! ```
 //! use mcint::{Integrator, pdf::UniformBox, sampler::LatinHypercube};
 //! // The integral of x*y*z over the unit cube is 1/8.
