@@ -41,24 +41,48 @@ const ABOUT: &str =
     "Prices an Asian call on a Black-Scholes asset by (randomized quasi-) Monte Carlo.";
 
 const SPEC: support::Spec = &[
-    ("dates", true),
-    ("s0", true),
-    ("strike", true),
-    ("rate", true),
-    ("sigma", true),
-    ("maturity", true),
-    ("payoff", true),
-    ("construction", true),
-    ("sampler", true),
-    ("control", true),
-    ("tol-rel", true),
-    ("max-evals", true),
-    ("n", true),
-    ("replicates", true),
-    ("seed", true),
-    ("threads", true),
-    ("json", false),
-    ("table", false),
+    ("dates", true, "averaging dates (default 64)"),
+    ("s0", true, "initial price (default 100)"),
+    ("strike", true, "strike (default 100)"),
+    ("rate", true, "interest rate (default 0.05)"),
+    ("sigma", true, "volatility (default 0.2)"),
+    ("maturity", true, "maturity in years (default 1)"),
+    ("payoff", true, "arithmetic (default) or geometric average"),
+    ("construction", true, "standard, bridge or pca paths"),
+    ("sampler", true, "sobol, independent, lattice or halton"),
+    (
+        "control",
+        true,
+        "geometric (the geometric option as control variate) or none",
+    ),
+    (
+        "tol-rel",
+        true,
+        "run until the 95% half-width is at most this fraction of the estimate",
+    ),
+    (
+        "max-evals",
+        true,
+        "evaluation limit of a run to a tolerance (default 2^30)",
+    ),
+    ("n", true, "points per replicate (default 4096)"),
+    (
+        "replicates",
+        true,
+        "independent randomized replicates (their spread is the error bar)",
+    ),
+    ("seed", true, "seed of the randomization (default 0)"),
+    (
+        "threads",
+        true,
+        "worker threads (default: all cores; the result does not depend on it)",
+    ),
+    ("json", false, "print one JSON object instead of text"),
+    (
+        "table",
+        false,
+        "every construction and sampler to --tol-rel, with and without the control",
+    ),
 ];
 
 /// The most averaging dates (one canonical dimension each).

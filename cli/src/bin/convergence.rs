@@ -30,12 +30,16 @@ const ABOUT: &str =
     "RMSE against the number of points, log-log, for several samplers on test integrands.";
 
 const SPEC: support::Spec = &[
-    ("out", true),
-    ("passes", true),
-    ("max-log2", true),
-    ("seed", true),
-    ("format", true),
-    ("publication", false),
+    ("out", true, "directory for the figures"),
+    (
+        "passes",
+        true,
+        "independent passes per point count (RMSE over them)",
+    ),
+    ("max-log2", true, "largest point count, as a power of two"),
+    ("seed", true, "seed of the randomization (default 0)"),
+    ("format", true, "png (default) or svg"),
+    ("publication", false, "larger figures with fonts for print"),
 ];
 
 /// Smallest point count: 2^4.

@@ -31,13 +31,21 @@ use support::{Args, fail};
 const ABOUT: &str = "Draws every sampler's 2-D points and Fourier spectrum, one image per sampler, with an index page.";
 
 const SPEC: support::Spec = &[
-    ("out", true),
-    ("n", true),
-    ("passes", true),
-    ("frequency", true),
-    ("format", true),
-    ("seed", true),
-    ("publication", false),
+    ("out", true, "directory for the images and index.html"),
+    ("n", true, "points per image (default 256)"),
+    (
+        "passes",
+        true,
+        "passes averaged into each spectrum (default 16)",
+    ),
+    (
+        "frequency",
+        true,
+        "highest frequency of the spectra (default 32)",
+    ),
+    ("format", true, "png (default) or svg"),
+    ("seed", true, "seed of the randomization (default 0)"),
+    ("publication", false, "larger figures with fonts for print"),
 ];
 
 /// Sizes tried, in order, when a construction cannot make `--n` points.

@@ -103,29 +103,101 @@ static QUIET: AtomicBool = AtomicBool::new(false);
 const ABOUT: &str = "Integrates Genz families or the Keister function with a chosen sampler and method; reports the estimate, its standard error and the exact value.";
 
 const SPEC: support::Spec = &[
-    ("integrand", true),
-    ("genz", true),
-    ("dims", true),
-    ("a", true),
-    ("u", true),
-    ("sampler", true),
-    ("scramble", true),
-    ("strength", true),
-    ("n", true),
-    ("replicates", true),
-    ("seed", true),
-    ("threads", true),
-    ("estimator", true),
-    ("method", true),
-    ("tol-abs", true),
-    ("tol-rel", true),
-    ("max-evals", true),
-    ("ratio", true),
-    ("checkpoint", true),
-    ("save-every", true),
-    ("stop-after", true),
-    ("json", false),
-    ("mpi", false),
+    (
+        "integrand",
+        true,
+        "keister or Genz families (oscillatory, product-peak, corner-peak, gaussian, continuous, discontinuous), comma-separated for one vector run",
+    ),
+    ("genz", true, "synonym of --integrand"),
+    ("dims", true, "number of dimensions"),
+    (
+        "a",
+        true,
+        "Genz difficulty parameters a_1,a_2,.. (default 1 + 0.5 (i-1))",
+    ),
+    (
+        "u",
+        true,
+        "Genz shift parameters u_1,u_2,.. (default 0.2 + 0.6 (i-1)/(d-1))",
+    ),
+    (
+        "sampler",
+        true,
+        "point generator: independent, jittered, latin, sobol, halton, hammersley, lattice, multijitter, cmj, oa-bose, oa-bush, nrooks-multistage, poisson, best-candidate, pmj02",
+    ),
+    (
+        "scramble",
+        true,
+        "randomization: none, xor, lms, owen (sobol), permute (halton, hammersley), shift (lattice)",
+    ),
+    (
+        "strength",
+        true,
+        "strength of oa-bush orthogonal arrays (default 3)",
+    ),
+    (
+        "n",
+        true,
+        "points per replicate (default 65536), evaluations per iteration (VEGAS) or in all (two-stage)",
+    ),
+    (
+        "replicates",
+        true,
+        "independent randomized replicates (their spread is the error bar)",
+    ),
+    ("seed", true, "seed of the randomization (default 0)"),
+    (
+        "threads",
+        true,
+        "worker threads (default: all cores; the result does not depend on it)",
+    ),
+    ("estimator", true, "uniform, importance, mis or control"),
+    (
+        "method",
+        true,
+        "plain, rqmc, vegas, vegas-plus, miser or two-stage",
+    ),
+    (
+        "tol-abs",
+        true,
+        "run until the 95% half-width is at most this",
+    ),
+    (
+        "tol-rel",
+        true,
+        "run until the 95% half-width is at most this fraction of the estimate",
+    ),
+    (
+        "max-evals",
+        true,
+        "evaluation limit of a run to a tolerance (default 2^30)",
+    ),
+    (
+        "ratio",
+        true,
+        "I,J: also report the ratio of outputs I and J with a delta-method error bar",
+    ),
+    (
+        "checkpoint",
+        true,
+        "save the run to FILE every few chunks and resume from it",
+    ),
+    (
+        "save-every",
+        true,
+        "chunks between checkpoint saves (default 16)",
+    ),
+    (
+        "stop-after",
+        true,
+        "stop after this many chunks, leaving the checkpoint",
+    ),
+    ("json", false, "print one JSON object instead of text"),
+    (
+        "mpi",
+        false,
+        "spread the run over the ranks of the MPI job (mpirun; a build with --features mpi)",
+    ),
 ];
 
 const DEFAULT_POINTS: u64 = 1 << 16;

@@ -26,7 +26,19 @@ use support::{Args, fail};
 /// What `--help` says the program does.
 const ABOUT: &str = "Strong scaling over MPI ranks and the cost of one exchange between them.";
 
-const SPEC: support::Spec = &[("cost-us", true), ("points", true), ("threads", true)];
+const SPEC: support::Spec = &[
+    (
+        "cost-us",
+        true,
+        "integrand cost in microseconds (default 1)",
+    ),
+    ("points", true, "points of the run (default 2^22)"),
+    (
+        "threads",
+        true,
+        "worker threads (default: all cores; the result does not depend on it)",
+    ),
+];
 
 fn main() {
     if let Err(message) = run() {

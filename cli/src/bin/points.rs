@@ -44,20 +44,56 @@ const ABOUT: &str =
     "Writes the points of a sampler as CSV (exact round-trip text), binary f64, or their sum.";
 
 const SPEC: support::Spec = &[
-    ("sampler", true),
-    ("dims", true),
-    ("n", true),
-    ("seed", true),
-    ("pass", true),
-    ("scramble", true),
-    ("strength", true),
-    ("format", true),
-    ("pairs", false),
-    ("out", true),
-    ("measure", true),
-    ("mean", true),
-    ("cov", true),
-    ("factorization", true),
+    (
+        "sampler",
+        true,
+        "point generator: independent, jittered, latin, sobol, halton, hammersley, lattice, multijitter, cmj, oa-bose, oa-bush, nrooks-multistage, poisson, best-candidate, pmj02",
+    ),
+    ("dims", true, "number of dimensions"),
+    (
+        "n",
+        true,
+        "number of points written (the pass size for samplers with fixed passes)",
+    ),
+    ("seed", true, "seed of the randomization (default 0)"),
+    (
+        "pass",
+        true,
+        "write the first n points of this pass (an independent randomization)",
+    ),
+    (
+        "scramble",
+        true,
+        "randomization: none, xor, lms, owen (sobol), permute (halton, hammersley), shift (lattice)",
+    ),
+    (
+        "strength",
+        true,
+        "strength of oa-bush orthogonal arrays (default 3)",
+    ),
+    (
+        "format",
+        true,
+        "csv (default), bin (little-endian f64), sum (coordinate sums), svg or png",
+    ),
+    (
+        "pairs",
+        false,
+        "with svg or png: draw every pairwise projection",
+    ),
+    ("out", true, "output file (svg and png need one)"),
+    ("measure", true, "gaussian: map the points to a normal law"),
+    (
+        "mean",
+        true,
+        "mean vector m1,m2,.. of --measure gaussian (default 0)",
+    ),
+    (
+        "cov",
+        true,
+        "file with the covariance matrix of --measure gaussian (default the identity)",
+    ),
+    ("factorization", true, "cholesky (default) or pca"),
 ];
 
 /// The most dimensions whose pairwise projections `--pairs` draws (120 panels).

@@ -30,7 +30,19 @@ use support::{Args, fail};
 const ABOUT: &str =
     "Measures the quality of a point set read from a CSV file; prints the value alone.";
 
-const SPEC: support::Spec = &[("input", true), ("measure", true), ("squared", false)];
+const SPEC: support::Spec = &[
+    (
+        "input",
+        true,
+        "CSV file of points in [0, 1]^d, one per line",
+    ),
+    (
+        "measure",
+        true,
+        "l2-star, centered, wrap-around, mixture, star or t-value",
+    ),
+    ("squared", false, "print the square of an L2 discrepancy"),
+];
 
 /// What `--measure` asked for.
 enum Choice {

@@ -38,12 +38,20 @@ use sensitivity_models::Model;
 use support::{Args, fail};
 
 const SPEC: support::Spec = &[
-    ("function", true),
-    ("dims", true),
-    ("n", true),
-    ("replicates", true),
-    ("seed", true),
-    ("json", false),
+    ("function", true, "ishigami or sobol-g"),
+    ("dims", true, "inputs of sobol-g"),
+    (
+        "n",
+        true,
+        "Owen-scrambled Sobol' points per replicate (default 16384)",
+    ),
+    (
+        "replicates",
+        true,
+        "independent randomized replicates (their spread is the error bar)",
+    ),
+    ("seed", true, "seed of the randomization (default 0)"),
+    ("json", false, "print one JSON object instead of text"),
 ];
 
 /// What `--help` says before the list of flags.

@@ -13,8 +13,8 @@ pub struct Args {
     switches: Vec<String>,
 }
 
-/// The flags a program accepts: `(name, takes_value)`.
-pub type Spec = &'static [(&'static str, bool)];
+/// The flags a program accepts: `(name, takes_value, what --help says of it)`.
+pub type Spec = &'static [(&'static str, bool, &'static str)];
 
 impl Args {
     /// Parses the process arguments against `spec` with clap: `--help` prints the program's
@@ -52,8 +52,8 @@ impl Args {
             .about(about.to_string())
             .no_binary_name(true)
             .disable_version_flag(true);
-        for &(flag, takes_value) in spec {
-            let arg = clap::Arg::new(flag).long(flag);
+        for &(flag, takes_value, help) in spec {
+            let arg = clap::Arg::new(flag).long(flag).help(help);
             command = command.arg(if takes_value {
                 arg.action(clap::ArgAction::Set)
                     .value_name("VALUE")
@@ -69,7 +69,7 @@ impl Args {
         };
         let mut values = HashMap::new();
         let mut switches = Vec::new();
-        for &(flag, takes_value) in spec {
+        for &(flag, takes_value, _) in spec {
             if takes_value {
                 if let Some(value) = matches.get_one::<String>(flag) {
                     values.insert(flag.to_string(), value.clone());
@@ -135,7 +135,7 @@ fn one_line(error: &clap::Error, spec: Spec) -> String {
             return "none".to_string();
         }
         spec.iter()
-            .map(|(n, _)| format!("--{n}"))
+            .map(|(n, _, _)| format!("--{n}"))
             .collect::<Vec<_>>()
             .join(", ")
     };
