@@ -17,7 +17,7 @@ use crate::estimator::{
     VectorEstimator, WarpImportanceEstimator,
 };
 use crate::measure::Measure;
-use crate::pdf::{Pdf, UniformBox, Warp3};
+use crate::pdf::{GeometricWarp, Pdf, UniformBox, WarpPoint};
 use crate::sampler::Sampler;
 use crate::stats::{Estimate, VectorEstimate};
 use crate::{Error, Points, Result};
@@ -146,10 +146,13 @@ impl<F: Fn(&[f64]) -> f64 + Send + Sync, P: Pdf> Integrator<ImportanceEstimator<
     }
 }
 
-impl<F: Fn(glam::DVec3) -> f64 + Send + Sync, W: Warp3> Integrator<WarpImportanceEstimator<F, W>> {
-    /// Integrates `f` over directions (or the points of a triangle), handed to it as a glam
-    /// `DVec3`, sampling from `warp` (see [`WarpImportanceEstimator`]): a sphere, a hemisphere
-    /// or cap about any normal ([`Warp3::about`]), a triangle.
+impl<P: WarpPoint, F: Fn(P) -> f64 + Send + Sync, W: GeometricWarp<P>>
+    Integrator<WarpImportanceEstimator<F, W, P>>
+{
+    /// Integrates `f` over directions, the points of a triangle or of a disk, handed to it as
+    /// a glam vector (`DVec3`, or `DVec2` for the disk), sampling from `warp` (see
+    /// [`WarpImportanceEstimator`]): a sphere, a hemisphere or cap about any normal
+    /// ([`Warp3::about`](crate::pdf::Warp3::about)), a triangle, a disk.
     ///
     /// ```
     /// use mcint::glam::DVec3;
@@ -160,6 +163,12 @@ impl<F: Fn(glam::DVec3) -> f64 + Send + Sync, W: Warp3> Integrator<WarpImportanc
     /// let f = move |d: DVec3| d.dot(n.normalize()).max(0.0);
     /// let e = Integrator::over_warp(f, UniformHemisphere.about(n)?).samples(100_000).run()?;
     /// assert!((e.mean - std::f64::consts::PI).abs() < 5.0 * e.std_error.unwrap());
+    /// // The integral of |p|^2 over the unit disk is pi / 2.
+    /// let disk = mcint::pdf::UniformDisk::unit();
+    /// let e = Integrator::over_warp(|p: mcint::glam::DVec2| p.length_squared(), disk)
+    ///     .samples(100_000)
+    ///     .run()?;
+    /// assert!((e.mean - std::f64::consts::FRAC_PI_2).abs() < 5.0 * e.std_error.unwrap());
     /// # Ok::<(), mcint::Error>(())
     /// ```
     pub fn over_warp(f: F, warp: W) -> Self {

@@ -137,3 +137,32 @@ fn integrands_of_points_of_a_triangle_get_vectors() {
     let want = area * (a.x + b.x + c.x) / 3.0;
     assert!((e.mean - want).abs() < 5.0 * e.std_error.unwrap());
 }
+
+#[test]
+fn integrands_of_points_of_a_disk_get_two_vectors() {
+    use mcint::pdf::UniformDisk;
+    let (centre, radius) = (DVec2::new(1.0, 2.0), 0.5);
+    let disk = UniformDisk::new(centre, radius).unwrap();
+    let area = std::f64::consts::PI * radius * radius;
+    let e = Integrator::over_warp(|_: DVec2| 1.0, disk)
+        .samples(1000)
+        .run()
+        .unwrap();
+    assert!((e.mean - area).abs() < 1e-12 * area);
+    // The integral of x over the disk is the centre's x times the area; of |p - c|^2 it is
+    // pi R^4 / 2.
+    let e = Integrator::over_warp(|p: DVec2| p.x, disk)
+        .samples(100_000)
+        .seed(2)
+        .run()
+        .unwrap();
+    assert!((e.mean - area * centre.x).abs() < 5.0 * e.std_error.unwrap());
+    let second = move |p: DVec2| (p - centre).length_squared();
+    let e = Integrator::over_warp(second, disk)
+        .samples(100_000)
+        .seed(3)
+        .run()
+        .unwrap();
+    let want = std::f64::consts::PI * radius.powi(4) / 2.0;
+    assert!((e.mean - want).abs() < 5.0 * e.std_error.unwrap());
+}

@@ -1,15 +1,18 @@
-//! The `f/pdf` estimator (Jarosz's A.19) for integrands of a 3-D point or direction, handed
-//! to them as a glam `DVec3`.
+//! The `f/pdf` estimator (Jarosz's A.19) for integrands of a geometric point, handed to them
+//! as a glam vector (`DVec3` for directions and triangles, `DVec2` for the disk).
 
-use glam::{DVec2, DVec3};
+use std::marker::PhantomData;
+
+use glam::DVec2;
 
 use super::Estimator;
-use crate::pdf::Warp3;
+use crate::pdf::{GeometricWarp, WarpPoint};
 
-/// `<F^N> = (1/N) sum f(X_i) / pdf(X_i)` with `X_i` drawn from a [`Warp3`] (directions on a
-/// sphere, hemisphere or cap, points of a triangle), `f` taking the point as a `DVec3`. The
-/// same conventions as [`ImportanceEstimator`](super::ImportanceEstimator): a zero of `f`
-/// contributes 0 whatever the pdf.
+/// `<F^N> = (1/N) sum f(X_i) / pdf(X_i)` with `X_i` drawn from a [`GeometricWarp`]
+/// (directions on a sphere, hemisphere or cap, points of a triangle or a disk), `f` taking the
+/// point as a glam vector. The same conventions as
+/// [`ImportanceEstimator`](super::ImportanceEstimator): a zero of `f` contributes 0 whatever
+/// the pdf.
 ///
 /// ```
 /// use mcint::estimator::{Estimator, WarpImportanceEstimator};
@@ -23,44 +26,73 @@ use crate::pdf::Warp3;
 /// assert!((e.contribution(&[0.3, 0.6], &mut x) - std::f64::consts::PI).abs() < 1e-12);
 /// # Ok::<(), mcint::Error>(())
 /// ```
-#[derive(Debug, Clone)]
-pub struct WarpImportanceEstimator<F, W> {
+pub struct WarpImportanceEstimator<F, W, P> {
     f: F,
     warp: W,
+    point: PhantomData<fn() -> P>,
 }
 
-impl<F: Fn(DVec3) -> f64 + Send + Sync, W: Warp3> WarpImportanceEstimator<F, W> {
+impl<F: Clone, W: Clone, P> Clone for WarpImportanceEstimator<F, W, P> {
+    fn clone(&self) -> Self {
+        WarpImportanceEstimator {
+            f: self.f.clone(),
+            warp: self.warp.clone(),
+            point: PhantomData,
+        }
+    }
+}
+
+impl<F, W: std::fmt::Debug, P> std::fmt::Debug for WarpImportanceEstimator<F, W, P> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("WarpImportanceEstimator")
+            .field("warp", &self.warp)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<P: WarpPoint, F: Fn(P) -> f64 + Send + Sync, W: GeometricWarp<P>>
+    WarpImportanceEstimator<F, W, P>
+{
     /// Estimates the integral of `f` over the warp's domain, sampling from `warp`.
     ///
     /// ```
     /// use mcint::estimator::{Estimator, WarpImportanceEstimator};
-    /// use mcint::pdf::UniformSphere;
-    /// let e = WarpImportanceEstimator::new(|d: mcint::glam::DVec3| d.z * d.z, UniformSphere);
-    /// assert_eq!((e.canonical_dims(), e.domain_dims()), (2, 3));
+    /// use mcint::glam::{DVec2, DVec3};
+    /// use mcint::pdf::{UniformDisk, UniformSphere};
+    /// let sphere = WarpImportanceEstimator::new(|d: DVec3| d.z * d.z, UniformSphere);
+    /// assert_eq!((sphere.canonical_dims(), sphere.domain_dims()), (2, 3));
+    /// let disk = WarpImportanceEstimator::new(|p: DVec2| p.length_squared(), UniformDisk::unit());
+    /// assert_eq!(disk.domain_dims(), 2);
     /// ```
     pub fn new(f: F, warp: W) -> Self {
-        WarpImportanceEstimator { f, warp }
+        WarpImportanceEstimator {
+            f,
+            warp,
+            point: PhantomData,
+        }
     }
 }
 
-impl<F: Fn(DVec3) -> f64 + Send + Sync, W: Warp3> Estimator for WarpImportanceEstimator<F, W> {
+impl<P: WarpPoint, F: Fn(P) -> f64 + Send + Sync, W: GeometricWarp<P>> Estimator
+    for WarpImportanceEstimator<F, W, P>
+{
     fn canonical_dims(&self) -> usize {
         2
     }
 
     fn domain_dims(&self) -> usize {
-        3
+        self.warp.dims()
     }
 
     #[inline]
     fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
-        let point = self.warp.sample_point(DVec2::new(u[0], u[1]));
-        point.write_to_slice(&mut x[..3]);
+        let point = self.warp.sample_vector(DVec2::new(u[0], u[1]));
+        point.write_to(x);
         let value = (self.f)(point);
         if value == 0.0 {
             // Zero integrand contributes zero even where the pdf is zero (no 0/0).
             return 0.0;
         }
-        value / self.warp.pdf_point(point)
+        value / self.warp.density_at(point)
     }
 }

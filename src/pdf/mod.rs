@@ -30,6 +30,7 @@
 mod alias_table;
 mod cosine_hemisphere;
 mod exponential;
+mod geometric_warp;
 mod linear;
 mod mixture;
 mod normal;
@@ -78,6 +79,7 @@ pub(crate) use debug_assert_len;
 pub use alias_table::AliasTable;
 pub use cosine_hemisphere::CosineHemisphere;
 pub use exponential::Exponential;
+pub use geometric_warp::{GeometricWarp, WarpPoint};
 pub use linear::Linear;
 pub use mixture::Mixture;
 pub use normal::Normal;
