@@ -274,7 +274,8 @@ impl<T: Copy + Default> PointBlock<T> {
 
 impl Points {
     /// The points mapped from the unit cube to the box `[lower, upper)`, coordinate by
-    /// coordinate (scipy's `qmc.scale`): `lower + u (upper - lower)`.
+    /// coordinate (scipy's `qmc.scale`): `lower + u (upper - lower)`; a coordinate outside
+    /// `[0, 1]` is refused, as scipy refuses it.
     ///
     /// ```
     /// use mcint::Points;
@@ -283,12 +284,20 @@ impl Points {
     /// assert_eq!(scaled.row(0), Some(vec![0.0, 12.5]));
     /// assert_eq!(scaled.unscale(&[-1.0, 10.0], &[1.0, 20.0]).unwrap(), unit);
     /// assert!(unit.scale(&[0.0, 1.0], &[1.0, 1.0]).is_err()); // an empty side
+    /// assert!(scaled.scale(&[0.0; 2], &[1.0; 2]).is_err()); // 12.5 is not in [0, 1]
     /// ```
     pub fn scale(&self, lower: &[f64], upper: &[f64]) -> Result<Points> {
         self.check_box(lower, upper)?;
         let mut out = self.clone();
         for (d, (&l, &u)) in lower.iter().zip(upper).enumerate() {
-            for x in out.column_mut(d) {
+            for (i, x) in out.column_mut(d).iter_mut().enumerate() {
+                if !(0.0..=1.0).contains(x) {
+                    return Err(Error::invalid(
+                        "point",
+                        format!("{x} at point {i}, dimension {d}"),
+                        "coordinates in the unit cube [0, 1] (as qmc.scale requires)",
+                    ));
+                }
                 *x = l + *x * (u - l);
             }
         }
