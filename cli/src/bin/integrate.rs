@@ -329,7 +329,7 @@ fn run() -> Result<(), String> {
     let replicates_flag: Option<u64> = args.get("replicates", "a whole number >= 1")?;
     let threads: Option<usize> = args.get("threads", "a whole number of threads >= 1")?;
     let default_replicates = method.default_replicates(&*sampler);
-    let checkpoint = checkpoint_settings(&args, tolerance.is_some(), spread.is_root())?;
+    let checkpoint = checkpoint_settings(&args, tolerance.is_some(), spread)?;
     let started = Instant::now();
     if vector {
         let label = functions
@@ -474,7 +474,7 @@ fn run() -> Result<(), String> {
 fn checkpoint_settings(
     args: &Args,
     to_tolerance: bool,
-    saves: bool,
+    spread: ranks::Spread,
 ) -> Result<Option<checkpoint::Settings>, String> {
     let Some(path) = args.get::<String>("checkpoint", "a file path")? else {
         return Ok(None);
@@ -496,7 +496,7 @@ fn checkpoint_settings(
         path: path.into(),
         save_every,
         stop_after,
-        saves,
+        spread,
     }))
 }
 

@@ -26,9 +26,9 @@ pub struct Settings {
     pub path: PathBuf,
     pub save_every: u64,
     pub stop_after: Option<u64>,
-    /// Whether this process writes the checkpoint and says so (rank 0 of an MPI job, whose
-    /// ranks all hold the same part).
-    pub saves: bool,
+    /// The ranks of an MPI job, whose rank 0 writes the checkpoint and says so (all ranks
+    /// hold the same part), or this process alone.
+    pub spread: crate::ranks::Spread,
 }
 
 /// A run that can be split into parts: the scalar and the vector Integrator.
@@ -128,7 +128,8 @@ pub fn run<R: Checkpointed>(
         })?;
         budget = budget.map(|left| left - step);
         save(settings, &part)?;
-        if cancel.is_cancelled() {
+        // Every rank stops after the same step, even if the signal reached some later.
+        if settings.spread.any(cancel.is_cancelled()) {
             say(
                 settings,
                 format!(
@@ -165,14 +166,14 @@ fn read_bounded(path: &Path) -> std::io::Result<String> {
 
 /// Prints `message` on stderr from the process that saves.
 fn say(settings: &Settings, message: String) {
-    if settings.saves {
+    if settings.spread.is_root() {
         eprintln!("{message}");
     }
 }
 
 /// Saves `part` to the checkpoint (from the process that saves; see `write`).
 fn save(settings: &Settings, part: &PartialRun) -> Result<(), String> {
-    if !settings.saves {
+    if !settings.spread.is_root() {
         return Ok(());
     }
     write(&settings.path, part)

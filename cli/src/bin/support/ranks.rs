@@ -24,6 +24,20 @@ impl Spread {
     pub fn is_root(&self) -> bool {
         self.rank == 0
     }
+
+    /// Whether `flag` holds on any rank: the same answer on every rank, so that decisions
+    /// taken outside the library's runs (stop after a cancellation) are taken together.
+    pub fn any(&self, flag: bool) -> bool {
+        #[cfg(feature = "mpi")]
+        if self.cluster.is_some() {
+            use mcint::mpi::traits::CommunicatorCollectives;
+            let world = mcint::mpi::topology::SimpleCommunicator::world();
+            let mut all = vec![0u8; self.size];
+            world.all_gather_into(&u8::from(flag), &mut all[..]);
+            return all.contains(&1);
+        }
+        flag
+    }
 }
 
 impl Ranks {
