@@ -37,9 +37,9 @@ const SPEC: support::Spec = &[
         "independent passes per point count (RMSE over them)",
     ),
     ("max-log2", true, "largest point count, as a power of two"),
-    ("seed", true, "seed of the randomization (default 0)"),
+    support::SEED,
     ("format", true, "png (default) or svg"),
-    ("publication", false, "larger figures with fonts for print"),
+    support::PUBLICATION,
 ];
 
 /// Smallest point count: 2^4.

@@ -44,8 +44,8 @@ const SPEC: support::Spec = &[
         "highest frequency of the spectra (default 32)",
     ),
     ("format", true, "png (default) or svg"),
-    ("seed", true, "seed of the randomization (default 0)"),
-    ("publication", false, "larger figures with fonts for print"),
+    support::SEED,
+    support::PUBLICATION,
 ];
 
 /// Sizes tried, in order, when a construction cannot make `--n` points.

@@ -33,11 +33,7 @@ const SPEC: support::Spec = &[
         "integrand cost in microseconds (default 1)",
     ),
     ("points", true, "points of the run (default 2^22)"),
-    (
-        "threads",
-        true,
-        "worker threads (default: all cores; the result does not depend on it)",
-    ),
+    support::THREADS,
 ];
 
 fn main() {

@@ -44,33 +44,21 @@ const ABOUT: &str =
     "Writes the points of a sampler as CSV (exact round-trip text), binary f64, or their sum.";
 
 const SPEC: support::Spec = &[
-    (
-        "sampler",
-        true,
-        "point generator: independent, jittered, latin, sobol, halton, hammersley, lattice, multijitter, cmj, oa-bose, oa-bush, nrooks-multistage, poisson, best-candidate, pmj02",
-    ),
-    ("dims", true, "number of dimensions"),
+    support::SAMPLER,
+    support::DIMS,
     (
         "n",
         true,
         "number of points written (the pass size for samplers with fixed passes)",
     ),
-    ("seed", true, "seed of the randomization (default 0)"),
+    support::SEED,
     (
         "pass",
         true,
         "write the first n points of this pass (an independent randomization)",
     ),
-    (
-        "scramble",
-        true,
-        "randomization: none, xor, lms, owen (sobol), permute (halton, hammersley), shift (lattice)",
-    ),
-    (
-        "strength",
-        true,
-        "strength of oa-bush orthogonal arrays (default 3)",
-    ),
+    support::SCRAMBLE,
+    support::STRENGTH,
     (
         "format",
         true,

@@ -45,13 +45,9 @@ const SPEC: support::Spec = &[
         true,
         "Owen-scrambled Sobol' points per replicate (default 16384)",
     ),
-    (
-        "replicates",
-        true,
-        "independent randomized replicates (their spread is the error bar)",
-    ),
-    ("seed", true, "seed of the randomization (default 0)"),
-    ("json", false, "print one JSON object instead of text"),
+    support::REPLICATES,
+    support::SEED,
+    support::JSON,
 ];
 
 /// What `--help` says before the list of flags.

@@ -32,10 +32,7 @@ use support::{Args, fail};
 /// What `--help` says the program does.
 const ABOUT: &str = "Jarosz's variance-reduction scenarios: every technique's estimate, standard error and variance per evaluation.";
 
-const SPEC: support::Spec = &[
-    ("n", true, "evaluations per technique"),
-    ("seed", true, "seed of the randomization (default 0)"),
-];
+const SPEC: support::Spec = &[("n", true, "evaluations per technique"), support::SEED];
 
 fn main() {
     if let Err(message) = run() {

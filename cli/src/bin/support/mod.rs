@@ -13,8 +13,57 @@ pub struct Args {
     switches: Vec<String>,
 }
 
-/// The flags a program accepts: `(name, takes_value, what --help says of it)`.
-pub type Spec = &'static [(&'static str, bool, &'static str)];
+/// A flag: `(name, takes_value, what --help says of it)`.
+pub type Flag = (&'static str, bool, &'static str);
+
+/// The flags a program accepts.
+pub type Spec = &'static [Flag];
+
+// Flags several programs take, described once.
+pub const SEED: Flag = ("seed", true, "seed of the randomization (default 0)");
+pub const THREADS: Flag = (
+    "threads",
+    true,
+    "worker threads (default: all cores; the result does not depend on it)",
+);
+pub const JSON: Flag = ("json", false, "print one JSON object instead of text");
+pub const REPLICATES: Flag = (
+    "replicates",
+    true,
+    "independent randomized replicates (their spread is the error bar)",
+);
+pub const DIMS: Flag = ("dims", true, "number of dimensions");
+pub const SAMPLER: Flag = (
+    "sampler",
+    true,
+    "point generator: independent, jittered, latin, sobol, halton, hammersley, lattice, multijitter, cmj, oa-bose, oa-bush, nrooks-multistage, poisson, best-candidate, pmj02",
+);
+pub const SCRAMBLE: Flag = (
+    "scramble",
+    true,
+    "randomization: none, xor, lms, owen (sobol), permute (halton, hammersley), shift (lattice)",
+);
+pub const STRENGTH: Flag = (
+    "strength",
+    true,
+    "strength of oa-bush orthogonal arrays (default 3)",
+);
+pub const PUBLICATION: Flag = ("publication", false, "larger figures with fonts for print");
+pub const TOL_ABS: Flag = (
+    "tol-abs",
+    true,
+    "run until the 95% half-width is at most this",
+);
+pub const TOL_REL: Flag = (
+    "tol-rel",
+    true,
+    "run until the 95% half-width is at most this fraction of the estimate",
+);
+pub const MAX_EVALS: Flag = (
+    "max-evals",
+    true,
+    "evaluation limit of a run to a tolerance (default 2^30)",
+);
 
 impl Args {
     /// Parses the process arguments against `spec` with clap: `--help` prints the program's
