@@ -73,10 +73,12 @@ pub fn lloyd(points: &mut Points, settings: Lloyd) -> Result<Vec<f64>> {
     for _ in 0..settings.iterations {
         sums.fill(0.0);
         counts.fill(0);
-        for (p, &site) in nearest.iter().enumerate() {
+        for &site in nearest.iter() {
             counts[site] += 1;
-            for k in 0..d {
-                sums[site * d + k] += probes.get(p, k);
+        }
+        for k in 0..d {
+            for (&site, &x) in nearest.iter().zip(probes.column(k)) {
+                sums[site * d + k] += x;
             }
         }
         for k in 0..d {
@@ -93,18 +95,22 @@ pub fn lloyd(points: &mut Points, settings: Lloyd) -> Result<Vec<f64>> {
 }
 
 /// Assigns each probe to its nearest point (the lowest index among ties) and returns the
-/// mean squared distance.
+/// mean squared distance. Distances to all points are accumulated a coordinate column at a
+/// time (unit stride), into one buffer reused across probes.
 fn assign(points: &Points, probes: &Points, nearest: &mut [usize]) -> f64 {
-    let d = points.dims();
+    let mut distances = vec![0.0; points.len()];
     let mut total = 0.0;
     for (p, slot) in nearest.iter_mut().enumerate() {
-        let mut best = (f64::INFINITY, 0);
-        for site in 0..points.len() {
-            let mut distance = 0.0;
-            for k in 0..d {
-                let t = probes.get(p, k) - points.get(site, k);
-                distance += t * t;
+        distances.fill(0.0);
+        for k in 0..points.dims() {
+            let coordinate = probes.column(k)[p];
+            for (distance, &x) in distances.iter_mut().zip(points.column(k)) {
+                let t = coordinate - x;
+                *distance += t * t;
             }
+        }
+        let mut best = (f64::INFINITY, 0);
+        for (site, &distance) in distances.iter().enumerate() {
             if distance < best.0 {
                 best = (distance, site);
             }
