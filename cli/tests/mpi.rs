@@ -451,6 +451,17 @@ fn failures_on_one_rank(cluster: Cluster, checks: &mut Checks) {
         || format!("every rank should report the panic: {vegas:?}"),
     );
 
+    // A flag raised on one rank is seen by every rank (what integrate --mpi --checkpoint
+    // asks before stopping between steps).
+    let seen = cluster.any(cluster.rank() == last);
+    checks.check("a flag on one rank", matches!(seen, Ok(true)), || {
+        format!("{seen:?}")
+    });
+    let none = cluster.any(false);
+    checks.check("no flag on any rank", matches!(none, Ok(false)), || {
+        format!("{none:?}")
+    });
+
     // A run cancelled on one rank stops on every rank.
     let token = CancelToken::new();
     if cluster.rank() == last {

@@ -95,6 +95,21 @@ impl Cluster {
         self.rank == 0
     }
 
+    /// Whether `flag` holds on any rank: the same answer on every rank (every rank must call
+    /// it), for decisions a program takes between runs, such as stopping after a signal that
+    /// reached some ranks before others.
+    ///
+    /// ```
+    /// let _universe = mcint::mpi::initialize().unwrap();
+    /// let cluster = mcint::Cluster::world().unwrap();
+    /// assert!(cluster.any(true).unwrap());
+    /// assert!(!cluster.any(false).unwrap());
+    /// ```
+    pub fn any(&self, flag: bool) -> Result<bool> {
+        let all = self.all_gather(&[u8::from(flag)])?;
+        Ok(all.iter().any(|bytes| bytes.first() == Some(&1)))
+    }
+
     /// This rank's share of `chunks`: contiguous, in rank order, sizes differing by at most
     /// one (empty when there are more ranks than chunks).
     pub(crate) fn share(&self, chunks: Range<u64>) -> Range<u64> {

@@ -29,12 +29,10 @@ impl Spread {
     /// taken outside the library's runs (stop after a cancellation) are taken together.
     pub fn any(&self, flag: bool) -> bool {
         #[cfg(feature = "mpi")]
-        if self.cluster.is_some() {
-            use mcint::mpi::traits::CommunicatorCollectives;
-            let world = mcint::mpi::topology::SimpleCommunicator::world();
-            let mut all = vec![0u8; self.size];
-            world.all_gather_into(&u8::from(flag), &mut all[..]);
-            return all.contains(&1);
+        if let Some(cluster) = self.cluster {
+            // MPI stays up for the whole run (Ranks holds it), so the exchange cannot fail;
+            // if it did, stopping is the safe answer.
+            return cluster.any(flag).unwrap_or(true);
         }
         flag
     }
