@@ -58,8 +58,9 @@ fn turned_warps_sample_about_their_normal_and_invert() {
                 assert!(d.dot(axis) >= -1e-12, "{name} {n}: {d} below the horizon");
                 assert!(warp.pdf_point(d) > 0.0, "{name} {n}");
                 let back = warp.invert_point(d);
+                // Rounding of the rotation and the concentric map: measured below 1e-15.
                 assert!(
-                    (back - u).length() < 1e-9,
+                    (back - u).length() < 1e-13,
                     "{name} {n}: {u} -> {d} -> {back}"
                 );
             }
