@@ -173,9 +173,50 @@ fn evaluation_limit_stops_a_randomized_qmc_run() {
         .unwrap();
     assert_eq!(e.stop, StopReason::MaxEvaluations);
     assert_eq!(e.converged, Some(false));
-    // Stages of 256, 512, 1024, 2048 and 4096 points per replicate.
-    assert_eq!((e.iterations, e.replicates, e.n), (5, 16, 16 * 4096));
+    // Stages of 256, 512, ..., 8192 points for each of the 8 replicates a run to a
+    // tolerance starts with (the tolerance is far out of reach: no replicates are added).
+    assert_eq!((e.iterations, e.replicates, e.n), (6, 8, 8 * 8192));
     assert!((e.mean - 1.0).abs() < 5.0 * e.std_error.unwrap());
+}
+
+/// Runs that end within reach of the tolerance add replicates instead of doubling: the
+/// result is then that of a fixed-budget run of the same replicates and points per replicate
+/// (the same points, folded in another order), and the tolerance is met.
+#[test]
+fn replicates_are_added_when_cheaper_than_doubling() {
+    let f = Genz::with_defaults(GenzFamily::Gaussian, 5).unwrap();
+    let integrand = |x: &[f64]| f.eval(x);
+    let tolerance = Tolerance::absolute(1e-5).unwrap();
+    let mut added = 0;
+    for seed in 0..10 {
+        let sobol = || Sobol::new(5, Scramble::Owen, seed).unwrap();
+        let e = Integrator::over_box(integrand, UniformBox::unit(5).unwrap())
+            .sampler(sobol())
+            .tolerance(tolerance)
+            .seed(seed)
+            .run()
+            .unwrap();
+        assert_eq!(e.stop, StopReason::ToleranceMet);
+        let per_replicate = e.n / e.replicates;
+        assert_eq!(per_replicate * e.replicates, e.n);
+        assert!(per_replicate.is_power_of_two() && per_replicate >= 1024);
+        assert!(e.replicates >= 8, "{} replicates", e.replicates);
+        if e.replicates > 8 {
+            added += 1;
+        }
+        let fixed = Integrator::over_box(integrand, UniformBox::unit(5).unwrap())
+            .sampler(sobol())
+            .samples(per_replicate)
+            .replicates(e.replicates)
+            .seed(seed)
+            .run()
+            .unwrap();
+        assert!((e.mean - fixed.mean).abs() <= 1e-13 * fixed.mean.abs());
+        // The run reports the replicates' standard error inflated by 1.2.
+        let se = fixed.std_error.unwrap() * 1.2;
+        assert!((e.std_error.unwrap() - se).abs() <= 1e-9 * se);
+    }
+    assert!(added > 0, "no run added replicates");
 }
 
 #[test]

@@ -187,7 +187,7 @@ fn a_slow_integrand_stops_at_the_time_limit() {
 #[test]
 fn a_run_to_a_tolerance_keeps_its_last_whole_stage_when_cancelled() {
     let token = CancelToken::new();
-    let (f, _) = cancelling(token.clone(), 16 * 8192 + 5);
+    let (f, _) = cancelling(token.clone(), 8 * 16384 + 5);
     let e = Integrator::over_box(f, unit())
         .sampler(Sobol::new(2, Scramble::Owen, 3).unwrap())
         .tolerance(Tolerance::absolute(1e-15).unwrap())
@@ -197,9 +197,9 @@ fn a_run_to_a_tolerance_keeps_its_last_whole_stage_when_cancelled() {
         .unwrap();
     assert_eq!(e.stop, StopReason::Cancelled);
     assert_eq!(e.converged, Some(false));
-    // Stages of 1024, 2048, 4096, 8192 and 16384 points per replicate (131072 evaluations
-    // by the fourth); the fifth was cut short.
-    assert_eq!((e.iterations, e.n), (4, 16 * 8192));
+    // Stages of 1024, 2048, 4096, 8192, 16384 and 32768 points for each of 8 replicates
+    // (131072 evaluations by the fifth); the sixth was cut short.
+    assert_eq!((e.iterations, e.n), (5, 8 * 16384));
 }
 
 #[test]
@@ -253,7 +253,7 @@ fn a_run_that_exhausts_its_sampler_says_so() {
         .run()
         .unwrap();
     assert_eq!(e.stop, StopReason::SamplerExhausted);
-    assert_eq!(e.n, 16 * 1024);
+    assert_eq!(e.n, 8 * 1024);
     assert!(
         e.warnings.contains(&Warning::ToleranceNotMet {
             stop: StopReason::SamplerExhausted

@@ -30,5 +30,7 @@ pub(crate) use executor::{ChunkJob, Executor, available_threads, guarded};
 pub use limits::CancelToken;
 pub(crate) use limits::Limits;
 pub(crate) use settings::run_settings;
-pub(crate) use stopping::{DEFAULT_REPLICATES, REPLICATE_INFLATION, Stopping};
+pub(crate) use stopping::{
+    DEFAULT_REPLICATES, REPLICATE_INFLATION, Stopping, TOLERANCE_REPLICATES,
+};
 pub(crate) use targets::Targets;

@@ -20,8 +20,15 @@ use crate::stats::{ErrorBasis, Estimate, StopReason, Tolerance, Warning};
 /// Inflation of a replicate-based standard error in a run to a tolerance.
 pub(crate) const REPLICATE_INFLATION: f64 = 1.2;
 
-/// Replicates of a replicate-based run to a tolerance when the caller gives none.
+/// Replicates of a fixed-budget randomized QMC run, and of MISER's runs, when the caller
+/// gives none.
 pub(crate) const DEFAULT_REPLICATES: u64 = 16;
+
+/// Replicates the Integrator's run to a tolerance starts with when the caller gives none:
+/// fewer, larger replicates reach a tolerance with fewer points (the spread of a scrambled
+/// net's mean falls faster than `1/sqrt(n)`), and the run adds replicates when that is cheaper
+/// than doubling. scipy's `qmc_quad` defaults to 8 as well.
+pub(crate) const TOLERANCE_REPLICATES: u64 = 8;
 
 /// The stopping rule of one run to a tolerance.
 pub(crate) struct Stopping<'a> {

@@ -4,7 +4,7 @@
 use std::time::Duration;
 
 use super::REPLICATE_INFLATION;
-use crate::stats::{Derived, ErrorBasis, StopReason, Tolerance, VectorEstimate, Warning};
+use crate::stats::{Derived, ErrorBasis, Estimate, StopReason, Tolerance, VectorEstimate, Warning};
 
 /// The tolerances of one run: `outputs[k]` for output `k` (none where only derived quantities
 /// decide), and a tolerance for each derived quantity. A run meets them when every one is met.
@@ -58,6 +58,32 @@ impl Targets<'_> {
                 .derived
                 .iter()
                 .all(|(quantity, t)| run.derived(quantity).is_ok_and(|e| t.is_met(&e)))
+    }
+
+    /// How far the estimate is from meeting every target: the largest ratio of a 95%
+    /// half-width to its target (at most 1 when every target is met; infinite when one has no
+    /// error bar yet).
+    pub(crate) fn shortfall(&self, run: &VectorEstimate) -> f64 {
+        let ratio = |e: &Estimate, t: &Tolerance| match e.half_width(0.95) {
+            Ok(Some(h)) => h / t.target(e.mean),
+            _ => f64::INFINITY,
+        };
+        let outputs = self
+            .outputs
+            .iter()
+            .zip(&run.outputs)
+            .filter_map(|(t, e)| t.as_ref().map(|t| ratio(e, t)));
+        let derived = self.derived.iter().map(|(quantity, t)| {
+            run.derived(quantity)
+                .map_or(f64::INFINITY, |e| ratio(&e, t))
+        });
+        outputs.chain(derived).fold(0.0, |worst, r| {
+            if r.is_nan() {
+                f64::INFINITY
+            } else {
+                worst.max(r)
+            }
+        })
     }
 
     /// The estimate a stage reports (replicate-based standard errors and covariances inflated,

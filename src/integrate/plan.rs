@@ -11,7 +11,7 @@ use crate::{Error, Points, Result};
 /// Points generated and evaluated together: small enough to stay in L1/L2 cache.
 const BLOCK: u64 = 1024;
 /// The most replicates of a run (each keeps an accumulator in memory).
-const MAX_REPLICATES: u64 = 1 << 20;
+pub(super) const MAX_REPLICATES: u64 = 1 << 20;
 /// Chunk results held in memory at once by a run: bounds the memory of huge runs.
 pub(super) const CHUNKS_IN_MEMORY: u64 = 1 << 16;
 
@@ -24,6 +24,9 @@ pub(super) struct Plan {
     /// a run to a tolerance continue where the earlier ones stopped.
     pub(super) offset: u64,
     pub(super) replicates: u64,
+    /// Number of the first replicate of this run: a run to a tolerance may add replicates
+    /// to those it has.
+    pub(super) first_replicate: u64,
     /// Distance between the first indices of consecutive replicates.
     pub(super) stride: u64,
     pub(super) chunks_per_replicate: u64,
@@ -115,7 +118,19 @@ impl Plan {
 
     /// Points `offset .. offset + samples` of each of `replicates` replicates, `stride` apart.
     pub(super) fn stage(replicates: u64, stride: u64, offset: u64, samples: u64) -> Result<Plan> {
-        (replicates - 1)
+        Plan::added(0, replicates, stride, offset, samples)
+    }
+
+    /// Points `offset .. offset + samples` of replicates `first_replicate ..
+    /// first_replicate + replicates`, `stride` apart.
+    pub(super) fn added(
+        first_replicate: u64,
+        replicates: u64,
+        stride: u64,
+        offset: u64,
+        samples: u64,
+    ) -> Result<Plan> {
+        (first_replicate + replicates - 1)
             .checked_mul(stride)
             .and_then(|s| s.checked_add(offset))
             .and_then(|s| s.checked_add(samples))
@@ -127,6 +142,7 @@ impl Plan {
             samples,
             offset,
             replicates,
+            first_replicate,
             stride,
             chunks_per_replicate: samples.div_ceil(CHUNK),
         };
@@ -145,7 +161,7 @@ impl Plan {
 
     /// Replicate number and the range of local indices (within the replicate) of a chunk.
     fn chunk_range(&self, chunk: u64) -> (u64, u64, u64) {
-        let replicate = chunk / self.chunks_per_replicate;
+        let replicate = self.first_replicate + chunk / self.chunks_per_replicate;
         let first = self.offset + (chunk % self.chunks_per_replicate) * CHUNK;
         // Saturating: a replicate may end at the very last index, u64::MAX - 1.
         let end = self.offset.saturating_add(self.samples);
@@ -240,7 +256,10 @@ impl Plan {
             return match folded.accumulators.iter().position(|r| r.count() == 0) {
                 None => Ok(()),
                 Some(at) => {
-                    let (replicate, output) = (at / folded.outputs, at % folded.outputs);
+                    let (replicate, output) = (
+                        self.first_replicate + (at / folded.outputs) as u64,
+                        at % folded.outputs,
+                    );
                     let what = if folded.outputs > 1 {
                         format!(
                             "non-finite at every point of replicate {replicate} in output {output}"
@@ -470,6 +489,15 @@ impl Folded {
             .step_by(self.outputs)
             .map(|r| r.count() + r.non_finite())
             .sum()
+    }
+
+    /// Appends the replicates of `added` (a fold of new replicates of the same outputs).
+    pub(super) fn append(&mut self, added: &Folded) {
+        self.accumulators.extend_from_slice(&added.accumulators);
+        self.covariances.extend_from_slice(&added.covariances);
+        if self.first_non_finite.is_none() {
+            self.first_non_finite = added.first_non_finite;
+        }
     }
 
     /// Keeps the first `replicates` replicates.

@@ -5,13 +5,13 @@
 use std::cell::Cell;
 
 use super::Plan;
-use super::plan::{Folded, balance_warning};
+use super::plan::{Folded, MAX_REPLICATES, balance_warning};
 use crate::engine::{
-    DEFAULT_REPLICATES, Executor, RunConfig, Stopping, Targets, require_randomized,
+    Executor, RunConfig, Stopping, TOLERANCE_REPLICATES, Targets, require_randomized,
 };
 use crate::estimator::VectorEstimator;
 use crate::sampler::{PassKind, Sampler};
-use crate::special::normal_quantile;
+use crate::special::{normal_quantile, student_t_quantile};
 use crate::stats::{StopReason, VectorEstimate};
 use crate::{Error, Result};
 
@@ -100,17 +100,9 @@ impl Stage<'_> {
         self.stopping.tolerance().evaluation_limit() / self.cost
     }
 
-    /// The fold of points `offset .. offset + samples` of each of `replicates` replicates,
-    /// `stride` apart, and the limit that stopped the stage before its end, if one did (the
+    /// The fold of the points of `plan`, and the limit that stopped the stage before its end, if one did (the
     /// fold then holds the chunks finished before it).
-    fn run(
-        &self,
-        replicates: u64,
-        stride: u64,
-        offset: u64,
-        samples: u64,
-    ) -> Result<(Folded, Option<StopReason>)> {
-        let plan = Plan::stage(replicates, stride, offset, samples)?;
+    fn run(&self, plan: &Plan) -> Result<(Folded, Option<StopReason>)> {
         let mut on_points = |points: u64| {
             self.spent.set(self.spent.get() + points * self.cost);
             self.config.report(self.spent.get(), 0);
@@ -141,7 +133,7 @@ fn two_stage(stage: &Stage<'_>) -> Result<VectorEstimate> {
         ));
     }
     // Replicate 0 only: the pilot takes indices 0 .. pilot, the main stage what follows.
-    let (pilot, pilot_stop) = stage.run(1, 0, 0, pilot_size)?;
+    let (pilot, pilot_stop) = stage.run(&Plan::stage(1, 0, 0, pilot_size)?)?;
     if let Some(stop) = pilot_stop {
         // Independent points: the pilot's finished chunks are an estimate of their own.
         if pilot.accumulators[0].count() < 2 {
@@ -174,7 +166,7 @@ fn two_stage(stage: &Stage<'_>) -> Result<VectorEstimate> {
             }
             Some(reason) => break reason,
         };
-        let (part, part_stop) = stage.run(1, 0, used, more)?;
+        let (part, part_stop) = stage.run(&Plan::stage(1, 0, used, more)?)?;
         used += part.points();
         match main.as_mut() {
             Some(main) => main.merge(&part),
@@ -200,39 +192,57 @@ fn two_stage(stage: &Stage<'_>) -> Result<VectorEstimate> {
     Ok(estimate)
 }
 
-/// Randomized QMC and stratified points: `R` replicates, doubling the points of each until
-/// the judged interval over the replicates meets the tolerance.
+/// Randomized QMC and stratified points: `R` replicates, whose points are doubled, or whose
+/// number is raised when that is cheaper, until the judged interval over the replicates meets
+/// the tolerance.
+///
+/// Doubling the points of every replicate spends as much again as the run so far and often
+/// overshoots the tolerance by far; when the interval is within reach, new replicates of the
+/// current size bring it down by `sqrt(R / R')` (their spread stays that of the others), so
+/// the rule adds the fewest that are predicted to meet the tolerance whenever they cost less
+/// than a doubling. Nothing else is predicted: the judgement after each stage decides.
 fn doubling(stage: &Stage<'_>) -> Result<VectorEstimate> {
     let tolerance = stage.stopping.tolerance();
-    let replicates = stage.config.replicates.unwrap_or(DEFAULT_REPLICATES);
-    if replicates < 2 {
+    let first_replicates = stage.config.replicates.unwrap_or(TOLERANCE_REPLICATES);
+    if first_replicates < 2 {
         return Err(Error::invalid(
             "replicates",
-            replicates,
+            first_replicates,
             "at least 2 for a run to a tolerance (the error bar comes from their spread)",
         ));
     }
     let limit = stage.contribution_limit();
-    let (first, stride) = first_stage_and_stride(stage, replicates, limit)?;
-    Plan::stage(replicates, stride, 0, stride)?;
+    let (first, stride) = first_stage_and_stride(stage, first_replicates, limit)?;
+    Plan::stage(first_replicates, stride, 0, stride)?;
     let mut folded: Option<Folded> = None;
-    let (mut done, mut next) = (0u64, first);
+    // Points per replicate so far, and replicates so far.
+    let (mut done, mut replicates) = (0u64, first_replicates);
+    let mut grow = Grow::Points(first);
     let mut stages = 0;
     let mut estimate = None;
     let stop = loop {
-        if next > stride {
-            // The next doubling would run past the end of the sampler's pass.
-            break StopReason::SamplerExhausted;
-        }
-        let cost = (next - done).saturating_mul(replicates);
-        if let Some(reason) = stage.limit(done * replicates, cost)? {
+        let (plan, cost) = match grow {
+            Grow::Points(next) => {
+                if next > stride {
+                    // The next doubling would run past the end of the sampler's pass.
+                    break StopReason::SamplerExhausted;
+                }
+                let plan = Plan::stage(replicates, stride, done, next - done)?;
+                (plan, (next - done).saturating_mul(replicates))
+            }
+            Grow::Replicates(more) => {
+                let plan = Plan::added(replicates, more, stride, 0, done)?;
+                (plan, more.saturating_mul(done))
+            }
+        };
+        if let Some(reason) = stage.limit(done.saturating_mul(replicates), cost)? {
             // A first stage past the evaluation limit is refused below; limits of time and
             // cancellation stop the first stage inside it.
             if stages > 0 || reason == StopReason::MaxEvaluations {
                 break reason;
             }
         }
-        let (parts, part_stop) = stage.run(replicates, stride, done, next - done)?;
+        let (parts, part_stop) = stage.run(&plan)?;
         if let Some(stop) = part_stop {
             // A stage cut short leaves replicates of unequal sizes: the last whole stage's
             // estimate stands.
@@ -244,30 +254,47 @@ fn doubling(stage: &Stage<'_>) -> Result<VectorEstimate> {
             }
             break stop;
         }
-        let all = match folded.as_mut() {
-            Some(all) => {
+        let all = match (folded.as_mut(), grow) {
+            (Some(all), Grow::Points(_)) => {
                 all.merge(&parts);
                 all
             }
-            None => folded.insert(parts),
+            (Some(all), Grow::Replicates(_)) => {
+                all.append(&parts);
+                all
+            }
+            (None, _) => folded.insert(parts),
         };
-        done = next;
+        match grow {
+            Grow::Points(next) => done = next,
+            Grow::Replicates(more) => replicates += more,
+        }
         stages += 1;
         let current = VectorEstimate::replicates(&all.accumulators, all.outputs)?;
         let (current, met) = stage.targets.judge(current);
+        let shortfall = stage.targets.shortfall(&current);
         estimate = Some(current);
         if met {
             break StopReason::ToleranceMet;
         }
-        next = done.saturating_mul(2);
+        // The first stage's spread, of the smallest replicates, is the least reliable (their
+        // means are the most skewed): the run doubles at least once before adding replicates.
+        grow = match replicates_to_meet(shortfall, replicates) {
+            Some(enough) if done > first && enough - replicates < replicates => {
+                Grow::Replicates(enough - replicates)
+            }
+            _ => Grow::Points(done.saturating_mul(2)),
+        };
     };
     let mut estimate = estimate.ok_or_else(|| {
         Error::invalid(
             "max_evals",
             tolerance.evaluation_limit(),
             format!(
-                "at least {} evaluations ({replicates} replicates of {first} points)",
-                replicates.saturating_mul(first).saturating_mul(stage.cost)
+                "at least {} evaluations ({first_replicates} replicates of {first} points)",
+                first_replicates
+                    .saturating_mul(first)
+                    .saturating_mul(stage.cost)
             ),
         )
     })?;
@@ -276,6 +303,28 @@ fn doubling(stage: &Stage<'_>) -> Result<VectorEstimate> {
     }
     stage.targets.finish(&mut estimate, stop, stages);
     Ok(estimate)
+}
+
+/// The next stage of a doubling run.
+#[derive(Debug, Clone, Copy)]
+enum Grow {
+    /// Every replicate continues up to this many points.
+    Points(u64),
+    /// This many new replicates of the current size.
+    Replicates(u64),
+}
+
+/// The fewest replicates (more than `replicates`, at most twice as many and within the
+/// plan's limit) whose 95% half-width, with the replicates' spread unchanged, is predicted to
+/// be at most the targets: `shortfall` is the largest ratio of half-width to target now.
+fn replicates_to_meet(shortfall: f64, replicates: u64) -> Option<u64> {
+    if !shortfall.is_finite() {
+        return None;
+    }
+    let quantile = |r: u64| student_t_quantile(0.975, (r - 1) as f64);
+    let now = quantile(replicates) / (replicates as f64).sqrt();
+    (replicates + 1..=(2 * replicates).min(MAX_REPLICATES))
+        .find(|&r| shortfall * quantile(r) / (r as f64).sqrt() <= now)
 }
 
 /// Points per replicate of the first stage, and the distance between replicates.

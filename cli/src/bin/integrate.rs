@@ -26,7 +26,8 @@
 //!
 //! `--method` (default `plain`) picks the integrator: `plain` uses the sampler as given
 //! (default `independent`); `rqmc` is randomized quasi-Monte Carlo, Owen-scrambled Sobol' by
-//! default with 16 replicates; `vegas` and `vegas-plus` are VEGAS without and with adaptive
+//! default with 16 replicates (8 to start with in a run to a tolerance, which adds replicates
+//! when that is cheaper than doubling their points); `vegas` and `vegas-plus` are VEGAS without and with adaptive
 //! stratification (`--n` evaluations per iteration, default 10^4, after 5 warm-up
 //! iterations; 10 iterations, or as many as a tolerance needs), `miser` is MISER (`--n`
 //! evaluations per replicate, default 2^14, in `--replicates` independent runs, default 16),
@@ -381,7 +382,6 @@ fn run() -> Result<(), String> {
         let label = format!("{} estimator {}", f.label(), estimator_kind.name());
         let mut integrator = Integrator::new(built.estimator)
             .sampler(sampler)
-            .replicates(replicates_flag.unwrap_or(default_replicates))
             .seed(seed)
             .label(label)
             .cancel_token(cancel_token());
@@ -391,9 +391,13 @@ fn run() -> Result<(), String> {
             integrator = integrator.progress(bar);
         }
         let mut integrator = ranks::spread!(integrator, spread);
-        // With a tolerance the run picks its own first stage unless --n says otherwise.
+        // With a tolerance the run picks its own first stage and replicates unless --n and
+        // --replicates say otherwise.
         if tolerance.is_none() || n_flag.is_some() {
             integrator = integrator.samples(n);
+        }
+        if tolerance.is_none() || replicates_flag.is_some() {
+            integrator = integrator.replicates(replicates_flag.unwrap_or(default_replicates));
         }
         if let Some(t) = threads {
             integrator = integrator.threads(t);

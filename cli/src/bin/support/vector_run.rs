@@ -55,10 +55,13 @@ pub fn run(args: VectorRunArgs<'_>) -> Result<Option<VectorEstimate>, String> {
     let cube = mcint::pdf::UniformBox::unit(dims).map_err(|e| e.to_string())?;
     let mut integrator = Integrator::over_box_vector(functions.len(), integrand, cube)
         .sampler(args.sampler)
-        .replicates(args.replicates.unwrap_or(args.default_replicates))
         .seed(args.seed)
         .label(args.label)
         .cancel_token(args.cancel.clone());
+    // With a tolerance the run picks its own replicates unless --replicates says otherwise.
+    if args.tolerance.is_none() || args.replicates.is_some() {
+        integrator = integrator.replicates(args.replicates.unwrap_or(args.default_replicates));
+    }
     if let Some(n) = args.samples {
         integrator = integrator.samples(n);
     }
