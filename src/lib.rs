@@ -74,6 +74,7 @@ pub mod sampler;
 mod special;
 pub mod stats;
 pub mod testfns;
+pub mod vector_math;
 
 pub use engine::CancelToken;
 #[cfg(feature = "mpi")]

@@ -28,6 +28,8 @@ use std::fmt;
 use std::str::FromStr;
 
 use super::TestFunction;
+use super::genz_batch::Parameters;
+use crate::Points;
 use crate::quadrature::gauss_kronrod;
 use crate::{Error, Result};
 
@@ -359,6 +361,16 @@ impl TestFunction for Genz {
 
     fn name(&self) -> String {
         self.family.name().to_string()
+    }
+
+    fn eval_batch(&self, points: &Points, out: &mut [f64]) {
+        let parameters = Parameters {
+            family: self.family,
+            a: &self.a,
+            u: &self.u,
+            inv_a_sq: &self.inv_a_sq,
+        };
+        parameters.eval_batch(points, out);
     }
 }
 

@@ -81,6 +81,13 @@ impl TestFunction for Named {
         }
     }
 
+    fn eval_batch(&self, points: &mcint::Points, out: &mut [f64]) {
+        match self {
+            Named::Genz(g) => g.eval_batch(points, out),
+            Named::Keister(k) => k.eval_batch(points, out),
+        }
+    }
+
     fn exact(&self) -> f64 {
         match self {
             Named::Genz(g) => g.exact(),
