@@ -1,20 +1,22 @@
 //! Time to reach a 95% half-width of 1e-5 (so |error| <= 1e-5 in about 95% of runs) on the
-//! 5-D Genz Gaussian and oscillatory families (customary parameters), for each method that
-//! gets there within a few seconds on one thread, side by side in one run.
+//! 5-D Genz Gaussian, oscillatory, product-peak and continuous families (customary
+//! parameters), one thread, for each method that gets there within a few seconds, side by
+//! side in one run.
 //!
-//! `cargo bench --bench adaptive`. Methods that need far longer are measured once from the
-//! command line instead (see the README: plain Monte Carlo needs about 1.2e9 evaluations on
-//! the Gaussian, VEGAS some 2e9 on the oscillatory family, MISER with independent points
-//! some 5e8). The Python peers (vegas, scipy's `qmc_quad`, QMCPy's `CubQMCSobolG`) are timed
-//! on the same work by `benches/peers_python/adaptive_peers.py`.
+//! `cargo bench --bench adaptive`. The default `rqmc` (Owen-scrambled Sobol', the
+//! Integrator's rule to a tolerance) is timed with the batch integrand the `integrate` program
+//! uses (`TestFunction::eval_batch`: vectorized `exp` and `cos`) and with a per-point closure.
+//! Methods that need far longer are measured once from the command line instead (see the
+//! README). The Python peers (scipy's `qmc_quad`, QMCPy's `CubQMCSobolG`, vegas) are timed on
+//! the same work by `benches/peers_python/adaptive_peers.py`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use mcint::Integrator;
 use mcint::adaptive::{Miser, Vegas};
 use mcint::pdf::UniformBox;
 use mcint::sampler::{Scramble, Sobol};
 use mcint::stats::Tolerance;
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
+use mcint::{Integrator, Points};
 use std::hint::black_box;
 
 const DIMS: usize = 5;
@@ -25,10 +27,17 @@ fn tolerance() -> Tolerance {
 }
 
 fn to_tolerance(c: &mut Criterion) {
-    for family in [GenzFamily::Gaussian, GenzFamily::Oscillatory] {
+    for family in [
+        GenzFamily::Gaussian,
+        GenzFamily::Oscillatory,
+        GenzFamily::ProductPeak,
+        GenzFamily::Continuous,
+    ] {
         let f = Genz::with_defaults(family, DIMS).unwrap();
         let integrand = |x: &[f64]| f.eval(x);
+        let batch = |points: &Points, out: &mut [f64]| f.eval_batch(points, out);
         let unit = || UniformBox::unit(DIMS).unwrap();
+        let sobol = || Sobol::new(DIMS, Scramble::Owen, 0).unwrap();
         let mut group = c.benchmark_group(format!("to_1e-5_{family}_5d"));
         group.sample_size(10);
         let mut seed = 0u64;
@@ -36,10 +45,23 @@ fn to_tolerance(c: &mut Criterion) {
             seed += 1;
             seed
         };
-        group.bench_function("rqmc_sobol_owen_16_replicates", |b| {
+        group.bench_function("rqmc_batch", |b| {
+            b.iter(|| {
+                let e = Integrator::over_box_batch(batch, unit())
+                    .sampler(sobol())
+                    .tolerance(tolerance())
+                    .seed(next_seed())
+                    .threads(1)
+                    .run()
+                    .unwrap();
+                assert_eq!(e.converged, Some(true));
+                black_box(e.mean)
+            })
+        });
+        group.bench_function("rqmc_per_point", |b| {
             b.iter(|| {
                 let e = Integrator::over_box(integrand, unit())
-                    .sampler(Sobol::new(DIMS, Scramble::Owen, 0).unwrap())
+                    .sampler(sobol())
                     .tolerance(tolerance())
                     .seed(next_seed())
                     .threads(1)
@@ -67,20 +89,22 @@ fn to_tolerance(c: &mut Criterion) {
                 });
             }
         }
-        group.bench_function("miser_sobol_owen", |b| {
-            b.iter(|| {
-                let e = Miser::new(integrand, unit())
-                    .sampler(Sobol::new(DIMS, Scramble::Owen, 0).unwrap())
-                    .samples(1 << 12)
-                    .tolerance(tolerance())
-                    .seed(next_seed())
-                    .threads(1)
-                    .run()
-                    .unwrap();
-                assert_eq!(e.converged, Some(true));
-                black_box(e.mean)
-            })
-        });
+        if matches!(family, GenzFamily::Gaussian | GenzFamily::Oscillatory) {
+            group.bench_function("miser_sobol_owen", |b| {
+                b.iter(|| {
+                    let e = Miser::new(integrand, unit())
+                        .sampler(sobol())
+                        .samples(1 << 12)
+                        .tolerance(tolerance())
+                        .seed(next_seed())
+                        .threads(1)
+                        .run()
+                        .unwrap();
+                    assert_eq!(e.converged, Some(true));
+                    black_box(e.mean)
+                })
+            });
+        }
         group.finish();
     }
 }
