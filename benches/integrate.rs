@@ -1,4 +1,5 @@
-//! Integrand evaluations per second, one thread, at a fixed budget of about 2^20 evaluations.
+//! Integrand evaluations per second, one thread unless said, at a fixed budget of about 2^20
+//! evaluations.
 //!
 //! `cargo bench --bench integrate` (10 samples of 2 s per bench; criterion's
 //! `--measurement-time` and `--warm-up-time` change that).
@@ -19,6 +20,7 @@
 //!   buffer (40 MiB, allocated once outside the timing) and then evaluating them; the same
 //!   fusion by hand with a plain sum separates the cost of the memory round trip from the
 //!   Integrator's accumulator (two passes per block of 1024 values, merged by Chan's formula).
+//! - `threads_gaussian_5d_2e24`: 2^24-point plain and RQMC runs on one and two threads.
 
 use criterion::{Criterion, SamplingMode, Throughput, criterion_group, criterion_main};
 use mcint::adaptive::{Miser, Vegas};
@@ -108,20 +110,10 @@ fn genz_methods(c: &mut Criterion) {
     }
 }
 
-/// The Gaussian Genz integrand over a block: `exp(-sum (a_i (x_i - u_i))^2)`, a column at a
-/// time, with the per-point arithmetic (so the estimate has the per-point bits).
+/// The Gaussian Genz integrand over a block: [`TestFunction::eval_batch`], a column at a time
+/// with a vectorized `exp` (within an ulp of the per-point values).
 fn gaussian_batch(genz: &Genz) -> impl Fn(&Points, &mut [f64]) + Sync + '_ {
-    move |p: &Points, out: &mut [f64]| {
-        out.fill(0.0);
-        for (d, (&a, &u)) in genz.a().iter().zip(genz.u()).enumerate() {
-            for (q, &x) in out.iter_mut().zip(p.column(d)) {
-                *q += (a * (x - u)).powi(2);
-            }
-        }
-        for q in out.iter_mut() {
-            *q = (-*q).exp();
-        }
-    }
+    move |p: &Points, out: &mut [f64]| genz.eval_batch(p, out)
 }
 
 /// A batch estimator that maps every block into a freshly allocated block: what
@@ -301,6 +293,37 @@ fn fused_vs_buffer(c: &mut Criterion) {
     group.finish();
 }
 
+/// A 2^24-point plain run (independent points) and RQMC run (16 Owen-scrambled Sobol'
+/// replicates of 2^20) of the 5-D Genz Gaussian batch integrand on one and on two threads:
+/// the speed-up of the executor (the results have the same bits on any thread count).
+fn thread_scaling(c: &mut Criterion) {
+    const POINTS: u64 = 1 << 24;
+    let genz = Genz::with_defaults(GenzFamily::Gaussian, DIMS).unwrap();
+    let batch = gaussian_batch(&genz);
+    let mut group = c.benchmark_group("threads_gaussian_5d_2e24");
+    group.sampling_mode(SamplingMode::Flat);
+    group.throughput(Throughput::Elements(POINTS));
+    for threads in [1, 2] {
+        let plain = Integrator::over_box_batch(&batch, unit())
+            .samples(POINTS)
+            .seed(1)
+            .threads(threads);
+        group.bench_function(format!("plain_{threads}_threads"), |b| {
+            b.iter(|| black_box(plain.run().unwrap().mean))
+        });
+        let rqmc = Integrator::over_box_batch(&batch, unit())
+            .sampler(Sobol::new(DIMS, Scramble::Owen, 0).unwrap())
+            .samples(POINTS / 16)
+            .replicates(16)
+            .seed(1)
+            .threads(threads);
+        group.bench_function(format!("rqmc_{threads}_threads"), |b| {
+            b.iter(|| black_box(rqmc.run().unwrap().mean))
+        });
+    }
+    group.finish();
+}
+
 /// Short runs: 10 samples, 2 s of measurement after 1 s of warm-up per bench.
 fn short() -> Criterion {
     Criterion::default()
@@ -312,6 +335,6 @@ fn short() -> Criterion {
 criterion_group! {
     name = benches;
     config = short();
-    targets = genz_methods, integrand_form, fused_vs_buffer
+    targets = genz_methods, integrand_form, fused_vs_buffer, thread_scaling
 }
 criterion_main!(benches);

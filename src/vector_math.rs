@@ -68,15 +68,6 @@ pub fn exp_in_place(values: &mut [f64]) {
 /// assert!(y[4].is_nan());
 /// ```
 pub fn cos_in_place(values: &mut [f64]) {
-    // Rare arguments the reduction does not cover (NaN among them) take the scalar path,
-    // value by value.
-    let covered = |x: f64| x.abs() <= COS_LIMIT;
-    if !values.iter().all(|&x| covered(x)) {
-        for x in values.iter_mut() {
-            *x = if covered(*x) { cos_lane(*x) } else { x.cos() };
-        }
-        return;
-    }
     dispatch(CosKernel(values));
 }
 
@@ -98,8 +89,24 @@ impl Kernel for CosKernel<'_> {
     type Output = ();
     #[inline(always)]
     fn run(self) {
-        for x in self.0.iter_mut() {
-            *x = cos_lane(*x);
+        // Rare arguments the reduction does not cover (NaN among them) take the scalar path,
+        // value by value. The check is an AND of comparisons, so it vectorizes too.
+        let all_covered = self
+            .0
+            .iter()
+            .fold(true, |all, x| all & (x.abs() <= COS_LIMIT));
+        if all_covered {
+            for x in self.0.iter_mut() {
+                *x = cos_lane(*x);
+            }
+        } else {
+            for x in self.0.iter_mut() {
+                *x = if x.abs() <= COS_LIMIT {
+                    cos_lane(*x)
+                } else {
+                    x.cos()
+                };
+            }
         }
     }
 }

@@ -3,6 +3,7 @@
 
 use crate::Points;
 use crate::pdf::UniformBox;
+use crate::sampler::simd::{Kernel, dispatch};
 use std::cell::Cell;
 
 thread_local! {
@@ -45,14 +46,26 @@ pub(super) fn with_mapped(
 /// without early exits so that it vectorizes: a comparison below one (false for NaN and
 /// `+inf`) and the OR of all sign bits (set for negative numbers, `-0.0` and `-inf`).
 fn all_canonical(points: &Points) -> bool {
-    (0..points.dims()).all(|d| {
-        let (mut below_one, mut signs) = (true, 0u64);
-        for &u in points.column(d) {
-            below_one &= u < 1.0;
-            signs |= u.to_bits();
-        }
-        below_one && signs >> 63 == 0
-    })
+    dispatch(AllCanonical(points))
+}
+
+/// [`all_canonical`] as a kernel for the run-time dispatch.
+struct AllCanonical<'a>(&'a Points);
+
+impl Kernel for AllCanonical<'_> {
+    type Output = bool;
+    #[inline(always)]
+    fn run(self) -> bool {
+        let points = self.0;
+        (0..points.dims()).all(|d| {
+            let (mut below_one, mut signs) = (true, 0u64);
+            for &u in points.column(d) {
+                below_one &= u < 1.0;
+                signs |= u.to_bits();
+            }
+            below_one && signs >> 63 == 0
+        })
+    }
 }
 
 /// Maps the canonical block `u` into `domain`, column by column, with the arithmetic of

@@ -5,6 +5,7 @@ use super::estimate::{ErrorBasis, Estimate};
 use super::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
 use super::stop_reason::StopReason;
 use super::warning::Warning;
+use crate::sampler::simd::{Kernel, dispatch};
 
 /// Interleaved partial sums of [`Accumulator::extend`]: enough independent chains to fill
 /// 8 vector lanes of `f64` or hide an addition's latency; fixed, so results do not depend on
@@ -163,8 +164,16 @@ impl Accumulator {
         }
     }
 
-    /// The statistics of a slice by two passes, or `None` if a sum overflows.
+    /// The statistics of a slice by two passes, or `None` if a sum overflows; compiled for
+    /// the widest vector instructions the CPU has (the lanes are explicit, so every
+    /// instruction set gives the same bits).
     fn of_slice(values: &[f64]) -> Option<Accumulator> {
+        dispatch(SliceSummary(values))
+    }
+
+    /// [`of_slice`](Accumulator::of_slice), inlined into each dispatched build.
+    #[inline(always)]
+    fn of_slice_inline(values: &[f64]) -> Option<Accumulator> {
         let chunks = values.chunks_exact(LANES);
         let rest = chunks.remainder();
         // Pass 1: finite count, sum, min and max per lane; non-finite values are masked out
@@ -173,7 +182,9 @@ impl Accumulator {
         let mut sums = [0.0; LANES];
         let mut mins = [f64::INFINITY; LANES];
         let mut maxs = [f64::NEG_INFINITY; LANES];
-        let mut first_pass = |lanes: &[f64]| {
+        // Plain loops rather than closures, so that they are inlined into each dispatched
+        // build.
+        for lanes in chunks.clone().chain([rest]) {
             for (lane, &y) in lanes.iter().enumerate() {
                 let finite = y.is_finite();
                 counts[lane] += u64::from(finite);
@@ -181,9 +192,7 @@ impl Accumulator {
                 mins[lane] = mins[lane].min(if finite { y } else { f64::INFINITY });
                 maxs[lane] = maxs[lane].max(if finite { y } else { f64::NEG_INFINITY });
             }
-        };
-        chunks.clone().for_each(&mut first_pass);
-        first_pass(rest);
+        }
         let count: u64 = counts.iter().sum();
         let non_finite = values.len() as u64 - count;
         if count == 0 {
@@ -203,15 +212,13 @@ impl Accumulator {
         // rounding of `mean`; subtracting its square over `count` corrects for that.
         let mut squares = [0.0; LANES];
         let mut deviations = [0.0; LANES];
-        let mut second_pass = |lanes: &[f64]| {
+        for lanes in chunks.chain([rest]) {
             for (lane, &y) in lanes.iter().enumerate() {
                 let d = if y.is_finite() { y - mean } else { 0.0 };
                 deviations[lane] += d;
                 squares[lane] += d * d;
             }
-        };
-        chunks.for_each(&mut second_pass);
-        second_pass(rest);
+        }
         let deviation: f64 = deviations.iter().sum();
         let m2 = squares.iter().sum::<f64>() - deviation * deviation / count as f64;
         // Each value passes through at most ceil(len / LANES) additions in its lane and
@@ -524,5 +531,16 @@ impl TryFrom<AccumulatorState> for Accumulator {
             rounding: s.rounding,
             scale: s.scale,
         })
+    }
+}
+
+/// [`Accumulator::of_slice`] as a kernel for the run-time dispatch.
+struct SliceSummary<'a>(&'a [f64]);
+
+impl Kernel for SliceSummary<'_> {
+    type Output = Option<Accumulator>;
+    #[inline(always)]
+    fn run(self) -> Option<Accumulator> {
+        Accumulator::of_slice_inline(self.0)
     }
 }
