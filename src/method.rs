@@ -87,10 +87,12 @@ impl Method {
         !matches!(self, Method::Plain | Method::Rqmc)
     }
 
-    /// Replicates of an Integrator run (plain or RQMC) with `sampler` when none are chosen:
-    /// 1 for independent points, whose per-sample variance is honest, or for an unrandomized
-    /// sampler (whose passes repeat each other); 16 for a randomized sampler of dependent
-    /// points, whose error bar is the spread of independent replicates (MISER's default too).
+    /// Replicates of a fixed-budget Integrator run (plain or RQMC) with `sampler` when none
+    /// are chosen: 1 for independent points, whose per-sample variance is honest, or for an
+    /// unrandomized sampler (whose passes repeat each other); 16 for a randomized sampler of
+    /// dependent points, whose error bar is the spread of independent replicates (MISER's
+    /// default too). A run to a tolerance given no replicates starts with 8 and adds more
+    /// when that is cheaper than doubling their points.
     ///
     /// ```
     /// use mcint::{Method, Scramble};
