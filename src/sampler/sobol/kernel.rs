@@ -32,6 +32,17 @@ pub(super) fn direct(directions: &Directions, mut bits: u32) -> u32 {
     word
 }
 
+/// The direction words bit-reversed, which the Owen hash consumes. A loop rather than
+/// `array::map`, which was compiled as a call outside the vector kernels.
+#[inline(always)]
+fn reversed(directions: &Directions) -> Directions {
+    let mut reversed = *directions;
+    for word in &mut reversed {
+        *word = word.reverse_bits();
+    }
+    reversed
+}
+
 /// Gray code of an in-pass index.
 #[inline]
 pub(super) fn gray(i: u32) -> u32 {
@@ -123,7 +134,7 @@ impl Sobol {
                     })
                 }
                 Randomizer::Owen { scramble } => {
-                    let reversed: Directions = directions.map(u32::reverse_bits);
+                    let reversed = reversed(directions);
                     gray_column(&reversed, start.reverse_bits(), first, column, |v, x| {
                         owen_chunk(&scramble, v, x, &mut parts)
                     })
@@ -165,7 +176,7 @@ impl Sobol {
                     // Only Owen shuffles (see `shuffles`).
                     continue;
                 };
-                let reversed: Directions = directions.map(u32::reverse_bits);
+                let reversed = reversed(directions);
                 let gathered = &mut gathered[..n];
                 if n < SHUFFLE_DIRECT_BELOW {
                     for (g, &s) in gathered.iter_mut().zip(shuffled.iter()) {
