@@ -130,11 +130,13 @@ fn owen_sobol_highd(c: &mut Criterion) {
             let mut start = 0u32;
             b.iter(|| {
                 for i in 0..points as u32 {
-                    for (set, sums) in sums.chunks_exact_mut(4).enumerate() {
-                        let (seed, set) = (7 + set as u32 / 64, set as u32 % 64);
-                        let p = sobol_burley::sample_4d((start + i) % (1 << 16), set, seed);
-                        for (sum, v) in sums.iter_mut().zip(p) {
-                            *sum += f64::from(v);
+                    let index = (start + i) % (1 << 16);
+                    for (seed, sums) in (7..).zip(sums.chunks_mut(256)) {
+                        for (set, sums) in (0..).zip(sums.as_chunks_mut::<4>().0) {
+                            let p = sobol_burley::sample_4d(index, set, seed);
+                            for (sum, v) in sums.iter_mut().zip(p) {
+                                *sum += f64::from(v);
+                            }
                         }
                     }
                 }
@@ -150,7 +152,7 @@ fn owen_sobol_highd(c: &mut Criterion) {
 /// independent chains of additions), as `points --format sum` does.
 fn add_columns(sums: &mut [f64], block: &Points) {
     let len = block.len();
-    for (group, sums) in sums.chunks_exact_mut(8).enumerate() {
+    for (group, sums) in sums.as_chunks_mut::<8>().0.iter_mut().enumerate() {
         let columns: [&[f64]; 8] = std::array::from_fn(|k| &block.column(8 * group + k)[..len]);
         for i in 0..len {
             for (sum, column) in sums.iter_mut().zip(&columns) {

@@ -359,20 +359,19 @@ fn collect_columns(
 fn add_columns(sums: &mut [f64], block: &Points) {
     const LANES: usize = 8;
     let len = block.len();
-    for (group, sums) in sums.chunks_mut(LANES).enumerate() {
-        let first = group * LANES;
-        if let Ok(sums) = <&mut [f64; LANES]>::try_from(&mut *sums) {
-            let columns: [&[f64]; LANES] = std::array::from_fn(|k| &block.column(first + k)[..len]);
-            for i in 0..len {
-                for (sum, column) in sums.iter_mut().zip(&columns) {
-                    *sum += column[i];
-                }
-            }
-        } else {
-            for (k, sum) in sums.iter_mut().enumerate() {
-                *sum = block.column(first + k).iter().fold(*sum, |s, &x| s + x);
+    let (groups, rest) = sums.as_chunks_mut::<LANES>();
+    for (group, sums) in groups.iter_mut().enumerate() {
+        let columns: [&[f64]; LANES] =
+            std::array::from_fn(|k| &block.column(LANES * group + k)[..len]);
+        for i in 0..len {
+            for (sum, column) in sums.iter_mut().zip(&columns) {
+                *sum += column[i];
             }
         }
+    }
+    let first = groups.len() * LANES;
+    for (k, sum) in rest.iter_mut().enumerate() {
+        *sum = block.column(first + k).iter().fold(*sum, |s, &x| s + x);
     }
 }
 
