@@ -53,19 +53,21 @@ pub(super) fn gray(i: u32) -> u32 {
 /// per chunk, whose zeroing of 2 KiB cost a tenth of the fill.
 type OwenParts = [[u32; CHUNK]; 2];
 
-/// Owen-scrambles a chunk of bit-reversed words and converts them: the 32-bit hashing first
+/// Owen-scrambles a chunk of bit-reversed words, each `base ^ reversed[j]`, and converts them:
+/// the 32-bit hashing first
 /// (a loop of independent integer operations), then the conversion. (One loop doing both is
 /// vectorized at the width of the `f64` results, and measured 40% slower.)
 #[inline(always)]
 fn owen_chunk<T: Unit>(
     scramble: &OwenScramble,
+    base: u32,
     reversed: &[u32],
     out: &mut [T],
     [words, tails]: &mut OwenParts,
 ) {
     let (words, tails) = (&mut words[..reversed.len()], &mut tails[..reversed.len()]);
     for ((w, t), &v) in words.iter_mut().zip(tails.iter_mut()).zip(reversed) {
-        (*w, *t) = owen_parts(scramble, v);
+        (*w, *t) = owen_parts(scramble, base ^ v);
     }
     for ((x, &w), &t) in out.iter_mut().zip(words.iter()).zip(tails.iter()) {
         *x = T::join(w, t);
@@ -117,26 +119,26 @@ impl Sobol {
             // fold into 53-bit start and direction words; Owen runs the Gray code on
             // bit-reversed words, which is what its hash consumes.
             match self.randomizer(pass_seed, dim) {
-                Randomizer::None => gray_column(directions, start, first, column, |w, x| {
-                    convert(w, x, T::from_word)
+                Randomizer::None => gray_column(directions, start, first, column, |b, w, x| {
+                    convert(b, w, x, T::from_word)
                 }),
                 Randomizer::Xor { shift } => {
                     let wide: WideDirections = directions.map(widen);
-                    gray_column(&wide, widen(start) ^ shift, first, column, |w, x| {
-                        convert(w, x, T::from_wide)
+                    gray_column(&wide, widen(start) ^ shift, first, column, |b, w, x| {
+                        convert(b, w, x, T::from_wide)
                     })
                 }
                 Randomizer::Lms { columns, shift } => {
                     let wide: WideDirections = directions.map(|v| linear(&columns, v));
                     let start = linear(&columns, start) ^ shift;
-                    gray_column(&wide, start, first, column, |w, x| {
-                        convert(w, x, T::from_wide)
+                    gray_column(&wide, start, first, column, |b, w, x| {
+                        convert(b, w, x, T::from_wide)
                     })
                 }
                 Randomizer::Owen { scramble } => {
                     let reversed = reversed(directions);
-                    gray_column(&reversed, start.reverse_bits(), first, column, |v, x| {
-                        owen_chunk(&scramble, v, x, &mut parts)
+                    gray_column(&reversed, start.reverse_bits(), first, column, |b, v, x| {
+                        owen_chunk(&scramble, b, v, x, &mut parts)
                     })
                 }
             }
@@ -189,7 +191,7 @@ impl Sobol {
                         *g = words[s as usize & (CHUNK - 1)];
                     }
                 }
-                owen_chunk(&scramble, gathered, column, &mut parts);
+                owen_chunk(&scramble, 0, gathered, column, &mut parts);
             }
             done += n;
         }
@@ -258,43 +260,53 @@ fn chunk_words<W: Copy + Default + BitXorAssign>(directions: &[W; 32], first: W,
 }
 
 /// One column of a run of consecutive in-pass indices starting at `first`, given `start`, the
-/// word of the first index of the aligned chunk holding `first`: the Gray-code words of each
-/// aligned chunk into a buffer ([`chunk_words`]; in the first chunk those before `first` are
-/// made and not used), then `finish` scrambles and converts the chunk's part of the column
-/// (loops free of loop-carried dependencies). Monomorphized per scramble, so the inner loops do
-/// not branch on it.
+/// word of the first index of the aligned chunk holding `first`. The words of a chunk's
+/// offsets relative to its first word are the same for every chunk of the column: they are
+/// made once ([`chunk_words`]), and `finish(base, offsets, out)` scrambles and converts
+/// `base ^ offsets[j]` for the chunk's part of the column, in loops free of loop-carried
+/// dependencies (made per chunk, the small first doublings' stores stalled the wide loads of
+/// the next, 16% of the fill). Monomorphized per scramble, so the inner loops do not branch on
+/// it.
 #[inline(always)]
-fn gray_column<W: Copy + Default + BitXorAssign, T, F: FnMut(&[W], &mut [T])>(
+fn gray_column<W: Copy + Default + BitXorAssign, T, F: FnMut(W, &[W], &mut [T])>(
     directions: &[W; 32],
     start: W,
     first: u32,
     column: &mut [T],
     mut finish: F,
 ) {
-    let mut words = [W::default(); CHUNK];
+    let mut skip = first as usize & (CHUNK - 1);
+    let mut offsets = [W::default(); CHUNK];
+    let made = (skip + column.len()).min(CHUNK);
+    chunk_words(directions, W::default(), &mut offsets[..made]);
     let mut word = start;
     let mut base = first & !(CHUNK as u32 - 1);
-    let mut skip = first as usize & (CHUNK - 1);
     let mut rest = column;
     while !rest.is_empty() {
         let end = (skip + rest.len()).min(CHUNK);
-        chunk_words(directions, word, &mut words[..end]);
         let (out, tail) = rest.split_at_mut(end - skip);
-        finish(&words[skip..end], out);
+        finish(word, &offsets[skip..end], out);
         rest = tail;
         skip = 0;
-        // Consecutive Gray codes differ in bit ctz(i) of the later index i (ctz(0) = 32 only
-        // past the end of a pass, where the word is never used).
+        // The next chunk's first word: consecutive Gray codes differ in bit ctz(i) of the later
+        // index i (ctz(0) = 32 only past the end of a pass, where the word is never used).
         base = base.wrapping_add(CHUNK as u32);
-        word = words[CHUNK - 1];
+        word ^= offsets[CHUNK - 1];
         word ^= directions[(base.trailing_zeros() & 31) as usize];
     }
 }
 
-/// Converts a chunk of words one by one.
+/// Converts the words `base ^ offsets[j]` of a chunk one by one.
 #[inline(always)]
-fn convert<W: Copy, T>(words: &[W], out: &mut [T], to_unit: impl Fn(W) -> T) {
-    for (x, &w) in out.iter_mut().zip(words) {
+fn convert<W: Copy + BitXorAssign, T>(
+    base: W,
+    offsets: &[W],
+    out: &mut [T],
+    to_unit: impl Fn(W) -> T,
+) {
+    for (x, &offset) in out.iter_mut().zip(offsets) {
+        let mut w = base;
+        w ^= offset;
         *x = to_unit(w);
     }
 }
