@@ -1,6 +1,7 @@
 //! The same work done by `mcint` and by peer crates, in one run: Owen-scrambled Sobol' points
 //! against `sobol_burley` 0.5 (`sample` and `sample_4d`, which return f32; converting to f64
-//! is part of the work), and independent uniforms against a raw `rand_pcg` fill.
+//! is part of the work), in 4 dimensions and, summing the values, in 256 and 1024
+//! (`owen_sobol_highd`), and independent uniforms against a raw `rand_pcg` fill.
 //!
 //! `cargo bench --bench peers`; throughput is in values (coordinates) per second.
 
@@ -89,6 +90,78 @@ fn owen_sobol(c: &mut Criterion) {
     group.finish();
 }
 
+/// Values per block in high dimensions: 2 MiB of f64, which stays in L2 between the fill and
+/// the sums (the block `points --format sum` uses).
+const HIGHD_VALUES: usize = 1 << 18;
+
+/// Owen-scrambled Sobol' in 256 and 1024 dimensions, the values summed per dimension as
+/// `points --format sum` does, against `sobol_burley`'s `sample_4d` producing and summing the
+/// same number of values. sobol_burley has 256 dimensions; beyond them it takes a new seed for
+/// each further 256 (the padding its documentation suggests). Its index is below 2^16.
+fn owen_sobol_highd(c: &mut Criterion) {
+    for dims in [256, 1024] {
+        let points = HIGHD_VALUES / dims;
+        let mut group = c.benchmark_group(format!("owen_sobol_highd_{dims}d_{points}"));
+        group.throughput(Throughput::Elements((dims * points) as u64));
+        let mut block = Points::new(dims, points).unwrap();
+        let sobol = Sobol::new(dims, Scramble::Owen, 7).unwrap();
+        let mut sums = vec![0.0f64; dims];
+
+        group.bench_function("mcint_fill", |b| {
+            let mut start = 0u64;
+            b.iter(|| {
+                sobol.fill(start, &mut block).unwrap();
+                start = (start + points as u64) % (1 << 16);
+                black_box(block.get(0, 0))
+            })
+        });
+
+        group.bench_function("mcint_fill_sum", |b| {
+            let mut start = 0u64;
+            b.iter(|| {
+                sobol.fill(start, &mut block).unwrap();
+                add_columns(&mut sums, &block);
+                start = (start + points as u64) % (1 << 16);
+                black_box(sums[0])
+            })
+        });
+
+        group.bench_function("sobol_burley_sample_4d_sum", |b| {
+            let mut start = 0u32;
+            b.iter(|| {
+                for i in 0..points as u32 {
+                    let index = (start + i) % (1 << 16);
+                    for (seed, sums) in (7..).zip(sums.chunks_mut(256)) {
+                        for (set, sums) in (0..).zip(sums.as_chunks_mut::<4>().0) {
+                            let p = sobol_burley::sample_4d(index, set, seed);
+                            for (sum, v) in sums.iter_mut().zip(p) {
+                                *sum += f64::from(v);
+                            }
+                        }
+                    }
+                }
+                start = (start + points as u32) % (1 << 16);
+                black_box(sums[0])
+            })
+        });
+        group.finish();
+    }
+}
+
+/// Adds each column of `block` to its sum in index order, eight columns side by side (eight
+/// independent chains of additions), as `points --format sum` does.
+fn add_columns(sums: &mut [f64], block: &Points) {
+    let len = block.len();
+    for (group, sums) in sums.as_chunks_mut::<8>().0.iter_mut().enumerate() {
+        let columns: [&[f64]; 8] = std::array::from_fn(|k| &block.column(8 * group + k)[..len]);
+        for i in 0..len {
+            for (sum, column) in sums.iter_mut().zip(&columns) {
+                *sum += column[i];
+            }
+        }
+    }
+}
+
 /// Sobol' fills under the other scrambles, which need no per-value hashing.
 fn sobol_scrambles(c: &mut Criterion) {
     let mut group = c.benchmark_group("sobol_4d_4096");
@@ -142,5 +215,11 @@ fn independent(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, owen_sobol, sobol_scrambles, independent);
+criterion_group!(
+    benches,
+    owen_sobol,
+    owen_sobol_highd,
+    sobol_scrambles,
+    independent
+);
 criterion_main!(benches);

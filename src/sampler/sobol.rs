@@ -12,8 +12,8 @@
 //! van der Corput sequence (`v_k = 2^(31 - k)`); dimensions 2 to 21201 come from Joe & Kuo's
 //! `new-joe-kuo-6.21201` table (criterion D(6), chosen for good two-dimensional projections;
 //! `data/sobol/README.md`), embedded with `include_str!` and parsed on first use, only as far
-//! as needed: the first 64 dimensions (30 µs), 1024 (0.5 ms) or all 21201 (12 ms; release build,
-//! 2 GHz Xeon).
+//! as needed: the first 64 dimensions (30 µs), 256 (0.1 ms), 1024 (0.5 ms) or all 21201 (12 ms;
+//! release build, 2 GHz Xeon).
 //!
 //! Every aligned block of `2^m` points of a pass (in particular every power-of-two prefix) is a
 //! `(t, m, s)`-net in base 2: the first two dimensions form a `(0, m, 2)`-net and every single
@@ -35,11 +35,12 @@
 //! A randomized coordinate is therefore exactly uniform on the `2^-53` grid of `[0, 1)`, and
 //! below 1 by construction.
 //!
-//! The fill kernels work column by column over a block: for each dimension, the Gray-code
-//! words of a chunk, then the scramble and the conversion in loops without loop-carried
-//! dependencies, with the scramble dispatched once per column. Within an aligned group of 16
-//! indices the words are the group's first word XOR a per-column table, so only one serial
-//! Gray-code step is taken per group. The Owen column runs its Gray code on bit-reversed
+//! The fill kernels work column by column over a block, in aligned chunks of 256 indices: the
+//! scramble and the conversion of each chunk's Gray-code words run in loops without
+//! loop-carried dependencies, with the scramble dispatched once per column. Within a chunk the
+//! words are the chunk's first word XOR a per-column table of offsets (made once per column
+//! by doubling, as `gray(2^k + j) = gray(2^k) ^ gray(j)` for `j < 2^k`), so only one serial
+//! Gray-code step is taken per chunk. The Owen column runs its Gray code on bit-reversed
 //! direction words, since the hash works on reversed words, saving one bit reversal per value.
 //! All of it is compiled once per instruction set and selected at run time
 //! (`super::simd`), which turns these loops into 8- or 16-lane vector code.

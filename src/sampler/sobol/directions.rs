@@ -16,13 +16,13 @@ pub(super) type Directions = [u32; 32];
 
 /// Table sizes parsed on demand: a sampler of `d` dimensions uses the smallest that covers `d`,
 /// so low-dimensional use never parses the whole file.
-const TIERS: [usize; 3] = [64, 1024, MAX_DIMS];
+const TIERS: [usize; 4] = [64, 256, 1024, MAX_DIMS];
 
 /// A parsed table, or why it could not be parsed (which the tests rule out).
 type Parsed = std::result::Result<Vec<Directions>, String>;
 
 /// The parsed tiers.
-static TABLES: [OnceLock<Parsed>; 3] = [OnceLock::new(), OnceLock::new(), OnceLock::new()];
+static TABLES: [OnceLock<Parsed>; TIERS.len()] = [const { OnceLock::new() }; TIERS.len()];
 
 /// Direction words of (at least) the first `dims` dimensions, parsed once per tier.
 pub(super) fn table(dims: usize) -> Result<&'static [Directions]> {

@@ -1,8 +1,8 @@
-//! The block kernel of the Sobol' sampler: for each dimension, the Gray-code words of a chunk
-//! of consecutive indices (one XOR per word, Antonov & Saleev 1979), then the scramble and the
-//! conversion in loops without loop-carried dependencies, compiled per instruction set by
-//! `sampler::simd`. The words and conversions are those of `Sobol::point`, so the values are
-//! bit-identical.
+//! The block kernel of the Sobol' sampler: for each dimension, the Gray-code words of an
+//! aligned chunk of consecutive indices (one XOR per word, Antonov & Saleev 1979), then the
+//! scramble and the conversion in loops without loop-carried dependencies, compiled per
+//! instruction set by `sampler::simd`. The words and conversions are those of `Sobol::point`,
+//! so the values are bit-identical.
 
 use super::directions::Directions;
 use super::randomizer::{Randomizer, WideDirections, linear, owen_parts, widen};
@@ -21,10 +21,6 @@ const CHUNK: usize = 1 << CHUNK_BITS;
 /// instead of generating the whole chunk by Gray code.
 const SHUFFLE_DIRECT_BELOW: usize = 32;
 
-/// Indices per aligned Gray-code group (a power of two dividing `CHUNK`): within an aligned
-/// group the words are the group's first word XOR a per-column table, with no serial chain.
-const GROUP: usize = 16;
-
 /// XOR of the direction words selected by the set bits of `bits` (the Gray code of an index).
 #[inline]
 pub(super) fn direct(directions: &Directions, mut bits: u32) -> u32 {
@@ -36,21 +32,42 @@ pub(super) fn direct(directions: &Directions, mut bits: u32) -> u32 {
     word
 }
 
+/// The direction words bit-reversed, which the Owen hash consumes. A loop rather than
+/// `array::map`, which was compiled as a call outside the vector kernels.
+#[inline(always)]
+fn reversed(directions: &Directions) -> Directions {
+    let mut reversed = *directions;
+    for word in &mut reversed {
+        *word = word.reverse_bits();
+    }
+    reversed
+}
+
 /// Gray code of an in-pass index.
 #[inline]
 pub(super) fn gray(i: u32) -> u32 {
     i ^ (i >> 1)
 }
 
-/// Owen-scrambles a chunk of bit-reversed words and converts them: the 32-bit hashing first
-/// (a loop of independent integer operations), then the conversion.
+/// Scratch for [`owen_chunk`]: the scrambled words and their tails. Made once per fill, not
+/// per chunk, whose zeroing of 2 KiB cost a tenth of the fill.
+type OwenParts = [[u32; CHUNK]; 2];
+
+/// Owen-scrambles a chunk of bit-reversed words, each `base ^ reversed[j]`, and converts them:
+/// the 32-bit hashing first
+/// (a loop of independent integer operations), then the conversion. (One loop doing both is
+/// vectorized at the width of the `f64` results, and measured 40% slower.)
 #[inline(always)]
-fn owen_chunk<T: Unit>(scramble: &OwenScramble, reversed: &[u32], out: &mut [T]) {
-    let mut words = [0u32; CHUNK];
-    let mut tails = [0u32; CHUNK];
+fn owen_chunk<T: Unit>(
+    scramble: &OwenScramble,
+    base: u32,
+    reversed: &[u32],
+    out: &mut [T],
+    [words, tails]: &mut OwenParts,
+) {
     let (words, tails) = (&mut words[..reversed.len()], &mut tails[..reversed.len()]);
     for ((w, t), &v) in words.iter_mut().zip(tails.iter_mut()).zip(reversed) {
-        (*w, *t) = owen_parts(scramble, v);
+        (*w, *t) = owen_parts(scramble, base ^ v);
     }
     for ((x, &w), &t) in out.iter_mut().zip(words.iter()).zip(tails.iter()) {
         *x = T::join(w, t);
@@ -93,33 +110,35 @@ impl Sobol {
         len: usize,
     ) {
         let pass_seed = self.pass_seed(pass);
+        let mut parts: OwenParts = [[0; CHUNK]; 2];
         for (dim, directions) in self.directions.iter().enumerate() {
             let column = &mut out.column_mut(dim)[offset..offset + len];
-            let start = direct(directions, gray(first));
+            // The word of the first index of the aligned chunk holding `first`.
+            let start = direct(directions, gray(first & !(CHUNK as u32 - 1)));
             // Dispatch once per column. The shift and the matrix scramble are linear, so they
             // fold into 53-bit start and direction words; Owen runs the Gray code on
             // bit-reversed words, which is what its hash consumes.
             match self.randomizer(pass_seed, dim) {
-                Randomizer::None => gray_column(directions, start, first, column, |w, x| {
-                    convert(w, x, T::from_word)
+                Randomizer::None => gray_column(directions, start, first, column, |b, w, x| {
+                    convert(b, w, x, T::from_word)
                 }),
                 Randomizer::Xor { shift } => {
                     let wide: WideDirections = directions.map(widen);
-                    gray_column(&wide, widen(start) ^ shift, first, column, |w, x| {
-                        convert(w, x, T::from_wide)
+                    gray_column(&wide, widen(start) ^ shift, first, column, |b, w, x| {
+                        convert(b, w, x, T::from_wide)
                     })
                 }
                 Randomizer::Lms { columns, shift } => {
                     let wide: WideDirections = directions.map(|v| linear(&columns, v));
                     let start = linear(&columns, start) ^ shift;
-                    gray_column(&wide, start, first, column, |w, x| {
-                        convert(w, x, T::from_wide)
+                    gray_column(&wide, start, first, column, |b, w, x| {
+                        convert(b, w, x, T::from_wide)
                     })
                 }
                 Randomizer::Owen { scramble } => {
-                    let reversed: Directions = directions.map(u32::reverse_bits);
-                    gray_column(&reversed, start.reverse_bits(), first, column, |v, x| {
-                        owen_chunk(&scramble, v, x)
+                    let reversed = reversed(directions);
+                    gray_column(&reversed, start.reverse_bits(), first, column, |b, v, x| {
+                        owen_chunk(&scramble, b, v, x, &mut parts)
                     })
                 }
             }
@@ -141,6 +160,7 @@ impl Sobol {
         let mut shuffled = [0u32; CHUNK];
         let mut words = [0u32; CHUNK];
         let mut gathered = [0u32; CHUNK];
+        let mut parts: OwenParts = [[0; CHUNK]; 2];
         let mut done = 0;
         while done < len {
             // A chunk never crosses a multiple of CHUNK, so its shuffled indices share their
@@ -158,7 +178,7 @@ impl Sobol {
                     // Only Owen shuffles (see `shuffles`).
                     continue;
                 };
-                let reversed: Directions = directions.map(u32::reverse_bits);
+                let reversed = reversed(directions);
                 let gathered = &mut gathered[..n];
                 if n < SHUFFLE_DIRECT_BELOW {
                     for (g, &s) in gathered.iter_mut().zip(shuffled.iter()) {
@@ -166,14 +186,12 @@ impl Sobol {
                     }
                 } else {
                     // The whole aligned chunk of sequence points by Gray code, then gathered.
-                    let offsets = group_offsets(&reversed);
-                    let start = direct(&reversed, gray(base));
-                    gray_words(&reversed, &offsets, start, base, &mut words);
+                    chunk_words(&reversed, direct(&reversed, gray(base)), &mut words);
                     for (g, &s) in gathered.iter_mut().zip(shuffled.iter()) {
                         *g = words[s as usize & (CHUNK - 1)];
                     }
                 }
-                owen_chunk(&scramble, gathered, column);
+                owen_chunk(&scramble, 0, gathered, column, &mut parts);
             }
             done += n;
         }
@@ -211,99 +229,84 @@ impl<T: Unit> Kernel for FillRun<'_, T> {
     }
 }
 
-/// The words of in-group offsets `0..GROUP` relative to the group's first word: entry `j` is
-/// the XOR of the direction words selected by `gray(j)`. For an aligned index `a` (a multiple
-/// of `GROUP`) and `j < GROUP`, `gray(a + j) = gray(a) ^ gray(j)`, so the word of `a + j` is
-/// the word of `a` XOR entry `j`.
+/// Writes the words of the first `words.len()` indices of an aligned chunk (its first index a
+/// multiple of `CHUNK`), given the word of its first index. For `j < 2^k`, `gray(2^k + j) =
+/// gray(2^k) ^ gray(j)`, so the words of offsets `2^k..2^(k+1)` are those of `0..2^k` XOR one
+/// word: each doubling is a loop of independent XORs (vectorized), where stepping index by
+/// index would be a serial chain.
 #[inline(always)]
-fn group_offsets<W: Copy + Default + BitXorAssign>(directions: &[W; 32]) -> [W; GROUP] {
-    let mut offsets = [W::default(); GROUP];
-    let mut word = W::default();
-    for (j, slot) in offsets.iter_mut().enumerate().skip(1) {
-        word ^= directions[j.trailing_zeros() as usize];
-        *slot = word;
-    }
-    offsets
-}
-
-/// Writes the words of in-pass indices `first, first + 1, ...` into `words`, starting from
-/// `start` (the word of `first`, possibly scrambled or widened). Returns the word of the
-/// index after the last. Consecutive Gray codes differ in bit `ctz(i + 1)`; the indices
-/// before the first multiple of `GROUP` and after the last step one at a time, the aligned
-/// groups in between are filled from `offsets` ([`group_offsets`]), with one serial step per
-/// group.
-#[inline(always)]
-fn gray_words<W: Copy + BitXorAssign>(
-    directions: &[W; 32],
-    offsets: &[W; GROUP],
-    start: W,
-    first: u32,
-    words: &mut [W],
-) -> W {
-    // ctz(0) = 32 only past the end of a pass, where the update is never used.
-    let step = |i: u32| directions[(i.trailing_zeros() & 31) as usize];
-    let mut word = start;
-    let mut i = first;
-    let head = ((GROUP as u32).wrapping_sub(first) as usize & (GROUP - 1)).min(words.len());
-    let (head, rest) = words.split_at_mut(head);
-    for slot in head {
-        *slot = word;
-        i = i.wrapping_add(1);
-        word ^= step(i);
-    }
-    let mut groups = rest.chunks_exact_mut(GROUP);
-    for group in &mut groups {
-        for (slot, &offset) in group.iter_mut().zip(offsets) {
-            let mut w = word;
-            w ^= offset;
-            *slot = w;
+fn chunk_words<W: Copy + Default + BitXorAssign>(directions: &[W; 32], first: W, words: &mut [W]) {
+    let Some((head, _)) = words.split_first_mut() else {
+        return;
+    };
+    *head = first;
+    let mut done = 1;
+    // The word of gray(2^k) = 2^k ^ 2^(k - 1) relative to offset 0.
+    let mut step = directions[0];
+    for k in 1.. {
+        let (known, rest) = words.split_at_mut(done);
+        let n = rest.len().min(done);
+        for (w, &v) in rest[..n].iter_mut().zip(known.iter()) {
+            *w = v;
+            *w ^= step;
         }
-        // The group's last word, then one step into the next group.
-        word ^= offsets[GROUP - 1];
-        i = i.wrapping_add(GROUP as u32);
-        word ^= step(i);
+        done += n;
+        if done == words.len() {
+            break;
+        }
+        step = directions[k];
+        step ^= directions[k - 1];
     }
-    for slot in groups.into_remainder() {
-        *slot = word;
-        i = i.wrapping_add(1);
-        word ^= step(i);
-    }
-    word
 }
 
-/// One column of a run of consecutive in-pass indices starting at `first`, whose word is
-/// `start`: Gray-code words into a chunk buffer, then `finish` scrambles and converts the
-/// chunk (loops free of loop-carried dependencies). Monomorphized per scramble, so the inner
-/// loops do not branch on it. Chunks after the first start at multiples of `CHUNK`, so only
-/// the first and last can have unaligned groups.
+/// One column of a run of consecutive in-pass indices starting at `first`, given `start`, the
+/// word of the first index of the aligned chunk holding `first`. The words of a chunk's
+/// offsets relative to its first word are the same for every chunk of the column: they are
+/// made once ([`chunk_words`]), and `finish(base, offsets, out)` scrambles and converts
+/// `base ^ offsets[j]` for the chunk's part of the column, in loops free of loop-carried
+/// dependencies (made per chunk, the small first doublings' stores stalled the wide loads of
+/// the next, 16% of the fill). Monomorphized per scramble, so the inner loops do not branch on
+/// it.
 #[inline(always)]
-fn gray_column<W: Copy + Default + BitXorAssign, T, F: FnMut(&[W], &mut [T])>(
+fn gray_column<W: Copy + Default + BitXorAssign, T, F: FnMut(W, &[W], &mut [T])>(
     directions: &[W; 32],
     start: W,
     first: u32,
     column: &mut [T],
     mut finish: F,
 ) {
-    let offsets = group_offsets(directions);
-    let mut words = [W::default(); CHUNK];
+    let mut skip = first as usize & (CHUNK - 1);
+    let mut offsets = [W::default(); CHUNK];
+    let made = (skip + column.len()).min(CHUNK);
+    chunk_words(directions, W::default(), &mut offsets[..made]);
     let mut word = start;
-    let mut i = first;
+    let mut base = first & !(CHUNK as u32 - 1);
     let mut rest = column;
     while !rest.is_empty() {
-        let n = (CHUNK - (i as usize & (CHUNK - 1))).min(rest.len());
-        let (out, tail) = rest.split_at_mut(n);
-        let words = &mut words[..n];
-        word = gray_words(directions, &offsets, word, i, words);
-        i = i.wrapping_add(n as u32);
-        finish(words, out);
+        let end = (skip + rest.len()).min(CHUNK);
+        let (out, tail) = rest.split_at_mut(end - skip);
+        finish(word, &offsets[skip..end], out);
         rest = tail;
+        skip = 0;
+        // The next chunk's first word: consecutive Gray codes differ in bit ctz(i) of the later
+        // index i (ctz(0) = 32 only past the end of a pass, where the word is never used).
+        base = base.wrapping_add(CHUNK as u32);
+        word ^= offsets[CHUNK - 1];
+        word ^= directions[(base.trailing_zeros() & 31) as usize];
     }
 }
 
-/// Converts a chunk of words one by one.
+/// Converts the words `base ^ offsets[j]` of a chunk one by one.
 #[inline(always)]
-fn convert<W: Copy, T>(words: &[W], out: &mut [T], to_unit: impl Fn(W) -> T) {
-    for (x, &w) in out.iter_mut().zip(words) {
+fn convert<W: Copy + BitXorAssign, T>(
+    base: W,
+    offsets: &[W],
+    out: &mut [T],
+    to_unit: impl Fn(W) -> T,
+) {
+    for (x, &offset) in out.iter_mut().zip(offsets) {
+        let mut w = base;
+        w ^= offset;
         *x = to_unit(w);
     }
 }
