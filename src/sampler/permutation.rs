@@ -23,7 +23,7 @@ const FEISTEL_ROUNDS: usize = 6;
 /// Below this size the swap-or-not shuffle is used.
 const SMALL: u64 = 1 << 16;
 /// Swap-or-not rounds for small domains (about 2.5 log2 of the largest small `n`).
-const SWAP_ROUNDS: usize = 40;
+pub(crate) const SWAP_ROUNDS: usize = 40;
 /// The first word of every round key's hash.
 const TAG_ROUND: u64 = 0x7065_726d;
 
@@ -226,15 +226,14 @@ impl Permutation {
     ) {
         debug_assert!((2..SMALL).contains(&n) && reciprocal == mod_reciprocal(n));
         debug_assert!(xs.iter().all(|&x| x < n));
-        // hash_words(seed, [TAG_ROUND, k]) with the first two words absorbed.
+        // A loop rather than `map`, which may not be inlined into the vectorized caller.
         let mut states = [0u64; N];
         for (state, &seed) in states.iter_mut().zip(seeds) {
-            *state = hash_absorb(hash_start(seed), TAG_ROUND);
+            *state = swap_state(seed);
         }
         for round in 0..SWAP_ROUNDS as u64 {
             for (x, &state) in xs.iter_mut().zip(&states) {
-                let key = hash_absorb(state, round);
-                let offset = fast_mod(key >> 32, n, reciprocal);
+                let (key, offset) = swap_round_key(state, round, n, reciprocal);
                 *x = swap_or_not_round(*x, key, offset, n);
             }
         }
@@ -358,12 +357,28 @@ impl PermutationCache {
     }
 }
 
+/// The state from which the round keys of `Permutation::new(n, seed)` are hashed:
+/// `hash_words(seed, [TAG_ROUND, round])` with the first two words absorbed.
+#[inline(always)]
+pub(crate) fn swap_state(seed: u64) -> u64 {
+    hash_absorb(hash_start(seed), TAG_ROUND)
+}
+
+/// The key and pairing offset of swap-or-not round `round` of `Permutation::new(n, seed)` for
+/// `2 <= n < 2^16`, from `state = swap_state(seed)` and `reciprocal = mod_reciprocal(n)`:
+/// kernels that apply one permutation to many values derive them once.
+#[inline(always)]
+pub(crate) fn swap_round_key(state: u64, round: u64, n: u64, reciprocal: u64) -> (u64, u64) {
+    let key = hash_absorb(state, round);
+    (key, fast_mod(key >> 32, n, reciprocal))
+}
+
 /// One round of the swap-or-not shuffle on `0..n`: `x` is paired with `(offset - x) mod n`
 /// (`offset`, the key's high half reduced below `n`, and `x` both below `n`) and the pair is
 /// swapped or not by a hashed bit of the pair salted by the whole key. Branch-free: the swap
 /// bit is a coin flip, which a branch would mispredict half the time.
 #[inline(always)]
-fn swap_or_not_round(x: u64, key: u64, offset: u64, n: u64) -> u64 {
+pub(crate) fn swap_or_not_round(x: u64, key: u64, offset: u64, n: u64) -> u64 {
     let wrap = u64::from(offset < x).wrapping_neg() & n;
     let partner = offset.wrapping_sub(x).wrapping_add(wrap);
     let pair = x.max(partner);
