@@ -70,7 +70,7 @@ struct Nodes {
     b_f64: f64,
     kind: RhoKind,
     /// `mod_reciprocal(b - 1)` for [`RhoKind::Lanes`].
-    reciprocal: u64,
+    reciprocal: f64,
     /// [`hash_start`] of the key, and of the key of the `rho` hashes.
     words: u64,
     rhos: u64,
@@ -383,7 +383,7 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         reciprocal: if b > SMALL_BASE && b <= LANE_BASE_MAX {
             mod_reciprocal(b - 1)
         } else {
-            0
+            0.0
         },
         words: hash_start(key),
         rhos: hash_start(key ^ TAG_RHO),
