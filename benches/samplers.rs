@@ -11,6 +11,9 @@
 //! - `fill_{4,32}d_2^20_whole`: the same 2^20 points in one fill of a whole buffer (32 MiB at
 //!   d = 4, 256 MiB at d = 32: bound by memory writes).
 //! - `integrate_4d_2^16`: the Integrator against a hand-written loop.
+//! - `owen_halton_vs_sobol`: Owen-scrambled Halton against Owen-scrambled Sobol', per value,
+//!   in blocks of 4096 points at d = 10 and d = 30: the first 2^16 points of one pass after
+//!   another, as replicates of an RQMC run use them.
 //!
 //! The 2^20-point groups fill the first 2^20 points of a fresh pass per iteration (so samplers
 //! that build tables per pass pay for them), of a pass size of at least 2^20: 2^20 itself where
@@ -28,7 +31,7 @@ use criterion::{Criterion, SamplingMode, Throughput, criterion_group, criterion_
 use mcint::Integrator;
 use mcint::Points;
 use mcint::pdf::UniformBox;
-use mcint::sampler::{PassKind, SamplerKind};
+use mcint::sampler::{Halton, PassKind, Sampler, SamplerKind, Scramble, Sobol};
 use rand::Rng;
 use rand_pcg::Pcg64;
 use std::hint::black_box;
@@ -204,6 +207,44 @@ fn integrate_benches(c: &mut Criterion) {
     group.finish();
 }
 
+fn owen_halton_vs_sobol(c: &mut Criterion) {
+    let mut group = c.benchmark_group("owen_halton_vs_sobol");
+    for dims in [10usize, 30] {
+        let samplers: [(&str, Box<dyn Sampler>); 2] = [
+            (
+                "halton",
+                Box::new(Halton::new(dims, Scramble::Owen, 1).unwrap()),
+            ),
+            (
+                "sobol",
+                Box::new(Sobol::new(dims, Scramble::Owen, 1).unwrap()),
+            ),
+        ];
+        let mut block = Points::new(dims, POINTS).unwrap();
+        group.throughput(Throughput::Elements((dims * POINTS) as u64));
+        for (name, sampler) in &samplers {
+            let PassKind::Extensible { max: stride } = sampler.passes() else {
+                unreachable!("Halton and Sobol' passes are extensible")
+            };
+            let blocks_per_pass = (1u64 << 16) / POINTS as u64;
+            let mut block_number = 0u64;
+            group.bench_function(format!("{name}_{dims}d"), |b| {
+                b.iter(|| {
+                    let (pass, within) = (
+                        block_number / blocks_per_pass,
+                        block_number % blocks_per_pass,
+                    );
+                    let start = pass * stride + within * POINTS as u64;
+                    sampler.fill(start, &mut block).unwrap();
+                    block_number += 1;
+                    black_box(block.get(0, 0))
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
 /// Short runs: 10 samples, 2 s of measurement after 1 s of warm-up per bench.
 fn short() -> Criterion {
     Criterion::default()
@@ -215,6 +256,6 @@ fn short() -> Criterion {
 criterion_group! {
     name = benches;
     config = short();
-    targets = fill_benches, large_fill_benches, integrate_benches
+    targets = fill_benches, large_fill_benches, integrate_benches, owen_halton_vs_sobol
 }
 criterion_main!(benches);

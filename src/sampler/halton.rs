@@ -92,8 +92,9 @@ const TAG_HALTON: u64 = 0x6861_6c74;
 /// sixteen at a time, and round each value by one multiplication: about 5 ns per value at d = 4 or
 /// 32 (and 40 ns at d = 10,000, where bases above the block length give every index a lowest digit
 /// of its own to permute). `Owen` blocks memoize the digit positions that the block's indices
-/// share; every deeper digit has a node of its own per index, so it costs hashes and, in bases
-/// above 13, a keyed 40-round permutation (about 20 ns, run in lanes of 32): about 40 ns per value
+/// share, and derive the round keys of a node that several indices still share once; every
+/// deeper digit has a node of its own per index, so it costs hashes and, in bases above 13, a
+/// keyed 40-round permutation (about 20 ns, run in lanes of 32): about 40 ns per value
 /// at d = 4, 60 ns at d = 32 and 45 ns at d = 10,000, growing with the digits an index has beyond
 /// those of the block length. [`point`](Sampler::point) recomputes everything per call (about a
 /// microsecond per `Owen` value in large bases): use [`fill`](Sampler::fill) for throughput.

@@ -23,7 +23,7 @@ const FEISTEL_ROUNDS: usize = 6;
 /// Below this size the swap-or-not shuffle is used.
 const SMALL: u64 = 1 << 16;
 /// Swap-or-not rounds for small domains (about 2.5 log2 of the largest small `n`).
-const SWAP_ROUNDS: usize = 40;
+pub(crate) const SWAP_ROUNDS: usize = 40;
 /// The first word of every round key's hash.
 const TAG_ROUND: u64 = 0x7065_726d;
 
@@ -220,21 +220,20 @@ impl Permutation {
     #[inline(always)]
     pub(crate) fn apply_fresh_lanes<const N: usize>(
         n: u64,
-        reciprocal: u64,
+        reciprocal: f64,
         seeds: &[u64; N],
         xs: &mut [u64; N],
     ) {
         debug_assert!((2..SMALL).contains(&n) && reciprocal == mod_reciprocal(n));
         debug_assert!(xs.iter().all(|&x| x < n));
-        // hash_words(seed, [TAG_ROUND, k]) with the first two words absorbed.
+        // A loop rather than `map`, which may not be inlined into the vectorized caller.
         let mut states = [0u64; N];
         for (state, &seed) in states.iter_mut().zip(seeds) {
-            *state = hash_absorb(hash_start(seed), TAG_ROUND);
+            *state = swap_state(seed);
         }
         for round in 0..SWAP_ROUNDS as u64 {
             for (x, &state) in xs.iter_mut().zip(&states) {
-                let key = hash_absorb(state, round);
-                let offset = fast_mod(key >> 32, n, reciprocal);
+                let (key, offset) = swap_round_key(state, round, n, reciprocal);
                 *x = swap_or_not_round(*x, key, offset, n);
             }
         }
@@ -358,12 +357,28 @@ impl PermutationCache {
     }
 }
 
+/// The state from which the round keys of `Permutation::new(n, seed)` are hashed:
+/// `hash_words(seed, [TAG_ROUND, round])` with the first two words absorbed.
+#[inline(always)]
+pub(crate) fn swap_state(seed: u64) -> u64 {
+    hash_absorb(hash_start(seed), TAG_ROUND)
+}
+
+/// The key and pairing offset of swap-or-not round `round` of `Permutation::new(n, seed)` for
+/// `2 <= n < 2^16`, from `state = swap_state(seed)` and `reciprocal = mod_reciprocal(n)`:
+/// kernels that apply one permutation to many values derive them once.
+#[inline(always)]
+pub(crate) fn swap_round_key(state: u64, round: u64, n: u64, reciprocal: f64) -> (u64, u64) {
+    let key = hash_absorb(state, round);
+    (key, fast_mod(key >> 32, n, reciprocal))
+}
+
 /// One round of the swap-or-not shuffle on `0..n`: `x` is paired with `(offset - x) mod n`
 /// (`offset`, the key's high half reduced below `n`, and `x` both below `n`) and the pair is
 /// swapped or not by a hashed bit of the pair salted by the whole key. Branch-free: the swap
 /// bit is a coin flip, which a branch would mispredict half the time.
 #[inline(always)]
-fn swap_or_not_round(x: u64, key: u64, offset: u64, n: u64) -> u64 {
+pub(crate) fn swap_or_not_round(x: u64, key: u64, offset: u64, n: u64) -> u64 {
     let wrap = u64::from(offset < x).wrapping_neg() & n;
     let partner = offset.wrapping_sub(x).wrapping_add(wrap);
     let pair = x.max(partner);
@@ -371,21 +386,31 @@ fn swap_or_not_round(x: u64, key: u64, offset: u64, n: u64) -> u64 {
     x ^ ((x ^ partner) & swap)
 }
 
-/// `ceil(2^64 / n)` for `2 <= n < 2^16`: the constant of [`fast_mod`].
-pub(crate) fn mod_reciprocal(n: u64) -> u64 {
+/// `1 / n` for `2 <= n < 2^16`: the constant of [`fast_mod`].
+pub(crate) fn mod_reciprocal(n: u64) -> f64 {
     debug_assert!(
         (2..SMALL).contains(&n),
         "mod_reciprocal needs 2 <= n < 2^16, got {n}"
     );
-    u64::MAX / n + 1
+    1.0 / n as f64
 }
 
-/// `a % n` for `a < 2^32` and `2 <= n < 2^16` by Lemire, Kaser & Kurz's (2019) "fastmod":
-/// `floor(frac(a * ceil(2^64 / n) / 2^64) * n)`, exact in that range. The high half of the
-/// 64-by-16-bit product is assembled from two 32-bit halves, which vector units multiply.
+/// `a % n` for `a < 2^32` and `2 <= n < 2^16`, in floating point: in 512-bit registers the
+/// integer multiplies (and shifts) of a fixed-point reduction share one port with the hashes
+/// of the swap-or-not rounds, which this leaves to them. `a` and `q n` are exact doubles, and
+/// `q`, `a * (1 / n)` rounded to an integer, is `floor(a / n)` or one more (the product is
+/// within `2^-20` of `a / n`), so `a - q n` is exact and in `[-n, n)`.
 #[inline(always)]
-pub(crate) fn fast_mod(a: u64, n: u64, reciprocal: u64) -> u64 {
-    below_narrow(reciprocal.wrapping_mul(a), n)
+pub(crate) fn fast_mod(a: u64, n: u64, reciprocal: f64) -> u64 {
+    // Doubles in [2^52, 2^53) are the integers, with the integer in the low mantissa bits:
+    // conversions by an or / an add and the bits, which vectorize without a conversion unit.
+    const SHIFTER: f64 = (1u64 << 52) as f64;
+    debug_assert!(a <= u64::from(u32::MAX) && (2..SMALL).contains(&n));
+    let (a, n) = (f64::from_bits(SHIFTER.to_bits() | a) - SHIFTER, n as f64);
+    let q = (a * reciprocal + SHIFTER) - SHIFTER;
+    let r = a - q * n;
+    let r = if r < 0.0 { r + n } else { r };
+    (r + SHIFTER).to_bits() - SHIFTER.to_bits()
 }
 
 /// `floor(x n / 2^64)` for `n <= 2^32` (a 64-bit fraction `x / 2^64` scaled to `0..n`), from

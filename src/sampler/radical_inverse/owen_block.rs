@@ -21,7 +21,10 @@ use super::digit_permutation::small_permutation;
 use super::digit_permutation::{SMALL_BASE, TAG_RHO, rotate};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_start};
-use crate::sampler::permutation::{Permutation, below_narrow, mod_reciprocal};
+use crate::sampler::permutation::{
+    Permutation, SWAP_ROUNDS, below_narrow, mod_reciprocal, swap_or_not_round, swap_round_key,
+    swap_state,
+};
 use crate::sampler::simd::{Kernel, dispatch};
 
 /// Largest base whose digit permutation `rho` (on `b - 1` digits) is a swap-or-not shuffle;
@@ -43,6 +46,8 @@ pub(crate) struct OwenScratch {
     deep: Vec<u64>,
     /// The tail runs of each index, one array per word of the stream.
     tails: Vec<u64>,
+    /// Lanes of `rho` arguments of [`SharedNodeImages`], one array per index sharing a node.
+    shared: Vec<[u64; LANES]>,
 }
 
 /// The digit permutation `rho` of a base, as the kernels evaluate it.
@@ -65,7 +70,7 @@ struct Nodes {
     b_f64: f64,
     kind: RhoKind,
     /// `mod_reciprocal(b - 1)` for [`RhoKind::Lanes`].
-    reciprocal: u64,
+    reciprocal: f64,
     /// [`hash_start`] of the key, and of the key of the `rho` hashes.
     words: u64,
     rhos: u64,
@@ -203,6 +208,99 @@ impl Kernel for NodeImages<'_> {
     }
 }
 
+/// The images at position `k` for `r = first + j`, as [`Nodes::images`] computes
+/// them, for `RhoKind::Lanes` and a run of at least `2 b^k` indices: the node of
+/// `r mod b^k` then serves every index `first + o + t b^k` of the run, so its hashes and
+/// its 40 swap-or-not round keys are derived once (lanes over `o`) and applied to all of
+/// them (over `t`, which also gives the rounds many independent chains). The digit of
+/// `first + o + t b^k` is `(q + t) mod b` with `q = (first + o) / b^k`. Compiled for each
+/// instruction set by [`dispatch`].
+struct SharedNodeImages<'a> {
+    nodes: &'a Nodes,
+    k: usize,
+    word: u64,
+    scale: u64,
+    power: u64,
+    first: u64,
+    images: &'a mut [u32],
+    /// Lanes of `rho` arguments, one array per `t`.
+    xs: &'a mut Vec<[u64; LANES]>,
+}
+
+impl Kernel for SharedNodeImages<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let SharedNodeImages {
+            nodes,
+            k,
+            word,
+            scale,
+            power,
+            first,
+            images,
+            xs,
+        } = self;
+        debug_assert!(nodes.kind == RhoKind::Lanes && 2 * power <= images.len() as u64);
+        let Nodes {
+            b,
+            b_f64,
+            reciprocal,
+            words,
+            rhos,
+            ..
+        } = *nodes;
+        let (count, stride) = (images.len(), power as usize);
+        let digit = |q: u64, t: usize| div_rem(q + t as u64, b, b_f64).1;
+        for o in (0..stride).step_by(LANES) {
+            let mut quotients = [0u64; LANES];
+            let mut zeros = [0u64; LANES];
+            let mut states = [0u64; LANES];
+            for j in 0..LANES {
+                let (high, prefix) = div_rem(first + (o + j) as u64, power, power as f64);
+                quotients[j] = high;
+                let word = hash_absorb(words, (prefix << 6) | word);
+                zeros[j] = below_narrow(word.wrapping_mul(scale), b);
+                states[j] = swap_state(hash_absorb(rhos, (prefix << 6) | k as u64));
+            }
+            xs.clear();
+            xs.resize(count.div_ceil(stride), [0; LANES]);
+            for (t, rests) in xs.iter_mut().enumerate() {
+                for (rest, &q) in rests.iter_mut().zip(&quotients) {
+                    *rest = digit(q, t).saturating_sub(1);
+                }
+            }
+            for round in 0..SWAP_ROUNDS as u64 {
+                let mut keys = [0u64; LANES];
+                let mut offsets = [0u64; LANES];
+                for j in 0..LANES {
+                    (keys[j], offsets[j]) = swap_round_key(states[j], round, b - 1, reciprocal);
+                }
+                for lanes in xs.iter_mut() {
+                    for ((x, &key), &offset) in lanes.iter_mut().zip(&keys).zip(&offsets) {
+                        *x = swap_or_not_round(*x, key, offset, b - 1);
+                    }
+                }
+            }
+            // Lanes past the last node, or past the run, were computed and are dropped.
+            for (t, rests) in xs.iter().enumerate() {
+                let at = o + t * stride;
+                if at >= count {
+                    break;
+                }
+                let len = LANES.min(stride - o).min(count - at);
+                for (j, image) in images[at..at + len].iter_mut().enumerate() {
+                    *image = match digit(quotients[j], t) {
+                        0 => zeros[j],
+                        _ => rotate(b, zeros[j], rests[j]),
+                    } as u32;
+                }
+            }
+        }
+    }
+}
+
 /// The tail runs of the indices `first + j`: the digits `k .. k + count` of each index's own
 /// stream (word `word`, `scale = b^(k % m)`, `range = b^count`), into `runs[j]`; compiled for
 /// each instruction set by [`dispatch`].
@@ -285,7 +383,7 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         reciprocal: if b > SMALL_BASE && b <= LANE_BASE_MAX {
             mod_reciprocal(b - 1)
         } else {
-            0
+            0.0
         },
         words: hash_start(key),
         rhos: hash_start(key ^ TAG_RHO),
@@ -354,8 +452,21 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         for k in shallow..width {
             s.images.clear();
             s.images.resize(count, 0);
-            // Residue index mod b^(k+1) or the index itself: the same prefix and digit.
-            node_images(k, start, &mut s.images);
+            if nodes.kind == RhoKind::Lanes && 2 * powers[k] <= count as u64 {
+                dispatch(SharedNodeImages {
+                    nodes: &nodes,
+                    k,
+                    word: word_of[k],
+                    scale: scale_of[k],
+                    power: powers[k],
+                    first: start,
+                    images: &mut s.images,
+                    xs: &mut s.shared,
+                });
+            } else {
+                // Residue index mod b^(k+1) or the index itself: the same prefix and digit.
+                node_images(k, start, &mut s.images);
+            }
             for (acc, &image) in deep.iter_mut().zip(&s.images) {
                 *acc = *acc * b + u64::from(image);
             }
@@ -438,6 +549,7 @@ impl Odometer {
 
 #[cfg(test)]
 mod tests {
+    use super::super::owen::owen_coordinate;
     use super::*;
     use crate::hash::mix64;
 
@@ -451,6 +563,31 @@ mod tests {
                     std::array::from_fn(|j| small_permutation(keys[j], n, xs[j]));
                 small_permutation_lanes(n, &keys, &mut xs);
                 assert_eq!(xs, expected, "n {n}");
+            }
+        }
+    }
+
+    #[test]
+    fn blocks_with_shared_nodes_equal_single_coordinates() {
+        // Bases where a block of 4096 meets each node of its first deep position 2 to 61 times
+        // (17 and 67) or once (61, 127), and one where the shared path's last lanes pass the
+        // last node (113 = 3 * 32 + 17); runs starting mid-node and near the end of a pass.
+        let mut s = OwenScratch::default();
+        for b in [17u64, 61, 67, 113, 127] {
+            let base = Base::new(b);
+            for (first, len) in [(0u64, 4096usize), (12_345, 4096), ((1 << 40) - 5000, 5000)] {
+                let key = mix64(b ^ first);
+                let mut out = vec![0.0; len];
+                fill_owen(&base, key, first, &mut out, &mut s);
+                for (j, &x) in out.iter().enumerate() {
+                    let expected = owen_coordinate(&base, key, first + j as u64);
+                    assert_eq!(
+                        x.to_bits(),
+                        expected.to_bits(),
+                        "base {b}, index {}",
+                        first + j as u64
+                    );
+                }
             }
         }
     }
