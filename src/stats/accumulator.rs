@@ -174,25 +174,26 @@ impl Accumulator {
     /// [`of_slice`](Accumulator::of_slice), inlined into each dispatched build.
     #[inline(always)]
     fn of_slice_inline(values: &[f64]) -> Option<Accumulator> {
-        let chunks = values.chunks_exact(LANES);
-        let rest = chunks.remainder();
-        // Pass 1: finite count, sum, min and max per lane; non-finite values are masked out
-        // (a select, not a branch, so the loop vectorizes).
-        let mut counts = [0u64; LANES];
-        let mut sums = [0.0; LANES];
-        let mut mins = [f64::INFINITY; LANES];
-        let mut maxs = [f64::NEG_INFINITY; LANES];
-        // Plain loops rather than closures, so that they are inlined into each dispatched
-        // build.
-        for lanes in chunks.clone().chain([rest]) {
-            for (lane, &y) in lanes.iter().enumerate() {
-                let finite = y.is_finite();
-                counts[lane] += u64::from(finite);
-                sums[lane] += if finite { y } else { 0.0 };
-                mins[lane] = mins[lane].min(if finite { y } else { f64::INFINITY });
-                maxs[lane] = maxs[lane].max(if finite { y } else { f64::NEG_INFINITY });
-            }
+        let (chunks, rest) = values.as_chunks::<LANES>();
+        // Pass 1: finite count, sum, min and max per lane. Whole arrays of LANES values, then
+        // the rest, through functions inlined into each dispatched build: a known length
+        // makes each array one vector operation.
+        let mut first = FirstPass {
+            counts: [0; LANES],
+            sums: [0.0; LANES],
+            mins: [f64::INFINITY; LANES],
+            maxs: [f64::NEG_INFINITY; LANES],
+        };
+        for lanes in chunks {
+            first.add(lanes);
         }
+        first.add(rest);
+        let FirstPass {
+            counts,
+            sums,
+            mins,
+            maxs,
+        } = first;
         let count: u64 = counts.iter().sum();
         let non_finite = values.len() as u64 - count;
         if count == 0 {
@@ -210,15 +211,20 @@ impl Accumulator {
         let mean = sum / count as f64;
         // Pass 2: deviations from the slice mean, and their sum, which is zero but for the
         // rounding of `mean`; subtracting its square over `count` corrects for that.
-        let mut squares = [0.0; LANES];
-        let mut deviations = [0.0; LANES];
-        for lanes in chunks.chain([rest]) {
-            for (lane, &y) in lanes.iter().enumerate() {
-                let d = if y.is_finite() { y - mean } else { 0.0 };
-                deviations[lane] += d;
-                squares[lane] += d * d;
-            }
+        let mut second = SecondPass {
+            mean,
+            deviations: [0.0; LANES],
+            squares: [0.0; LANES],
+        };
+        for lanes in chunks {
+            second.add(lanes);
         }
+        second.add(rest);
+        let SecondPass {
+            deviations,
+            squares,
+            ..
+        } = second;
         let deviation: f64 = deviations.iter().sum();
         let m2 = squares.iter().sum::<f64>() - deviation * deviation / count as f64;
         // Each value passes through at most ceil(len / LANES) additions in its lane and
@@ -531,6 +537,49 @@ impl TryFrom<AccumulatorState> for Accumulator {
             rounding: s.rounding,
             scale: s.scale,
         })
+    }
+}
+
+/// Pass 1 of [`Accumulator::of_slice`]: per lane, the finite count, sum, min and max.
+struct FirstPass {
+    counts: [u64; LANES],
+    sums: [f64; LANES],
+    mins: [f64; LANES],
+    maxs: [f64; LANES],
+}
+
+impl FirstPass {
+    /// Adds up to `LANES` values, value `j` to lane `j`; non-finite values are masked out
+    /// (a select, not a branch, so the loop vectorizes).
+    #[inline(always)]
+    fn add(&mut self, lanes: &[f64]) {
+        for (lane, &y) in lanes.iter().enumerate() {
+            let finite = y.is_finite();
+            self.counts[lane] += u64::from(finite);
+            self.sums[lane] += if finite { y } else { 0.0 };
+            self.mins[lane] = self.mins[lane].min(if finite { y } else { f64::INFINITY });
+            self.maxs[lane] = self.maxs[lane].max(if finite { y } else { f64::NEG_INFINITY });
+        }
+    }
+}
+
+/// Pass 2 of [`Accumulator::of_slice`]: per lane, the sums of deviations from `mean` and of
+/// their squares.
+struct SecondPass {
+    mean: f64,
+    deviations: [f64; LANES],
+    squares: [f64; LANES],
+}
+
+impl SecondPass {
+    /// Adds up to `LANES` values, value `j` to lane `j`.
+    #[inline(always)]
+    fn add(&mut self, lanes: &[f64]) {
+        for (lane, &y) in lanes.iter().enumerate() {
+            let d = if y.is_finite() { y - self.mean } else { 0.0 };
+            self.deviations[lane] += d;
+            self.squares[lane] += d * d;
+        }
     }
 }
 
