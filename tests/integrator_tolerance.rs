@@ -1,8 +1,8 @@
 //! Runs of the `Integrator` to a tolerance: the reported 95% intervals cover the exact value
 //! in at least 93% of 200 independent seeds for every Genz family in d = 2, 5 and 10, with
-//! plain Monte Carlo (two-stage rule) and with randomized QMC (Owen-scrambled Sobol', doubling
-//! with 16 replicates); the tolerance is met whenever it is reported as met; limits stop runs
-//! with the right reason.
+//! plain Monte Carlo (two-stage rule) and with randomized QMC (Owen-scrambled Sobol', 8
+//! replicates to start, doubled or added to); the tolerance is met whenever it is reported as
+//! met; limits stop runs with the right reason.
 //!
 //! Why 93%: with a true coverage of 95%, the count of covering runs out of 200 is binomial
 //! with mean 190 and standard deviation 3.1, so 186 (93%) is 1.3 deviations below the mean; a

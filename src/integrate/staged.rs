@@ -100,8 +100,8 @@ impl Stage<'_> {
         self.stopping.tolerance().evaluation_limit() / self.cost
     }
 
-    /// The fold of the points of `plan`, and the limit that stopped the stage before its end, if one did (the
-    /// fold then holds the chunks finished before it).
+    /// The fold of the points of `plan`, and the limit that stopped the stage before its end,
+    /// if one did (the fold then holds the chunks finished before it).
     fn run(&self, plan: &Plan) -> Result<(Folded, Option<StopReason>)> {
         let mut on_points = |points: u64| {
             self.spent.set(self.spent.get() + points * self.cost);
@@ -321,10 +321,25 @@ fn replicates_to_meet(shortfall: f64, replicates: u64) -> Option<u64> {
     if !shortfall.is_finite() {
         return None;
     }
-    let quantile = |r: u64| student_t_quantile(0.975, (r - 1) as f64);
-    let now = quantile(replicates) / (replicates as f64).sqrt();
-    (replicates + 1..=(2 * replicates).min(MAX_REPLICATES))
-        .find(|&r| shortfall * quantile(r) / (r as f64).sqrt() <= now)
+    // t_{r-1} / sqrt(r) falls as r grows: the predicate holds from some r on, found by
+    // bisection (a run may have up to 2^20 replicates).
+    let scale = |r: u64| student_t_quantile(0.975, (r - 1) as f64) / (r as f64).sqrt();
+    let now = scale(replicates);
+    let enough = |r: u64| shortfall * scale(r) <= now;
+    let (mut low, mut high) = (replicates, (2 * replicates).min(MAX_REPLICATES));
+    if high <= low || !enough(high) {
+        return None;
+    }
+    // Invariant: `low` is not enough (or is the current count), `high` is.
+    while high - low > 1 {
+        let middle = low + (high - low) / 2;
+        if enough(middle) {
+            high = middle;
+        } else {
+            low = middle;
+        }
+    }
+    Some(high)
 }
 
 /// Points per replicate of the first stage, and the distance between replicates.
