@@ -34,6 +34,8 @@
 //! gathers every chunk's result and folds them in the same order, so every rank gets the
 //! one-process result, bit for bit.
 //! * [`testfns`]: the Genz families and other integrands with known integrals.
+//! * [`vector_math`]: `exp` and `cos` over slices, vectorized at run time, for batch
+//!   integrands.
 //!
 //! Cargo features, all off by default: `serde` (serialization of accumulators, estimates and
 //! [`PartialRun`] checkpoints) and `mpi` (runs spread over MPI ranks with the bits of one
