@@ -12,6 +12,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mcint::adaptive::{Miser, Vegas};
+use mcint::estimator::Estimator;
 use mcint::pdf::UniformBox;
 use mcint::sampler::{Scramble, Sobol};
 use mcint::stats::Tolerance;
@@ -24,6 +25,20 @@ const TARGET: f64 = 1e-5;
 
 fn tolerance() -> Tolerance {
     Tolerance::absolute(TARGET).unwrap()
+}
+
+/// The default `rqmc` run of `integrator` (Owen-scrambled Sobol', the rule to a tolerance)
+/// with `seed`, on one thread; its estimate.
+fn rqmc<E: Estimator>(integrator: Integrator<E>, seed: u64) -> f64 {
+    let e = integrator
+        .sampler(Sobol::new(DIMS, Scramble::Owen, 0).unwrap())
+        .tolerance(tolerance())
+        .seed(seed)
+        .threads(1)
+        .run()
+        .unwrap();
+    assert_eq!(e.converged, Some(true));
+    black_box(e.mean)
 }
 
 fn to_tolerance(c: &mut Criterion) {
@@ -46,30 +61,10 @@ fn to_tolerance(c: &mut Criterion) {
             seed
         };
         group.bench_function("rqmc_batch", |b| {
-            b.iter(|| {
-                let e = Integrator::over_box_batch(batch, unit())
-                    .sampler(sobol())
-                    .tolerance(tolerance())
-                    .seed(next_seed())
-                    .threads(1)
-                    .run()
-                    .unwrap();
-                assert_eq!(e.converged, Some(true));
-                black_box(e.mean)
-            })
+            b.iter(|| rqmc(Integrator::over_box_batch(batch, unit()), next_seed()))
         });
         group.bench_function("rqmc_per_point", |b| {
-            b.iter(|| {
-                let e = Integrator::over_box(integrand, unit())
-                    .sampler(sobol())
-                    .tolerance(tolerance())
-                    .seed(next_seed())
-                    .threads(1)
-                    .run()
-                    .unwrap();
-                assert_eq!(e.converged, Some(true));
-                black_box(e.mean)
-            })
+            b.iter(|| rqmc(Integrator::over_box(integrand, unit()), next_seed()))
         });
         if family == GenzFamily::Gaussian {
             for (name, stratified) in [("vegas", false), ("vegas_plus", true)] {

@@ -272,19 +272,20 @@ fn doubling(stage: &Stage<'_>) -> Result<VectorEstimate> {
         stages += 1;
         let current = VectorEstimate::replicates(&all.accumulators, all.outputs)?;
         let (current, met) = stage.targets.judge(current);
-        let shortfall = stage.targets.shortfall(&current);
-        estimate = Some(current);
         if met {
+            estimate = Some(current);
             break StopReason::ToleranceMet;
         }
         // The first stage's spread, of the smallest replicates, is the least reliable (their
-        // means are the most skewed): the run doubles at least once before adding replicates.
-        grow = match replicates_to_meet(shortfall, replicates) {
-            Some(enough) if done > first && enough - replicates < replicates => {
-                Grow::Replicates(enough - replicates)
-            }
-            _ => Grow::Points(done.saturating_mul(2)),
-        };
+        // means are the most skewed): the run doubles at least once before adding replicates,
+        // and adds them only when that costs less than a doubling.
+        let added = (done > first)
+            .then(|| replicates_to_meet(stage.targets.shortfall(&current), replicates))
+            .flatten()
+            .map(|enough| enough - replicates)
+            .filter(|&more| more < replicates);
+        grow = added.map_or(Grow::Points(done.saturating_mul(2)), Grow::Replicates);
+        estimate = Some(current);
     };
     let mut estimate = estimate.ok_or_else(|| {
         Error::invalid(

@@ -129,25 +129,30 @@ fn add_each(out: &mut [f64], column: &[f64], term: impl Fn(f64) -> f64) {
 }
 
 /// `y^-n` for every `y`, as `f64::powi` computes it (square and multiply over the bits of `n`
-/// from the lowest, then one reciprocal), but a block at a time.
+/// from the lowest, then one reciprocal), but a stack-sized run of values at a time.
 #[inline(always)]
 fn inverse_power(out: &mut [f64], n: usize) {
     if i32::try_from(n).is_err() {
         out.iter_mut().for_each(|y| *y = y.powf(-(n as f64)));
         return;
     }
-    let mut base = out.to_vec();
-    out.fill(1.0);
-    let mut bits = n;
-    loop {
-        if bits & 1 == 1 {
-            out.iter_mut().zip(&base).for_each(|(r, b)| *r *= b);
+    const RUN: usize = 256;
+    for run in out.chunks_mut(RUN) {
+        let mut base = [0.0; RUN];
+        let base = &mut base[..run.len()];
+        base.copy_from_slice(run);
+        run.fill(1.0);
+        let mut bits = n;
+        loop {
+            if bits & 1 == 1 {
+                run.iter_mut().zip(base.iter()).for_each(|(r, b)| *r *= b);
+            }
+            bits >>= 1;
+            if bits == 0 {
+                break;
+            }
+            base.iter_mut().for_each(|b| *b *= *b);
         }
-        bits >>= 1;
-        if bits == 0 {
-            break;
-        }
-        base.iter_mut().for_each(|b| *b *= *b);
+        run.iter_mut().for_each(|r| *r = 1.0 / *r);
     }
-    out.iter_mut().for_each(|r| *r = 1.0 / *r);
 }

@@ -92,14 +92,7 @@ pub fn build(kind: EstimatorKind, f: &Genz, seed: u64) -> Result<Built, String> 
     };
     let cube = UniformBox::unit(dims).map_err(|e| e.to_string())?;
     Ok(match kind {
-        EstimatorKind::Uniform => Built {
-            estimator: Box::new(BatchUniformEstimator::new(
-                move |points: &Points, out: &mut [f64]| f.eval_batch(points, out),
-                cube,
-            )),
-            evaluations_per_contribution: 1,
-            description: "uniform points, f(x) * volume (A.14)".into(),
-        },
+        EstimatorKind::Uniform => return uniform(f.as_ref()),
         EstimatorKind::Importance => {
             let (proposal, what) = proposal(&f)?;
             Built {
