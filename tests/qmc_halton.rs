@@ -671,6 +671,38 @@ fn owen_scrambling_is_nested_and_permute_is_not() {
     );
 }
 
+#[test]
+fn owen_nodes_send_two_digits_to_a_uniform_distinct_pair() {
+    // In bases above 13 an Owen node permutes its digits by a random affine map, which keeps
+    // the one property the variance of a scrambled estimate depends on: two distinct digits
+    // of one node go to a uniformly random pair of distinct digits, as under a uniform
+    // permutation. Indices 1 and 2 share the root node with first digits 1 and 2; their first
+    // output digits must differ and be uniform over the b (b - 1) ordered pairs: chi-square
+    // below chi2.isf(1e-5, df) (df = 271 for base 17, 811 for base 29; scipy 1.17).
+    for (dims, base, limit) in [(7usize, 17usize, 381.96), (10, 29, 994.35)] {
+        let seeds = 60 * base * (base - 1);
+        let mut counts = vec![0.0; base * base];
+        let (mut p, mut q) = (vec![0.0; dims], vec![0.0; dims]);
+        for seed in 0..seeds as u64 {
+            let owen = Halton::new(dims, Scramble::Owen, seed).unwrap();
+            owen.point(1, &mut p).unwrap();
+            owen.point(2, &mut q).unwrap();
+            let (a, b) = (
+                stratum(p[dims - 1], base as u64),
+                stratum(q[dims - 1], base as u64),
+            );
+            assert_ne!(a, b, "base {base} seed {seed}: distinct digits collide");
+            counts[a * base + b] += 1.0;
+        }
+        let pairs: Vec<f64> = (0..base * base)
+            .filter(|cell| cell / base != cell % base)
+            .map(|cell| counts[cell])
+            .collect();
+        let chi2 = chi_square(&pairs);
+        assert!(chi2 < limit, "base {base}: pair chi2 {chi2}");
+    }
+}
+
 /// `f(x, y) = x e^(xy)` on the unit square: smooth, not separable.
 fn integrand(x: f64, y: f64) -> f64 {
     x * (x * y).exp()

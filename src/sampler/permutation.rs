@@ -16,14 +16,14 @@
 //! `n = 10`), and so did a Feistel network for `n < 16`; both would bias Latin hypercube
 //! estimates. The tests below check uniformity of single images and of pairs.
 
-use crate::hash::{hash_absorb, hash_start, hash_words, mix64};
+use crate::hash::{hash_words, mix64};
 
 /// Feistel rounds; six leave no detectable structure in the tests below.
 const FEISTEL_ROUNDS: usize = 6;
 /// Below this size the swap-or-not shuffle is used.
 const SMALL: u64 = 1 << 16;
 /// Swap-or-not rounds for small domains (about 2.5 log2 of the largest small `n`).
-pub(crate) const SWAP_ROUNDS: usize = 40;
+const SWAP_ROUNDS: usize = 40;
 /// The first word of every round key's hash.
 const TAG_ROUND: u64 = 0x7065_726d;
 
@@ -113,32 +113,6 @@ fn feistel_halves(n: u64) -> (u32, u64) {
     (half_bits, half_mask)
 }
 
-/// One application of the Feistel network to every lane, lane `j` with the round keys
-/// `keys[..][j]`, rounds outermost.
-#[inline(always)]
-fn feistel_lanes<const N: usize>(
-    keys: &[[u64; N]; FEISTEL_ROUNDS],
-    half_bits: u32,
-    half_mask: u64,
-    xs: &mut [u64; N],
-) {
-    let mut left = [0u64; N];
-    let mut right = [0u64; N];
-    for ((l, r), &x) in left.iter_mut().zip(right.iter_mut()).zip(xs.iter()) {
-        (*l, *r) = (x >> half_bits, x & half_mask);
-    }
-    for keys in keys {
-        for ((l, r), &key) in left.iter_mut().zip(right.iter_mut()).zip(keys) {
-            let mixed = *l ^ (mix64(*r ^ key) & half_mask);
-            *l = *r;
-            *r = mixed;
-        }
-    }
-    for ((x, &l), &r) in xs.iter_mut().zip(&left).zip(&right) {
-        *x = (l << half_bits) | r;
-    }
-}
-
 /// Lanes of one batch of [`Permutation::apply_lanes`]: 16 64-bit values, two AVX-512 or four
 /// AVX2 registers, enough independent chains to hide the multiplies' latency.
 pub(crate) const LANES: usize = 16;
@@ -206,67 +180,6 @@ impl Permutation {
         for round in 0..SWAP_ROUNDS {
             for (x, p) in xs.iter_mut().zip(perms) {
                 *x = swap_or_not_round(*x, p.keys[round], p.offsets[round], n);
-            }
-        }
-    }
-
-    /// The image of `xs[j]` under `Permutation::new(n, seeds[j])`, lane by lane, for a small
-    /// domain (`2 <= n < 2^16`, the swap-or-not shuffle) and each `xs[j] < n`. Sixteen
-    /// different permutations applied once each: the round keys are hashed inside the rounds
-    /// instead of being stored, and the pairing offsets `(key >> 32) % n` are found by
-    /// multiplications only ([`fast_mod`]), so the whole is a few vector instructions per
-    /// round when compiled for a wide instruction set (see `super::simd`). `reciprocal` is
-    /// [`mod_reciprocal`]`(n)`.
-    #[inline(always)]
-    pub(crate) fn apply_fresh_lanes<const N: usize>(
-        n: u64,
-        reciprocal: f64,
-        seeds: &[u64; N],
-        xs: &mut [u64; N],
-    ) {
-        debug_assert!((2..SMALL).contains(&n) && reciprocal == mod_reciprocal(n));
-        debug_assert!(xs.iter().all(|&x| x < n));
-        // A loop rather than `map`, which may not be inlined into the vectorized caller.
-        let mut states = [0u64; N];
-        for (state, &seed) in states.iter_mut().zip(seeds) {
-            *state = swap_state(seed);
-        }
-        for round in 0..SWAP_ROUNDS as u64 {
-            for (x, &state) in xs.iter_mut().zip(&states) {
-                let (key, offset) = swap_round_key(state, round, n, reciprocal);
-                *x = swap_or_not_round(*x, key, offset, n);
-            }
-        }
-    }
-
-    /// The image of `xs[j]` under `Permutation::new(n, seeds[j])`, lane by lane, for a large
-    /// domain (`n >= 2^16`, the Feistel network with a cycle walk) and each `xs[j] < n`: the
-    /// counterpart of [`apply_fresh_lanes`](Self::apply_fresh_lanes). Only the first
-    /// `FEISTEL_ROUNDS` round keys are hashed, and the walk re-applies the network to the
-    /// lanes not yet below `n`, as [`apply_lanes`](Self::apply_lanes) does.
-    #[inline(always)]
-    pub(crate) fn apply_fresh_feistel_lanes<const N: usize>(
-        n: u64,
-        seeds: &[u64; N],
-        xs: &mut [u64; N],
-    ) {
-        debug_assert!(n >= SMALL && xs.iter().all(|&x| x < n));
-        let (half_bits, half_mask) = feistel_halves(n);
-        let mut keys = [[0u64; N]; FEISTEL_ROUNDS];
-        for (j, &seed) in seeds.iter().enumerate() {
-            let state = hash_absorb(hash_start(seed), TAG_ROUND);
-            for (round, keys) in keys.iter_mut().enumerate() {
-                keys[j] = hash_absorb(state, round as u64);
-            }
-        }
-        feistel_lanes(&keys, half_bits, half_mask, xs);
-        while xs.iter().any(|&x| x >= n) {
-            let mut again = *xs;
-            feistel_lanes(&keys, half_bits, half_mask, &mut again);
-            for (x, &y) in xs.iter_mut().zip(&again) {
-                if *x >= n {
-                    *x = y;
-                }
             }
         }
     }
@@ -357,22 +270,6 @@ impl PermutationCache {
     }
 }
 
-/// The state from which the round keys of `Permutation::new(n, seed)` are hashed:
-/// `hash_words(seed, [TAG_ROUND, round])` with the first two words absorbed.
-#[inline(always)]
-pub(crate) fn swap_state(seed: u64) -> u64 {
-    hash_absorb(hash_start(seed), TAG_ROUND)
-}
-
-/// The key and pairing offset of swap-or-not round `round` of `Permutation::new(n, seed)` for
-/// `2 <= n < 2^16`, from `state = swap_state(seed)` and `reciprocal = mod_reciprocal(n)`:
-/// kernels that apply one permutation to many values derive them once.
-#[inline(always)]
-pub(crate) fn swap_round_key(state: u64, round: u64, n: u64, reciprocal: f64) -> (u64, u64) {
-    let key = hash_absorb(state, round);
-    (key, fast_mod(key >> 32, n, reciprocal))
-}
-
 /// One round of the swap-or-not shuffle on `0..n`: `x` is paired with `(offset - x) mod n`
 /// (`offset`, the key's high half reduced below `n`, and `x` both below `n`) and the pair is
 /// swapped or not by a hashed bit of the pair salted by the whole key. Branch-free: the swap
@@ -384,33 +281,6 @@ pub(crate) fn swap_or_not_round(x: u64, key: u64, offset: u64, n: u64) -> u64 {
     let pair = x.max(partner);
     let swap = (mix64(pair ^ key) >> 63).wrapping_neg();
     x ^ ((x ^ partner) & swap)
-}
-
-/// `1 / n` for `2 <= n < 2^16`: the constant of [`fast_mod`].
-pub(crate) fn mod_reciprocal(n: u64) -> f64 {
-    debug_assert!(
-        (2..SMALL).contains(&n),
-        "mod_reciprocal needs 2 <= n < 2^16, got {n}"
-    );
-    1.0 / n as f64
-}
-
-/// `a % n` for `a < 2^32` and `2 <= n < 2^16`, in floating point: in 512-bit registers the
-/// integer multiplies (and shifts) of a fixed-point reduction share one port with the hashes
-/// of the swap-or-not rounds, which this leaves to them. `a` and `q n` are exact doubles, and
-/// `q`, `a * (1 / n)` rounded to an integer, is `floor(a / n)` or one more (the product is
-/// within `2^-20` of `a / n`), so `a - q n` is exact and in `[-n, n)`.
-#[inline(always)]
-pub(crate) fn fast_mod(a: u64, n: u64, reciprocal: f64) -> u64 {
-    // Doubles in [2^52, 2^53) are the integers, with the integer in the low mantissa bits:
-    // conversions by an or / an add and the bits, which vectorize without a conversion unit.
-    const SHIFTER: f64 = (1u64 << 52) as f64;
-    debug_assert!(a <= u64::from(u32::MAX) && (2..SMALL).contains(&n));
-    let (a, n) = (f64::from_bits(SHIFTER.to_bits() | a) - SHIFTER, n as f64);
-    let q = (a * reciprocal + SHIFTER) - SHIFTER;
-    let r = a - q * n;
-    let r = if r < 0.0 { r + n } else { r };
-    (r + SHIFTER).to_bits() - SHIFTER.to_bits()
 }
 
 /// `floor(x n / 2^64)` for `n <= 2^32` (a 64-bit fraction `x / 2^64` scaled to `0..n`), from
@@ -448,53 +318,6 @@ mod tests {
             let expected: [u64; LANES] = std::array::from_fn(|l| perms[l].apply(xs[l]));
             Permutation::apply_each(&refs, &mut xs);
             assert_eq!(xs, expected, "n {n}");
-        }
-    }
-
-    #[test]
-    fn fresh_lanes_equal_single_permutations() {
-        for n in [2u64, 3, 16, 130, 7918, 65_535] {
-            for round in 0..4u64 {
-                let seeds: [u64; LANES] = std::array::from_fn(|j| mix64(round * 100 + j as u64));
-                let mut xs: [u64; LANES] = std::array::from_fn(|j| mix64(seeds[j] ^ 5) % n);
-                let expected: [u64; LANES] =
-                    std::array::from_fn(|j| Permutation::new(n, seeds[j]).apply(xs[j]));
-                Permutation::apply_fresh_lanes(n, mod_reciprocal(n), &seeds, &mut xs);
-                assert_eq!(xs, expected, "n {n}");
-            }
-        }
-    }
-
-    #[test]
-    fn fresh_feistel_lanes_equal_single_permutations() {
-        for n in [1u64 << 16, 65_537, 104_728, 1 << 20, (1 << 40) + 3] {
-            for round in 0..4u64 {
-                let seeds: [u64; 32] = std::array::from_fn(|j| mix64(round * 100 + j as u64));
-                let mut xs: [u64; 32] = std::array::from_fn(|j| mix64(seeds[j] ^ 5) % n);
-                let expected: [u64; 32] =
-                    std::array::from_fn(|j| Permutation::new(n, seeds[j]).apply(xs[j]));
-                Permutation::apply_fresh_feistel_lanes(n, &seeds, &mut xs);
-                assert_eq!(xs, expected, "n {n}");
-            }
-        }
-    }
-
-    #[test]
-    fn fast_mod_is_exact() {
-        let mut h = 3u64;
-        for n in (2u64..300).chain([7918, 65_521, 65_534, 65_535]) {
-            let r = mod_reciprocal(n);
-            for k in 0..200u64 {
-                h = mix64(h ^ k);
-                for a in [
-                    h >> 32,
-                    k,
-                    u64::from(u32::MAX) - k,
-                    (h >> 40) / n * n + n - 1,
-                ] {
-                    assert_eq!(fast_mod(a, n, r), a % n, "{a} % {n}");
-                }
-            }
         }
     }
 

@@ -103,6 +103,32 @@ pub(super) fn digit_image(base: u64, zero: u64, rho_key: impl FnOnce() -> u64, d
     }
 }
 
+/// `pi(digit)` for the node permutation of [`Scramble::Owen`](crate::sampler::Scramble::Owen):
+/// the uniformly random permutation of [`digit_image`] in bases up to [`SMALL_BASE`], and above
+/// them the random affine map `pi(a) = (alpha a + zero) mod b` with `alpha = 1 + (key mod
+/// (b - 1))` read from `node_key()` (called for a non-zero digit only). The affine maps of a
+/// prime base are sharply 2-transitive: two distinct digits go to a uniformly random pair of
+/// distinct digits, as under a uniform permutation, and the variance of a scrambled estimate
+/// depends on the points two at a time only (see [`Halton`](crate::sampler::Halton)).
+#[inline]
+pub(super) fn owen_digit_image(
+    base: u64,
+    zero: u64,
+    node_key: impl FnOnce() -> u64,
+    digit: u64,
+) -> u64 {
+    if base <= SMALL_BASE || digit == 0 {
+        return digit_image(base, zero, node_key, digit);
+    }
+    (affine_slope(node_key(), base) * digit + zero) % base
+}
+
+/// The slope `alpha` in `1..b` of an affine node permutation in base `b`, from its key.
+#[inline(always)]
+pub(super) fn affine_slope(key: u64, base: u64) -> u64 {
+    1 + below(key, base - 1)
+}
+
 /// Digits `from .. from + count` of the random base-`b` digit stream cut from `word`, as the
 /// base-`b` integer they spell (first digit most significant); `from + count <= m`, the digits
 /// per word. Digit `r` alone is `floor(frac(word b^r / 2^64) b)`: the mixed-radix expansion of

@@ -1,9 +1,9 @@
-//! Nested uniform scrambling in base `b` (Owen 1995;
+//! Nested scrambling in base `b` (Owen 1995;
 //! [`Scramble::Owen`](crate::sampler::Scramble::Owen)), one coordinate at a time;
 //! `owen_block.rs` computes the same integers a block at a time.
 
 use super::base::{Base, MAX_DEPTH};
-use super::digit_permutation::{TAG_RHO, below, digit_image, stream_digits};
+use super::digit_permutation::{TAG_RHO, below, owen_digit_image, stream_digits};
 use crate::float::ONE_BELOW;
 use crate::hash::hash_words;
 
@@ -12,10 +12,10 @@ use crate::hash::hash_words;
 /// The node of digit position `k` (0-based) is identified by `k` and the integer
 /// `prefix = index mod b^k` formed by the digits above it in the output. Its permutation has
 /// `pi(0) = t`, digit `k` of a random digit stream of `prefix` (a hash of `(prefix, k / m)`
-/// per `m` digits, see [`stream_digits`]), and `rho` keyed by a hash of `(prefix, k)`. Nodes
+/// per `m` digits, see [`stream_digits`]), and the rest of it (`rho`, or in bases above 13 the
+/// slope of an affine map, see [`owen_digit_image`]) keyed by a hash of `(prefix, k)`. Nodes
 /// with different prefixes draw from different streams, and the nodes of one prefix from
-/// different digits of its stream, so all nodes are independent, as nested uniform scrambling
-/// requires. Every node has `prefix < b^k`, so the zero digits beyond the last digit of `index`
+/// different digits of its stream, so all nodes are independent, as nested scrambling requires. Every node has `prefix < b^k`, so the zero digits beyond the last digit of `index`
 /// all read the stream of `prefix = index`: the tail costs one hash per `m` digits.
 pub(super) fn owen_coordinate(base: &Base, key: u64, index: u64) -> f64 {
     let (b, m) = (base.base, base.per_word as usize);
@@ -38,7 +38,7 @@ pub(super) fn owen_coordinate(base: &Base, key: u64, index: u64) -> f64 {
         let node = (prefix << 6) | k as u64;
         let word = hash_words(key, &[(prefix << 6) | word_number]);
         let zero = below(word.wrapping_mul(scale), b);
-        let image = digit_image(b, zero, || hash_words(key ^ TAG_RHO, &[node]), digit);
+        let image = owen_digit_image(b, zero, || hash_words(key ^ TAG_RHO, &[node]), digit);
         num = num * u128::from(b) + u128::from(image);
         prefix += digit * weight;
         weight *= b;

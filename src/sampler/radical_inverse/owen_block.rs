@@ -10,9 +10,8 @@
 //! residues the block meets. Deeper positions have a different prefix for every index of the
 //! block and are computed per index, position by position, and the zero digits beyond the
 //! last digit of each index (the tail) word by word of its stream. Both run in lanes through
-//! `sampler::simd`: the hashes, the digits (by a floating-point division) and the permutations
-//! of bases above 13 (a keyed swap-or-not shuffle of 40 hashed rounds, whose latency the
-//! lanes hide) vectorize. The sum is exact in integers whatever the order, and rounded once
+//! `sampler::simd`: the hashes, the digits (by a floating-point division) and the node
+//! permutations (Fisher-Yates from one hash up to base 13, an affine map above) vectorize. The sum is exact in integers whatever the order, and rounded once
 //! as in `owen_coordinate`, so the values are bit-identical.
 
 use super::base::{Base, MAX_DEPTH};
@@ -21,16 +20,10 @@ use super::digit_permutation::small_permutation;
 use super::digit_permutation::{SMALL_BASE, TAG_RHO, rotate};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_start};
-use crate::sampler::permutation::{
-    Permutation, SWAP_ROUNDS, below_narrow, mod_reciprocal, swap_or_not_round, swap_round_key,
-    swap_state,
-};
+use crate::sampler::permutation::below_narrow;
 use crate::sampler::simd::{Kernel, dispatch};
 
-/// Largest base whose digit permutation `rho` (on `b - 1` digits) is a swap-or-not shuffle;
-/// above it `rho` is a Feistel network with a cycle walk.
-const LANE_BASE_MAX: u64 = 1 << 16;
-/// Lanes of the node kernel: 32 independent chains of swap-or-not rounds hide their latency.
+/// Lanes of the node kernel.
 const LANES: usize = 32;
 /// A memo slot not computed yet.
 const UNSEEN: u32 = u32::MAX;
@@ -46,21 +39,18 @@ pub(crate) struct OwenScratch {
     deep: Vec<u64>,
     /// The tail runs of each index, one array per word of the stream.
     tails: Vec<u64>,
-    /// Lanes of `rho` arguments of [`SharedNodeImages`], one array per index sharing a node.
-    shared: Vec<[u64; LANES]>,
 }
 
-/// The digit permutation `rho` of a base, as the kernels evaluate it.
+/// The node permutations of a base, as the kernels evaluate them (see
+/// [`owen_digit_image`](super::digit_permutation::owen_digit_image)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum RhoKind {
     /// Base 2: `pi(1) = 1 - pi(0)`.
     Two,
-    /// Fisher-Yates decoded from one hash (`small_permutation`), in lanes.
+    /// `rho` by Fisher-Yates decoded from one hash (`small_permutation`), in lanes.
     Small,
-    /// Swap-or-not, in lanes ([`Permutation::apply_fresh_lanes`]).
-    Lanes,
-    /// Feistel with a cycle walk, in lanes ([`Permutation::apply_fresh_feistel_lanes`]).
-    Large,
+    /// An affine map `pi(a) = (alpha a + pi(0)) mod b`, bases above 13.
+    Affine,
 }
 
 /// What the kernels need of one (base, key).
@@ -69,8 +59,6 @@ struct Nodes {
     b: u64,
     b_f64: f64,
     kind: RhoKind,
-    /// `mod_reciprocal(b - 1)` for [`RhoKind::Lanes`].
-    reciprocal: f64,
     /// [`hash_start`] of the key, and of the key of the `rho` hashes.
     words: u64,
     rhos: u64,
@@ -86,7 +74,6 @@ impl Nodes {
             b,
             b_f64,
             kind,
-            reciprocal,
             words,
             rhos,
         } = *self;
@@ -109,21 +96,20 @@ impl Nodes {
             }
             // rho(digit - 1) for the non-zero digits (0 stands in for the others).
             let mut rests = digits.map(|digit| digit.saturating_sub(1));
-            match kind {
-                RhoKind::Two => {}
-                RhoKind::Small => small_permutation_lanes(b - 1, &keys, &mut rests),
-                RhoKind::Lanes => {
-                    Permutation::apply_fresh_lanes(b - 1, reciprocal, &keys, &mut rests)
-                }
-                RhoKind::Large => Permutation::apply_fresh_feistel_lanes(b - 1, &keys, &mut rests),
+            if kind == RhoKind::Small {
+                small_permutation_lanes(b - 1, &keys, &mut rests);
             }
             for (j, image) in out.iter_mut().enumerate() {
                 let (zero, digit) = (zeros[j], digits[j]);
-                // Digit images are below b < 2^17.
+                // Digit images are below b < 2^17; alpha digit + zero < b^2 < 2^34.
                 *image = match (kind, digit) {
                     (RhoKind::Two, _) => zero ^ digit,
                     (_, 0) => zero,
-                    _ => rotate(b, zero, rests[j]),
+                    (RhoKind::Small, _) => rotate(b, zero, rests[j]),
+                    (RhoKind::Affine, _) => {
+                        let alpha = 1 + below_narrow(keys[j], b - 1);
+                        div_rem(alpha * digit + zero, b, b_f64).1
+                    }
                 } as u32;
             }
         }
@@ -208,99 +194,6 @@ impl Kernel for NodeImages<'_> {
     }
 }
 
-/// The images at position `k` for `r = first + j`, as [`Nodes::images`] computes
-/// them, for `RhoKind::Lanes` and a run of at least `2 b^k` indices: the node of
-/// `r mod b^k` then serves every index `first + o + t b^k` of the run, so its hashes and
-/// its 40 swap-or-not round keys are derived once (lanes over `o`) and applied to all of
-/// them (over `t`, which also gives the rounds many independent chains). The digit of
-/// `first + o + t b^k` is `(q + t) mod b` with `q = (first + o) / b^k`. Compiled for each
-/// instruction set by [`dispatch`].
-struct SharedNodeImages<'a> {
-    nodes: &'a Nodes,
-    k: usize,
-    word: u64,
-    scale: u64,
-    power: u64,
-    first: u64,
-    images: &'a mut [u32],
-    /// Lanes of `rho` arguments, one array per `t`.
-    xs: &'a mut Vec<[u64; LANES]>,
-}
-
-impl Kernel for SharedNodeImages<'_> {
-    type Output = ();
-
-    #[inline(always)]
-    fn run(self) {
-        let SharedNodeImages {
-            nodes,
-            k,
-            word,
-            scale,
-            power,
-            first,
-            images,
-            xs,
-        } = self;
-        debug_assert!(nodes.kind == RhoKind::Lanes && 2 * power <= images.len() as u64);
-        let Nodes {
-            b,
-            b_f64,
-            reciprocal,
-            words,
-            rhos,
-            ..
-        } = *nodes;
-        let (count, stride) = (images.len(), power as usize);
-        let digit = |q: u64, t: usize| div_rem(q + t as u64, b, b_f64).1;
-        for o in (0..stride).step_by(LANES) {
-            let mut quotients = [0u64; LANES];
-            let mut zeros = [0u64; LANES];
-            let mut states = [0u64; LANES];
-            for j in 0..LANES {
-                let (high, prefix) = div_rem(first + (o + j) as u64, power, power as f64);
-                quotients[j] = high;
-                let word = hash_absorb(words, (prefix << 6) | word);
-                zeros[j] = below_narrow(word.wrapping_mul(scale), b);
-                states[j] = swap_state(hash_absorb(rhos, (prefix << 6) | k as u64));
-            }
-            xs.clear();
-            xs.resize(count.div_ceil(stride), [0; LANES]);
-            for (t, rests) in xs.iter_mut().enumerate() {
-                for (rest, &q) in rests.iter_mut().zip(&quotients) {
-                    *rest = digit(q, t).saturating_sub(1);
-                }
-            }
-            for round in 0..SWAP_ROUNDS as u64 {
-                let mut keys = [0u64; LANES];
-                let mut offsets = [0u64; LANES];
-                for j in 0..LANES {
-                    (keys[j], offsets[j]) = swap_round_key(states[j], round, b - 1, reciprocal);
-                }
-                for lanes in xs.iter_mut() {
-                    for ((x, &key), &offset) in lanes.iter_mut().zip(&keys).zip(&offsets) {
-                        *x = swap_or_not_round(*x, key, offset, b - 1);
-                    }
-                }
-            }
-            // Lanes past the last node, or past the run, were computed and are dropped.
-            for (t, rests) in xs.iter().enumerate() {
-                let at = o + t * stride;
-                if at >= count {
-                    break;
-                }
-                let len = LANES.min(stride - o).min(count - at);
-                for (j, image) in images[at..at + len].iter_mut().enumerate() {
-                    *image = match digit(quotients[j], t) {
-                        0 => zeros[j],
-                        _ => rotate(b, zeros[j], rests[j]),
-                    } as u32;
-                }
-            }
-        }
-    }
-}
-
 /// The tail runs of the indices `first + j`: the digits `k .. k + count` of each index's own
 /// stream (word `word`, `scale = b^(k % m)`, `range = b^count`), into `runs[j]`; compiled for
 /// each instruction set by [`dispatch`].
@@ -376,14 +269,7 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         kind: match b {
             2 => RhoKind::Two,
             _ if b <= SMALL_BASE => RhoKind::Small,
-            _ if b <= LANE_BASE_MAX => RhoKind::Lanes,
-            _ => RhoKind::Large,
-        },
-        // Only the lane permutations (13 < b <= LANE_BASE_MAX, so 2 <= b - 1 < 2^16) use it.
-        reciprocal: if b > SMALL_BASE && b <= LANE_BASE_MAX {
-            mod_reciprocal(b - 1)
-        } else {
-            0.0
+            _ => RhoKind::Affine,
         },
         words: hash_start(key),
         rhos: hash_start(key ^ TAG_RHO),
@@ -452,21 +338,8 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         for k in shallow..width {
             s.images.clear();
             s.images.resize(count, 0);
-            if nodes.kind == RhoKind::Lanes && 2 * powers[k] <= count as u64 {
-                dispatch(SharedNodeImages {
-                    nodes: &nodes,
-                    k,
-                    word: word_of[k],
-                    scale: scale_of[k],
-                    power: powers[k],
-                    first: start,
-                    images: &mut s.images,
-                    xs: &mut s.shared,
-                });
-            } else {
-                // Residue index mod b^(k+1) or the index itself: the same prefix and digit.
-                node_images(k, start, &mut s.images);
-            }
+            // Residue index mod b^(k+1) or the index itself: the same prefix and digit.
+            node_images(k, start, &mut s.images);
             for (acc, &image) in deep.iter_mut().zip(&s.images) {
                 *acc = *acc * b + u64::from(image);
             }
