@@ -31,24 +31,29 @@ pub enum Method {
     Miser,
     /// Two-stage stratified sampling ([`TwoStage`](crate::adaptive::TwoStage)).
     TwoStage,
+    /// One LMS-scrambled Sobol' sequence doubled until a bound from its Walsh coefficients
+    /// meets the tolerance ([`SobolG`](crate::adaptive::SobolG), QMCPy's `CubQMCSobolG`).
+    SobolG,
 }
 
 impl Method {
     /// Every method, in the order of the names above.
     ///
     /// ```
-    /// assert_eq!(mcint::Method::ALL.len(), 6);
+    /// assert_eq!(mcint::Method::ALL.len(), 7);
     /// ```
-    pub const ALL: [Method; 6] = [
+    pub const ALL: [Method; 7] = [
         Method::Plain,
         Method::Rqmc,
         Method::Vegas,
         Method::VegasPlus,
         Method::Miser,
         Method::TwoStage,
+        Method::SobolG,
     ];
 
-    /// The method's name: `plain`, `rqmc`, `vegas`, `vegas-plus`, `miser` or `two-stage`.
+    /// The method's name: `plain`, `rqmc`, `vegas`, `vegas-plus`, `miser`, `two-stage` or
+    /// `sobol-g`.
     ///
     /// ```
     /// assert_eq!(mcint::Method::VegasPlus.name(), "vegas-plus");
@@ -61,11 +66,13 @@ impl Method {
             Method::VegasPlus => "vegas-plus",
             Method::Miser => "miser",
             Method::TwoStage => "two-stage",
+            Method::SobolG => "sobol-g",
         }
     }
 
-    /// The sampler a run of this method uses when none is chosen: Sobol' (Owen-scrambled,
-    /// its default scramble) for RQMC, independent points otherwise.
+    /// The sampler a run of this method uses when none is chosen: Sobol' for RQMC
+    /// (Owen-scrambled, its default scramble) and for `sobol-g` (which scrambles its own
+    /// sequence, LMS and a digital shift), independent points otherwise.
     ///
     /// ```
     /// use mcint::{Method, SamplerKind};
@@ -73,12 +80,13 @@ impl Method {
     /// ```
     pub fn default_sampler(self) -> SamplerKind {
         match self {
-            Method::Rqmc => SamplerKind::Sobol,
+            Method::Rqmc | Method::SobolG => SamplerKind::Sobol,
             _ => SamplerKind::Independent,
         }
     }
 
-    /// Whether the method adapts to the integrand as it runs (VEGAS, VEGAS+, MISER, two-stage).
+    /// Whether the method adapts to the integrand as it runs (VEGAS, VEGAS+, MISER, two-stage,
+    /// and `sobol-g`, which adapts its number of points).
     ///
     /// ```
     /// assert!(mcint::Method::TwoStage.is_adaptive());
@@ -139,7 +147,7 @@ impl std::str::FromStr for Method {
                 Error::invalid(
                     "method",
                     name,
-                    "one of plain, rqmc, vegas, vegas-plus, miser, two-stage",
+                    "one of plain, rqmc, vegas, vegas-plus, miser, two-stage, sobol-g",
                 )
             })
     }

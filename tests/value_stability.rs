@@ -4,7 +4,8 @@
 //! Pinned: the first two points of both the first and the second pass of every named sampler
 //! (and every scramble each accepts) for two seeds, and the `mean` / `std_error` bits with the
 //! counts of fixed-seed runs of every method: plain, importance, RQMC, stratified, both runs to
-//! a tolerance, VEGAS, VEGAS+, MISER (fixed and to a tolerance), TwoStage, control
+//! a tolerance, VEGAS, VEGAS+, MISER (fixed and to a tolerance), TwoStage, SobolG (with its
+//! error bound), control
 //! variates, a checkpointed run, vector runs (plain, RQMC, VEGAS+: every output, the covariance
 //! and a ratio), an expectation under geometric Brownian motion, a convergence study and a
 //! mean periodogram.
@@ -13,7 +14,7 @@
 //! purpose: run `MCINT_PRINT_PINS=1 cargo test --release --test value_stability -- --nocapture`
 //! and paste the printed table over [`PINS`] (a failing run prints it too).
 
-use mcint::adaptive::{Miser, TwoStage, Vegas};
+use mcint::adaptive::{Miser, SobolG, TwoStage, Vegas};
 use mcint::measure::{Construction, GeometricBrownianMotion};
 use mcint::pdf::{Pdf1d, ProductPdf, TruncatedNormal, UniformBox};
 use mcint::quality::{Convergence, mean_periodogram_with_threads};
@@ -76,15 +77,17 @@ fn sampler_observations() -> Result<Vec<Observation>> {
     Ok(out)
 }
 
-/// The bits of an estimate that must not drift.
+/// The bits of an estimate that must not drift (and its error bound, where it has one).
 fn estimate_bits(e: &Estimate) -> Vec<u64> {
-    vec![
+    let mut bits = vec![
         e.mean.to_bits(),
         e.std_error.map_or(u64::MAX, f64::to_bits),
         e.n,
         e.evaluations,
         e.iterations,
-    ]
+    ];
+    bits.extend(e.error_bound.map(f64::to_bits));
+    bits
 }
 
 fn genz(family: GenzFamily, dims: usize) -> Genz {
@@ -161,6 +164,11 @@ fn method_observations() -> Result<Vec<Observation>> {
         .samples(20_000)
         .seed(11);
     pin("two-stage", &two_stage.run()?);
+
+    let sobol_g = SobolG::new(f, unit()?)
+        .tolerance(Tolerance::absolute(1e-6)?)
+        .seed(13);
+    pin("sobol-g to tolerance", &sobol_g.run()?);
 
     let control = Integrator::with_controls(|x: &[f64]| x[0].exp() * x[1], unit2()?)
         .control(|x: &[f64]| x[0], 0.5)
@@ -397,6 +405,7 @@ const PINS: &[(&str, &[u64])] = &[
     ("miser", &[0x3fdc6ab0d0ae6488, 0x3f659e229cb4cb14, 0x0000000000004000, 0x0000000000004000, 0x0000000000000001]),
     ("miser to tolerance", &[0x3fdc9f25c41df7e0, 0x3f003e64892a9c26, 0x0000000001000000, 0x0000000001fc0000, 0x0000000000000007]),
     ("two-stage", &[0x3fdc97db99c083bf, 0x3f4348ab5aacba38, 0x0000000000004d20, 0x0000000000004e20, 0x0000000000000002]),
+    ("sobol-g to tolerance", &[0x3fdc9f9ff5145c5b, 0xffffffffffffffff, 0x0000000000020000, 0x0000000000020000, 0x0000000000000008, 0x3eaff95de2bd12a0]),
     ("control variates", &[0x3feb7330db9965e5, 0x3f50c84009c1528d, 0x0000000000004e20, 0x00000000000055f0, 0x0000000000000001]),
     ("control variates: coefficients", &[0x3feba2386655738b, 0x3ffbd6001a8b7756]),
     ("vector plain", &[0x3fdcb47e04c30ae3, 0x3f5349bdf3a1271f, 0x000000000000c350, 0x000000000000c350, 0x0000000000000001, 0x3fca009a299e75da, 0x3f467dd1f0c88748, 0x000000000000c350, 0x000000000000c350, 0x0000000000000001, 0x3eb7407700bcf5ac, 0x3e9b943ec2d66a01, 0x3e9b943ec2d66a01, 0x3e9f9ddec13c61e6, 0x3fdcfcb0b736a190, 0x3f569c9b8008e45a, 0x000000000000c350, 0x000000000000c350, 0x0000000000000001]),

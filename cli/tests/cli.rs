@@ -1161,3 +1161,60 @@ fn integrate_runs_two_stage_sampling_with_the_library_defaults() {
         "fixed budget",
     );
 }
+
+#[test]
+fn integrate_runs_sobol_g_to_a_tolerance_with_an_error_bound() {
+    let out = run(
+        "integrate",
+        &[
+            "--genz",
+            "oscillatory",
+            "--dims",
+            "3",
+            "--method",
+            "sobol-g",
+            "--tol-abs",
+            "1e-6",
+            "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json = stdout(&out);
+    assert_eq!(json_field(&json, "method"), "sobol-g");
+    assert_eq!(json_field(&json, "std_error"), "null");
+    assert_eq!(json_field(&json, "converged"), "true");
+    let estimate: f64 = json_field(&json, "estimate").parse().unwrap();
+    let exact: f64 = json_field(&json, "exact").parse().unwrap();
+    let bound: f64 = json_field(&json, "error_bound").parse().unwrap();
+    assert!(bound <= 1e-6 && (estimate - exact).abs() <= bound, "{json}");
+    let n: u64 = json_field(&json, "n").parse().unwrap();
+    assert!(n.is_power_of_two() && n >= 1024, "{json}");
+
+    let text = run(
+        "integrate",
+        &["--genz", "gaussian", "--dims", "2", "--method", "sobol-g"],
+    );
+    assert!(text.status.success(), "{}", stderr(&text));
+    assert!(stdout(&text).contains("error bound"), "{}", stdout(&text));
+
+    for (extra, mentions) in [
+        (
+            &["--genz", "gaussian", "--scramble", "owen"][..],
+            "--scramble",
+        ),
+        (
+            &["--genz", "gaussian", "--sampler", "halton"][..],
+            "--sampler",
+        ),
+        (
+            &["--genz", "gaussian", "--replicates", "8"][..],
+            "--replicates",
+        ),
+        (&["--genz", "gaussian", "--n", "1000"][..], "power of two"),
+        (&["--genz", "gaussian,oscillatory"][..], "one output"),
+    ] {
+        let mut args = vec!["--dims", "2", "--method", "sobol-g"];
+        args.extend_from_slice(extra);
+        assert_one_line_error(&run("integrate", &args), mentions);
+    }
+}

@@ -554,6 +554,7 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
         q_value: None,
         rounding_error: rounding,
         warnings: Vec::new(),
+        error_bound: None,
     };
     estimate.finalize();
     estimate

@@ -394,6 +394,7 @@ impl Accumulator {
             q_value: None,
             rounding_error: self.rounding_error(),
             warnings: Vec::new(),
+            error_bound: None,
         };
         if self.all_zero() {
             estimate.warn(Warning::AllZero { count: self.count });

@@ -26,6 +26,10 @@ pub enum ErrorBasis {
     Replicates,
     /// No honest standard error exists (for example a single replicate of stratified points).
     None,
+    /// No standard error: [`Estimate::error_bound`] bounds the error from the decay of the
+    /// discrete Walsh coefficients of one digital sequence (the cone-based rule of
+    /// [`SobolG`](crate::adaptive::SobolG)), for integrands in the cone the rule assumes.
+    WalshBound,
 }
 
 /// An estimate of an integral with its standard error and degrees of freedom.
@@ -84,6 +88,11 @@ pub struct Estimate {
     /// none.
     #[cfg_attr(feature = "serde", serde(default))]
     pub warnings: Vec<Warning>,
+    /// A bound on `|mean - integral|` where the basis is [`ErrorBasis::WalshBound`]: the
+    /// interval `mean ± error_bound` has no confidence level, it holds for every integrand in
+    /// the rule's cone. `None` for every other basis.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub error_bound: Option<f64>,
 }
 
 impl Estimate {
@@ -155,6 +164,7 @@ impl Estimate {
             q_value: None,
             rounding_error: mean_of_means(means, bounds),
             warnings: Vec::new(),
+            error_bound: None,
         };
         estimate.finalize();
         Ok(estimate)
@@ -275,7 +285,9 @@ impl Estimate {
     }
 
     /// Half-width of the confidence interval at `level` (see
-    /// [`confidence_interval`](Self::confidence_interval)).
+    /// [`confidence_interval`](Self::confidence_interval)); for an
+    /// [`ErrorBasis::WalshBound`] estimate, its [`error_bound`](Self::error_bound) whatever
+    /// the level.
     ///
     /// ```
     /// let e = mcint::stats::Estimate::from_replicates(&[1.0, 3.0], 1).unwrap();
@@ -288,6 +300,9 @@ impl Estimate {
                 level,
                 "a confidence level strictly between 0 and 1",
             ));
+        }
+        if self.basis == ErrorBasis::WalshBound {
+            return Ok(self.error_bound);
         }
         Ok(match (self.std_error, self.dof) {
             (Some(se), Some(dof)) => Some(student_t_quantile(0.5 + level / 2.0, dof) * se),

@@ -6,7 +6,7 @@
 //!     [--a a1,a2,..] [--u u1,u2,..]
 //!     [--sampler NAME] [--scramble NAME] [--strength T] [--n N] [--replicates R] [--seed S]
 //!     [--threads T] [--estimator uniform|importance|mis|control]
-//!     [--method plain|rqmc|vegas|vegas-plus|miser|two-stage] [--tol-abs X] [--tol-rel X]
+//!     [--method plain|rqmc|vegas|vegas-plus|miser|two-stage|sobol-g] [--tol-abs X] [--tol-rel X]
 //!     [--max-evals N] [--checkpoint FILE [--save-every K] [--stop-after K]] [--json] [--mpi]
 //! ```
 //! NAME is `keister` (`cos|x| e^{-|x|^2}` over `R^D`, integrated after the normal transform to
@@ -32,8 +32,11 @@
 //! iterations; 10 iterations, or as many as a tolerance needs), `miser` is MISER (`--n`
 //! evaluations per replicate, default 2^14, in `--replicates` independent runs, default 16),
 //! `two-stage` is two-stage stratified sampling (`--n` evaluations in all, default 2^16, with as
-//! many strata as 32 evaluations each afford; a fixed budget only). The
-//! adaptive methods take their uniform points from `--sampler` (default `independent`) and
+//! many strata as 32 evaluations each afford; a fixed budget only). `sobol-g` doubles one
+//! LMS-scrambled, digitally shifted Sobol' sequence (`--n` points first, default 1024, a power
+//! of two) until a bound from the integrand's Walsh coefficients meets the tolerance (QMCPy's
+//! `CubQMCSobolG`): its report has `error_bound` instead of a standard error. The other
+//! adaptive methods take their uniform points from `--sampler` (default `independent`); all
 //! accept only `--estimator uniform`. `--tol-abs` and/or `--tol-rel` make the run stop once the 95%
 //! half-width is at most `max(tol-abs, tol-rel * |estimate|)` (then `--n` is the first stage:
 //! the pilot for independent points, the first points per replicate otherwise), or at
@@ -80,7 +83,7 @@ use genz_estimators::EstimatorKind;
 use integrands::{INTEGRAND_NAMES, Named};
 use mcint::Method;
 use mcint::estimator::Estimator;
-use mcint::sampler::{Jittered, PassKind, SamplerKind};
+use mcint::sampler::{Jittered, PassKind, SamplerKind, Scramble};
 use mcint::stats::Tolerance;
 use mcint::testfns::TestFunction;
 use mcint::{CancelToken, Estimate, Integrator};
@@ -127,7 +130,7 @@ const SPEC: support::Spec = &[
     (
         "n",
         true,
-        "points per replicate (default 65536), evaluations per iteration (VEGAS) or in all (two-stage)",
+        "points per replicate (default 65536), evaluations per iteration (VEGAS), in all (two-stage) or of the first stage (sobol-g)",
     ),
     support::REPLICATES,
     support::SEED,
@@ -136,7 +139,7 @@ const SPEC: support::Spec = &[
     (
         "method",
         true,
-        "plain, rqmc, vegas, vegas-plus, miser or two-stage",
+        "plain, rqmc, vegas, vegas-plus, miser, two-stage or sobol-g",
     ),
     support::TOL_ABS,
     support::TOL_REL,
@@ -282,7 +285,19 @@ fn run() -> Result<(), String> {
         }
         None => DEFAULT_POINTS,
     };
-    let scramble = args.scramble_for(kind)?;
+    let scramble = if method == Method::SobolG {
+        let given = |name| args.get::<String>(name, "").map(|value| value.is_some());
+        if kind != SamplerKind::Sobol || given("scramble")? || given("strength")? {
+            return Err(
+                "--method sobol-g draws its own LMS-scrambled, digitally shifted Sobol' \
+                 sequence: leave out --sampler (or give sobol), --scramble and --strength"
+                    .into(),
+            );
+        }
+        Scramble::Lms
+    } else {
+        args.scramble_for(kind)?
+    };
     let strength: Option<u32> = args.get("strength", "a whole number >= 1 (oa-bush)")?;
     let sampler = kind
         .build_with(canonical_dims, n, scramble, strength, seed)
@@ -533,6 +548,7 @@ impl Report {
             "estimator": self.estimator.name(),
             "estimate": number(Some(e.mean)),
             "std_error": number(e.std_error),
+            "error_bound": number(e.error_bound),
             "variance_per_evaluation": number(self.variance_per_evaluation()),
             "exact": number(Some(self.exact)),
             "n": e.n,
@@ -569,6 +585,12 @@ impl Report {
         println!("method      {}", self.method.name());
         let layout = if matches!(self.method, Method::Vegas | Method::VegasPlus) {
             format!("{} iterations combined, {} points", e.iterations, e.n)
+        } else if self.method == Method::SobolG {
+            let plural = if e.iterations == 1 { "" } else { "s" };
+            format!(
+                "one sequence, {} points in {} stage{plural}",
+                e.n, e.iterations
+            )
         } else {
             format!(
                 "{} replicates x {} points",
@@ -587,6 +609,10 @@ impl Report {
         );
         println!("estimate    {:.12e}", e.mean);
         println!("exact       {:.12e}", self.exact);
+        if let Some(bound) = e.error_bound {
+            println!("error bound {bound:.3e} (from the Walsh coefficients; no confidence level)");
+            println!("|error|     {error:.3e}");
+        }
         match (e.std_error, e.confidence_interval(0.95)) {
             (Some(se), Ok(Some((lo, hi)))) => {
                 println!("std error   {se:.3e} ({:?})", e.basis);
@@ -599,6 +625,7 @@ impl Report {
                     error / se
                 );
             }
+            _ if e.error_bound.is_some() => {}
             _ => {
                 println!(
                     "std error   none (one replicate of dependent points has no honest error bar)"

@@ -74,6 +74,7 @@ impl Combination {
             q_value,
             rounding_error: rounding,
             warnings: Vec::new(),
+            error_bound: None,
         };
         estimate.finalize();
         estimate

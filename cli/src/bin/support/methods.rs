@@ -1,7 +1,7 @@
-//! The adaptive methods of `integrate --method` (VEGAS, VEGAS+, MISER, two-stage), run from
+//! The adaptive methods of `integrate --method` (VEGAS, VEGAS+, MISER, two-stage, sobol-g), run from
 //! the command line's settings; the library's [`Method`] names them and gives their defaults.
 
-use mcint::adaptive::{Miser, TwoStage, Vegas};
+use mcint::adaptive::{Miser, SobolG, TwoStage, Vegas};
 use mcint::pdf::UniformBox;
 use mcint::sampler::Sampler;
 use mcint::stats::Tolerance;
@@ -9,7 +9,7 @@ use mcint::testfns::TestFunction;
 use mcint::{Estimate, Method};
 
 /// The names `--method` accepts (the library's [`Method`]s).
-pub const METHOD_NAMES: &str = "plain, rqmc, vegas, vegas-plus, miser or two-stage";
+pub const METHOD_NAMES: &str = "plain, rqmc, vegas, vegas-plus, miser, two-stage or sobol-g";
 
 /// Iterations allowed to a VEGAS run to a tolerance: its evaluation limit stops it first.
 pub const VEGAS_ITERATIONS_TO_TOLERANCE: u64 = 1 << 20;
@@ -43,7 +43,7 @@ pub struct AdaptiveRun<'a> {
 }
 
 impl AdaptiveRun<'_> {
-    /// Runs VEGAS, VEGAS+, MISER or two-stage sampling over the unit cube.
+    /// Runs VEGAS, VEGAS+, MISER, two-stage sampling or sobol-g over the unit cube.
     pub fn run(self) -> Result<Estimate, String> {
         let f = self.f;
         let integrand = |x: &[f64]| f.eval(x);
@@ -111,6 +111,28 @@ impl AdaptiveRun<'_> {
                     two_stage = two_stage.threads(t);
                 }
                 crate::ranks::spread!(two_stage, self.spread).run()
+            }
+            Method::SobolG => {
+                if self.replicates.is_some() {
+                    return Err(
+                        "--replicates does not apply to --method sobol-g (one sequence, \
+                                its error bound from Walsh coefficients)"
+                            .into(),
+                    );
+                }
+                let mut sobol_g = SobolG::new(integrand, domain)
+                    .seed(self.seed)
+                    .cancel_token(self.cancel);
+                if let Some(n) = self.n {
+                    sobol_g = sobol_g.samples(n);
+                }
+                if let Some(t) = self.threads {
+                    sobol_g = sobol_g.threads(t);
+                }
+                if let Some(t) = self.tolerance {
+                    sobol_g = sobol_g.tolerance(t);
+                }
+                crate::ranks::spread!(sobol_g, self.spread).run()
             }
             Method::Plain | Method::Rqmc => {
                 return Err(format!("{} is not an adaptive method", self.method.name()));

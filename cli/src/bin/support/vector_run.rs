@@ -42,7 +42,10 @@ pub fn run(args: VectorRunArgs<'_>) -> Result<Option<VectorEstimate>, String> {
     if matches!(args.method, Method::Vegas | Method::VegasPlus) {
         return run_vegas(args).map(Some);
     }
-    if matches!(args.method, Method::Miser | Method::TwoStage) {
+    if matches!(
+        args.method,
+        Method::Miser | Method::TwoStage | Method::SobolG
+    ) {
         return Err(format!(
             "--method {} integrates one output; several integrands or --ratio take \
                  --method plain, rqmc, vegas or vegas-plus",
