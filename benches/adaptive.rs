@@ -5,13 +5,15 @@
 //!
 //! `cargo bench --bench adaptive`. The default `rqmc` (Owen-scrambled Sobol', the
 //! Integrator's rule to a tolerance) is timed with the batch integrand the `integrate` program
-//! uses (`TestFunction::eval_batch`: vectorized `exp` and `cos`) and with a per-point closure.
+//! uses (`TestFunction::eval_batch`: vectorized `exp` and `cos`) and with a per-point closure;
+//! `sobol_g` (QMCPy's `CubQMCSobolG` rule, one LMS-scrambled Sobol' sequence and a bound from
+//! its Walsh coefficients) likewise, in both forms.
 //! Methods that need far longer are measured once from the command line instead (see the
 //! README). The Python peers (scipy's `qmc_quad`, QMCPy's `CubQMCSobolG`, vegas) are timed on
 //! the same work by `benches/peers_python/adaptive_peers.py`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use mcint::adaptive::{Miser, Vegas};
+use mcint::adaptive::{Miser, SobolG, Vegas};
 use mcint::estimator::Estimator;
 use mcint::pdf::UniformBox;
 use mcint::sampler::{Scramble, Sobol};
@@ -32,6 +34,19 @@ fn tolerance() -> Tolerance {
 fn rqmc<E: Estimator>(integrator: Integrator<E>, seed: u64) -> f64 {
     let e = integrator
         .sampler(Sobol::new(DIMS, Scramble::Owen, 0).unwrap())
+        .tolerance(tolerance())
+        .seed(seed)
+        .threads(1)
+        .run()
+        .unwrap();
+    assert_eq!(e.converged, Some(true));
+    black_box(e.mean)
+}
+
+/// A `sobol_g` run of `rule` (QMCPy's `CubQMCSobolG` rule) with `seed`, on one thread; its
+/// estimate.
+fn sobol_g<E: Estimator>(rule: SobolG<E>, seed: u64) -> f64 {
+    let e = rule
         .tolerance(tolerance())
         .seed(seed)
         .threads(1)
@@ -65,6 +80,12 @@ fn to_tolerance(c: &mut Criterion) {
         });
         group.bench_function("rqmc_per_point", |b| {
             b.iter(|| rqmc(Integrator::over_box(integrand, unit()), next_seed()))
+        });
+        group.bench_function("sobol_g_batch", |b| {
+            b.iter(|| sobol_g(SobolG::new_batch(batch, unit()), next_seed()))
+        });
+        group.bench_function("sobol_g_per_point", |b| {
+            b.iter(|| sobol_g(SobolG::new(integrand, unit()), next_seed()))
         });
         if family == GenzFamily::Gaussian {
             for (name, stratified) in [("vegas", false), ("vegas_plus", true)] {

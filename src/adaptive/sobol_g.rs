@@ -5,7 +5,8 @@
 
 use super::walsh::WalshCoefficients;
 use crate::engine::{ChunkJob, RunConfig, run_settings};
-use crate::pdf::{Pdf, UniformBox};
+use crate::estimator::{BatchUniformEstimator, Estimator, UniformEstimator};
+use crate::pdf::UniformBox;
 use crate::sampler::{Sampler, Scramble, Sobol};
 use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason, Warning};
 use crate::{Error, Points, Result};
@@ -62,13 +63,12 @@ const CHUNK: u64 = 4096;
 /// assert_eq!(e.evaluations, e.n);
 /// assert!(e.n.is_power_of_two());
 /// ```
-pub struct SobolG<F> {
-    f: F,
-    domain: UniformBox,
+pub struct SobolG<E> {
+    estimator: E,
     config: RunConfig,
 }
 
-impl<F: Fn(&[f64]) -> f64 + Sync> SobolG<F> {
+impl<F: Fn(&[f64]) -> f64 + Send + Sync> SobolG<UniformEstimator<F>> {
     /// The rule for `f` over a box, with 1024 points in the first stage, seed 0 and all
     /// threads until told otherwise.
     ///
@@ -79,9 +79,46 @@ impl<F: Fn(&[f64]) -> f64 + Sync> SobolG<F> {
     /// assert!((e.mean - 0.5).abs() <= e.error_bound.unwrap().max(1e-12));
     /// ```
     pub fn new(f: F, domain: UniformBox) -> Self {
+        SobolG::with_estimator(UniformEstimator::new(f, domain))
+    }
+}
+
+impl<F: Fn(&Points, &mut [f64]) + Send + Sync> SobolG<BatchUniformEstimator<F>> {
+    /// The rule for an integrand that evaluates a block of points per call (see
+    /// [`BatchUniformEstimator`]); the same bits as [`new`](SobolG::new) with the per-point
+    /// form of the same arithmetic.
+    ///
+    /// ```
+    /// use mcint::{Points, adaptive::SobolG, pdf::UniformBox};
+    /// let per_point = SobolG::new(|x: &[f64]| x[0] * x[1], UniformBox::unit(2).unwrap());
+    /// let product = |p: &Points, out: &mut [f64]| {
+    ///     for ((y, &a), &b) in out.iter_mut().zip(p.column(0)).zip(p.column(1)) {
+    ///         *y = a * b;
+    ///     }
+    /// };
+    /// let batch = SobolG::new_batch(product, UniformBox::unit(2).unwrap());
+    /// assert_eq!(per_point.run().unwrap(), batch.run().unwrap());
+    /// ```
+    pub fn new_batch(f: F, domain: UniformBox) -> Self {
+        SobolG::with_estimator(BatchUniformEstimator::new(f, domain))
+    }
+}
+
+impl<E: Estimator> SobolG<E> {
+    /// The rule for any estimator of the integral from uniform canonical points (its
+    /// contributions are averaged; evaluations count
+    /// [`evaluations_per_contribution`](Estimator::evaluations_per_contribution)).
+    ///
+    /// ```
+    /// use mcint::{adaptive::SobolG, estimator::UniformEstimator, pdf::UniformBox};
+    /// let f = |x: &[f64]| x[0].exp();
+    /// let estimator = UniformEstimator::new(f, UniformBox::unit(1).unwrap());
+    /// let e = SobolG::with_estimator(estimator).run().unwrap();
+    /// assert!((e.mean - (1f64.exp() - 1.0)).abs() <= e.error_bound.unwrap());
+    /// ```
+    pub fn with_estimator(estimator: E) -> Self {
         SobolG {
-            f,
-            domain,
+            estimator,
             config: RunConfig::default(),
         }
     }
@@ -122,7 +159,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> SobolG<F> {
     /// assert_eq!((e.stop, e.converged, e.n), (StopReason::MaxEvaluations, Some(false), 1 << 14));
     /// ```
     pub fn run(&self) -> Result<Estimate> {
-        let dims = self.domain.dims();
+        let dims = self.estimator.canonical_dims();
         let first = self.config.samples.unwrap_or(DEFAULT_FIRST);
         if !(first.is_power_of_two() && (MIN_FIRST..=MAX_POINTS).contains(&first)) {
             return Err(Error::invalid(
@@ -132,15 +169,18 @@ impl<F: Fn(&[f64]) -> f64 + Sync> SobolG<F> {
             ));
         }
         let tolerance = self.config.tolerance;
+        let per_point = self.estimator.evaluations_per_contribution();
         let limit = match tolerance {
-            Some(t) => t.evaluation_limit().min(MAX_POINTS),
+            Some(t) => (t.evaluation_limit() / per_point).min(MAX_POINTS),
             None => first,
         };
         if first > limit {
             return Err(Error::invalid(
                 "max_evals",
                 limit,
-                format!("at least the {first} points of the first stage"),
+                format!(
+                    "at least the {first} points of the first stage ({per_point} evaluations each)"
+                ),
             ));
         }
         let sobol = Sobol::new(dims, Scramble::Lms, self.config.seed().unwrap_or(0))?;
@@ -160,8 +200,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> SobolG<F> {
             natural.clear();
             natural.resize((end - start) as usize, 0.0);
             let job = StageJob {
-                f: &self.f,
-                domain: &self.domain,
+                estimator: &self.estimator,
                 sobol: &sobol,
                 start,
                 end,
@@ -184,7 +223,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> SobolG<F> {
                 Ok(())
             })?;
             if let Some(reason) = stop {
-                return finish_early(best, reason, done);
+                return finish_early(best, reason, done * per_point);
             }
             if start == 0 {
                 walsh = WalshCoefficients::new(std::mem::take(&mut natural));
@@ -194,6 +233,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> SobolG<F> {
             stages += 1;
             let bound = FUDGE / end as f64 * walsh.lagged_sum();
             let mut estimate = bounded_estimate(&acc, bound, stages);
+            estimate.evaluations = end * per_point;
             let Some(tolerance) = tolerance else {
                 return estimate.checked();
             };
@@ -260,42 +300,31 @@ fn non_finite(sobol: &Sobol, index: u64, y: f64, values: &[f64]) -> Error {
     }
 }
 
-/// One stage's points `start .. end` in chunks of `CHUNK`, each giving its values
-/// `f(x) * volume` in index order.
-struct StageJob<'a, F> {
-    f: &'a F,
-    domain: &'a UniformBox,
+/// One stage's points `start .. end` in chunks of `CHUNK`, each giving its contributions
+/// in index order.
+struct StageJob<'a, E> {
+    estimator: &'a E,
     sobol: &'a Sobol,
     start: u64,
     end: u64,
 }
 
-impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StageJob<'_, F> {
-    type Scratch = (Points, Vec<f64>, Vec<f64>);
+impl<E: Estimator> ChunkJob for StageJob<'_, E> {
+    type Scratch = Points;
     type Output = Vec<f64>;
 
-    fn scratch(&self) -> Result<Self::Scratch> {
-        let dims = self.domain.dims();
-        Ok((
-            Points::new(dims, CHUNK as usize)?,
-            vec![0.0; dims],
-            vec![0.0; dims],
-        ))
+    fn scratch(&self) -> Result<Points> {
+        Points::new(self.sobol.dims(), CHUNK as usize)
     }
 
-    fn run(&self, (points, unit, x): &mut Self::Scratch, chunk: u64) -> Result<Vec<f64>> {
+    fn run(&self, points: &mut Points, chunk: u64) -> Result<Vec<f64>> {
         let first = self.start + chunk * CHUNK;
         let len = CHUNK.min(self.end - first) as usize;
         points.set_len(len);
         self.sobol.fill(first, points)?;
-        let volume = self.domain.volume();
-        Ok((0..len)
-            .map(|i| {
-                points.copy_point(i, unit);
-                self.domain.sample(unit, x);
-                (self.f)(x) * volume
-            })
-            .collect())
+        let mut values = vec![0.0; len];
+        self.estimator.contributions(points, &mut values);
+        Ok(values)
     }
 
     fn origin(&self, chunk: u64) -> (u64, u64) {

@@ -120,7 +120,9 @@ impl AdaptiveRun<'_> {
                             .into(),
                     );
                 }
-                let mut sobol_g = SobolG::new(integrand, domain)
+                // The batch form: Genz families evaluate blocks with vectorized exp and cos.
+                let batch = |points: &mcint::Points, out: &mut [f64]| f.eval_batch(points, out);
+                let mut sobol_g = SobolG::new_batch(batch, domain)
                     .seed(self.seed)
                     .cancel_token(self.cancel);
                 if let Some(n) = self.n {
