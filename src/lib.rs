@@ -22,7 +22,8 @@
 //! * [`Integrator`]: the front door; runs blocks on threads, with results that do not depend
 //!   on the thread count, and error bars from independent replicates wherever the points are
 //!   not independent.
-//! * [`adaptive`]: VEGAS/VEGAS+, MISER and two-stage stratified sampling.
+//! * [`adaptive`]: VEGAS/VEGAS+, MISER, two-stage stratified sampling, and `SobolG` (QMCPy's
+//!   `CubQMCSobolG` rule: one Sobol' sequence, a bound from its Walsh coefficients).
 //!
 //! Every runner sits on one crate-private engine: an executor that cuts a run into fixed
 //! chunks, evaluates them on a rayon pool and folds their results in chunk order (so results
