@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use mcint::adaptive::{Miser, TwoStage, Vegas};
+use mcint::adaptive::{Miser, SobolG, TwoStage, Vegas};
 use mcint::mpi::traits::{Communicator, CommunicatorCollectives, Root};
 use mcint::pdf::UniformBox;
 use mcint::sampler::{Jittered, Scramble, Sobol};
@@ -363,6 +363,18 @@ fn cases(cluster: Cluster, checks: &mut Checks) {
         "two-stage",
         two_stage().cluster(cluster).run(),
         two_stage().run(),
+    );
+
+    let sobol_g = || {
+        SobolG::new(gaussian, unit(4))
+            .tolerance(Tolerance::absolute(1e-6).unwrap())
+            .seed(9)
+            .threads(threads)
+    };
+    checks.same(
+        "sobol-g to a tolerance",
+        sobol_g().cluster(cluster).run(),
+        sobol_g().run(),
     );
 
     failures_on_one_rank(cluster, checks);
