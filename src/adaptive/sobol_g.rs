@@ -46,7 +46,8 @@ const CHUNK: u64 = 4096;
 /// [`Estimate::error_bound`] bounds `|mean - integral|` for integrands in the rule's cone
 /// ([`Estimate::half_width`] returns it). Without a tolerance the run evaluates the first
 /// stage only ([`samples`](Self::samples), default 1024 points). The points are split into
-/// chunks and folded in index order, so the result is the same for any thread count.
+/// chunks and folded in index order, so the result is the same for any thread count. A NaN or
+/// infinite value is an error naming its point: the transform has no way to leave it out.
 ///
 /// ```
 /// use mcint::{adaptive::SobolG, pdf::UniformBox, stats::Tolerance};
@@ -231,12 +232,14 @@ impl<E: Estimator> SobolG<E> {
                 walsh.double(&mut natural);
             }
             stages += 1;
-            let bound = FUDGE / end as f64 * walsh.lagged_sum();
-            let mut estimate = bounded_estimate(&acc, bound, stages);
+            let mut estimate = bounded_estimate(&acc, FUDGE / end as f64 * walsh.lagged_sum());
             estimate.evaluations = end * per_point;
+            estimate.iterations = stages;
             let Some(tolerance) = tolerance else {
                 return estimate.checked();
             };
+            // The bound as reported: never below the rounding error of the mean.
+            let bound = estimate.error_bound.unwrap_or(f64::INFINITY);
             let met = bound <= tolerance.target(estimate.mean);
             estimate.converged = Some(met);
             if met || end * 2 > limit {
@@ -253,15 +256,14 @@ impl<E: Estimator> SobolG<E> {
     }
 }
 
-/// The estimate of the values folded into `acc` with the Walsh bound `bound` (never below the
-/// rounding error of the mean) after `stages` stages.
-fn bounded_estimate(acc: &Accumulator, bound: f64, stages: u64) -> Estimate {
+/// The estimate of the values folded into `acc` with the Walsh bound `bound`, raised to the
+/// rounding error of the mean where that is larger.
+fn bounded_estimate(acc: &Accumulator, bound: f64) -> Estimate {
     let mut estimate = acc.estimate();
     estimate.std_error = None;
     estimate.dof = None;
     estimate.basis = ErrorBasis::WalshBound;
     estimate.error_bound = Some(bound.max(estimate.rounding_error));
-    estimate.iterations = stages;
     // The per-sample warnings (a standard error at the rounding floor) do not apply.
     estimate
         .warnings
