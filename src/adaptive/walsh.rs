@@ -97,8 +97,16 @@ impl WalshCoefficients {
         for level in (lowest..m).rev() {
             let h = 1usize << level;
             let (low, high) = self.at_slot[..2 * h].split_at(h);
-            larger.clear();
-            larger.extend((1..h).filter(|&j| high[j].abs() > low[j].abs()));
+            // The slots to swap, collected without a branch per slot (each comparison is a
+            // coin flip to a branch predictor): every slot is written, the count advances
+            // past the larger ones only.
+            larger.resize(h, 0);
+            let mut count = 0;
+            for j in 1..h {
+                larger[count] = j;
+                count += usize::from(high[j].abs() > low[j].abs());
+            }
+            larger.truncate(count);
             for block in (0..self.len()).step_by(2 * h) {
                 for &j in &larger {
                     self.at_slot.swap(block + j, block + h + j);
