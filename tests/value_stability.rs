@@ -5,10 +5,9 @@
 //! (and every scramble each accepts) for two seeds, and the `mean` / `std_error` bits with the
 //! counts of fixed-seed runs of every method: plain, importance, RQMC, stratified, both runs to
 //! a tolerance, VEGAS, VEGAS+, MISER (fixed and to a tolerance), TwoStage, SobolG (with its
-//! error bound), control
-//! variates, a checkpointed run, vector runs (plain, RQMC, VEGAS+: every output, the covariance
-//! and a ratio), an expectation under geometric Brownian motion, a convergence study and a
-//! mean periodogram.
+//! error bound), control variates, a checkpointed run, vector runs (plain, RQMC, VEGAS+: every
+//! output, the covariance and a ratio), an expectation under geometric Brownian motion, a
+//! convergence study and a mean periodogram.
 //!
 //! A change that alters any of them must say so in its commit message and update the table on
 //! purpose: run `MCINT_PRINT_PINS=1 cargo test --release --test value_stability -- --nocapture`
