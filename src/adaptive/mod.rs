@@ -7,8 +7,8 @@
 //! until a bound read from the integrand's Walsh coefficients meets the tolerance. Every
 //! other method takes its uniform points from any [`Sampler`](crate::sampler::Sampler)
 //! (independent points by default). Every method runs on all threads with results that do
-//! not depend on the thread count, stops at a [`Tolerance`](crate::stats::Tolerance) or a fixed budget, and
-//! returns the crate's [`Estimate`](crate::stats::Estimate).
+//! not depend on the thread count, stops at a [`Tolerance`](crate::stats::Tolerance) or a
+//! fixed budget, and returns the crate's [`Estimate`](crate::stats::Estimate).
 
 mod batches;
 mod cell;

@@ -105,7 +105,8 @@ const TAG_HALTON: u64 = 0x6861_6c74;
 /// Fisher-Yates decode (bases 3 to 13) or an affine map (larger bases), run in lanes of 32:
 /// about 55 ns per value at d = 10 and 47 ns at d = 30 on an AVX2 core (AMD EPYC, 2026-12-02;
 /// Owen-scrambled Sobol' takes 1.2 ns there), growing with the digits an index has beyond
-/// those of the block length. [`point`](Sampler::point) recomputes everything per call: use [`fill`](Sampler::fill) for throughput.
+/// those of the block length. [`point`](Sampler::point) recomputes everything per call: use
+/// [`fill`](Sampler::fill) for throughput.
 ///
 /// # Passes
 ///

@@ -5,7 +5,7 @@
 //! permutation of `0..b-1` independent of `t`; the zero digits, the bulk of a coordinate's
 //! tail, need only `t` (see [`Halton`](crate::sampler::Halton) for the whole construction).
 
-use crate::sampler::permutation::Permutation;
+use crate::sampler::permutation::{Permutation, below_narrow};
 
 /// Digit permutations of bases up to this are decoded from one hash by Fisher-Yates.
 pub(super) const SMALL_BASE: u64 = 13;
@@ -123,10 +123,11 @@ pub(super) fn owen_digit_image(
     (affine_slope(node_key(), base) * digit + zero) % base
 }
 
-/// The slope `alpha` in `1..b` of an affine node permutation in base `b`, from its key.
+/// The slope `alpha` in `1..b` of an affine node permutation in base `b`, from its key (by
+/// the vectorizable form of [`below`], equal to it for `b <= 2^32`).
 #[inline(always)]
 pub(super) fn affine_slope(key: u64, base: u64) -> u64 {
-    1 + below(key, base - 1)
+    1 + below_narrow(key, base - 1)
 }
 
 /// Digits `from .. from + count` of the random base-`b` digit stream cut from `word`, as the

@@ -15,8 +15,9 @@ use crate::hash::hash_words;
 /// per `m` digits, see [`stream_digits`]), and the rest of it (`rho`, or in bases above 13 the
 /// slope of an affine map, see [`owen_digit_image`]) keyed by a hash of `(prefix, k)`. Nodes
 /// with different prefixes draw from different streams, and the nodes of one prefix from
-/// different digits of its stream, so all nodes are independent, as nested scrambling requires. Every node has `prefix < b^k`, so the zero digits beyond the last digit of `index`
-/// all read the stream of `prefix = index`: the tail costs one hash per `m` digits.
+/// different digits of its stream, so all nodes are independent, as nested scrambling
+/// requires. Every node has `prefix < b^k`, so the zero digits beyond the last digit of
+/// `index` all read the stream of `prefix = index`: the tail costs one hash per `m` digits.
 pub(super) fn owen_coordinate(base: &Base, key: u64, index: u64) -> f64 {
     let (b, m) = (base.base, base.per_word as usize);
     // The digits of the index, least significant (first in the output) first.

@@ -11,13 +11,14 @@
 //! block and are computed per index, position by position, and the zero digits beyond the
 //! last digit of each index (the tail) word by word of its stream. Both run in lanes through
 //! `sampler::simd`: the hashes, the digits (by a floating-point division) and the node
-//! permutations (Fisher-Yates from one hash up to base 13, an affine map above) vectorize. The sum is exact in integers whatever the order, and rounded once
-//! as in `owen_coordinate`, so the values are bit-identical.
+//! permutations (Fisher-Yates from one hash up to base 13, an affine map above) vectorize.
+//! The sum is exact in integers whatever the order, and rounded once as in
+//! `owen_coordinate`, so the values are bit-identical.
 
 use super::base::{Base, MAX_DEPTH};
 #[cfg(test)]
 use super::digit_permutation::small_permutation;
-use super::digit_permutation::{SMALL_BASE, TAG_RHO, rotate};
+use super::digit_permutation::{SMALL_BASE, TAG_RHO, affine_slope, rotate};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_start};
 use crate::sampler::permutation::below_narrow;
@@ -107,8 +108,7 @@ impl Nodes {
                     (_, 0) => zero,
                     (RhoKind::Small, _) => rotate(b, zero, rests[j]),
                     (RhoKind::Affine, _) => {
-                        let alpha = 1 + below_narrow(keys[j], b - 1);
-                        div_rem(alpha * digit + zero, b, b_f64).1
+                        div_rem(affine_slope(keys[j], b) * digit + zero, b, b_f64).1
                     }
                 } as u32;
             }

@@ -1,5 +1,6 @@
-//! The adaptive methods of `integrate --method` (VEGAS, VEGAS+, MISER, two-stage, sobol-g), run from
-//! the command line's settings; the library's [`Method`] names them and gives their defaults.
+//! The adaptive methods of `integrate --method` (VEGAS, VEGAS+, MISER, two-stage, sobol-g),
+//! run from the command line's settings; the library's [`Method`] names them and gives their
+//! defaults.
 
 use mcint::adaptive::{Miser, SobolG, TwoStage, Vegas};
 use mcint::pdf::UniformBox;
