@@ -26,6 +26,7 @@ use crate::{Error, Result};
 
 mod base;
 mod digit_permutation;
+mod node_memo;
 mod owen;
 mod owen_block;
 mod permute;

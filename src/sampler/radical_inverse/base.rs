@@ -84,7 +84,28 @@ impl Base {
             return 0.0;
         }
         let zeros = num.leading_zeros(); // A = 128 - zeros, at most 72
-        let top = ((num << zeros) >> 64) as u64;
+        self.round_top(((num << zeros) >> 64) as u64, 128 - zeros, num)
+    }
+
+    /// [`Base::ratio`] of a numerator below `2^64`, in 64-bit integers: `num` below 2^64 is
+    /// its own top 64 bits, so the steps and the result are those of `ratio`.
+    #[inline(always)]
+    pub(super) fn ratio_narrow(&self, num: u64) -> f64 {
+        debug_assert!(u128::from(num) < self.full);
+        if self.base == 2 {
+            return num as i64 as f64 * pow2(-53);
+        }
+        if num == 0 {
+            return 0.0;
+        }
+        let zeros = num.leading_zeros();
+        self.round_top(num << zeros, 64 - zeros, u128::from(num))
+    }
+
+    /// The rounding of [`Base::ratio`] from the top 64 bits `top` of the numerator `num`
+    /// (truncated, leading bit set), whose bit length is `bits`.
+    #[inline(always)]
+    fn round_top(&self, top: u64, bits: u32, num: u128) -> f64 {
         let high = ((u128::from(top) * u128::from(self.reciprocal)) >> 64) as u64;
         let normal = high.leading_zeros(); // 0 or 1
         let high = high << normal;
@@ -96,7 +117,7 @@ impl Base {
         let mantissa = (high >> 11) + u64::from(low > 1024);
         // The value is mantissa * 2^-(52 + D - A + normal); mantissa may have carried to 2^53,
         // which the addition into the exponent field absorbs.
-        let exponent = 1022 + (128 - zeros) as u64 - u64::from(self.full_bits) - u64::from(normal);
+        let exponent = 1022 + u64::from(bits) - u64::from(self.full_bits) - u64::from(normal);
         f64::from_bits((exponent << 52) + mantissa)
     }
 
@@ -195,6 +216,24 @@ mod tests {
         // The near-halfway cases are two in five; the others take the fast path but for
         // about 11 in 2048.
         assert!(slow < total / 2, "{slow} of {total} on the slow path");
+    }
+
+    #[test]
+    fn narrow_ratio_equals_the_wide_one() {
+        let mut h = 23u64;
+        for base in bases().iter().take_while(|b| b.full <= u128::from(u64::MAX)) {
+            let full = base.full as u64;
+            for case in 0..300u64 {
+                h = mix64(h ^ case);
+                for num in [h % full, full - 1 - case.min(full - 1), case % full] {
+                    assert_eq!(
+                        base.ratio_narrow(num).to_bits(),
+                        base.ratio(u128::from(num)).to_bits(),
+                        "{num} / {full}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -16,6 +16,7 @@
 //! `owen_coordinate`, so the values are bit-identical.
 
 use super::base::{Base, MAX_DEPTH};
+use super::node_memo::{MEMO_RESIDUES, UNSEEN, fill_unseen, with_tables};
 #[cfg(test)]
 use super::digit_permutation::small_permutation;
 use super::digit_permutation::{SMALL_BASE, TAG_RHO, affine_slope, rotate};
@@ -26,20 +27,18 @@ use crate::sampler::simd::{Kernel, dispatch};
 
 /// Lanes of the node kernel.
 const LANES: usize = 32;
-/// A memo slot not computed yet.
-const UNSEEN: u32 = u32::MAX;
 
 /// Reusable buffers of the Owen block kernel.
 #[derive(Default)]
 pub(crate) struct OwenScratch {
-    /// Memoized digit images of the shallow positions, one table after another.
-    memo: Vec<u32>,
     /// Digit images of one deep position for the indices of a run.
     images: Vec<u32>,
     /// `sum_k image_k b^(w-1-k)` over the deep positions `k` of each index.
     deep: Vec<u64>,
     /// The tail runs of each index, one array per word of the stream.
     tails: Vec<u64>,
+    /// The shallow positions' part of the numerator, by residue mod `b^shallow`.
+    lows: Vec<u64>,
 }
 
 /// The node permutations of a base, as the kernels evaluate them (see
@@ -155,7 +154,10 @@ fn small_permutation_lanes(n: u64, keys: &[u64; LANES], xs: &mut [u64; LANES]) {
 #[inline(always)]
 fn div_rem(c: u64, m: u64, m_f64: f64) -> (u64, u64) {
     const SHIFTER: f64 = (1u64 << 52) as f64;
-    let q = (c as i64 as f64 / m_f64 + SHIFTER).to_bits() - SHIFTER.to_bits();
+    // c as a double by the same shifter (exact below 2^52; `as f64` does not vectorize
+    // before AVX-512).
+    let c_f64 = f64::from_bits(c | SHIFTER.to_bits()) - SHIFTER;
+    let q = (c_f64 / m_f64 + SHIFTER).to_bits() - SHIFTER.to_bits();
     let r = c.wrapping_sub(q.wrapping_mul(m));
     let low = u64::from((r as i64) < 0);
     let high = u64::from((r as i64) >= 0 && r >= m);
@@ -286,138 +288,152 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         });
     };
 
-    // Shallow positions: tables of b^(k+1) slots, at most the block length, holding the images
-    // of the residues index mod b^(k+1) the block meets (a cyclic range). A larger table would
-    // meet each residue at most once, saving nothing over the per-index path.
-    let limit = out.len() as u64;
+    // Memoized positions: tables of b^(k+1) <= MEMO_RESIDUES slots, kept across the fills of
+    // this thread (see `node_memo`), holding the images of the residues index mod b^(k+1) met
+    // so far. Shallow positions: those whose table the block meets whole (b^(k+1) at most its
+    // length); their part of every value comes from one table of residues mod b^shallow.
+    let len = out.len() as u64;
+    let mut memoized = 0;
+    while memoized < positions && powers[memoized + 1] <= MEMO_RESIDUES {
+        memoized += 1;
+    }
     let mut shallow = 0;
-    while shallow < positions && powers[shallow + 1] <= limit {
+    while shallow < memoized && powers[shallow + 1] <= len {
         shallow += 1;
     }
     let mut table_start = [0usize; MAX_DEPTH + 1];
-    for k in 0..shallow {
+    for k in 0..memoized {
         table_start[k + 1] = table_start[k] + powers[k + 1] as usize;
     }
-    s.memo.clear();
-    s.memo.resize(table_start[shallow], UNSEEN);
-    for k in 0..shallow {
-        let size = powers[k + 1];
-        let table = &mut s.memo[table_start[k]..table_start[k + 1]];
-        let from = first % size;
-        let count = (last_offset as u64 + 1).min(size);
-        let straight = count.min(size - from);
-        node_images(
-            k,
-            from,
-            &mut table[from as usize..(from + straight) as usize],
-        );
-        node_images(k, 0, &mut table[..(count - straight) as usize]);
-    }
-
-    // Runs of indices with the same number of digits w: deep positions shallow .. w (a node
-    // of its own for every index), then the tail of zero digits from max(shallow, w) on, read
-    // from each index's own stream.
-    s.deep.clear();
-    s.deep.resize(out.len(), 0);
-    let mut done = 0usize;
-    let mut width = (0..=positions)
-        .find(|&j| powers[j] > first)
-        .unwrap_or(positions);
-    while done < out.len() {
-        let start = first + done as u64;
-        while powers[width] <= start {
-            width += 1;
+    with_tables(b, key, table_start[memoized], |tables| {
+        for k in 0..memoized {
+            let size = powers[k + 1];
+            let table = &mut tables[table_start[k]..table_start[k + 1]];
+            let from = first % size;
+            let count = len.min(size);
+            let straight = count.min(size - from);
+            let mut compute = |first: u64, images: &mut [u32]| node_images(k, first, images);
+            fill_unseen(table, from as usize, straight as usize, &mut compute);
+            fill_unseen(table, 0, (count - straight) as usize, &mut compute);
         }
-        let end = if width < positions {
-            (powers[width] - first).min(out.len() as u64) as usize
-        } else {
-            out.len()
-        };
-        let count = end - done;
-        let deep = &mut s.deep[done..end];
-        for k in shallow..width {
-            s.images.clear();
-            s.images.resize(count, 0);
-            // Residue index mod b^(k+1) or the index itself: the same prefix and digit.
-            node_images(k, start, &mut s.images);
-            for (acc, &image) in deep.iter_mut().zip(&s.images) {
-                *acc = *acc * b + u64::from(image);
+        // lows[r] = sum_(k < shallow) image_k(r mod b^(k+1)) b^(shallow-1-k), below
+        // b^shallow, built position by position in place, each level from the one before.
+        s.lows.clear();
+        s.lows.resize(powers[shallow] as usize, 0);
+        for k in 0..shallow {
+            let below = powers[k] as usize;
+            let table = &tables[table_start[k]..table_start[k + 1]];
+            // Level k+1 at q b^k + r from level k at r: the block q = 0, which the others
+            // read, last.
+            for q in (0..b as usize).rev() {
+                for r in 0..below {
+                    let image = table[q * below + r];
+                    debug_assert!(image != UNSEEN);
+                    s.lows[q * below + r] = s.lows[r] * b + u64::from(image);
+                }
             }
         }
-        let mut tail_weights = [0u128; MAX_DEPTH];
-        let mut tail_count = 0;
-        let mut k = shallow.max(width);
-        s.tails.clear();
-        while k < depth {
-            let at = s.tails.len();
-            s.tails.resize(at + count, 0);
-            dispatch(TailRuns {
-                words: nodes.words,
-                word: word_of[k],
-                scale: scale_of[k],
-                range: run_range[k],
-                first: start,
-                runs: &mut s.tails[at..],
-            });
-            tail_weights[tail_count] = weights[k + run_of[k] - 1];
-            tail_count += 1;
-            k += run_of[k];
-        }
-        // The shallow positions from the tables, the sum, and the single rounding.
-        let mut odometer = Odometer::new(b, start, shallow);
-        // Positions below top = max(w, shallow) form one integer below b^top < 2^57, the
-        // shallow part times b^(top - shallow) plus the deep part, of weight b^(K - top).
-        let top = width.max(shallow);
-        let (deep_scale, head_weight) = (powers[top - shallow], weights[top.max(1) - 1]);
-        for (j, (x, &deep)) in out[done..end].iter_mut().zip(deep.iter()).enumerate() {
-            if j > 0 {
-                odometer.step(&powers, shallow);
-            }
-            // sum_(k < shallow) image_k b^(shallow-1-k), below b^shallow: one u64 Horner sum.
-            let mut low = 0u64;
-            for (&start, &residue) in table_start[..shallow].iter().zip(&odometer.residues[1..]) {
-                let image = s.memo[start + residue as usize];
-                debug_assert!(image != UNSEEN);
-                low = low * b + u64::from(image);
-            }
-            let mut num = u128::from(low * deep_scale + deep) * head_weight;
-            for (t, &w) in tail_weights[..tail_count].iter().enumerate() {
-                num += u128::from(s.tails[t * count + j]) * w;
-            }
-            *x = base.ratio(num).min(ONE_BELOW);
-        }
-        done = end;
-    }
-}
 
-/// Residues of consecutive indices modulo `b, b^2, ..`, counted like an odometer.
-struct Odometer {
-    /// `residues[j] = index mod b^j`.
-    residues: [u64; MAX_DEPTH + 1],
-}
-
-impl Odometer {
-    fn new(b: u64, index: u64, positions: usize) -> Self {
-        let mut residues = [0u64; MAX_DEPTH + 1];
-        let mut power = 1u64;
-        for residue in &mut residues[1..=positions] {
-            power *= b;
-            *residue = index % power;
-        }
-        Odometer { residues }
-    }
-
-    /// Moves to the next index.
-    #[inline]
-    fn step(&mut self, powers: &[u64], positions: usize) {
-        for (residue, &power) in self.residues[1..=positions].iter_mut().zip(&powers[1..]) {
-            *residue = if *residue + 1 == power {
-                0
+        // Runs of indices with the same number of digits w: deep positions shallow .. w (from
+        // the tables where memoized, else a node of its own for every index), then the tail of
+        // zero digits from max(shallow, w) on, read from each index's own stream.
+        s.deep.clear();
+        s.deep.resize(out.len(), 0);
+        let mut done = 0usize;
+        let mut width = (0..=positions)
+            .find(|&j| powers[j] > first)
+            .unwrap_or(positions);
+        while done < out.len() {
+            let start = first + done as u64;
+            while powers[width] <= start {
+                width += 1;
+            }
+            let end = if width < positions {
+                (powers[width] - first).min(len) as usize
             } else {
-                *residue + 1
+                out.len()
             };
+            let count = end - done;
+            let deep = &mut s.deep[done..end];
+            for k in shallow..width {
+                if k < memoized {
+                    let table = &tables[table_start[k]..table_start[k + 1]];
+                    let mut residue = (start % powers[k + 1]) as usize;
+                    for acc in deep.iter_mut() {
+                        *acc = *acc * b + u64::from(table[residue]);
+                        residue += 1;
+                        if residue == table.len() {
+                            residue = 0;
+                        }
+                    }
+                    continue;
+                }
+                s.images.clear();
+                s.images.resize(count, 0);
+                // Residue index mod b^(k+1) or the index itself: the same prefix and digit.
+                node_images(k, start, &mut s.images);
+                for (acc, &image) in deep.iter_mut().zip(&s.images) {
+                    *acc = *acc * b + u64::from(image);
+                }
+            }
+            let mut tail_weights = [0u128; MAX_DEPTH];
+            let mut tail_count = 0;
+            let mut k = shallow.max(width);
+            s.tails.clear();
+            while k < depth {
+                let at = s.tails.len();
+                s.tails.resize(at + count, 0);
+                dispatch(TailRuns {
+                    words: nodes.words,
+                    word: word_of[k],
+                    scale: scale_of[k],
+                    range: run_range[k],
+                    first: start,
+                    runs: &mut s.tails[at..],
+                });
+                tail_weights[tail_count] = weights[k + run_of[k] - 1];
+                tail_count += 1;
+                k += run_of[k];
+            }
+            // The shallow part from its table, the sum, and the single rounding. Positions
+            // below top = max(w, shallow) form one integer below b^top < 2^57, the shallow
+            // part times b^(top - shallow) plus the deep part, of weight b^(K - top).
+            let top = width.max(shallow);
+            let (deep_scale, head_weight) = (powers[top - shallow], weights[top.max(1) - 1]);
+            let cycle = powers[shallow] as usize;
+            let mut residue = (start % powers[shallow]) as usize;
+            let values = out[done..end].iter_mut().zip(deep.iter()).enumerate();
+            if let Ok(full) = u64::try_from(base.full) {
+                // b^K below 2^64 (bases below 2^11): the same sums in 64-bit integers.
+                debug_assert!(full > 0);
+                let tail_weights = tail_weights.map(|w| w as u64);
+                for (j, (x, &deep)) in values {
+                    let mut num = (s.lows[residue] * deep_scale + deep) * head_weight as u64;
+                    for (t, &w) in tail_weights[..tail_count].iter().enumerate() {
+                        num += s.tails[t * count + j] * w;
+                    }
+                    *x = base.ratio_narrow(num).min(ONE_BELOW);
+                    residue += 1;
+                    if residue == cycle {
+                        residue = 0;
+                    }
+                }
+            } else {
+                for (j, (x, &deep)) in values {
+                    let mut num = u128::from(s.lows[residue] * deep_scale + deep) * head_weight;
+                    for (t, &w) in tail_weights[..tail_count].iter().enumerate() {
+                        num += u128::from(s.tails[t * count + j]) * w;
+                    }
+                    *x = base.ratio(num).min(ONE_BELOW);
+                    residue += 1;
+                    if residue == cycle {
+                        residue = 0;
+                    }
+                }
+            }
+            done = end;
         }
-    }
+    });
 }
 
 #[cfg(test)]
@@ -460,6 +476,31 @@ mod tests {
                         "base {b}, index {}",
                         first + j as u64
                     );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn blocks_in_any_order_equal_single_coordinates_whatever_the_memo_holds() {
+        // Blocks of two columns of one base, interleaved (each switch resets the thread's
+        // tables), of varying lengths, overlapping and out of order, so the memo holds a
+        // different mix of computed and unseen slots at every fill.
+        let mut s = OwenScratch::default();
+        let mut h = 3u64;
+        for b in [2u64, 3, 29] {
+            let base = Base::new(b);
+            let keys = [mix64(b), mix64(b + 1)];
+            for round in 0..24u64 {
+                h = mix64(h ^ round);
+                let key = keys[usize::from(round % 5 == 4)];
+                let first = h % 70_000;
+                let len = 1 + (h >> 20) as usize % 3000;
+                let mut out = vec![0.0; len];
+                fill_owen(&base, key, first, &mut out, &mut s);
+                for (j, &x) in out.iter().enumerate().step_by(7) {
+                    let expected = owen_coordinate(&base, key, first + j as u64);
+                    assert_eq!(x.to_bits(), expected.to_bits(), "base {b}, round {round}");
                 }
             }
         }
