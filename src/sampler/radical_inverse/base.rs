@@ -221,7 +221,10 @@ mod tests {
     #[test]
     fn narrow_ratio_equals_the_wide_one() {
         let mut h = 23u64;
-        for base in bases().iter().take_while(|b| b.full <= u128::from(u64::MAX)) {
+        for base in bases()
+            .iter()
+            .take_while(|b| b.full <= u128::from(u64::MAX))
+        {
             let full = base.full as u64;
             for case in 0..300u64 {
                 h = mix64(h ^ case);

@@ -16,10 +16,10 @@
 //! `owen_coordinate`, so the values are bit-identical.
 
 use super::base::{Base, MAX_DEPTH};
-use super::node_memo::{MEMO_RESIDUES, UNSEEN, fill_unseen, with_tables};
 #[cfg(test)]
 use super::digit_permutation::small_permutation;
 use super::digit_permutation::{SMALL_BASE, TAG_RHO, affine_slope, rotate};
+use super::node_memo::{MEMO_RESIDUES, UNSEEN, with_tables};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_start};
 use crate::sampler::permutation::below_narrow;
@@ -305,24 +305,23 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
     for k in 0..memoized {
         table_start[k + 1] = table_start[k] + powers[k + 1] as usize;
     }
-    with_tables(b, key, table_start[memoized], |tables| {
+    with_tables(b, key, &table_start[..=memoized], |tables| {
         for k in 0..memoized {
             let size = powers[k + 1];
-            let table = &mut tables[table_start[k]..table_start[k + 1]];
             let from = first % size;
             let count = len.min(size);
             let straight = count.min(size - from);
             let mut compute = |first: u64, images: &mut [u32]| node_images(k, first, images);
-            fill_unseen(table, from as usize, straight as usize, &mut compute);
-            fill_unseen(table, 0, (count - straight) as usize, &mut compute);
+            tables.complete(k, from as usize, straight as usize, &mut compute);
+            tables.complete(k, 0, (count - straight) as usize, &mut compute);
         }
         // lows[r] = sum_(k < shallow) image_k(r mod b^(k+1)) b^(shallow-1-k), below
         // b^shallow, built position by position in place, each level from the one before.
         s.lows.clear();
         s.lows.resize(powers[shallow] as usize, 0);
-        for k in 0..shallow {
-            let below = powers[k] as usize;
-            let table = &tables[table_start[k]..table_start[k + 1]];
+        for (k, &below) in powers[..shallow].iter().enumerate() {
+            let below = below as usize;
+            let table = tables.table(k);
             // Level k+1 at q b^k + r from level k at r: the block q = 0, which the others
             // read, last.
             for q in (0..b as usize).rev() {
@@ -357,14 +356,17 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
             let deep = &mut s.deep[done..end];
             for k in shallow..width {
                 if k < memoized {
-                    let table = &tables[table_start[k]..table_start[k + 1]];
+                    // The residues from start mod b^(k+1) on, cyclically: straight runs.
+                    let table = tables.table(k);
                     let mut residue = (start % powers[k + 1]) as usize;
-                    for acc in deep.iter_mut() {
-                        *acc = *acc * b + u64::from(table[residue]);
-                        residue += 1;
-                        if residue == table.len() {
-                            residue = 0;
+                    let mut rest = &mut deep[..];
+                    while !rest.is_empty() {
+                        let run = rest.len().min(table.len() - residue);
+                        let (now, later) = rest.split_at_mut(run);
+                        for (acc, &image) in now.iter_mut().zip(&table[residue..]) {
+                            *acc = *acc * b + u64::from(image);
                         }
+                        (rest, residue) = (later, 0);
                     }
                     continue;
                 }
