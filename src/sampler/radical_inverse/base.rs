@@ -107,7 +107,9 @@ impl Base {
     #[inline(always)]
     fn round_top(&self, top: u64, bits: u32, num: u128) -> f64 {
         let high = ((u128::from(top) * u128::from(self.reciprocal)) >> 64) as u64;
-        let normal = high.leading_zeros(); // 0 or 1
+        // top >= 2^63 and the reciprocal > 2^63 (b^K is not a power of two): high >= 2^62, so
+        // its leading zeros are 0 or 1, read from the top bit (no bit scan).
+        let normal = 1 - (high >> 63) as u32;
         let high = high << normal;
         let low = high & 0x7ff;
         if (1024 - 10..=1024).contains(&low) || high >= u64::MAX - 32 {

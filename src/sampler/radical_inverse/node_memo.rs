@@ -15,15 +15,26 @@ use std::collections::HashMap;
 pub(super) const MEMO_RESIDUES: u64 = 1 << 16;
 /// A table slot not computed yet (images are below `b < 2^17`).
 pub(super) const UNSEEN: u32 = u32::MAX;
+/// A node slot not computed yet (nodes are two numbers below `b < 2^17`).
+const UNSEEN_NODE: u64 = u64::MAX;
 /// Table slots one thread keeps over all columns (4 bytes each: 8 MiB).
 const BUDGET: usize = 1 << 21;
 
-/// The tables of one column: its key, the tables of its positions one after another, and
-/// how many slots of each table are computed.
+/// The tables of one column: its key, the tables of its positions one after another, the
+/// nodes of the position above them, and how many slots of each are computed (nodes last).
 struct Tables {
     key: u64,
     images: Vec<u32>,
+    nodes: Vec<u64>,
     seen: Vec<usize>,
+    nodes_seen: usize,
+}
+
+impl Tables {
+    /// Memory, in table slots.
+    fn slots(&self) -> usize {
+        self.images.len() + 2 * self.nodes.len()
+    }
 }
 
 /// The tables of the columns this thread filled last, by base, and their total size.
@@ -38,10 +49,13 @@ thread_local! {
 }
 
 /// The tables of one column, lent to the block kernel: `images` holds the table of position
-/// `k` at `starts[k] .. starts[k + 1]`, slot `r` the image of residue `r` (or [`UNSEEN`]).
+/// `k` at `starts[k] .. starts[k + 1]`, slot `r` the image of residue `r` (or [`UNSEEN`]);
+/// `nodes` holds the nodes of the next position, slot `p` the node of prefix `p`.
 pub(super) struct ColumnTables<'a> {
     pub(super) images: &'a mut [u32],
-    seen: &'a mut Vec<usize>,
+    pub(super) nodes: &'a mut [u64],
+    seen: &'a mut [usize],
+    nodes_seen: &'a mut usize,
     starts: &'a [usize],
 }
 
@@ -59,27 +73,58 @@ impl ColumnTables<'_> {
         k: usize,
         from: usize,
         count: usize,
-        mut compute: impl FnMut(u64, &mut [u32]),
+        compute: impl FnMut(u64, &mut [u32]),
     ) {
         let table = &mut self.images[self.starts[k]..self.starts[k + 1]];
-        if self.seen[k] == table.len() {
-            return;
-        }
-        let end = from + count;
-        let mut at = from;
-        while let Some(skip) = find(&table[at..end], |x| x == UNSEEN) {
-            let start = at + skip;
-            let stop = find(&table[start..end], |x| x != UNSEEN).map_or(end, |run| start + run);
-            compute(start as u64, &mut table[start..stop]);
-            self.seen[k] += stop - start;
-            at = stop;
-        }
+        complete_runs(table, UNSEEN, &mut self.seen[k], from, count, compute);
+    }
+
+    /// [`ColumnTables::complete`] for the nodes, `compute(first, run)` writing the nodes of
+    /// prefixes `first, first + 1, ..`.
+    pub(super) fn complete_nodes(
+        &mut self,
+        from: usize,
+        count: usize,
+        compute: impl FnMut(u64, &mut [u64]),
+    ) {
+        complete_runs(
+            self.nodes,
+            UNSEEN_NODE,
+            self.nodes_seen,
+            from,
+            count,
+            compute,
+        );
+    }
+}
+
+/// Computes the `unseen` slots among `from .. from + count` by runs, unless all `seen` of
+/// them are computed.
+fn complete_runs<T: Copy + Eq>(
+    slots: &mut [T],
+    unseen: T,
+    seen: &mut usize,
+    from: usize,
+    count: usize,
+    mut compute: impl FnMut(u64, &mut [T]),
+) {
+    if *seen == slots.len() {
+        return;
+    }
+    let end = from + count;
+    let mut at = from;
+    while let Some(skip) = find(&slots[at..end], |x| x == unseen) {
+        let start = at + skip;
+        let stop = find(&slots[start..end], |x| x != unseen).map_or(end, |run| start + run);
+        compute(start as u64, &mut slots[start..stop]);
+        *seen += stop - start;
+        at = stop;
     }
 }
 
 /// The first index whose slot satisfies `pred`, searched 32 slots at a time (a test over a
 /// whole group vectorizes; a search that stops at the first hit does not).
-fn find(slots: &[u32], pred: impl Fn(u32) -> bool) -> Option<usize> {
+fn find<T: Copy>(slots: &[T], pred: impl Fn(T) -> bool) -> Option<usize> {
     let mut at = 0;
     for group in slots.chunks(32) {
         if group.iter().fold(false, |any, &x| any | pred(x)) {
@@ -91,14 +136,15 @@ fn find(slots: &[u32], pred: impl Fn(u32) -> bool) -> Option<usize> {
 }
 
 /// Runs `f` on the tables of column (`base`, `key`), position `k`'s at `starts[k] ..
-/// starts[k + 1]`: this thread's tables if it filled the same column before (new slots
-/// [`UNSEEN`]), or fresh ones. Fresh tables serve when the thread's memo is unavailable (during
-/// thread teardown), and a thread that would exceed its budget forgets its other columns
-/// first.
+/// starts[k + 1]`, and `nodes` nodes: this thread's tables if it filled the same column before
+/// (new slots unseen), or fresh ones. Fresh tables serve when the thread's memo is unavailable
+/// (during thread teardown), and a thread that would exceed its budget forgets its other
+/// columns first.
 pub(super) fn with_tables<R>(
     base: u64,
     key: u64,
     starts: &[usize],
+    nodes: usize,
     f: impl FnOnce(&mut ColumnTables<'_>) -> R,
 ) -> R {
     let (len, positions) = (
@@ -111,34 +157,34 @@ pub(super) fn with_tables<R>(
             return None;
         };
         let memo = &mut *memo;
-        let column = memo.columns.entry(base).or_insert(Tables {
+        let fresh = || Tables {
             key,
             images: Vec::new(),
+            nodes: Vec::new(),
             seen: Vec::new(),
-        });
-        if column.key != key {
-            memo.slots -= column.images.len();
-            column.key = key;
-            column.images.clear();
-            column.seen.clear();
+            nodes_seen: 0,
+        };
+        let column = memo.columns.entry(base).or_insert_with(fresh);
+        let before = column.slots();
+        if column.key != key || column.nodes.len() != nodes {
+            *column = fresh();
         }
-        let grow = len.saturating_sub(column.images.len());
-        if grow > 0 && memo.slots + grow > BUDGET {
+        let after = len.max(column.images.len()) + 2 * nodes;
+        if memo.slots - before + after > BUDGET {
             memo.columns.retain(|&b, _| b == base);
-            memo.slots = memo.columns.get(&base).map_or(0, |c| c.images.len());
+            memo.slots = before;
         }
-        let column = memo.columns.get_mut(&base).expect("inserted above");
-        if grow > 0 {
-            column.images.resize(len, UNSEEN);
-            memo.slots += grow;
-        }
-        if column.seen.len() < positions {
-            column.seen.resize(positions, 0);
-        }
+        let column = memo.columns.get_mut(&base).expect("kept above");
+        column.images.resize(len.max(column.images.len()), UNSEEN);
+        column.nodes.resize(nodes, UNSEEN_NODE);
+        column.seen.resize(positions.max(column.seen.len()), 0);
+        memo.slots = memo.slots - before + column.slots();
         let f = f.take().expect("called once");
         Some(f(&mut ColumnTables {
             images: &mut column.images[..len],
-            seen: &mut column.seen,
+            nodes: &mut column.nodes,
+            seen: &mut column.seen[..positions],
+            nodes_seen: &mut column.nodes_seen,
             starts,
         }))
     });
@@ -146,7 +192,9 @@ pub(super) fn with_tables<R>(
         (Ok(Some(result)), _) => result,
         (_, Some(f)) => f(&mut ColumnTables {
             images: &mut vec![UNSEEN; len],
+            nodes: &mut vec![UNSEEN_NODE; nodes],
             seen: &mut vec![0; positions],
+            nodes_seen: &mut 0,
             starts,
         }),
         (_, None) => unreachable!("f returned inside the memo"),
@@ -160,7 +208,7 @@ mod tests {
     #[test]
     fn unseen_runs_are_computed_and_seen_slots_kept() {
         let starts = [0, 2, 12];
-        let runs = with_tables(5, 9, &starts, |tables| {
+        let runs = with_tables(5, 9, &starts, 0, |tables| {
             tables.images[2 + 3] = 7;
             tables.images[2 + 4] = 8;
             tables.seen[1] = 2;
@@ -180,7 +228,7 @@ mod tests {
         });
         assert_eq!(runs, [(1, 2), (5, 4)]);
         // A table computed whole is not searched.
-        with_tables(5, 9, &starts, |tables| {
+        with_tables(5, 9, &starts, 0, |tables| {
             tables.complete(0, 0, 2, |_, run| run.fill(1));
             tables.complete(0, 0, 2, |_, _| panic!("computed twice"));
             assert_eq!(tables.table(0), [1, 1]);
@@ -189,16 +237,33 @@ mod tests {
 
     #[test]
     fn tables_persist_per_key_and_reset_when_it_changes() {
-        with_tables(7, 1, &[0, 4], |t| t.images[2] = 5);
-        let kept = with_tables(7, 1, &[0, 4, 6], |t| t.images.to_vec());
+        with_tables(7, 1, &[0, 4], 0, |t| t.images[2] = 5);
+        let kept = with_tables(7, 1, &[0, 4, 6], 0, |t| t.images.to_vec());
         assert_eq!(kept[..3], [UNSEEN, UNSEEN, 5]);
-        assert!(with_tables(7, 2, &[0, 6], |t| t
+        assert!(with_tables(7, 2, &[0, 6], 0, |t| t
             .images
             .iter()
             .all(|&x| x == UNSEEN)));
         // Another base keeps its own tables.
-        with_tables(11, 3, &[0, 2], |t| t.images[0] = 1);
-        assert_eq!(with_tables(11, 3, &[0, 2], |t| t.images[0]), 1);
+        with_tables(11, 3, &[0, 2], 0, |t| t.images[0] = 1);
+        assert_eq!(with_tables(11, 3, &[0, 2], 0, |t| t.images[0]), 1);
+    }
+
+    #[test]
+    fn nodes_are_kept_with_the_tables_and_reset_with_them() {
+        let starts = [0, 3];
+        with_tables(13, 4, &starts, 5, |t| {
+            t.complete_nodes(3, 2, |first, run| run.fill(first * 10));
+            t.complete_nodes(0, 4, |first, run| run.fill(first + 1));
+            assert_eq!(t.nodes, [1, 1, 1, 30, 30]);
+            // Every node computed: not searched again.
+            t.complete_nodes(0, 5, |_, _| panic!("computed twice"));
+        });
+        assert_eq!(with_tables(13, 4, &starts, 5, |t| t.nodes[4]), 30);
+        assert!(with_tables(13, 5, &starts, 5, |t| t
+            .nodes
+            .iter()
+            .all(|&x| x == UNSEEN_NODE)));
     }
 
     #[test]

@@ -115,6 +115,25 @@ impl Nodes {
     }
 }
 
+impl Nodes {
+    /// The affine nodes (bases above 13) at position `k` (stream word `word`, `scale =
+    /// b^(k % m)`) with prefixes `p = first + j`: `pi(0) | alpha << 32` into `parts[j]`, the
+    /// map `pi(a) = (alpha a + pi(0)) mod b` of [`Nodes::images`].
+    #[inline(always)]
+    fn affine_parts(&self, k: usize, word: u64, scale: u64, first: u64, parts: &mut [u64]) {
+        debug_assert_eq!(self.kind, RhoKind::Affine);
+        let Nodes { b, words, rhos, .. } = *self;
+        for (part, prefix) in parts.iter_mut().zip(first..) {
+            let zero = below_narrow(
+                hash_absorb(words, (prefix << 6) | word).wrapping_mul(scale),
+                b,
+            );
+            let alpha = affine_slope(hash_absorb(rhos, (prefix << 6) | k as u64), b);
+            *part = zero | alpha << 32;
+        }
+    }
+}
+
 /// `small_permutation(keys[j], n, xs[j])` lane by lane (`n <= 12`), without the array
 /// of items: Fisher-Yates swaps position `j` with the choice `c_j` for `j = n-1, .., 1`, so
 /// the item that ends at position `x` started at `S_(n-1)(..(S_1(x)))`, with `S_j` the
@@ -193,6 +212,27 @@ impl Kernel for NodeImages<'_> {
             self.first,
             self.images,
         );
+    }
+}
+
+/// The affine nodes of one position for a run of prefixes, compiled for each instruction set
+/// by [`dispatch`].
+struct AffineParts<'a> {
+    nodes: &'a Nodes,
+    k: usize,
+    word: u64,
+    scale: u64,
+    first: u64,
+    parts: &'a mut [u64],
+}
+
+impl Kernel for AffineParts<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        self.nodes
+            .affine_parts(self.k, self.word, self.scale, self.first, self.parts);
     }
 }
 
@@ -305,7 +345,30 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
     for k in 0..memoized {
         table_start[k + 1] = table_start[k] + powers[k + 1] as usize;
     }
-    with_tables(b, key, &table_start[..=memoized], |tables| {
+    // The position above the memoized ones can have too many residues for a table but few
+    // enough nodes (b^k <= MEMO_RESIDUES), each serving b digits: in bases above 13 its nodes
+    // are kept as affine maps. (Base 2 and the bases up to 13 memoize every position that a
+    // pass of 2^16 points shares.)
+    let (mut node_position, mut node_count) = (0, 1u64);
+    while node_count * b <= MEMO_RESIDUES {
+        node_count *= b;
+        node_position += 1;
+    }
+    let kept_nodes = match nodes.kind {
+        RhoKind::Affine => node_count as usize,
+        _ => 0,
+    };
+    let affine_parts = |first: u64, parts: &mut [u64]| {
+        dispatch(AffineParts {
+            nodes: &nodes,
+            k: node_position,
+            word: word_of[node_position],
+            scale: scale_of[node_position],
+            first,
+            parts,
+        });
+    };
+    with_tables(b, key, &table_start[..=memoized], kept_nodes, |tables| {
         for k in 0..memoized {
             let size = powers[k + 1];
             let from = first % size;
@@ -367,6 +430,29 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
                             *acc = *acc * b + u64::from(image);
                         }
                         (rest, residue) = (later, 0);
+                    }
+                    continue;
+                }
+                if k == node_position && kept_nodes > 0 {
+                    // The nodes of prefixes start mod b^k on, cyclically, the digit
+                    // advancing with each cycle.
+                    let size = kept_nodes;
+                    let from = (start % node_count) as usize;
+                    let met = count.min(size);
+                    let straight = met.min(size - from);
+                    tables.complete_nodes(from, straight, affine_parts);
+                    tables.complete_nodes(0, met - straight, affine_parts);
+                    let (mut prefix, mut digit) = (from, (start / node_count) % b);
+                    let mut rest = &mut deep[..];
+                    while !rest.is_empty() {
+                        let run = rest.len().min(size - prefix);
+                        let (now, later) = rest.split_at_mut(run);
+                        for (acc, &part) in now.iter_mut().zip(&tables.nodes[prefix..]) {
+                            let (zero, alpha) = (part & 0xffff_ffff, part >> 32);
+                            *acc = *acc * b + div_rem(alpha * digit + zero, b, nodes.b_f64).1;
+                        }
+                        (rest, prefix) = (later, 0);
+                        digit = if digit + 1 == b { 0 } else { digit + 1 };
                     }
                     continue;
                 }
