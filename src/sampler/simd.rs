@@ -31,7 +31,8 @@ pub(crate) trait Kernel {
 enum Level {
     /// Whatever the crate is compiled for (SSE2 on a default x86-64 build).
     Portable = 1,
-    /// AVX2: 8 lanes of 32 bits, with a lane multiply.
+    /// AVX2: 8 lanes of 32 bits, with a lane multiply (and LZCNT, which every AVX2 CPU
+    /// has: a bit scan in one instruction, for the scalar parts of the kernels).
     Avx2 = 2,
     /// AVX-512 (F, VL, BW, DQ) and GFNI: 16 lanes of 32 bits, unsigned conversions to `f64`,
     /// bit reversal by a Galois-field affine transform.
@@ -60,13 +61,16 @@ fn detected() -> Level {
 #[cfg(target_arch = "x86_64")]
 fn detect() -> Level {
     if std::arch::is_x86_feature_detected!("avx512f")
+        && std::arch::is_x86_feature_detected!("lzcnt")
         && std::arch::is_x86_feature_detected!("avx512vl")
         && std::arch::is_x86_feature_detected!("avx512bw")
         && std::arch::is_x86_feature_detected!("avx512dq")
         && std::arch::is_x86_feature_detected!("gfni")
     {
         Level::Avx512
-    } else if std::arch::is_x86_feature_detected!("avx2") {
+    } else if std::arch::is_x86_feature_detected!("avx2")
+        && std::arch::is_x86_feature_detected!("lzcnt")
+    {
         Level::Avx2
     } else {
         Level::Portable
@@ -126,10 +130,10 @@ pub(crate) fn dispatch<K: Kernel>(kernel: K) -> K::Output {
     match level() {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `Level::Avx512` is only chosen after `detect` found avx512f, avx512vl,
-        // avx512bw, avx512dq and gfni on this CPU.
+        // avx512bw, avx512dq, gfni and lzcnt on this CPU.
         Level::Avx512 => unsafe { run_avx512(kernel) },
         #[cfg(target_arch = "x86_64")]
-        // SAFETY: `Level::Avx2` is only chosen after `detect` found avx2 on this CPU.
+        // SAFETY: `Level::Avx2` is only chosen after `detect` found avx2 and lzcnt on this CPU.
         Level::Avx2 => unsafe { run_avx2(kernel) },
         _ => kernel.run(),
     }
@@ -137,14 +141,14 @@ pub(crate) fn dispatch<K: Kernel>(kernel: K) -> K::Output {
 
 /// `kernel` compiled with AVX2.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,lzcnt")]
 fn run_avx2<K: Kernel>(kernel: K) -> K::Output {
     kernel.run()
 }
 
 /// `kernel` compiled with AVX-512 and GFNI.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,gfni")]
+#[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,gfni,lzcnt")]
 fn run_avx512<K: Kernel>(kernel: K) -> K::Output {
     kernel.run()
 }

@@ -268,6 +268,44 @@ impl Kernel for TailRuns<'_> {
     }
 }
 
+/// The values of a run of indices in a base with `b^K` below `2^64`: the shallow part
+/// `lows[r]` (residues `r` from `residue` on, cyclically), the deep part and the tail runs
+/// summed in 64-bit integers and rounded once; compiled for each instruction set by
+/// [`dispatch`] (where the bit scans of the rounding are single instructions).
+struct NarrowValues<'a> {
+    base: &'a Base,
+    lows: &'a [u64],
+    residue: usize,
+    deep: &'a [u64],
+    deep_scale: u64,
+    head_weight: u64,
+    /// One array of `deep.len()` runs per tail word.
+    tails: &'a [u64],
+    tail_weights: &'a [u64],
+    out: &'a mut [f64],
+}
+
+impl Kernel for NarrowValues<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let count = self.deep.len();
+        let mut residue = self.residue;
+        for (j, (x, &deep)) in self.out.iter_mut().zip(self.deep).enumerate() {
+            let mut num = (self.lows[residue] * self.deep_scale + deep) * self.head_weight;
+            for (t, &w) in self.tail_weights.iter().enumerate() {
+                num += self.tails[t * count + j] * w;
+            }
+            *x = self.base.ratio_narrow(num).min(ONE_BELOW);
+            residue += 1;
+            if residue == self.lows.len() {
+                residue = 0;
+            }
+        }
+    }
+}
+
 /// Writes the Owen-scrambled coordinates of local indices `first, first + 1, ...` (one pass,
 /// below `2^40`) in `base` for the (pass, dimension) `key`, bit-identical to
 /// [`owen_coordinate`](super::owen::owen_coordinate).
@@ -490,23 +528,22 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
             let (deep_scale, head_weight) = (powers[top - shallow], weights[top.max(1) - 1]);
             let cycle = powers[shallow] as usize;
             let mut residue = (start % powers[shallow]) as usize;
-            let values = out[done..end].iter_mut().zip(deep.iter()).enumerate();
             if let Ok(full) = u64::try_from(base.full) {
                 // b^K below 2^64 (bases below 2^11): the same sums in 64-bit integers.
                 debug_assert!(full > 0);
-                let tail_weights = tail_weights.map(|w| w as u64);
-                for (j, (x, &deep)) in values {
-                    let mut num = (s.lows[residue] * deep_scale + deep) * head_weight as u64;
-                    for (t, &w) in tail_weights[..tail_count].iter().enumerate() {
-                        num += s.tails[t * count + j] * w;
-                    }
-                    *x = base.ratio_narrow(num).min(ONE_BELOW);
-                    residue += 1;
-                    if residue == cycle {
-                        residue = 0;
-                    }
-                }
+                dispatch(NarrowValues {
+                    base,
+                    lows: &s.lows,
+                    residue,
+                    deep,
+                    deep_scale,
+                    head_weight: head_weight as u64,
+                    tails: &s.tails,
+                    tail_weights: &tail_weights.map(|w| w as u64)[..tail_count],
+                    out: &mut out[done..end],
+                });
             } else {
+                let values = out[done..end].iter_mut().zip(deep.iter()).enumerate();
                 for (j, (x, &deep)) in values {
                     let mut num = u128::from(s.lows[residue] * deep_scale + deep) * head_weight;
                     for (t, &w) in tail_weights[..tail_count].iter().enumerate() {
