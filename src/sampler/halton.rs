@@ -100,12 +100,14 @@ const TAG_HALTON: u64 = 0x6861_6c74;
 /// division). `Permute` blocks find the images of the digits each position meets once per block,
 /// sixteen at a time, and round each value by one multiplication: about 5 ns per value at d = 4 or
 /// 32 (and 40 ns at d = 10,000, where bases above the block length give every index a lowest digit
-/// of its own to permute). `Owen` blocks memoize the digit positions that the block's indices
-/// share; every deeper digit has a node of its own per index, so it costs two hashes and a
-/// Fisher-Yates decode (bases 3 to 13) or an affine map (larger bases), run in lanes of 32:
-/// about 55 ns per value at d = 10 and 47 ns at d = 30 on an AVX2 core (AMD EPYC, 2026-12-02;
-/// Owen-scrambled Sobol' takes 1.2 ns there), growing with the digits an index has beyond
-/// those of the block length. [`point`](Sampler::point) recomputes everything per call: use
+/// of its own to permute). `Owen` blocks keep the nodes of a pass in tables of the filling
+/// thread (the images of every digit position with at most 2^16 residues, and the nodes of the
+/// position above: up to 8 MiB per thread, forgotten when a column's pass changes), so each
+/// node is computed once per pass whatever the block size; what remains per value is the tail
+/// of digits below the index's own (two hashes) and one correct rounding: about 21 ns per value
+/// at d = 10 and 18 ns at d = 30 on an AVX2 core (AMD EPYC, 2026-12-03; Owen-scrambled Sobol'
+/// takes 1.2 ns there), more where a pass has more than 2^16 points and indices have digits
+/// beyond the tables. [`point`](Sampler::point) recomputes everything per call: use
 /// [`fill`](Sampler::fill) for throughput.
 ///
 /// # Passes
