@@ -2,11 +2,12 @@
 //!
 //! A pass of an Owen-scrambled Halton column is filled block by block (the Integrator asks for
 //! 1024 points at a time), and the node of digit position `k` with prefix `p` serves every
-//! index `i = p mod b^k` of the pass, in many blocks. The block kernel looks the images of its
-//! positions with at most [`MEMO_RESIDUES`] residues up in tables that live as long as the
-//! thread and are reset when the (base, key) of a column changes, so each node is computed once
-//! per pass rather than once per block. The tables hold exactly what the kernel would compute,
-//! so the values do not depend on what was filled before.
+//! index `i = p mod b^k` of the pass, in many blocks. The block kernel looks up the images of
+//! its positions with at most [`MEMO_RESIDUES`] residues, and the nodes of the position above
+//! them, in tables that the thread keeps per column (base and key: one pass of one sampler's
+//! dimension), so each node is computed once per pass rather than once per block. The tables
+//! hold exactly what the kernel would compute, so the values do not depend on what was filled
+//! before; a thread past its budget forgets the other columns' tables.
 
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -20,10 +21,10 @@ const UNSEEN_NODE: u64 = u64::MAX;
 /// Table slots one thread keeps over all columns (4 bytes each: 8 MiB).
 const BUDGET: usize = 1 << 21;
 
-/// The tables of one column: its key, the tables of its positions one after another, the
-/// nodes of the position above them, and how many slots of each are computed (nodes last).
+/// The tables of one column: the tables of its positions one after another, the nodes of the
+/// position above them, and how many slots of each are computed.
+#[derive(Default)]
 struct Tables {
-    key: u64,
     images: Vec<u32>,
     nodes: Vec<u64>,
     seen: Vec<usize>,
@@ -37,10 +38,10 @@ impl Tables {
     }
 }
 
-/// The tables of the columns this thread filled last, by base, and their total size.
+/// The tables of the columns this thread filled, by (base, key), and their total size.
 #[derive(Default)]
 struct Memo {
-    columns: HashMap<u64, Tables>,
+    columns: HashMap<(u64, u64), Tables>,
     slots: usize,
 }
 
@@ -138,7 +139,7 @@ fn find<T: Copy>(slots: &[T], pred: impl Fn(T) -> bool) -> Option<usize> {
 /// Runs `f` on the tables of column (`base`, `key`), position `k`'s at `starts[k] ..
 /// starts[k + 1]`, and `nodes` nodes: this thread's tables if it filled the same column before
 /// (new slots unseen), or fresh ones. Fresh tables serve when the thread's memo is unavailable
-/// (during thread teardown), and a thread that would exceed its budget forgets its other
+/// (during thread teardown), and a thread that would exceed its budget forgets the other
 /// columns first.
 pub(super) fn with_tables<R>(
     base: u64,
@@ -157,24 +158,17 @@ pub(super) fn with_tables<R>(
             return None;
         };
         let memo = &mut *memo;
-        let fresh = || Tables {
-            key,
-            images: Vec::new(),
-            nodes: Vec::new(),
-            seen: Vec::new(),
-            nodes_seen: 0,
-        };
-        let column = memo.columns.entry(base).or_insert_with(fresh);
+        let column = memo.columns.entry((base, key)).or_default();
         let before = column.slots();
-        if column.key != key || column.nodes.len() != nodes {
-            *column = fresh();
+        if column.nodes.len() != nodes {
+            *column = Tables::default();
         }
         let after = len.max(column.images.len()) + 2 * nodes;
         if memo.slots - before + after > BUDGET {
-            memo.columns.retain(|&b, _| b == base);
+            memo.columns.retain(|&column, _| column == (base, key));
             memo.slots = before;
         }
-        let column = memo.columns.get_mut(&base).expect("kept above");
+        let column = memo.columns.get_mut(&(base, key)).expect("kept above");
         column.images.resize(len.max(column.images.len()), UNSEEN);
         column.nodes.resize(nodes, UNSEEN_NODE);
         column.seen.resize(positions.max(column.seen.len()), 0);
@@ -236,21 +230,32 @@ mod tests {
     }
 
     #[test]
-    fn tables_persist_per_key_and_reset_when_it_changes() {
+    fn tables_persist_per_column() {
         with_tables(7, 1, &[0, 4], 0, |t| t.images[2] = 5);
         let kept = with_tables(7, 1, &[0, 4, 6], 0, |t| t.images.to_vec());
         assert_eq!(kept[..3], [UNSEEN, UNSEEN, 5]);
+        // Another key of the same base (another pass or sampler) has tables of its own, and
+        // filling it leaves the first one's.
         assert!(with_tables(7, 2, &[0, 6], 0, |t| t
             .images
             .iter()
             .all(|&x| x == UNSEEN)));
-        // Another base keeps its own tables.
+        assert_eq!(with_tables(7, 1, &[0, 4], 0, |t| t.images[2]), 5);
         with_tables(11, 3, &[0, 2], 0, |t| t.images[0] = 1);
         assert_eq!(with_tables(11, 3, &[0, 2], 0, |t| t.images[0]), 1);
     }
 
     #[test]
-    fn nodes_are_kept_with_the_tables_and_reset_with_them() {
+    fn a_thread_past_its_budget_forgets_the_other_columns() {
+        let half = [0, BUDGET / 2 + 1];
+        with_tables(3, 1, &half, 0, |t| t.images[0] = 9);
+        with_tables(3, 2, &half, 0, |t| t.images[0] = 8);
+        assert_eq!(with_tables(3, 2, &half, 0, |t| t.images[0]), 8);
+        assert_eq!(with_tables(3, 1, &half, 0, |t| t.images[0]), UNSEEN);
+    }
+
+    #[test]
+    fn nodes_are_kept_with_the_tables_of_their_column() {
         let starts = [0, 3];
         with_tables(13, 4, &starts, 5, |t| {
             t.complete_nodes(3, 2, |first, run| run.fill(first * 10));
