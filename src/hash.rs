@@ -39,7 +39,20 @@ pub(crate) fn hash_start(seed: u64) -> u64 {
 /// `hash_absorb(hash_words(s, &[a]), b)`, so block kernels hash a shared prefix once.
 #[inline(always)]
 pub(crate) fn hash_absorb(h: u64, word: u64) -> u64 {
-    mix64(h ^ word.wrapping_mul(GOLDEN).wrapping_add(GOLDEN))
+    hash_absorb_scaled(h, word.wrapping_mul(GOLDEN))
+}
+
+/// [`hash_absorb`] of a word given as `word * GOLDEN` (wrapping): a loop over evenly spaced
+/// words steps that product by [`golden_step`] instead of multiplying for each.
+#[inline(always)]
+pub(crate) fn hash_absorb_scaled(h: u64, scaled_word: u64) -> u64 {
+    mix64(h ^ scaled_word.wrapping_add(GOLDEN))
+}
+
+/// What `word * GOLDEN` grows by when the word grows by `spacing` (wrapping).
+#[inline(always)]
+pub(crate) fn golden_step(spacing: u64) -> u64 {
+    spacing.wrapping_mul(GOLDEN)
 }
 
 /// The top 53 bits of `bits` as a double in `[0, 1)`: exact, uniform on the 2^-53 grid.

@@ -21,7 +21,7 @@ use super::digit_permutation::small_permutation;
 use super::digit_permutation::{SMALL_BASE, TAG_RHO, affine_slope, rotate};
 use super::node_memo::{MEMO_RESIDUES, UNSEEN, with_tables};
 use crate::float::ONE_BELOW;
-use crate::hash::{hash_absorb, hash_start};
+use crate::hash::{golden_step, hash_absorb, hash_absorb_scaled, hash_start};
 use crate::sampler::permutation::below_narrow;
 use crate::sampler::simd::{Kernel, dispatch};
 
@@ -329,9 +329,14 @@ impl Kernel for TailRuns<'_> {
             first,
             runs,
         } = self;
-        for (run, index) in runs.iter_mut().zip(first..) {
-            let hash = hash_absorb(words, (index << 6) | word);
+        // The words (index << 6) | word of consecutive indices are 64 apart: their products
+        // with the hash's multiplier step by a constant.
+        let step = golden_step(64);
+        let mut scaled = golden_step((first << 6) | word);
+        for run in runs.iter_mut() {
+            let hash = hash_absorb_scaled(words, scaled);
             *run = below_narrow(hash.wrapping_mul(scale), range);
+            scaled = scaled.wrapping_add(step);
         }
     }
 }
