@@ -255,52 +255,43 @@ fn div_rem(c: u64, m: u64, m_f64: f64) -> (u64, u64) {
     )
 }
 
-/// The images of one position for a run of residues, compiled for each instruction set by
-/// [`dispatch`].
-struct NodeImages<'a> {
-    nodes: &'a Nodes,
-    k: usize,
-    word: u64,
-    scale: u64,
-    power: u64,
-    first: u64,
-    images: &'a mut [u32],
-}
-
-impl Kernel for NodeImages<'_> {
-    type Output = ();
-
-    #[inline(always)]
-    fn run(self) {
-        self.nodes.images(
-            self.k,
-            self.word,
-            self.scale,
-            self.power,
-            self.first,
-            self.images,
-        );
-    }
-}
-
-/// The nodes of one position for a run of prefixes, compiled for each instruction set by
-/// [`dispatch`].
-struct NodeParts<'a> {
+/// The work of [`Nodes`] for one position over a run, compiled for each instruction set by
+/// [`dispatch`]: the digit images of residues `first, first + 1, ..` (`power = b^k`), or the
+/// nodes of prefixes `first, first + 1, ..`.
+struct NodeRun<'a> {
     nodes: &'a Nodes,
     k: usize,
     word: u64,
     scale: u64,
     first: u64,
-    parts: &'a mut [u64],
+    output: NodeOutput<'a>,
 }
 
-impl Kernel for NodeParts<'_> {
+/// What a [`NodeRun`] writes.
+enum NodeOutput<'a> {
+    Images { power: u64, images: &'a mut [u32] },
+    Parts(&'a mut [u64]),
+}
+
+impl Kernel for NodeRun<'_> {
     type Output = ();
 
     #[inline(always)]
     fn run(self) {
-        self.nodes
-            .parts(self.k, self.word, self.scale, self.first, self.parts);
+        let NodeRun {
+            nodes,
+            k,
+            word,
+            scale,
+            first,
+            output,
+        } = self;
+        match output {
+            NodeOutput::Images { power, images } => {
+                nodes.images(k, word, scale, power, first, images)
+            }
+            NodeOutput::Parts(parts) => nodes.parts(k, word, scale, first, parts),
+        }
     }
 }
 
@@ -428,14 +419,16 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         rhos: hash_start(key ^ TAG_RHO),
     };
     let node_images = |k: usize, first_residue: u64, images: &mut [u32]| {
-        dispatch(NodeImages {
+        dispatch(NodeRun {
             nodes: &nodes,
             k,
             word: word_of[k],
             scale: scale_of[k],
-            power: powers[k],
             first: first_residue,
-            images,
+            output: NodeOutput::Images {
+                power: powers[k],
+                images,
+            },
         });
     };
 
@@ -464,13 +457,13 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
         node_position += 1;
     }
     let node_parts = |first: u64, parts: &mut [u64]| {
-        dispatch(NodeParts {
+        dispatch(NodeRun {
             nodes: &nodes,
             k: node_position,
             word: word_of[node_position],
             scale: scale_of[node_position],
             first,
-            parts,
+            output: NodeOutput::Parts(parts),
         });
     };
     with_tables(
