@@ -1,25 +1,27 @@
 //! The block kernel of Owen-scrambled radical inverses: the same integers as
 //! [`owen_coordinate`](super::owen::owen_coordinate), computed once per node instead of once per
-//! index where a block shares nodes, and column by column in lanes of 32 indices.
+//! index where indices share nodes, and column by column in lanes of 32 indices.
 //!
 //! The scrambled numerator of `index` is `sum_k pi_(k, index mod b^k)(a_k) b^(K-1-k)` over the
 //! positions `k < K`, where the image at position `k` depends on `index mod b^(k+1)` only
-//! (the prefix and the digit). In a block of consecutive indices, a position with `b^(k+1)`
-//! not much above the block length meets each of its `(prefix, digit)` pairs many times: those
-//! positions ("shallow") are memoized in a table indexed by `index mod b^(k+1)`, filled for the
-//! residues the block meets. Deeper positions have a different prefix for every index of the
-//! block and are computed per index, position by position, and the zero digits beyond the
-//! last digit of each index (the tail) word by word of its stream. Both run in lanes through
-//! `sampler::simd`: the hashes, the digits (by a floating-point division) and the node
-//! permutations (Fisher-Yates from one hash up to base 13, an affine map above) vectorize.
-//! The sum is exact in integers whatever the order, and rounded once as in
-//! `owen_coordinate`, so the values are bit-identical.
+//! (the prefix and the digit). A pass meets each `(prefix, digit)` pair of a position with few
+//! residues many times, in many blocks: the images of every position with at most 2^16
+//! residues live in tables indexed by `index mod b^(k+1)`, and the nodes of the position above
+//! them in a table indexed by the prefix, both kept by the filling thread for the whole pass
+//! (`node_memo.rs`) and filled for the residues the blocks meet. The positions whose table a
+//! block meets whole ("shallow") add up to one number per residue mod `b^shallow`. Deeper
+//! positions have a different prefix for every index and are computed per index, and the zero
+//! digits beyond the last digit of each index (the tail) word by word of its stream. The node
+//! work runs in lanes through `sampler::simd`: the hashes, the digits (by a floating-point
+//! division) and the node permutations (Fisher-Yates from one hash up to base 13, in byte
+//! lanes; an affine map above) vectorize. The sum is exact in integers whatever the order, and
+//! rounded once as in `owen_coordinate`, so the values are bit-identical.
 
 use super::base::{Base, MAX_DEPTH};
 #[cfg(test)]
 use super::digit_permutation::small_permutation;
 use super::digit_permutation::{SMALL_BASE, TAG_RHO, affine_slope, rotate};
-use super::node_memo::{MEMO_RESIDUES, UNSEEN, with_tables};
+use super::node_memo::{ColumnTables, MEMO_RESIDUES, UNSEEN, with_tables};
 use crate::float::ONE_BELOW;
 use crate::hash::{golden_step, hash_absorb, hash_absorb_scaled, hash_start};
 use crate::sampler::permutation::below_narrow;
@@ -113,9 +115,7 @@ impl Nodes {
             }
         }
     }
-}
 
-impl Nodes {
     /// The nodes at position `k` (stream word `word`, `scale = b^(k % m)`) with prefixes
     /// `p = first + j`, each as one word `parts[j]` that [`Nodes::image`] reads: `pi(0)` in base
     /// 2; `pi(0) | alpha << 32` for the affine maps above base 13; the images `pi(0), ..,
@@ -374,256 +374,360 @@ impl Kernel for NarrowValues<'_> {
 /// below `2^40`) in `base` for the (pass, dimension) `key`, bit-identical to
 /// [`owen_coordinate`](super::owen::owen_coordinate).
 pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &mut OwenScratch) {
-    let Some(last_offset) = out.len().checked_sub(1) else {
+    if out.is_empty() {
         return;
-    };
-    let (b, m, depth) = (base.base, base.per_word as usize, base.depth);
-    let last = first + last_offset as u64;
-    // powers[j] = b^j for j <= positions, the digits of `last` (b^positions <= last * b < 2^57).
-    let mut powers = [1u64; MAX_DEPTH + 2];
-    let mut positions = 0;
-    while powers[positions] <= last {
-        powers[positions + 1] = powers[positions] * b;
-        positions += 1;
     }
-    // weights[k] = b^(K-1-k), the weight of position k in the numerator over b^K.
-    let mut weights = [0u128; MAX_DEPTH];
-    let mut weight = 1u128;
-    for w in weights[..depth].iter_mut().rev() {
-        *w = weight;
-        weight *= u128::from(b);
-    }
-    // Digit k of a stream is digit k % m of its word number k / m: floor(frac(word b^(k % m)
-    // / 2^64) b) (see `stream_digits`); a run from digit k to the end of its word spells
-    // floor(frac(word b^(k % m) / 2^64) b^run).
-    let mut word_of = [0u64; MAX_DEPTH];
-    let mut scale_of = [0u64; MAX_DEPTH];
-    let mut run_of = [0usize; MAX_DEPTH];
-    let mut run_range = [0u64; MAX_DEPTH];
-    for k in 0..depth {
-        let within = k % m;
-        word_of[k] = (k / m) as u64;
-        scale_of[k] = b.pow(within as u32);
-        run_of[k] = (m - within).min(depth - k);
-        run_range[k] = b.pow(run_of[k] as u32);
-    }
-    let nodes = Nodes {
-        b,
-        b_f64: b as f64,
-        kind: match b {
-            2 => RhoKind::Two,
-            _ if b <= SMALL_BASE => RhoKind::Small,
-            _ => RhoKind::Affine,
-        },
-        words: hash_start(key),
-        rhos: hash_start(key ^ TAG_RHO),
-    };
-    let node_images = |k: usize, first_residue: u64, images: &mut [u32]| {
-        dispatch(NodeRun {
-            nodes: &nodes,
-            k,
-            word: word_of[k],
-            scale: scale_of[k],
-            first: first_residue,
-            output: NodeOutput::Images {
-                power: powers[k],
-                images,
-            },
-        });
-    };
-
-    // Memoized positions: tables of b^(k+1) <= MEMO_RESIDUES slots, kept across the fills of
-    // this thread (see `node_memo`), holding the images of the residues index mod b^(k+1) met
-    // so far. Shallow positions: those whose table the block meets whole (b^(k+1) at most its
-    // length); their part of every value comes from one table of residues mod b^shallow.
-    let len = out.len() as u64;
-    let mut memoized = 0;
-    while memoized < positions && powers[memoized + 1] <= MEMO_RESIDUES {
-        memoized += 1;
-    }
-    let mut shallow = 0;
-    while shallow < memoized && powers[shallow + 1] <= len {
-        shallow += 1;
-    }
-    let mut table_start = [0usize; MAX_DEPTH + 1];
-    for k in 0..memoized {
-        table_start[k + 1] = table_start[k] + powers[k + 1] as usize;
-    }
-    // The position above the memoized ones has too many residues for a table, but its b^k
-    // nodes (at most MEMO_RESIDUES) are kept, each serving b digits.
-    let (mut node_position, mut node_count) = (0, 1u64);
-    while node_count * b <= MEMO_RESIDUES {
-        node_count *= b;
-        node_position += 1;
-    }
-    let node_parts = |first: u64, parts: &mut [u64]| {
-        dispatch(NodeRun {
-            nodes: &nodes,
-            k: node_position,
-            word: word_of[node_position],
-            scale: scale_of[node_position],
-            first,
-            output: NodeOutput::Parts(parts),
-        });
-    };
+    let column = Column::new(base, key, first, out.len());
+    let starts = &column.table_start[..=column.memoized];
     with_tables(
-        b,
+        base.base,
         key,
-        &table_start[..=memoized],
-        node_count as usize,
+        starts,
+        column.node_count as usize,
         |tables| {
-            for k in 0..memoized {
-                let size = powers[k + 1];
-                let from = first % size;
-                let count = len.min(size);
-                let straight = count.min(size - from);
-                let mut compute = |first: u64, images: &mut [u32]| node_images(k, first, images);
-                tables.complete(k, from as usize, straight as usize, &mut compute);
-                tables.complete(k, 0, (count - straight) as usize, &mut compute);
-            }
-            // lows[r] = sum_(k < shallow) image_k(r mod b^(k+1)) b^(shallow-1-k), below
-            // b^shallow, built position by position in place, each level from the one before.
-            s.lows.clear();
-            s.lows.resize(powers[shallow] as usize, 0);
-            for (k, &below) in powers[..shallow].iter().enumerate() {
-                let below = below as usize;
-                let table = tables.table(k);
-                // Level k+1 at q b^k + r from level k at r: the block q = 0, which the others
-                // read, last.
-                for q in (0..b as usize).rev() {
-                    for r in 0..below {
-                        let image = table[q * below + r];
-                        debug_assert!(image != UNSEEN);
-                        s.lows[q * below + r] = s.lows[r] * b + u64::from(image);
-                    }
-                }
-            }
-
-            // Runs of indices with the same number of digits w: deep positions shallow .. w (from
-            // the tables where memoized, else a node of its own for every index), then the tail of
-            // zero digits from max(shallow, w) on, read from each index's own stream.
+            column.complete_tables(tables, first, out.len());
+            column.shallow_parts(tables, &mut s.lows);
+            // Runs of indices with the same number of digits w: positions shallow .. w, then the
+            // tail of zero digits from max(shallow, w) on, read from each index's own stream.
             s.deep.clear();
             s.deep.resize(out.len(), 0);
             let mut done = 0usize;
-            let mut width = (0..=positions)
-                .find(|&j| powers[j] > first)
-                .unwrap_or(positions);
+            let mut width = (0..=column.positions)
+                .find(|&j| column.powers[j] > first)
+                .unwrap_or(column.positions);
             while done < out.len() {
                 let start = first + done as u64;
-                while powers[width] <= start {
+                while column.powers[width] <= start {
                     width += 1;
                 }
-                let end = if width < positions {
-                    (powers[width] - first).min(len) as usize
+                let end = if width < column.positions {
+                    (column.powers[width] - first).min(out.len() as u64) as usize
                 } else {
                     out.len()
                 };
-                let count = end - done;
                 let deep = &mut s.deep[done..end];
-                for k in shallow..width {
-                    if k < memoized {
-                        // The residues from start mod b^(k+1) on, cyclically: straight runs.
-                        let table = tables.table(k);
-                        let mut residue = (start % powers[k + 1]) as usize;
-                        let mut rest = &mut deep[..];
-                        while !rest.is_empty() {
-                            let run = rest.len().min(table.len() - residue);
-                            let (now, later) = rest.split_at_mut(run);
-                            for (acc, &image) in now.iter_mut().zip(&table[residue..]) {
-                                *acc = *acc * b + u64::from(image);
-                            }
-                            (rest, residue) = (later, 0);
-                        }
-                        continue;
-                    }
-                    if k == node_position {
-                        // The nodes of prefixes start mod b^k on, cyclically, the digit
-                        // advancing with each cycle.
-                        let size = node_count as usize;
-                        let from = (start % node_count) as usize;
-                        let met = count.min(size);
-                        let straight = met.min(size - from);
-                        tables.complete_nodes(from, straight, node_parts);
-                        tables.complete_nodes(0, met - straight, node_parts);
-                        let (mut prefix, mut digit) = (from, (start / node_count) % b);
-                        let mut rest = &mut deep[..];
-                        while !rest.is_empty() {
-                            let run = rest.len().min(size - prefix);
-                            let (now, later) = rest.split_at_mut(run);
-                            for (acc, &part) in now.iter_mut().zip(&tables.nodes[prefix..]) {
-                                *acc = *acc * b + nodes.image(part, digit);
-                            }
-                            (rest, prefix) = (later, 0);
-                            digit = if digit + 1 == b { 0 } else { digit + 1 };
-                        }
-                        continue;
-                    }
-                    s.images.clear();
-                    s.images.resize(count, 0);
-                    // Residue index mod b^(k+1) or the index itself: the same prefix and digit.
-                    node_images(k, start, &mut s.images);
-                    for (acc, &image) in deep.iter_mut().zip(&s.images) {
-                        *acc = *acc * b + u64::from(image);
-                    }
+                for k in column.shallow..width {
+                    column.add_position(k, tables, start, deep, &mut s.images);
                 }
-                let mut tail_weights = [0u128; MAX_DEPTH];
-                let mut tail_count = 0;
-                let mut k = shallow.max(width);
-                s.tails.clear();
-                while k < depth {
-                    let at = s.tails.len();
-                    s.tails.resize(at + count, 0);
-                    dispatch(TailRuns {
-                        words: nodes.words,
-                        word: word_of[k],
-                        scale: scale_of[k],
-                        range: run_range[k],
-                        first: start,
-                        runs: &mut s.tails[at..],
-                    });
-                    tail_weights[tail_count] = weights[k + run_of[k] - 1];
-                    tail_count += 1;
-                    k += run_of[k];
-                }
-                // The shallow part from its table, the sum, and the single rounding. Positions
-                // below top = max(w, shallow) form one integer below b^top < 2^57, the shallow
-                // part times b^(top - shallow) plus the deep part, of weight b^(K - top).
-                let top = width.max(shallow);
-                let (deep_scale, head_weight) = (powers[top - shallow], weights[top.max(1) - 1]);
-                let cycle = powers[shallow] as usize;
-                let mut residue = (start % powers[shallow]) as usize;
-                if let Ok(full) = u64::try_from(base.full) {
-                    // b^K below 2^64 (bases below 2^11): the same sums in 64-bit integers.
-                    debug_assert!(full > 0);
-                    dispatch(NarrowValues {
-                        base,
-                        lows: &s.lows,
-                        residue,
-                        deep,
-                        deep_scale,
-                        head_weight: head_weight as u64,
-                        tails: &s.tails,
-                        tail_weights: &tail_weights.map(|w| w as u64)[..tail_count],
-                        out: &mut out[done..end],
-                    });
-                } else {
-                    let values = out[done..end].iter_mut().zip(deep.iter()).enumerate();
-                    for (j, (x, &deep)) in values {
-                        let mut num = u128::from(s.lows[residue] * deep_scale + deep) * head_weight;
-                        for (t, &w) in tail_weights[..tail_count].iter().enumerate() {
-                            num += u128::from(s.tails[t * count + j]) * w;
-                        }
-                        *x = base.ratio(num).min(ONE_BELOW);
-                        residue += 1;
-                        if residue == cycle {
-                            residue = 0;
-                        }
-                    }
-                }
+                let top = width.max(column.shallow);
+                let (tail_weights, tail_count) =
+                    column.tail_runs(start, end - done, top, &mut s.tails);
+                let parts = Parts {
+                    lows: &s.lows,
+                    deep,
+                    tails: &s.tails,
+                    tail_weights: &tail_weights[..tail_count],
+                };
+                column.values(start, top, &parts, &mut out[done..end]);
                 done = end;
             }
         },
     );
+}
+
+/// What one fill of one column knows of its base, its nodes and its indices.
+struct Column<'a> {
+    base: &'a Base,
+    nodes: Nodes,
+    /// `powers[j] = b^j` for `j <= positions`, the digits of the block's last index
+    /// (`b^positions <= last * b < 2^57`).
+    powers: [u64; MAX_DEPTH + 2],
+    positions: usize,
+    /// `weights[k] = b^(K-1-k)`, the weight of position `k` in the numerator over `b^K`.
+    weights: [u128; MAX_DEPTH],
+    /// Digit `k` of a stream is digit `k % m` of its word number `k / m`: `floor(frac(word
+    /// b^(k % m) / 2^64) b)` (see `stream_digits`); a run from digit `k` to the end of its word
+    /// spells `floor(frac(word b^(k % m) / 2^64) b^run)`.
+    word_of: [u64; MAX_DEPTH],
+    scale_of: [u64; MAX_DEPTH],
+    run_of: [usize; MAX_DEPTH],
+    run_range: [u64; MAX_DEPTH],
+    /// Positions `k < memoized` have image tables (`b^(k+1) <= MEMO_RESIDUES`, kept across the
+    /// fills of the thread, see `node_memo`), position `k` at `table_start[k] ..
+    /// table_start[k + 1]`; positions below `shallow` are met whole by the block (`b^(k+1)` at
+    /// most its length), so their part of a value is one number per residue mod `b^shallow`.
+    memoized: usize,
+    shallow: usize,
+    table_start: [usize; MAX_DEPTH + 1],
+    /// The position above the tables has too many residues for one, but its `node_count =
+    /// b^node_position` nodes (at most `MEMO_RESIDUES`) are kept, each serving `b` digits.
+    node_position: usize,
+    node_count: u64,
+}
+
+/// The parts of the numerators of a run of indices, for [`Column::values`].
+struct Parts<'a> {
+    /// The shallow part, by residue mod `b^shallow`.
+    lows: &'a [u64],
+    /// The part of the positions from `shallow` to the index's digits.
+    deep: &'a [u64],
+    /// The tail runs, one array of `deep.len()` per stream word, and their weights.
+    tails: &'a [u64],
+    tail_weights: &'a [u128],
+}
+
+impl<'a> Column<'a> {
+    fn new(base: &'a Base, key: u64, first: u64, len: usize) -> Self {
+        let (b, m, depth) = (base.base, base.per_word as usize, base.depth);
+        let last = first + len as u64 - 1;
+        let mut powers = [1u64; MAX_DEPTH + 2];
+        let mut positions = 0;
+        while powers[positions] <= last {
+            powers[positions + 1] = powers[positions] * b;
+            positions += 1;
+        }
+        let mut weights = [0u128; MAX_DEPTH];
+        let mut weight = 1u128;
+        for w in weights[..depth].iter_mut().rev() {
+            *w = weight;
+            weight *= u128::from(b);
+        }
+        let mut word_of = [0u64; MAX_DEPTH];
+        let mut scale_of = [0u64; MAX_DEPTH];
+        let mut run_of = [0usize; MAX_DEPTH];
+        let mut run_range = [0u64; MAX_DEPTH];
+        for k in 0..depth {
+            let within = k % m;
+            word_of[k] = (k / m) as u64;
+            scale_of[k] = b.pow(within as u32);
+            run_of[k] = (m - within).min(depth - k);
+            run_range[k] = b.pow(run_of[k] as u32);
+        }
+        let mut memoized = 0;
+        while memoized < positions && powers[memoized + 1] <= MEMO_RESIDUES {
+            memoized += 1;
+        }
+        let mut shallow = 0;
+        while shallow < memoized && powers[shallow + 1] <= len as u64 {
+            shallow += 1;
+        }
+        let mut table_start = [0usize; MAX_DEPTH + 1];
+        for k in 0..memoized {
+            table_start[k + 1] = table_start[k] + powers[k + 1] as usize;
+        }
+        let (mut node_position, mut node_count) = (0, 1u64);
+        while node_count * b <= MEMO_RESIDUES {
+            node_count *= b;
+            node_position += 1;
+        }
+        let nodes = Nodes {
+            b,
+            b_f64: b as f64,
+            kind: match b {
+                2 => RhoKind::Two,
+                _ if b <= SMALL_BASE => RhoKind::Small,
+                _ => RhoKind::Affine,
+            },
+            words: hash_start(key),
+            rhos: hash_start(key ^ TAG_RHO),
+        };
+        Column {
+            base,
+            nodes,
+            powers,
+            positions,
+            weights,
+            word_of,
+            scale_of,
+            run_of,
+            run_range,
+            memoized,
+            shallow,
+            table_start,
+            node_position,
+            node_count,
+        }
+    }
+
+    /// The digit images at position `k` of the residues `first, first + 1, ..`.
+    fn node_images(&self, k: usize, first: u64, images: &mut [u32]) {
+        dispatch(NodeRun {
+            nodes: &self.nodes,
+            k,
+            word: self.word_of[k],
+            scale: self.scale_of[k],
+            first,
+            output: NodeOutput::Images {
+                power: self.powers[k],
+                images,
+            },
+        });
+    }
+
+    /// The kept nodes of prefixes `first, first + 1, ..`.
+    fn node_parts(&self, first: u64, parts: &mut [u64]) {
+        let k = self.node_position;
+        dispatch(NodeRun {
+            nodes: &self.nodes,
+            k,
+            word: self.word_of[k],
+            scale: self.scale_of[k],
+            first,
+            output: NodeOutput::Parts(parts),
+        });
+    }
+
+    /// Computes the table slots the block of `len` indices from `first` meets and the thread
+    /// has not computed yet: the residues from `first mod b^(k+1)` on, cyclically.
+    fn complete_tables(&self, tables: &mut ColumnTables<'_>, first: u64, len: usize) {
+        for k in 0..self.memoized {
+            let size = self.powers[k + 1];
+            let from = first % size;
+            let count = (len as u64).min(size);
+            let straight = count.min(size - from);
+            let mut compute = |first: u64, images: &mut [u32]| self.node_images(k, first, images);
+            tables.complete(k, from as usize, straight as usize, &mut compute);
+            tables.complete(k, 0, (count - straight) as usize, &mut compute);
+        }
+    }
+
+    /// `lows[r] = sum_(k < shallow) image_k(r mod b^(k+1)) b^(shallow-1-k)` for `r <
+    /// b^shallow`, built position by position in place, each level from the one before.
+    fn shallow_parts(&self, tables: &ColumnTables<'_>, lows: &mut Vec<u64>) {
+        let b = self.nodes.b;
+        lows.clear();
+        lows.resize(self.powers[self.shallow] as usize, 0);
+        for (k, &below) in self.powers[..self.shallow].iter().enumerate() {
+            let below = below as usize;
+            let table = tables.table(k);
+            // Level k+1 at q b^k + r from level k at r: the block q = 0, which the others
+            // read, last.
+            for q in (0..b as usize).rev() {
+                for r in 0..below {
+                    let image = table[q * below + r];
+                    debug_assert!(image != UNSEEN);
+                    lows[q * below + r] = lows[r] * b + u64::from(image);
+                }
+            }
+        }
+    }
+
+    /// Adds position `k` to the numerators `deep` of the indices `start, start + 1, ..`
+    /// (`deep = deep * b + image`): from its table, from the kept nodes, or node by node.
+    fn add_position(
+        &self,
+        k: usize,
+        tables: &mut ColumnTables<'_>,
+        start: u64,
+        deep: &mut [u64],
+        images: &mut Vec<u32>,
+    ) {
+        let b = self.nodes.b;
+        if k < self.memoized {
+            // The residues from start mod b^(k+1) on, cyclically: straight runs.
+            let table = tables.table(k);
+            let mut residue = (start % self.powers[k + 1]) as usize;
+            let mut rest = deep;
+            while !rest.is_empty() {
+                let run = rest.len().min(table.len() - residue);
+                let (now, later) = rest.split_at_mut(run);
+                for (acc, &image) in now.iter_mut().zip(&table[residue..]) {
+                    *acc = *acc * b + u64::from(image);
+                }
+                (rest, residue) = (later, 0);
+            }
+        } else if k == self.node_position {
+            // The nodes of prefixes start mod b^k on, cyclically, the digit advancing with each
+            // cycle.
+            let size = self.node_count as usize;
+            let from = (start % self.node_count) as usize;
+            let met = deep.len().min(size);
+            let straight = met.min(size - from);
+            let mut compute = |first: u64, parts: &mut [u64]| self.node_parts(first, parts);
+            tables.complete_nodes(from, straight, &mut compute);
+            tables.complete_nodes(0, met - straight, &mut compute);
+            let (mut prefix, mut digit) = (from, (start / self.node_count) % b);
+            let mut rest = deep;
+            while !rest.is_empty() {
+                let run = rest.len().min(size - prefix);
+                let (now, later) = rest.split_at_mut(run);
+                for (acc, &part) in now.iter_mut().zip(&tables.nodes[prefix..]) {
+                    *acc = *acc * b + self.nodes.image(part, digit);
+                }
+                (rest, prefix) = (later, 0);
+                digit = if digit + 1 == b { 0 } else { digit + 1 };
+            }
+        } else {
+            images.clear();
+            images.resize(deep.len(), 0);
+            // Residue index mod b^(k+1) or the index itself: the same prefix and digit.
+            self.node_images(k, start, images);
+            for (acc, &image) in deep.iter_mut().zip(images.iter()) {
+                *acc = *acc * b + u64::from(image);
+            }
+        }
+    }
+
+    /// The tail runs of `count` indices from `start`, from position `top` on, one array per
+    /// stream word in `tails`; returns their weights and how many there are.
+    fn tail_runs(
+        &self,
+        start: u64,
+        count: usize,
+        top: usize,
+        tails: &mut Vec<u64>,
+    ) -> ([u128; MAX_DEPTH], usize) {
+        let mut weights = [0u128; MAX_DEPTH];
+        let mut words = 0;
+        let mut k = top;
+        tails.clear();
+        while k < self.base.depth {
+            let at = tails.len();
+            tails.resize(at + count, 0);
+            dispatch(TailRuns {
+                words: self.nodes.words,
+                word: self.word_of[k],
+                scale: self.scale_of[k],
+                range: self.run_range[k],
+                first: start,
+                runs: &mut tails[at..],
+            });
+            weights[words] = self.weights[k + self.run_of[k] - 1];
+            words += 1;
+            k += self.run_of[k];
+        }
+        (weights, words)
+    }
+
+    /// The values of the indices from `start`, whose positions below `top = max(w, shallow)`
+    /// form one integer below `b^top < 2^57`: the shallow part times `b^(top - shallow)` plus
+    /// the deep part, of weight `b^(K - top)`, then the tail; summed exactly and rounded once.
+    fn values(&self, start: u64, top: usize, parts: &Parts<'_>, out: &mut [f64]) {
+        let deep_scale = self.powers[top - self.shallow];
+        let head_weight = self.weights[top.max(1) - 1];
+        let residue = (start % self.powers[self.shallow]) as usize;
+        if u64::try_from(self.base.full).is_ok() {
+            // b^K below 2^64 (bases below 2^11): the same sums in 64-bit integers.
+            let mut tail_weights = [0u64; MAX_DEPTH];
+            for (narrow, &w) in tail_weights.iter_mut().zip(parts.tail_weights) {
+                *narrow = w as u64;
+            }
+            dispatch(NarrowValues {
+                base: self.base,
+                lows: parts.lows,
+                residue,
+                deep: parts.deep,
+                deep_scale,
+                head_weight: head_weight as u64,
+                tails: parts.tails,
+                tail_weights: &tail_weights[..parts.tail_weights.len()],
+                out,
+            });
+            return;
+        }
+        let (count, mut residue) = (parts.deep.len(), residue);
+        for (j, (x, &deep)) in out.iter_mut().zip(parts.deep).enumerate() {
+            let mut num = u128::from(parts.lows[residue] * deep_scale + deep) * head_weight;
+            for (t, &w) in parts.tail_weights.iter().enumerate() {
+                num += u128::from(parts.tails[t * count + j]) * w;
+            }
+            *x = self.base.ratio(num).min(ONE_BELOW);
+            residue += 1;
+            if residue == parts.lows.len() {
+                residue = 0;
+            }
+        }
+    }
 }
 
 #[cfg(test)]
