@@ -139,14 +139,14 @@ pub(crate) fn dispatch<K: Kernel>(kernel: K) -> K::Output {
     }
 }
 
-/// `kernel` compiled with AVX2.
+/// `kernel` compiled with AVX2 and LZCNT.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,lzcnt")]
 fn run_avx2<K: Kernel>(kernel: K) -> K::Output {
     kernel.run()
 }
 
-/// `kernel` compiled with AVX-512 and GFNI.
+/// `kernel` compiled with AVX-512, GFNI and LZCNT.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,gfni,lzcnt")]
 fn run_avx512<K: Kernel>(kernel: K) -> K::Output {
