@@ -2,10 +2,11 @@
 //!
 //! A pass of an Owen-scrambled Halton column is filled block by block (the Integrator asks for
 //! 1024 points at a time), and the node of digit position `k` with prefix `p` serves every
-//! index `i = p mod b^k` of the pass, in many blocks. The block kernel looks up the images of
-//! its positions with at most [`MEMO_RESIDUES`] residues, and the nodes of the position above
-//! them, in tables that the thread keeps per column (base and key: one pass of one sampler's
-//! dimension), so each node is computed once per pass rather than once per block. The tables
+//! index `i = p mod b^k` of the pass, in many blocks. The block kernel looks up the nodes of
+//! its positions with at most [`MEMO_RESIDUES`] prefixes, and the digit images of those with
+//! at most as many residues, in tables that the thread keeps per column (base and key: one pass
+//! of one sampler's dimension), so each node is computed once per pass rather than once per
+//! block and per digit. The tables
 //! hold exactly what the kernel would compute, so the values do not depend on what was filled
 //! before; a thread past its budget forgets the other columns' tables.
 
@@ -21,14 +22,14 @@ const UNSEEN_NODE: u64 = u64::MAX;
 /// Table slots one thread keeps over all columns (4 bytes each: 8 MiB).
 const BUDGET: usize = 1 << 21;
 
-/// The tables of one column: the tables of its positions one after another, the nodes of the
-/// position above them, and how many slots of each are computed.
+/// The tables of one column: the image tables of its positions one after another, their node
+/// tables likewise, and how many slots of each table are computed.
 #[derive(Default)]
 struct Tables {
     images: Vec<u32>,
     nodes: Vec<u64>,
     seen: Vec<usize>,
-    nodes_seen: usize,
+    nodes_seen: Vec<usize>,
 }
 
 impl Tables {
@@ -49,49 +50,66 @@ thread_local! {
     static MEMO: RefCell<Memo> = RefCell::new(Memo::default());
 }
 
-/// The tables of one column, lent to the block kernel: `images` holds the table of position
-/// `k` at `starts[k] .. starts[k + 1]`, slot `r` the image of residue `r` (or [`UNSEEN`]);
-/// `nodes` holds the nodes of the next position, slot `p` the node of prefix `p`.
+/// The tables of one column, lent to the block kernel: `images` holds the image table of
+/// position `k` at `starts[k] .. starts[k + 1]`, slot `r` the image of residue `r` (or
+/// [`UNSEEN`]); `nodes` holds its node table at `node_starts[k] .. node_starts[k + 1]`, slot `p`
+/// the node of prefix `p`.
 pub(super) struct ColumnTables<'a> {
-    pub(super) images: &'a mut [u32],
-    pub(super) nodes: &'a mut [u64],
+    images: &'a mut [u32],
+    nodes: &'a mut [u64],
     seen: &'a mut [usize],
-    nodes_seen: &'a mut usize,
+    nodes_seen: &'a mut [usize],
     starts: &'a [usize],
+    node_starts: &'a [usize],
 }
 
 impl ColumnTables<'_> {
-    /// The table of position `k`.
+    /// The image table of position `k`.
     pub(super) fn table(&self, k: usize) -> &[u32] {
         &self.images[self.starts[k]..self.starts[k + 1]]
     }
 
-    /// Computes the [`UNSEEN`] slots among `from .. from + count` of position `k`'s table by
-    /// runs, `compute(first, run)` writing the images of residues `first, first + 1, ..`
-    /// into `run`. A table computed whole is not searched again.
+    /// The node table of position `k`.
+    pub(super) fn nodes(&self, k: usize) -> &[u64] {
+        &self.nodes[self.node_starts[k]..self.node_starts[k + 1]]
+    }
+
+    /// Whether every slot of position `k`'s image table is computed.
+    pub(super) fn is_complete(&self, k: usize) -> bool {
+        self.seen[k] == self.starts[k + 1] - self.starts[k]
+    }
+
+    /// Computes the [`UNSEEN`] slots among `from .. from + count` of position `k`'s image
+    /// table by runs, `compute(nodes, first, run)` writing the images of residues `first,
+    /// first + 1, ..` into `run` from the position's node table `nodes`. A table computed whole
+    /// is not searched again.
     pub(super) fn complete(
         &mut self,
         k: usize,
         from: usize,
         count: usize,
-        compute: impl FnMut(u64, &mut [u32]),
+        mut compute: impl FnMut(&[u64], u64, &mut [u32]),
     ) {
         let table = &mut self.images[self.starts[k]..self.starts[k + 1]];
-        complete_runs(table, UNSEEN, &mut self.seen[k], from, count, compute);
+        let nodes = &self.nodes[self.node_starts[k]..self.node_starts[k + 1]];
+        let fill_run = |first: u64, run: &mut [u32]| compute(nodes, first, run);
+        complete_runs(table, UNSEEN, &mut self.seen[k], from, count, fill_run);
     }
 
-    /// [`ColumnTables::complete`] for the nodes, `compute(first, run)` writing the nodes of
-    /// prefixes `first, first + 1, ..`.
+    /// [`ColumnTables::complete`] for position `k`'s nodes, `compute(first, run)` writing the
+    /// nodes of prefixes `first, first + 1, ..`.
     pub(super) fn complete_nodes(
         &mut self,
+        k: usize,
         from: usize,
         count: usize,
         compute: impl FnMut(u64, &mut [u64]),
     ) {
+        let nodes = &mut self.nodes[self.node_starts[k]..self.node_starts[k + 1]];
         complete_runs(
-            self.nodes,
+            nodes,
             UNSEEN_NODE,
-            self.nodes_seen,
+            &mut self.nodes_seen[k],
             from,
             count,
             compute,
@@ -136,22 +154,21 @@ fn find<T: Copy>(slots: &[T], pred: impl Fn(T) -> bool) -> Option<usize> {
     None
 }
 
-/// Runs `f` on the tables of column (`base`, `key`), position `k`'s at `starts[k] ..
-/// starts[k + 1]`, and `nodes` nodes: this thread's tables if it filled the same column before
-/// (new slots unseen), or fresh ones. Fresh tables serve when the thread's memo is unavailable
-/// (during thread teardown), and a thread that would exceed its budget forgets the other
-/// columns first.
+/// Runs `f` on the tables of column (`base`, `key`), position `k`'s images at `starts[k] ..
+/// starts[k + 1]` and its nodes at `node_starts[k] .. node_starts[k + 1]`: this thread's tables
+/// if it filled the same column before (new slots unseen), or fresh ones. Fresh tables serve
+/// when the thread's memo is unavailable (during thread teardown), and a thread that would
+/// exceed its budget forgets the other columns first.
 pub(super) fn with_tables<R>(
     base: u64,
     key: u64,
     starts: &[usize],
-    nodes: usize,
+    node_starts: &[usize],
     f: impl FnOnce(&mut ColumnTables<'_>) -> R,
 ) -> R {
-    let (len, positions) = (
-        starts.last().copied().unwrap_or(0),
-        starts.len().saturating_sub(1),
-    );
+    let last = |starts: &[usize]| starts.last().copied().unwrap_or(0);
+    let (len, positions) = (last(starts), starts.len().saturating_sub(1));
+    let (nodes, node_positions) = (last(node_starts), node_starts.len().saturating_sub(1));
     let mut f = Some(f);
     let kept = MEMO.try_with(|cell| {
         let Ok(mut memo) = cell.try_borrow_mut() else {
@@ -160,26 +177,28 @@ pub(super) fn with_tables<R>(
         let memo = &mut *memo;
         let column = memo.columns.entry((base, key)).or_default();
         let before = column.slots();
-        if column.nodes.len() != nodes {
-            *column = Tables::default();
-        }
-        let after = len.max(column.images.len()) + 2 * nodes;
+        let after = len.max(column.images.len()) + 2 * nodes.max(column.nodes.len());
         if memo.slots - before + after > BUDGET {
             memo.columns.retain(|&column, _| column == (base, key));
             memo.slots = before;
         }
         let column = memo.columns.get_mut(&(base, key)).expect("kept above");
         column.images.resize(len.max(column.images.len()), UNSEEN);
-        column.nodes.resize(nodes, UNSEEN_NODE);
+        column
+            .nodes
+            .resize(nodes.max(column.nodes.len()), UNSEEN_NODE);
         column.seen.resize(positions.max(column.seen.len()), 0);
+        let node_positions_kept = node_positions.max(column.nodes_seen.len());
+        column.nodes_seen.resize(node_positions_kept, 0);
         memo.slots = memo.slots - before + column.slots();
         let f = f.take().expect("called once");
         Some(f(&mut ColumnTables {
             images: &mut column.images[..len],
-            nodes: &mut column.nodes,
+            nodes: &mut column.nodes[..nodes],
             seen: &mut column.seen[..positions],
-            nodes_seen: &mut column.nodes_seen,
+            nodes_seen: &mut column.nodes_seen[..node_positions],
             starts,
+            node_starts,
         }))
     });
     match (kept, f) {
@@ -188,8 +207,9 @@ pub(super) fn with_tables<R>(
             images: &mut vec![UNSEEN; len],
             nodes: &mut vec![UNSEEN_NODE; nodes],
             seen: &mut vec![0; positions],
-            nodes_seen: &mut 0,
+            nodes_seen: &mut vec![0; node_positions],
             starts,
+            node_starts,
         }),
         (_, None) => unreachable!("f returned inside the memo"),
     }
@@ -200,75 +220,66 @@ mod tests {
     use super::*;
 
     #[test]
-    fn unseen_runs_are_computed_and_seen_slots_kept() {
-        let starts = [0, 2, 12];
-        let runs = with_tables(5, 9, &starts, 0, |tables| {
+    fn unseen_runs_are_computed_from_the_nodes_and_seen_slots_kept() {
+        let (starts, node_starts) = ([0, 2, 12], [0, 1, 3]);
+        let runs = with_tables(5, 9, &starts, &node_starts, |tables| {
             tables.images[2 + 3] = 7;
             tables.images[2 + 4] = 8;
             tables.seen[1] = 2;
+            tables.complete_nodes(1, 0, 2, |first, run| {
+                for (j, node) in run.iter_mut().enumerate() {
+                    *node = 100 + first + j as u64;
+                }
+            });
             let mut runs = Vec::new();
-            tables.complete(1, 1, 8, |first, run| {
+            tables.complete(1, 1, 8, |nodes, first, run| {
                 runs.push((first, run.len()));
                 for (j, slot) in run.iter_mut().enumerate() {
-                    *slot = 100 + first as u32 + j as u32;
+                    let residue = first as usize + j;
+                    *slot = nodes[residue % 2] as u32 + 10 * (residue / 2) as u32;
                 }
             });
             assert_eq!(
                 tables.table(1),
-                [UNSEEN, 101, 102, 7, 8, 105, 106, 107, 108, UNSEEN]
+                [UNSEEN, 101, 110, 7, 8, 121, 130, 131, 140, UNSEEN]
             );
-            assert_eq!(tables.seen[1], 8);
+            assert_eq!(tables.nodes(1), [100, 101]);
+            assert!(!tables.is_complete(1));
             runs
         });
         assert_eq!(runs, [(1, 2), (5, 4)]);
-        // A table computed whole is not searched.
-        with_tables(5, 9, &starts, 0, |tables| {
-            tables.complete(0, 0, 2, |_, run| run.fill(1));
-            tables.complete(0, 0, 2, |_, _| panic!("computed twice"));
-            assert_eq!(tables.table(0), [1, 1]);
+        // A table computed whole is not searched again; neither are its nodes.
+        with_tables(5, 9, &starts, &node_starts, |tables| {
+            tables.complete(0, 0, 2, |_, _, run| run.fill(1));
+            tables.complete(0, 0, 2, |_, _, _| panic!("computed twice"));
+            assert!(tables.is_complete(0));
+            tables.complete_nodes(1, 0, 2, |_, _| panic!("computed twice"));
         });
     }
 
     #[test]
     fn tables_persist_per_column() {
-        with_tables(7, 1, &[0, 4], 0, |t| t.images[2] = 5);
-        let kept = with_tables(7, 1, &[0, 4, 6], 0, |t| t.images.to_vec());
+        with_tables(7, 1, &[0, 4], &[], |t| t.images[2] = 5);
+        let kept = with_tables(7, 1, &[0, 4, 6], &[], |t| t.images.to_vec());
         assert_eq!(kept[..3], [UNSEEN, UNSEEN, 5]);
         // Another key of the same base (another pass or sampler) has tables of its own, and
         // filling it leaves the first one's.
-        assert!(with_tables(7, 2, &[0, 6], 0, |t| t
+        assert!(with_tables(7, 2, &[0, 6], &[], |t| t
             .images
             .iter()
             .all(|&x| x == UNSEEN)));
-        assert_eq!(with_tables(7, 1, &[0, 4], 0, |t| t.images[2]), 5);
-        with_tables(11, 3, &[0, 2], 0, |t| t.images[0] = 1);
-        assert_eq!(with_tables(11, 3, &[0, 2], 0, |t| t.images[0]), 1);
+        assert_eq!(with_tables(7, 1, &[0, 4], &[], |t| t.images[2]), 5);
+        with_tables(11, 3, &[0, 2], &[0, 1], |t| t.nodes[0] = 1);
+        assert_eq!(with_tables(11, 3, &[0, 2], &[0, 1], |t| t.nodes[0]), 1);
     }
 
     #[test]
     fn a_thread_past_its_budget_forgets_the_other_columns() {
         let half = [0, BUDGET / 2 + 1];
-        with_tables(3, 1, &half, 0, |t| t.images[0] = 9);
-        with_tables(3, 2, &half, 0, |t| t.images[0] = 8);
-        assert_eq!(with_tables(3, 2, &half, 0, |t| t.images[0]), 8);
-        assert_eq!(with_tables(3, 1, &half, 0, |t| t.images[0]), UNSEEN);
-    }
-
-    #[test]
-    fn nodes_are_kept_with_the_tables_of_their_column() {
-        let starts = [0, 3];
-        with_tables(13, 4, &starts, 5, |t| {
-            t.complete_nodes(3, 2, |first, run| run.fill(first * 10));
-            t.complete_nodes(0, 4, |first, run| run.fill(first + 1));
-            assert_eq!(t.nodes, [1, 1, 1, 30, 30]);
-            // Every node computed: not searched again.
-            t.complete_nodes(0, 5, |_, _| panic!("computed twice"));
-        });
-        assert_eq!(with_tables(13, 4, &starts, 5, |t| t.nodes[4]), 30);
-        assert!(with_tables(13, 5, &starts, 5, |t| t
-            .nodes
-            .iter()
-            .all(|&x| x == UNSEEN_NODE)));
+        with_tables(3, 1, &half, &[], |t| t.images[0] = 9);
+        with_tables(3, 2, &half, &[], |t| t.images[0] = 8);
+        assert_eq!(with_tables(3, 2, &half, &[], |t| t.images[0]), 8);
+        assert_eq!(with_tables(3, 1, &half, &[], |t| t.images[0]), UNSEEN);
     }
 
     #[test]

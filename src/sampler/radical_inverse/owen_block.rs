@@ -379,50 +379,44 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
     }
     let column = Column::new(base, key, first, out.len());
     let starts = &column.table_start[..=column.memoized];
-    with_tables(
-        base.base,
-        key,
-        starts,
-        column.node_count as usize,
-        |tables| {
-            column.complete_tables(tables, first, out.len());
-            column.shallow_parts(tables, &mut s.lows);
-            // Runs of indices with the same number of digits w: positions shallow .. w, then the
-            // tail of zero digits from max(shallow, w) on, read from each index's own stream.
-            s.deep.clear();
-            s.deep.resize(out.len(), 0);
-            let mut done = 0usize;
-            let mut width = (0..=column.positions)
-                .find(|&j| column.powers[j] > first)
-                .unwrap_or(column.positions);
-            while done < out.len() {
-                let start = first + done as u64;
-                while column.powers[width] <= start {
-                    width += 1;
-                }
-                let end = if width < column.positions {
-                    (column.powers[width] - first).min(out.len() as u64) as usize
-                } else {
-                    out.len()
-                };
-                let deep = &mut s.deep[done..end];
-                for k in column.shallow..width {
-                    column.add_position(k, tables, start, deep, &mut s.images);
-                }
-                let top = width.max(column.shallow);
-                let (tail_weights, tail_count) =
-                    column.tail_runs(start, end - done, top, &mut s.tails);
-                let parts = Parts {
-                    lows: &s.lows,
-                    deep,
-                    tails: &s.tails,
-                    tail_weights: &tail_weights[..tail_count],
-                };
-                column.values(start, top, &parts, &mut out[done..end]);
-                done = end;
+    let node_starts = &column.node_start[..=column.noded];
+    with_tables(base.base, key, starts, node_starts, |tables| {
+        column.complete_tables(tables, first, out.len());
+        column.shallow_parts(tables, &mut s.lows);
+        // Runs of indices with the same number of digits w: positions shallow .. w, then the
+        // tail of zero digits from max(shallow, w) on, read from each index's own stream.
+        s.deep.clear();
+        s.deep.resize(out.len(), 0);
+        let mut done = 0usize;
+        let mut width = (0..=column.positions)
+            .find(|&j| column.powers[j] > first)
+            .unwrap_or(column.positions);
+        while done < out.len() {
+            let start = first + done as u64;
+            while column.powers[width] <= start {
+                width += 1;
             }
-        },
-    );
+            let end = if width < column.positions {
+                (column.powers[width] - first).min(out.len() as u64) as usize
+            } else {
+                out.len()
+            };
+            let deep = &mut s.deep[done..end];
+            for k in column.shallow..width {
+                column.add_position(k, tables, start, deep, &mut s.images);
+            }
+            let top = width.max(column.shallow);
+            let (tail_weights, tail_count) = column.tail_runs(start, end - done, top, &mut s.tails);
+            let parts = Parts {
+                lows: &s.lows,
+                deep,
+                tails: &s.tails,
+                tail_weights: &tail_weights[..tail_count],
+            };
+            column.values(start, top, &parts, &mut out[done..end]);
+            done = end;
+        }
+    });
 }
 
 /// What one fill of one column knows of its base, its nodes and its indices.
@@ -449,8 +443,12 @@ struct Column<'a> {
     memoized: usize,
     shallow: usize,
     table_start: [usize; MAX_DEPTH + 1],
-    /// The position above the tables has too many residues for one, but its `node_count =
-    /// b^node_position` nodes (at most `MEMO_RESIDUES`) are kept, each serving `b` digits.
+    /// The nodes of positions `k < noded` (`b^k <= MEMO_RESIDUES`, each serving `b` digits)
+    /// are kept too, position `k`'s at `node_start[k] .. node_start[k + 1]`: those that fill
+    /// the image tables, and those of `node_position`, the position above them, whose `b^(k+1)`
+    /// residues are too many for a table but whose `node_count = b^k` nodes are not.
+    noded: usize,
+    node_start: [usize; MAX_DEPTH + 2],
     node_position: usize,
     node_count: u64,
 }
@@ -510,6 +508,11 @@ impl<'a> Column<'a> {
             node_count *= b;
             node_position += 1;
         }
+        let noded = positions.min(node_position + 1);
+        let mut node_start = [0usize; MAX_DEPTH + 2];
+        for k in 0..noded {
+            node_start[k + 1] = node_start[k] + powers[k] as usize;
+        }
         let nodes = Nodes {
             b,
             b_f64: b as f64,
@@ -534,6 +537,8 @@ impl<'a> Column<'a> {
             memoized,
             shallow,
             table_start,
+            noded,
+            node_start,
             node_position,
             node_count,
         }
@@ -554,9 +559,8 @@ impl<'a> Column<'a> {
         });
     }
 
-    /// The kept nodes of prefixes `first, first + 1, ..`.
-    fn node_parts(&self, first: u64, parts: &mut [u64]) {
-        let k = self.node_position;
+    /// The nodes at position `k` of prefixes `first, first + 1, ..`, as [`Nodes::parts`].
+    fn node_parts(&self, k: usize, first: u64, parts: &mut [u64]) {
         dispatch(NodeRun {
             nodes: &self.nodes,
             k,
@@ -568,17 +572,45 @@ impl<'a> Column<'a> {
     }
 
     /// Computes the table slots the block of `len` indices from `first` meets and the thread
-    /// has not computed yet: the residues from `first mod b^(k+1)` on, cyclically.
+    /// has not computed yet (the residues from `first mod b^(k+1)` on, cyclically), from the
+    /// nodes of their prefixes, each computed once per pass for its `b` digits.
     fn complete_tables(&self, tables: &mut ColumnTables<'_>, first: u64, len: usize) {
         for k in 0..self.memoized {
-            let size = self.powers[k + 1];
+            if tables.is_complete(k) {
+                continue;
+            }
+            self.complete_nodes(k, tables, first, len);
+            let (size, prefixes) = (self.powers[k + 1], self.powers[k]);
+            let compute = |nodes: &[u64], first: u64, images: &mut [u32]| {
+                // Residue r = prefix + digit b^k, the prefix advancing and the digit with
+                // each cycle of prefixes.
+                let (mut prefix, mut digit) = ((first % prefixes) as usize, first / prefixes);
+                for image in images.iter_mut() {
+                    *image = self.nodes.image(nodes[prefix], digit) as u32;
+                    prefix += 1;
+                    if prefix == nodes.len() {
+                        (prefix, digit) = (0, digit + 1);
+                    }
+                }
+            };
             let from = first % size;
             let count = (len as u64).min(size);
             let straight = count.min(size - from);
-            let mut compute = |first: u64, images: &mut [u32]| self.node_images(k, first, images);
-            tables.complete(k, from as usize, straight as usize, &mut compute);
-            tables.complete(k, 0, (count - straight) as usize, &mut compute);
+            tables.complete(k, from as usize, straight as usize, compute);
+            tables.complete(k, 0, (count - straight) as usize, compute);
         }
+    }
+
+    /// Computes the nodes at position `k` of the prefixes that the block of `len` indices from
+    /// `first` meets and the thread has not computed yet: `first mod b^k` on, cyclically.
+    fn complete_nodes(&self, k: usize, tables: &mut ColumnTables<'_>, first: u64, len: usize) {
+        let prefixes = self.powers[k];
+        let from = first % prefixes;
+        let count = (len as u64).min(prefixes);
+        let straight = count.min(prefixes - from);
+        let compute = |first: u64, parts: &mut [u64]| self.node_parts(k, first, parts);
+        tables.complete_nodes(k, from as usize, straight as usize, compute);
+        tables.complete_nodes(k, 0, (count - straight) as usize, compute);
     }
 
     /// `lows[r] = sum_(k < shallow) image_k(r mod b^(k+1)) b^(shallow-1-k)` for `r <
@@ -629,19 +661,15 @@ impl<'a> Column<'a> {
         } else if k == self.node_position {
             // The nodes of prefixes start mod b^k on, cyclically, the digit advancing with each
             // cycle.
-            let size = self.node_count as usize;
+            self.complete_nodes(k, tables, start, deep.len());
+            let nodes = tables.nodes(k);
             let from = (start % self.node_count) as usize;
-            let met = deep.len().min(size);
-            let straight = met.min(size - from);
-            let mut compute = |first: u64, parts: &mut [u64]| self.node_parts(first, parts);
-            tables.complete_nodes(from, straight, &mut compute);
-            tables.complete_nodes(0, met - straight, &mut compute);
             let (mut prefix, mut digit) = (from, (start / self.node_count) % b);
             let mut rest = deep;
             while !rest.is_empty() {
-                let run = rest.len().min(size - prefix);
+                let run = rest.len().min(nodes.len() - prefix);
                 let (now, later) = rest.split_at_mut(run);
-                for (acc, &part) in now.iter_mut().zip(&tables.nodes[prefix..]) {
+                for (acc, &part) in now.iter_mut().zip(&nodes[prefix..]) {
                     *acc = *acc * b + self.nodes.image(part, digit);
                 }
                 (rest, prefix) = (later, 0);
