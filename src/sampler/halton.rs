@@ -101,14 +101,13 @@ const TAG_HALTON: u64 = 0x6861_6c74;
 /// sixteen at a time, and round each value by one multiplication: about 5 ns per value at d = 4 or
 /// 32 (and 40 ns at d = 10,000, where bases above the block length give every index a lowest digit
 /// of its own to permute). `Owen` blocks keep the nodes of a pass in tables of the filling
-/// thread (the images of every digit position with at most 2^16 residues, and the nodes of the
-/// position above: up to 8 MiB per thread, forgotten when a column's pass changes), so each
-/// node is computed once per pass whatever the block size; what remains per value is the tail
-/// of digits below the index's own (two hashes) and one correct rounding: about 21 ns per value
-/// at d = 10 and 18 ns at d = 30 on an AVX2 core (AMD EPYC, 2026-12-03; Owen-scrambled Sobol'
-/// takes 1.2 ns there), more where a pass has more than 2^16 points and indices have digits
-/// beyond the tables. [`point`](Sampler::point) recomputes everything per call: use
-/// [`fill`](Sampler::fill) for throughput.
+/// thread (the nodes of every digit position with at most 2^16 prefixes and the digit images of
+/// those with at most 2^16 residues; up to 8 MiB per thread, past which it forgets the other
+/// columns), so each node is computed once per pass whatever the block size; what remains per
+/// value is the tail of digits below the index's own (two hashes) and one correct rounding:
+/// about 17 ns per value at d = 10 and 30 on an AVX2 core (AMD EPYC, 2026-12-03;
+/// Owen-scrambled Sobol' takes 1.2 ns there). [`point`](Sampler::point) recomputes everything
+/// per call: use [`fill`](Sampler::fill) for throughput.
 ///
 /// # Passes
 ///
