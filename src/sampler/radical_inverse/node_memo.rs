@@ -13,13 +13,15 @@
 use std::cell::RefCell;
 use std::collections::HashMap;
 
-/// Positions whose table has at most this many residues (`b^(k+1)`) are memoized.
+/// Positions with at most this many prefixes (`b^k`) keep their nodes, and those with at most
+/// this many residues (`b^(k+1)`) their digit images.
 pub(super) const MEMO_RESIDUES: u64 = 1 << 16;
 /// A table slot not computed yet (images are below `b < 2^17`).
 pub(super) const UNSEEN: u32 = u32::MAX;
-/// A node slot not computed yet (nodes are two numbers below `b < 2^17`).
+/// A node slot not computed yet (a node uses at most the low 52 bits, see the block kernel's
+/// `Nodes::parts`).
 const UNSEEN_NODE: u64 = u64::MAX;
-/// Table slots one thread keeps over all columns (4 bytes each: 8 MiB).
+/// Table slots one thread keeps over all columns (4 bytes each, a node two: 8 MiB).
 const BUDGET: usize = 1 << 21;
 
 /// The tables of one column: the image tables of its positions one after another, their node
