@@ -22,7 +22,7 @@ pub(super) const UNSEEN: u32 = u32::MAX;
 /// `Nodes::parts`).
 const UNSEEN_NODE: u64 = u64::MAX;
 /// Table slots one thread keeps over all columns (4 bytes each, a node two: 8 MiB).
-const BUDGET: usize = 1 << 21;
+pub(super) const BUDGET: usize = 1 << 21;
 
 /// The tables of one column: the image tables of its positions one after another, their node
 /// tables likewise, and how many slots of each table are computed.
@@ -32,6 +32,8 @@ struct Tables {
     nodes: Vec<u64>,
     seen: Vec<usize>,
     nodes_seen: Vec<usize>,
+    /// The thread's fill count at this column's last fill.
+    last_use: u64,
 }
 
 impl Tables {
@@ -46,6 +48,62 @@ impl Tables {
 struct Memo {
     columns: HashMap<(u64, u64), Tables>,
     slots: usize,
+    /// Fills so far (of admitted or refused columns).
+    clock: u64,
+    /// The fills between two fills of one column, as recently seen (the longest, decaying):
+    /// columns idle for much longer belong to finished passes.
+    period: u64,
+}
+
+impl Memo {
+    /// See [`admit`].
+    fn admit(&mut self, base: u64, key: u64, slots: usize) -> bool {
+        self.clock += 1;
+        let clock = self.clock;
+        let held = match self.columns.get_mut(&(base, key)) {
+            Some(column) => {
+                let idle = clock - column.last_use;
+                self.period = idle.max(self.period - self.period / 16);
+                column.last_use = clock;
+                column.slots()
+            }
+            None => 0,
+        };
+        let needed = slots.saturating_sub(held);
+        if self.slots + needed > BUDGET {
+            // Forget the columns of finished passes: idle for more than twice the period.
+            let stale = 2 * self.period + 16;
+            let mut freed = 0;
+            self.columns.retain(|&id, column| {
+                let keep = id == (base, key) || clock - column.last_use <= stale;
+                if !keep {
+                    freed += column.slots();
+                }
+                keep
+            });
+            self.slots -= freed;
+        }
+        if self.slots + needed > BUDGET {
+            return false;
+        }
+        self.columns.entry((base, key)).or_insert_with(|| Tables {
+            last_use: clock,
+            ..Tables::default()
+        });
+        true
+    }
+}
+
+/// Whether column (`base`, `key`) may keep tables of `slots` slots on this thread: yes if they
+/// fit in the budget once the columns of finished passes are forgotten. A refused column is
+/// filled without kept tables (so a thread that cycles through more columns than fit keeps the
+/// first ones and does not evict a table for every fill).
+pub(super) fn admit(base: u64, key: u64, slots: usize) -> bool {
+    MEMO.try_with(|cell| {
+        cell.try_borrow_mut()
+            .is_ok_and(|mut memo| memo.admit(base, key, slots))
+    })
+    .unwrap_or(false)
 }
 
 thread_local! {
@@ -157,13 +215,12 @@ fn find<T: Copy>(slots: &[T], pred: impl Fn(T) -> bool) -> Option<usize> {
 }
 
 /// Runs `f` on the tables of column (`base`, `key`), position `k`'s images at `starts[k] ..
-/// starts[k + 1]` and its nodes at `node_starts[k] .. node_starts[k + 1]`: this thread's tables
-/// if it filled the same column before (new slots unseen), or fresh ones. Fresh tables serve
-/// when the thread's memo is unavailable (during thread teardown), and a thread that would
-/// exceed its budget forgets the other columns first.
+/// starts[k + 1]` and its nodes at `node_starts[k] .. node_starts[k + 1]`: this thread's
+/// tables if the column was [`admit`]ted (new slots unseen), or fresh ones.
 pub(super) fn with_tables<R>(
     base: u64,
     key: u64,
+    admitted: bool,
     starts: &[usize],
     node_starts: &[usize],
     f: impl FnOnce(&mut ColumnTables<'_>) -> R,
@@ -172,39 +229,35 @@ pub(super) fn with_tables<R>(
     let (len, positions) = (last(starts), starts.len().saturating_sub(1));
     let (nodes, node_positions) = (last(node_starts), node_starts.len().saturating_sub(1));
     let mut f = Some(f);
-    let kept = MEMO.try_with(|cell| {
-        let Ok(mut memo) = cell.try_borrow_mut() else {
-            return None;
-        };
-        let memo = &mut *memo;
-        let column = memo.columns.entry((base, key)).or_default();
-        let before = column.slots();
-        let after = len.max(column.images.len()) + 2 * nodes.max(column.nodes.len());
-        if memo.slots - before + after > BUDGET {
-            memo.columns.retain(|&column, _| column == (base, key));
-            memo.slots = before;
-        }
-        let column = memo.columns.get_mut(&(base, key)).expect("kept above");
-        column.images.resize(len.max(column.images.len()), UNSEEN);
-        column
-            .nodes
-            .resize(nodes.max(column.nodes.len()), UNSEEN_NODE);
-        column.seen.resize(positions.max(column.seen.len()), 0);
-        let node_positions_kept = node_positions.max(column.nodes_seen.len());
-        column.nodes_seen.resize(node_positions_kept, 0);
-        memo.slots = memo.slots - before + column.slots();
-        let f = f.take().expect("called once");
-        Some(f(&mut ColumnTables {
-            images: &mut column.images[..len],
-            nodes: &mut column.nodes[..nodes],
-            seen: &mut column.seen[..positions],
-            nodes_seen: &mut column.nodes_seen[..node_positions],
-            starts,
-            node_starts,
-        }))
+    let kept = admitted.then(|| {
+        MEMO.try_with(|cell| {
+            let Ok(mut memo) = cell.try_borrow_mut() else {
+                return None;
+            };
+            let memo = &mut *memo;
+            let column = memo.columns.get_mut(&(base, key))?;
+            let before = column.slots();
+            column.images.resize(len.max(column.images.len()), UNSEEN);
+            column
+                .nodes
+                .resize(nodes.max(column.nodes.len()), UNSEEN_NODE);
+            column.seen.resize(positions.max(column.seen.len()), 0);
+            let node_positions_kept = node_positions.max(column.nodes_seen.len());
+            column.nodes_seen.resize(node_positions_kept, 0);
+            memo.slots = memo.slots - before + column.slots();
+            let f = f.take().expect("called once");
+            Some(f(&mut ColumnTables {
+                images: &mut column.images[..len],
+                nodes: &mut column.nodes[..nodes],
+                seen: &mut column.seen[..positions],
+                nodes_seen: &mut column.nodes_seen[..node_positions],
+                starts,
+                node_starts,
+            }))
+        })
     });
     match (kept, f) {
-        (Ok(Some(result)), _) => result,
+        (Some(Ok(Some(result))), _) => result,
         (_, Some(f)) => f(&mut ColumnTables {
             images: &mut vec![UNSEEN; len],
             nodes: &mut vec![UNSEEN_NODE; nodes],
@@ -224,7 +277,7 @@ mod tests {
     #[test]
     fn unseen_runs_are_computed_from_the_nodes_and_seen_slots_kept() {
         let (starts, node_starts) = ([0, 2, 12], [0, 1, 3]);
-        let runs = with_tables(5, 9, &starts, &node_starts, |tables| {
+        let runs = with_tables(5, 9, admit(5, 9, 99), &starts, &node_starts, |tables| {
             tables.images[2 + 3] = 7;
             tables.images[2 + 4] = 8;
             tables.seen[1] = 2;
@@ -251,7 +304,7 @@ mod tests {
         });
         assert_eq!(runs, [(1, 2), (5, 4)]);
         // A table computed whole is not searched again; neither are its nodes.
-        with_tables(5, 9, &starts, &node_starts, |tables| {
+        with_tables(5, 9, admit(5, 9, 99), &starts, &node_starts, |tables| {
             tables.complete(0, 0, 2, |_, _, run| run.fill(1));
             tables.complete(0, 0, 2, |_, _, _| panic!("computed twice"));
             assert!(tables.is_complete(0));
@@ -261,27 +314,47 @@ mod tests {
 
     #[test]
     fn tables_persist_per_column() {
-        with_tables(7, 1, &[0, 4], &[], |t| t.images[2] = 5);
-        let kept = with_tables(7, 1, &[0, 4, 6], &[], |t| t.images.to_vec());
+        with_tables(7, 1, admit(7, 1, 0), &[0, 4], &[], |t| t.images[2] = 5);
+        let kept = with_tables(7, 1, admit(7, 1, 0), &[0, 4, 6], &[], |t| t.images.to_vec());
         assert_eq!(kept[..3], [UNSEEN, UNSEEN, 5]);
         // Another key of the same base (another pass or sampler) has tables of its own, and
         // filling it leaves the first one's.
-        assert!(with_tables(7, 2, &[0, 6], &[], |t| t
+        assert!(with_tables(7, 2, admit(7, 2, 0), &[0, 6], &[], |t| t
             .images
             .iter()
             .all(|&x| x == UNSEEN)));
-        assert_eq!(with_tables(7, 1, &[0, 4], &[], |t| t.images[2]), 5);
-        with_tables(11, 3, &[0, 2], &[0, 1], |t| t.nodes[0] = 1);
-        assert_eq!(with_tables(11, 3, &[0, 2], &[0, 1], |t| t.nodes[0]), 1);
+        assert_eq!(
+            with_tables(7, 1, admit(7, 1, 0), &[0, 4], &[], |t| t.images[2]),
+            5
+        );
+        with_tables(11, 3, admit(11, 3, 0), &[0, 2], &[0, 1], |t| t.nodes[0] = 1);
+        assert_eq!(
+            with_tables(11, 3, admit(11, 3, 0), &[0, 2], &[0, 1], |t| t.nodes[0]),
+            1
+        );
     }
 
     #[test]
-    fn a_thread_past_its_budget_forgets_the_other_columns() {
-        let half = [0, BUDGET / 2 + 1];
-        with_tables(3, 1, &half, &[], |t| t.images[0] = 9);
-        with_tables(3, 2, &half, &[], |t| t.images[0] = 8);
-        assert_eq!(with_tables(3, 2, &half, &[], |t| t.images[0]), 8);
-        assert_eq!(with_tables(3, 1, &half, &[], |t| t.images[0]), UNSEEN);
+    fn a_full_thread_refuses_new_columns_until_the_old_ones_are_finished() {
+        let (half, size) = ([0, BUDGET / 2 + 1], BUDGET / 2 + 1);
+        assert!(admit(3, 1, size));
+        with_tables(3, 1, true, &half, &[], |t| t.images[0] = 9);
+        // A second column does not fit: it is filled without kept tables, and the first keeps
+        // its own.
+        assert!(!admit(3, 2, size));
+        assert!(with_tables(3, 2, false, &half, &[], |t| t.images[0]) == UNSEEN);
+        assert_eq!(
+            with_tables(3, 1, admit(3, 1, size), &half, &[], |t| t.images[0]),
+            9
+        );
+        // Once the first has been idle for far longer than columns are reused (its pass is
+        // over), it is forgotten and the second admitted.
+        for _ in 0..100 {
+            admit(5, 5, 0);
+        }
+        assert!(admit(3, 2, size));
+        with_tables(3, 2, true, &half, &[], |t| t.images[0] = 8);
+        assert!(!admit(3, 1, size));
     }
 
     #[test]

@@ -21,7 +21,7 @@ use super::base::{Base, MAX_DEPTH};
 #[cfg(test)]
 use super::digit_permutation::small_permutation;
 use super::digit_permutation::{SMALL_BASE, TAG_RHO, affine_slope, rotate};
-use super::node_memo::{ColumnTables, MEMO_RESIDUES, UNSEEN, with_tables};
+use super::node_memo::{ColumnTables, MEMO_RESIDUES, UNSEEN, admit, with_tables};
 use crate::float::ONE_BELOW;
 use crate::hash::{golden_step, hash_absorb, hash_absorb_scaled, hash_start};
 use crate::sampler::permutation::below_narrow;
@@ -377,10 +377,15 @@ pub(super) fn fill_owen(base: &Base, key: u64, first: u64, out: &mut [f64], s: &
     if out.is_empty() {
         return;
     }
-    let column = Column::new(base, key, first, out.len());
+    // Tables kept by the thread when it has room for them, else tables of this block only.
+    let mut column = Column::new(base, key, first, out.len(), true);
+    let kept = admit(base.base, key, column.slots());
+    if !kept {
+        column = Column::new(base, key, first, out.len(), false);
+    }
     let starts = &column.table_start[..=column.memoized];
     let node_starts = &column.node_start[..=column.noded];
-    with_tables(base.base, key, starts, node_starts, |tables| {
+    with_tables(base.base, key, kept, starts, node_starts, |tables| {
         column.complete_tables(tables, first, out.len());
         column.shallow_parts(tables, &mut s.lows);
         // Runs of indices with the same number of digits w: positions shallow .. w, then the
@@ -436,17 +441,19 @@ struct Column<'a> {
     scale_of: [u64; MAX_DEPTH],
     run_of: [usize; MAX_DEPTH],
     run_range: [u64; MAX_DEPTH],
-    /// Positions `k < memoized` have image tables (`b^(k+1) <= MEMO_RESIDUES`, kept across the
-    /// fills of the thread, see `node_memo`), position `k` at `table_start[k] ..
-    /// table_start[k + 1]`; positions below `shallow` are met whole by the block (`b^(k+1)` at
-    /// most its length), so their part of a value is one number per residue mod `b^shallow`.
+    /// Positions `k < memoized` have image tables (`b^(k+1) <= MEMO_RESIDUES` when the tables
+    /// are kept across the fills of the thread, see `node_memo`; at most the block length
+    /// otherwise), position `k` at `table_start[k] .. table_start[k + 1]`; positions below
+    /// `shallow` are met whole by the block (`b^(k+1)` at most its length), so their part of a
+    /// value is one number per residue mod `b^shallow`.
     memoized: usize,
     shallow: usize,
     table_start: [usize; MAX_DEPTH + 1],
     /// The nodes of positions `k < noded` (`b^k <= MEMO_RESIDUES`, each serving `b` digits)
-    /// are kept too, position `k`'s at `node_start[k] .. node_start[k + 1]`: those that fill
-    /// the image tables, and those of `node_position`, the position above them, whose `b^(k+1)`
-    /// residues are too many for a table but whose `node_count = b^k` nodes are not.
+    /// have tables too, position `k`'s at `node_start[k] .. node_start[k + 1]`: those that fill
+    /// the image tables, and, when the tables are kept, those of `node_position`, the position
+    /// above them, whose `b^(k+1)` residues are too many for a table but whose `node_count =
+    /// b^k` nodes are not (`usize::MAX` otherwise).
     noded: usize,
     node_start: [usize; MAX_DEPTH + 2],
     node_position: usize,
@@ -465,7 +472,9 @@ struct Parts<'a> {
 }
 
 impl<'a> Column<'a> {
-    fn new(base: &'a Base, key: u64, first: u64, len: usize) -> Self {
+    /// The column's layout for the block of `len` indices from `first`, with tables kept by
+    /// the thread (`kept`) or for this block only.
+    fn new(base: &'a Base, key: u64, first: u64, len: usize, kept: bool) -> Self {
         let (b, m, depth) = (base.base, base.per_word as usize, base.depth);
         let last = first + len as u64 - 1;
         let mut powers = [1u64; MAX_DEPTH + 2];
@@ -491,8 +500,9 @@ impl<'a> Column<'a> {
             run_of[k] = (m - within).min(depth - k);
             run_range[k] = b.pow(run_of[k] as u32);
         }
+        let limit = if kept { MEMO_RESIDUES } else { len as u64 };
         let mut memoized = 0;
-        while memoized < positions && powers[memoized + 1] <= MEMO_RESIDUES {
+        while memoized < positions && powers[memoized + 1] <= limit {
             memoized += 1;
         }
         let mut shallow = 0;
@@ -508,7 +518,14 @@ impl<'a> Column<'a> {
             node_count *= b;
             node_position += 1;
         }
-        let noded = positions.min(node_position + 1);
+        if !kept {
+            node_position = usize::MAX;
+        }
+        let noded = if kept {
+            positions.min(node_position + 1)
+        } else {
+            memoized
+        };
         let mut node_start = [0usize; MAX_DEPTH + 2];
         for k in 0..noded {
             node_start[k + 1] = node_start[k] + powers[k] as usize;
@@ -542,6 +559,11 @@ impl<'a> Column<'a> {
             node_position,
             node_count,
         }
+    }
+
+    /// Table slots of the layout (a node counts two).
+    fn slots(&self) -> usize {
+        self.table_start[self.memoized] + 2 * self.node_start[self.noded]
     }
 
     /// The digit images at position `k` of the residues `first, first + 1, ..`.
@@ -825,6 +847,35 @@ mod tests {
                 for (j, &x) in out.iter().enumerate().step_by(7) {
                     let expected = owen_coordinate(&base, key, first + j as u64);
                     assert_eq!(x.to_bits(), expected.to_bits(), "base {b}, round {round}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn blocks_without_kept_tables_equal_single_coordinates() {
+        // A thread whose memo is full fills new columns with tables of the block only.
+        let hog = super::super::node_memo::BUDGET;
+        assert!(admit(2, 0, hog));
+        with_tables(2, 0, true, &[0, hog], &[], |_| ());
+        let mut s = OwenScratch::default();
+        for b in [3u64, 13, 29, 113] {
+            let base = Base::new(b);
+            let key = mix64(b);
+            for (first, len) in [(0u64, 1024usize), (40_000, 3000), ((1 << 40) - 700, 700)] {
+                // The full column stays in use (an idle one would be forgotten).
+                assert!(admit(2, 0, hog));
+                let column = Column::new(&base, key, first, len, true);
+                assert!(!admit(b, key, column.slots()), "base {b} was admitted");
+                let mut out = vec![0.0; len];
+                fill_owen(&base, key, first, &mut out, &mut s);
+                for (j, &x) in out.iter().enumerate().step_by(3) {
+                    let expected = owen_coordinate(&base, key, first + j as u64);
+                    assert_eq!(
+                        x.to_bits(),
+                        expected.to_bits(),
+                        "base {b}, index {first} + {j}"
+                    );
                 }
             }
         }
