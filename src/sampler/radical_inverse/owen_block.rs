@@ -332,6 +332,23 @@ impl Kernel for TailRuns<'_> {
     }
 }
 
+/// Cuts `slots` into the straight runs of a cyclic range: slot `j` stands at `(from + j) mod
+/// cycle`, and `f(run, at, turn)` gets each run with the cycle position of its first slot and
+/// how many times the range has wrapped before it.
+fn cyclic_runs(
+    slots: &mut [u64],
+    from: usize,
+    cycle: usize,
+    mut f: impl FnMut(&mut [u64], usize, usize),
+) {
+    let (mut rest, mut at, mut turn) = (slots, from, 0);
+    while !rest.is_empty() {
+        let (now, later) = rest.split_at_mut(rest.len().min(cycle - at));
+        f(now, at, turn);
+        (rest, at, turn) = (later, 0, turn + 1);
+    }
+}
+
 /// The values of a run of indices in a base with `b^K` below `2^64`: the shallow part
 /// `lows[r]` (residues `r` from `residue` on, cyclically), the deep part and the tail runs
 /// summed in 64-bit integers and rounded once; compiled for each instruction set by
@@ -566,30 +583,15 @@ impl<'a> Column<'a> {
         self.table_start[self.memoized] + 2 * self.node_start[self.noded]
     }
 
-    /// The digit images at position `k` of the residues `first, first + 1, ..`.
-    fn node_images(&self, k: usize, first: u64, images: &mut [u32]) {
+    /// The node work at position `k` over a run from `first` (see [`NodeRun`]).
+    fn run_nodes(&self, k: usize, first: u64, output: NodeOutput<'_>) {
         dispatch(NodeRun {
             nodes: &self.nodes,
             k,
             word: self.word_of[k],
             scale: self.scale_of[k],
             first,
-            output: NodeOutput::Images {
-                power: self.powers[k],
-                images,
-            },
-        });
-    }
-
-    /// The nodes at position `k` of prefixes `first, first + 1, ..`, as [`Nodes::parts`].
-    fn node_parts(&self, k: usize, first: u64, parts: &mut [u64]) {
-        dispatch(NodeRun {
-            nodes: &self.nodes,
-            k,
-            word: self.word_of[k],
-            scale: self.scale_of[k],
-            first,
-            output: NodeOutput::Parts(parts),
+            output,
         });
     }
 
@@ -630,7 +632,8 @@ impl<'a> Column<'a> {
         let from = first % prefixes;
         let count = (len as u64).min(prefixes);
         let straight = count.min(prefixes - from);
-        let compute = |first: u64, parts: &mut [u64]| self.node_parts(k, first, parts);
+        let compute =
+            |first: u64, parts: &mut [u64]| self.run_nodes(k, first, NodeOutput::Parts(parts));
         tables.complete_nodes(k, from as usize, straight as usize, compute);
         tables.complete_nodes(k, 0, (count - straight) as usize, compute);
     }
@@ -668,40 +671,33 @@ impl<'a> Column<'a> {
     ) {
         let b = self.nodes.b;
         if k < self.memoized {
-            // The residues from start mod b^(k+1) on, cyclically: straight runs.
+            // The residues from start mod b^(k+1) on, cyclically.
             let table = tables.table(k);
-            let mut residue = (start % self.powers[k + 1]) as usize;
-            let mut rest = deep;
-            while !rest.is_empty() {
-                let run = rest.len().min(table.len() - residue);
-                let (now, later) = rest.split_at_mut(run);
-                for (acc, &image) in now.iter_mut().zip(&table[residue..]) {
+            let from = (start % self.powers[k + 1]) as usize;
+            cyclic_runs(deep, from, table.len(), |now, at, _| {
+                for (acc, &image) in now.iter_mut().zip(&table[at..]) {
                     *acc = *acc * b + u64::from(image);
                 }
-                (rest, residue) = (later, 0);
-            }
+            });
         } else if k == self.node_position {
             // The nodes of prefixes start mod b^k on, cyclically, the digit advancing with each
             // cycle.
             self.complete_nodes(k, tables, start, deep.len());
             let nodes = tables.nodes(k);
             let from = (start % self.node_count) as usize;
-            let (mut prefix, mut digit) = (from, (start / self.node_count) % b);
-            let mut rest = deep;
-            while !rest.is_empty() {
-                let run = rest.len().min(nodes.len() - prefix);
-                let (now, later) = rest.split_at_mut(run);
-                for (acc, &part) in now.iter_mut().zip(&nodes[prefix..]) {
+            let digit = (start / self.node_count) % b;
+            cyclic_runs(deep, from, nodes.len(), |now, at, turn| {
+                let digit = (digit + turn as u64) % b;
+                for (acc, &part) in now.iter_mut().zip(&nodes[at..]) {
                     *acc = *acc * b + self.nodes.image(part, digit);
                 }
-                (rest, prefix) = (later, 0);
-                digit = if digit + 1 == b { 0 } else { digit + 1 };
-            }
+            });
         } else {
             images.clear();
             images.resize(deep.len(), 0);
             // Residue index mod b^(k+1) or the index itself: the same prefix and digit.
-            self.node_images(k, start, images);
+            let power = self.powers[k];
+            self.run_nodes(k, start, NodeOutput::Images { power, images });
             for (acc, &image) in deep.iter_mut().zip(images.iter()) {
                 *acc = *acc * b + u64::from(image);
             }
