@@ -28,8 +28,8 @@
 use super::batches::{BLOCK, Batches};
 use super::cell::Cell;
 use crate::engine::{
-    ChunkJob, DEFAULT_REPLICATES, Executor, Limits, RunConfig, Stopping, require_uniform_points,
-    run_settings,
+    ChunkJob, DEFAULT_REPLICATES, Executor, Limits, RunConfig, RunScope, Stopping,
+    require_uniform_points, run_settings,
 };
 use crate::hash::hash_words;
 use crate::integrate::NonFinitePolicy;
@@ -240,6 +240,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
     fn run_unchecked(&self) -> Result<Estimate> {
         let settings = self.settings()?;
         let executor = self.config.executor()?;
+        let _run = RunScope::enter();
         let sampler = self
             .config
             .sampler(self.domain.dims(), "sampler (the dimension of the domain)")?;

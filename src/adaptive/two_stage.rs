@@ -21,7 +21,9 @@
 
 use super::batches::{BLOCK, Batches};
 use super::cell::Cell;
-use crate::engine::{ChunkJob, Executor, Limits, RunConfig, require_uniform_points, run_settings};
+use crate::engine::{
+    ChunkJob, Executor, Limits, RunConfig, RunScope, require_uniform_points, run_settings,
+};
 use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
 use crate::stats::rounding::{UNIT_ROUNDOFF, gamma};
@@ -219,6 +221,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
             ));
         }
         let executor = self.config.executor()?;
+        let _run = RunScope::enter();
         let sampler = self
             .config
             .sampler(dims, "sampler (the dimension of the domain)")?;

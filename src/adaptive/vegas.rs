@@ -46,7 +46,7 @@ mod pass;
 mod strata;
 
 use super::vegas_grid::{VegasGrid, check_alpha, check_increments};
-use crate::engine::{RunConfig, Stopping, Targets, require_randomized, run_settings};
+use crate::engine::{RunConfig, RunScope, Stopping, Targets, require_randomized, run_settings};
 use crate::estimator::checked_outputs;
 use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
@@ -287,6 +287,7 @@ impl<F> Vegas<F> {
         let limit = targets.limits();
         let settings = self.settings(&*sampler, limit.as_ref())?;
         let executor = self.config.executor()?;
+        let _run = RunScope::enter();
         let limits = self.config.limits_with(limit.and_then(|t| t.time()));
         let stopping = limit
             .as_ref()

@@ -16,9 +16,10 @@
 //! rank folds the same outputs in the same order as one process would.
 
 use std::any::Any;
+use std::cell::Cell;
 use std::ops::Range;
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::{Arc, Mutex, PoisonError};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use rayon::prelude::*;
 use rayon::{ThreadPool, ThreadPoolBuilder};
@@ -26,6 +27,7 @@ use rayon::{ThreadPool, ThreadPoolBuilder};
 use super::Limits;
 #[cfg(feature = "mpi")]
 use super::cluster::Cluster;
+use crate::sampler::{release_thread_tables, thread_tables_held};
 use crate::stats::StopReason;
 use crate::{Error, Result};
 
@@ -231,6 +233,45 @@ impl Executor {
     }
 }
 
+/// A run under way on this thread, from [`RunScope::enter`] until dropped.
+pub(crate) struct RunScope {
+    _private: (),
+}
+
+impl RunScope {
+    /// Marks a run on this thread until the returned scope is dropped. When the outermost run
+    /// of a thread outside the pools ends, the tables that samplers keep on each thread between
+    /// fills (Owen-scrambled Halton's, up to 8 MiB a thread) are released on this thread and on
+    /// every worker of every pool: the pools live for the process, and an idle worker should
+    /// not hold them.
+    pub(crate) fn enter() -> RunScope {
+        RUNS.with(|runs| runs.set(runs.get() + 1));
+        RunScope { _private: () }
+    }
+}
+
+thread_local! {
+    /// The runs under way on this thread (more than one when an integrand integrates).
+    static RUNS: Cell<usize> = const { Cell::new(0) };
+}
+
+impl Drop for RunScope {
+    fn drop(&mut self) {
+        let outermost = RUNS.with(|runs| {
+            runs.set(runs.get() - 1);
+            runs.get() == 0
+        });
+        if !outermost || rayon::current_thread_index().is_some() || !thread_tables_held() {
+            return;
+        }
+        release_thread_tables();
+        let pools: Vec<Arc<ThreadPool>> = pools().iter().map(|(_, p)| Arc::clone(p)).collect();
+        for pool in pools {
+            pool.broadcast(|_| release_thread_tables());
+        }
+    }
+}
+
 /// The number of threads the machine offers (1 if it cannot tell).
 pub(crate) fn available_threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
@@ -239,8 +280,7 @@ pub(crate) fn available_threads() -> usize {
 /// The pool of `threads` workers, built on first use and kept for the process (one per
 /// thread count a program asks for).
 fn pool(threads: usize) -> Option<Arc<ThreadPool>> {
-    static POOLS: Mutex<Vec<(usize, Arc<ThreadPool>)>> = Mutex::new(Vec::new());
-    let mut pools = POOLS.lock().unwrap_or_else(PoisonError::into_inner);
+    let mut pools = pools();
     if let Some((_, pool)) = pools.iter().find(|(n, _)| *n == threads) {
         return Some(Arc::clone(pool));
     }
@@ -252,6 +292,12 @@ fn pool(threads: usize) -> Option<Arc<ThreadPool>> {
     let pool = Arc::new(pool);
     pools.push((threads, Arc::clone(&pool)));
     Some(pool)
+}
+
+/// The pools built so far, by thread count.
+fn pools() -> MutexGuard<'static, Vec<(usize, Arc<ThreadPool>)>> {
+    static POOLS: Mutex<Vec<(usize, Arc<ThreadPool>)>> = Mutex::new(Vec::new());
+    POOLS.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 /// Runs `work`, turning a panic into the error of a panic at `origin`.
@@ -278,6 +324,10 @@ fn panicked((replicate, first_index): (u64, u64), payload: Box<dyn Any + Send>) 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Integrator;
+    use crate::pdf::UniformBox;
+    use crate::sampler::{Halton, Scramble, thread_table_slots};
+    use std::sync::atomic::{AtomicUsize, Ordering};
 
     /// Squares of `0..n`, chunk by chunk; panics at chunk `bad`.
     struct Squares {
@@ -446,5 +496,34 @@ mod tests {
         assert!(Executor::new(None).unwrap().threads() >= 1);
         let most = MAX_THREADS_PER_CORE * available_threads();
         assert_eq!(Executor::new(Some(usize::MAX)).unwrap().threads(), most);
+    }
+
+    #[test]
+    fn an_ended_run_leaves_no_sampler_tables_on_its_threads() {
+        // Seven threads: a pool no other test uses, so nothing fills tables on it meanwhile.
+        let threads = 7;
+        let held_in_run = AtomicUsize::new(0);
+        let integrand = |x: &[f64]| {
+            held_in_run.fetch_max(thread_table_slots(), Ordering::Relaxed);
+            x[0]
+        };
+        let halton = Halton::new(3, Scramble::Owen, 5).unwrap();
+        let estimate = Integrator::over_box(integrand, UniformBox::unit(3).unwrap())
+            .sampler(halton)
+            .samples(1 << 14)
+            .threads(threads)
+            .run()
+            .unwrap();
+        assert!((estimate.mean - 0.5).abs() < 1e-3);
+        assert!(
+            held_in_run.load(Ordering::Relaxed) > 0,
+            "no tables were kept"
+        );
+        assert_eq!(thread_table_slots(), 0);
+        let pool = pool(threads.min(MAX_THREADS_PER_CORE * available_threads())).unwrap();
+        assert_eq!(
+            pool.broadcast(|_| thread_table_slots()),
+            vec![0; pool.current_num_threads()]
+        );
     }
 }

@@ -26,7 +26,7 @@ mod targets;
 #[cfg(feature = "mpi")]
 pub use cluster::Cluster;
 pub(crate) use config::{RunConfig, RunSampler, require_randomized, require_uniform_points};
-pub(crate) use executor::{ChunkJob, Executor, available_threads, guarded};
+pub(crate) use executor::{ChunkJob, Executor, RunScope, available_threads, guarded};
 pub use limits::CancelToken;
 pub(crate) use limits::Limits;
 pub(crate) use settings::run_settings;

@@ -58,6 +58,9 @@ pub use named::{SamplerKind, build_sampler};
 pub use orthogonal_array::{OaOffset, OrthogonalArray};
 pub use pmj02::Pmj02;
 pub use poisson_disk::PoissonDisk;
+#[cfg(test)]
+pub(crate) use radical_inverse::thread_table_slots;
+pub(crate) use radical_inverse::{release_thread_tables, thread_tables_held};
 pub use random_cd::{RandomCd, random_cd};
 pub use scramble::Scramble;
 pub use sobol::Sobol;

@@ -9,9 +9,13 @@
 //! block and per digit. The tables
 //! hold exactly what the kernel would compute, so the values do not depend on what was filled
 //! before; a thread past its budget forgets the other columns' tables.
+//!
+//! The engine's worker threads live for the process, so the engine [`release`]s every thread's
+//! tables when a run ends: an idle worker then holds none.
 
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Positions with at most this many prefixes (`b^k`) keep their nodes, and those with at most
 /// this many residues (`b^(k+1)`) their digit images.
@@ -53,6 +57,8 @@ struct Memo {
     /// The fills between two fills of one column, as recently seen (the longest, decaying):
     /// columns idle for much longer belong to finished passes.
     period: u64,
+    /// Whether a column was admitted since the memo was made: counted in [`HOLDERS`].
+    holding: bool,
 }
 
 impl Memo {
@@ -86,12 +92,49 @@ impl Memo {
         if self.slots + needed > BUDGET {
             return false;
         }
+        if !self.holding {
+            self.holding = true;
+            HOLDERS.fetch_add(1, Ordering::Relaxed);
+        }
         self.columns.entry((base, key)).or_insert_with(|| Tables {
             last_use: clock,
             ..Tables::default()
         });
         true
     }
+}
+
+impl Drop for Memo {
+    fn drop(&mut self) {
+        if self.holding {
+            HOLDERS.fetch_sub(1, Ordering::Relaxed);
+        }
+    }
+}
+
+/// Threads whose tables have held a column since their last [`release`].
+static HOLDERS: AtomicUsize = AtomicUsize::new(0);
+
+/// Whether some thread may hold tables.
+pub(crate) fn any_held() -> bool {
+    HOLDERS.load(Ordering::Relaxed) > 0
+}
+
+/// Forgets this thread's tables and frees their memory (unless a fill on this thread is
+/// using them, which a [`release`] from inside that fill could only be).
+pub(crate) fn release() {
+    // The thread may be exiting (no thread-local left) or inside a fill: nothing to do then.
+    let _ = MEMO.try_with(|cell| {
+        if let Ok(mut memo) = cell.try_borrow_mut() {
+            *memo = Memo::default();
+        }
+    });
+}
+
+/// Table slots this thread holds.
+#[cfg(test)]
+pub(crate) fn slots_held() -> usize {
+    MEMO.with(|cell| cell.borrow().slots)
 }
 
 /// Whether column (`base`, `key`) may keep tables of `slots` slots on this thread: yes if they
@@ -355,6 +398,15 @@ mod tests {
         assert!(admit(3, 2, size));
         with_tables(3, 2, true, &half, &[], |t| t.images[0] = 8);
         assert!(!admit(3, 1, size));
+    }
+
+    #[test]
+    fn release_forgets_this_threads_tables() {
+        with_tables(13, 4, admit(13, 4, 0), &[0, 4], &[], |t| t.images[1] = 6);
+        assert!(slots_held() >= 4);
+        release();
+        assert_eq!(slots_held(), 0);
+        assert!(with_tables(13, 4, admit(13, 4, 0), &[0, 4], &[], |t| t.images[1]) == UNSEEN);
     }
 
     #[test]
