@@ -96,9 +96,13 @@ const EVALUATIONS_PER_INCREMENT: u64 = 10;
 /// ```
 ///
 /// With a [`tolerance`](Self::tolerance), the run stops after the first iteration at which the
-/// weighted combination meets it, or before an iteration that would exceed its evaluation limit
-/// (which must leave room for the warm-up and one iteration), or before the next iteration once
-/// its time limit has passed (the warm-up always runs in full).
+/// weighted combination meets it and the iterations agree, or before an iteration that would
+/// exceed its evaluation limit (which must leave room for the warm-up and one iteration), or
+/// before the next iteration once its time limit has passed (the warm-up always runs in full).
+/// Iterations that disagree (`Q` below [`DISAGREEMENT_Q`](crate::stats::DISAGREEMENT_Q)) have
+/// underestimated variances, and meet no tolerance; the first combined iteration, which has no
+/// `Q` yet, must agree in the same sense with the last warm-up iteration, whose estimate is as
+/// unbiased and whose variance is as honest (without a warm-up it is not checked).
 pub struct Vegas<F> {
     f: F,
     domain: UniformBox,
@@ -310,6 +314,8 @@ impl<F> Vegas<F> {
         let mut sum_sigf = per_cube as f64;
         let mut training = vec![0.0; 2 * grid.cells()];
         let mut combination = VectorCombination::new(m);
+        // Each output's estimate and variance in the last warm-up iteration (none yet).
+        let mut last_warmup: Vec<(f64, f64)> = Vec::new();
         // Each output's weight in the training data and in sigma_h: 1 for a single output
         // (the map and allocation do not depend on a common scale); for several, one over the
         // previous iteration's mean of (J f_k)^2, so that every output shapes the map whatever
@@ -405,6 +411,12 @@ impl<F> Vegas<F> {
                 weights = output_weights(&totals, total);
             }
             if !measured {
+                last_warmup = totals
+                    .sums
+                    .outputs
+                    .iter()
+                    .map(|o| (o.mean, o.variance))
+                    .collect();
                 continue;
             }
             combination.add(&totals, total - strata.cubes);
@@ -412,7 +424,10 @@ impl<F> Vegas<F> {
             non_finite += totals.non_finite;
             if stopping.is_some() {
                 let so_far = combination.estimate(measured_evaluations, spent);
-                if targets.judge(so_far).1 {
+                // Two or more iterations carry their own chi^2 (`Tolerance::is_met` refuses
+                // those that disagree); a first one is checked against the last warm-up.
+                let checked = combination.count() > 1 || combination.first_agrees(&last_warmup);
+                if checked && targets.judge(so_far).1 {
                     stop = StopReason::ToleranceMet;
                     break;
                 }

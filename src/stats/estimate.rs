@@ -3,7 +3,7 @@
 use super::accumulator::{Accumulator, scale_for};
 use super::rounding::mean_of_means;
 use super::stop_reason::StopReason;
-use super::warning::Warning;
+use super::warning::{DISAGREEMENT_Q, Warning};
 use crate::special::student_t_quantile;
 use crate::{Error, Result};
 
@@ -214,6 +214,11 @@ impl Estimate {
             self.warn(Warning::FewReplicates {
                 replicates: self.replicates,
             });
+        }
+        if let (Some(chi2_dof), Some(q_value)) = (self.chi2_dof, self.q_value)
+            && q_value < DISAGREEMENT_Q
+        {
+            self.warn(Warning::IterationsDisagree { chi2_dof, q_value });
         }
         if self.non_finite > 0 {
             self.warnings

@@ -23,4 +23,4 @@ pub use goodness_of_fit::{GoodnessOfFit, chi_square_goodness_of_fit};
 pub use stop_reason::StopReason;
 pub use tolerance::Tolerance;
 pub use vector_estimate::VectorEstimate;
-pub use warning::Warning;
+pub use warning::{DISAGREEMENT_Q, Warning};

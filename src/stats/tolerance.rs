@@ -3,6 +3,7 @@
 use std::time::Duration;
 
 use super::estimate::Estimate;
+use super::warning::DISAGREEMENT_Q;
 use crate::{Error, Result};
 
 /// The accuracy a run should reach and the limits on what it may spend.
@@ -141,14 +142,23 @@ impl Tolerance {
         abs.max(rel)
     }
 
-    /// Whether `estimate`'s 95% interval is narrow enough (false without a standard error).
+    /// Whether `estimate`'s 95% interval is narrow enough (false without a standard error, and
+    /// false when its combined iterations disagree, `q_value` below [`DISAGREEMENT_Q`]: their
+    /// error bar is then too small, see [`Warning::IterationsDisagree`](super::Warning::IterationsDisagree)).
     ///
     /// ```
     /// use mcint::stats::{Estimate, Tolerance};
     /// let single = Estimate::from_replicates(&[1.0], 100).unwrap(); // no error bar
     /// assert!(!Tolerance::absolute(1.0).unwrap().is_met(&single));
+    /// let mut pair = Estimate::from_replicates(&[1.0, 1.1], 100).unwrap();
+    /// assert!(Tolerance::absolute(1.0).unwrap().is_met(&pair));
+    /// pair.q_value = Some(1e-6);
+    /// assert!(!Tolerance::absolute(1.0).unwrap().is_met(&pair));
     /// ```
     pub fn is_met(&self, estimate: &Estimate) -> bool {
+        if estimate.q_value.is_some_and(|q| q < DISAGREEMENT_Q) {
+            return false;
+        }
         match estimate.half_width(0.95) {
             Ok(Some(h)) => h <= self.target(estimate.mean),
             _ => false,

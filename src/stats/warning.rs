@@ -75,6 +75,18 @@ pub enum Warning {
         /// Evaluations the run was to make.
         planned: u64,
     },
+    /// The iterations an adaptive method combined (VEGAS) disagree beyond chance: a `chi^2` of
+    /// their agreement this large or larger has probability `q_value`, below
+    /// [`DISAGREEMENT_Q`], if their variances are right. Their variances are then
+    /// underestimated (a discontinuity the grid squeezes into a sliver that most iterations
+    /// miss, as a rule), the inverse-variance weights favour the iterations that missed it,
+    /// and the combined estimate can sit many standard errors from the truth.
+    IterationsDisagree {
+        /// `chi^2` per degree of freedom.
+        chi2_dof: f64,
+        /// The probability of a `chi^2` at least as large if the iterations agree.
+        q_value: f64,
+    },
     /// The statistical standard error was below the bound on the rounding error of the mean
     /// (`Estimate::rounding_error`), and the floor is reported instead: the data hardly vary,
     /// and more points will not make the answer more accurate.
@@ -85,6 +97,14 @@ pub enum Warning {
         floor: f64,
     },
 }
+
+/// A `Q` below this warns that combined iterations disagree ([`Warning::IterationsDisagree`]):
+/// iterations with honest variances give it in 1% of runs.
+///
+/// ```
+/// assert_eq!(mcint::stats::DISAGREEMENT_Q, 0.01);
+/// ```
+pub const DISAGREEMENT_Q: f64 = 0.01;
 
 impl Warning {
     /// A short stable name of the warning's kind, for machine-readable output.
@@ -102,6 +122,7 @@ impl Warning {
             Warning::AtRoundingFloor { .. } => "at-rounding-floor",
             Warning::StoppedEarly { .. } => "stopped-early",
             Warning::AllZero { .. } => "all-zero",
+            Warning::IterationsDisagree { .. } => "iterations-disagree",
         }
     }
 }
@@ -123,8 +144,8 @@ impl fmt::Display for Warning {
             ),
             Warning::ToleranceNotMet { stop } => write!(
                 f,
-                "the run stopped ({}) before meeting the tolerance; the interval is wider \
-                 than asked",
+                "the run stopped ({}) before meeting the tolerance: the interval is wider \
+                 than asked, or its iterations disagree",
                 stop_words(*stop)
             ),
             Warning::AllZero { count } => write!(
@@ -152,6 +173,13 @@ impl fmt::Display for Warning {
                 f,
                 "{count} NaN or infinite contributions were left out: the estimate is the \
                  mean of the finite ones"
+            ),
+            Warning::IterationsDisagree { chi2_dof, q_value } => write!(
+                f,
+                "the combined iterations disagree (chi2/dof {chi2_dof:.2}, Q = {q_value:.1e}): \
+                 their variances are underestimated and the error bar is too small (as a rule, \
+                 a discontinuity that the grid squeezes into a sliver most iterations miss); \
+                 MISER or randomized QMC do not depend on a grid"
             ),
             Warning::AtRoundingFloor { statistical, floor } => write!(
                 f,

@@ -4,7 +4,7 @@ use super::moments::pair;
 use super::pass::Totals;
 use crate::special::chi_square_sf;
 use crate::stats::rounding::gamma;
-use crate::stats::{ErrorBasis, Estimate, StopReason, VectorEstimate};
+use crate::stats::{DISAGREEMENT_Q, ErrorBasis, Estimate, StopReason, VectorEstimate};
 
 /// Smallest iteration variance used as a weight, so that exact (zero-variance) iterations
 /// do not divide by zero (the `TINY` of `vegas`).
@@ -110,6 +110,20 @@ impl VectorCombination {
             combination.add(sums.mean, sums.variance, dof, sums.rounding);
         }
         self.covariances.push(totals.sums.covariance.clone());
+    }
+
+    /// Whether the first iteration agrees with `other`, each output's estimate and variance
+    /// in another iteration (true when `other` is empty): their `chi^2` on one degree of
+    /// freedom has a `Q` of at least [`DISAGREEMENT_Q`] for every output.
+    pub(super) fn first_agrees(&self, other: &[(f64, f64)]) -> bool {
+        self.outputs
+            .iter()
+            .zip(other)
+            .all(|(c, &(mean, variance))| {
+                let (first, first_variance) = c.results[0];
+                let chi2 = (first - mean).powi(2) / (first_variance + variance).max(TINY_VARIANCE);
+                chi_square_sf(chi2, 1.0) >= DISAGREEMENT_Q
+            })
     }
 
     /// The combined estimate of every output from `n` measured evaluations, `evaluations`
