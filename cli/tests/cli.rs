@@ -227,7 +227,15 @@ fn integrate_rejects_bad_input_with_one_line() {
             "integrate",
             &["--genz", "gaussian", "--dims", "2", "--u", "0.5"],
         ),
-        "u",
+        "invalid --u: 1 values for --dims 2",
+    );
+    // The flag given is named, not the other one (which took its default length).
+    assert_one_line_error(
+        &run(
+            "integrate",
+            &["--genz", "gaussian", "--dims", "3", "--a", "1,2"],
+        ),
+        "invalid --a: 2 values for --dims 3",
     );
     assert_one_line_error(
         &run(

@@ -37,6 +37,16 @@ impl Named {
         match (args.list("a")?, args.list("u")?) {
             (None, None) => Genz::with_defaults(family, dims),
             (a, u) => {
+                for (flag, values) in [("a", &a), ("u", &u)] {
+                    if let Some(values) = values
+                        && values.len() != dims
+                    {
+                        return Err(format!(
+                            "invalid --{flag}: {} values for --dims {dims} (one per dimension)",
+                            values.len()
+                        ));
+                    }
+                }
                 let defaults = Genz::with_defaults(family, dims).map_err(|e| e.to_string())?;
                 Genz::new(
                     family,
