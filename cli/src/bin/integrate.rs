@@ -635,10 +635,11 @@ impl Report {
         }
         if let Some(converged) = e.converged {
             println!(
-                "tolerance   {} ({}, {} stages, {} evaluations in all)",
+                "tolerance   {} ({}, {} stage{}, {} evaluations in all)",
                 if converged { "met" } else { "NOT met" },
                 stop_name(e.stop),
                 e.iterations,
+                if e.iterations == 1 { "" } else { "s" },
                 e.evaluations
             );
         }

@@ -285,10 +285,11 @@ impl VectorReport<'_> {
         }
         if let Some(converged) = run.converged {
             println!(
-                "tolerance {} ({}, {} stages)",
+                "tolerance {} ({}, {} stage{})",
                 if converged { "met" } else { "NOT met" },
                 stop_name(run.stop),
-                run.iterations
+                run.iterations,
+                if run.iterations == 1 { "" } else { "s" }
             );
         }
         println!("time {:.3} s", self.seconds);
