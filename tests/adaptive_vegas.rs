@@ -156,7 +156,8 @@ fn the_grid_adapts_to_a_peak() {
 fn warmup_iterations_are_not_in_the_estimate() {
     // Iteration k always uses the same points and (given the same earlier iterations) the
     // same grid, so a run with warm-up 3 and 2 iterations must combine exactly the estimates
-    // that warm-ups 3 and 4 with one iteration each report alone.
+    // that warm-ups 3 and 4 with one iteration each report alone, each weighted by the
+    // inverse variance of the iteration before it.
     let g = Genz::with_defaults(GenzFamily::Gaussian, 3).unwrap();
     let run = |warmup: u64, iterations: u64| {
         Vegas::new(|x: &[f64]| g.eval(x), UniformBox::unit(3).unwrap())
@@ -167,14 +168,15 @@ fn warmup_iterations_are_not_in_the_estimate() {
             .run()
             .unwrap()
     };
-    let third = run(3, 1);
-    let fourth = run(4, 1);
+    let (second, third, fourth) = (run(2, 1), run(3, 1), run(4, 1));
     let both = run(3, 2);
-    let (w3, w4) = (se(&third).powi(-2), se(&fourth).powi(-2));
+    let (w3, w4) = (se(&second).powi(-2), se(&third).powi(-2));
     let mean = (w3 * third.mean + w4 * fourth.mean) / (w3 + w4);
     assert!((both.mean - mean).abs() <= 1e-14 * mean.abs(), "{both:?}");
-    assert!((se(&both) - (w3 + w4).powf(-0.5)).abs() <= 1e-14 * se(&both));
-    let chi2 = w3 * (third.mean - mean).powi(2) + w4 * (fourth.mean - mean).powi(2);
+    let combined = (w3.powi(2) * se(&third).powi(2) + w4.powi(2) * se(&fourth).powi(2)).sqrt();
+    assert!((se(&both) - combined / (w3 + w4)).abs() <= 1e-14 * se(&both));
+    let chi2 =
+        ((third.mean - mean) / se(&third)).powi(2) + ((fourth.mean - mean) / se(&fourth)).powi(2);
     let chi2_dof = both.chi2_dof.unwrap();
     assert!(
         (chi2_dof - chi2).abs() <= 1e-9 * chi2.max(1e-300),

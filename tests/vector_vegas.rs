@@ -4,10 +4,12 @@
 //! spread over seeds (which checks the covariance of the combined outputs), and bad input is
 //! refused with what is allowed.
 //!
-//! Runs use VEGAS's default 10^4 evaluations per iteration. With 4000 (about two points per
-//! VEGAS+ hypercube in 3-D) the moment output's intervals covered only 180 of 200: the
-//! hypercube variances behind its error bar are then too noisy (the scalar runs of the same
-//! size cover 186-190).
+//! Runs use VEGAS's default 10^4 evaluations per iteration. Over 1000 seeds (VEGAS+) the
+//! intervals of the peak, the moment and the ratio covered 942, 949 and 933 times at 10^4,
+//! 955, 947 and 954 at 4000, and 950, 960 and 948 at 4 x 10^4. (An earlier version of this
+//! test took the peak's integral over the whole space for its integral over the cube, 9.5e-5
+//! too large, and read the low coverage that caused at 4000 evaluations as noisy hypercube
+//! variances.)
 //!
 //! Coverage: with a true coverage of 95% the count of covering runs out of 200 is binomial
 //! with mean 190 and standard deviation 3.1; 186 (93%), as in `tests/integrator_tolerance.rs`.
@@ -21,16 +23,45 @@ const SEEDS: u64 = 200;
 const REQUIRED: u64 = 186;
 
 /// A Gaussian peak off the centre in 3-D and its first moment in x0: a posterior-mean-like
-/// pair whose ratio is the peak's centre, 0.4 (the tails outside the cube are below 1e-50).
+/// pair whose ratio is near the peak's centre, 0.4. The peak's standard deviation is 0.1, so
+/// the cube cuts its tails at 4 of them below the centre: see [`exact`].
 fn peak(x: &[f64], out: &mut [f64]) {
     let r2: f64 = x.iter().map(|v| (v - 0.4) * (v - 0.4)).sum();
     out[0] = (-r2 / 0.02).exp();
     out[1] = x[0] * out[0];
 }
 
-/// The peak's integral: (sqrt(pi * 0.02))^3.
-fn peak_integral() -> f64 {
-    (std::f64::consts::PI * 0.02).sqrt().powi(3)
+/// The integrals of the peak and of its moment over the cube, and their ratio.
+///
+/// Per axis the peak integrates to `I = int_0^1 exp(-(x - 0.4)^2 / 0.02) dx`, by Simpson's rule
+/// here (within 1e-11 of `I`; `math.erf` gives `I = 0.250654888412772`:
+/// `python3 -c "import math; s = math.sqrt(0.02); print(math.sqrt(0.02 * math.pi) / 2 *
+/// (math.erf(0.6 / s) + math.erf(0.4 / s)))"`), and `int_0^1 (x - 0.4) exp(..) dx = 0.01
+/// (e^-8 - e^-18)` in closed form. The whole line's `sqrt(0.02 pi)` is 9.5e-5 larger in three
+/// dimensions (the tails beyond 4 standard deviations): taking it for the cube's integral, as
+/// this test once did, put the estimates' mean 0.3 standard errors off at 10^4 evaluations per
+/// iteration and 0.6 at 4 x 10^4, and the ratio's intervals covered 93% of 1000 seeds.
+fn exact() -> [f64; 3] {
+    let g = |x: f64| (-(x - 0.4) * (x - 0.4) / 0.02).exp();
+    let intervals = 20_000;
+    let h = 1.0 / intervals as f64;
+    let inner: f64 = (1..intervals)
+        .map(|i| if i % 2 == 1 { 4.0 } else { 2.0 } * g(i as f64 * h))
+        .sum();
+    let line = h / 3.0 * (g(0.0) + inner + g(1.0));
+    let moment = 0.4 * line + 0.01 * ((-8.0f64).exp() - (-18.0f64).exp());
+    let peak = line.powi(3);
+    [peak, peak / line * moment, moment / line]
+}
+
+#[test]
+fn the_exact_values_agree_with_the_error_function() {
+    let [peak, _, ratio] = exact();
+    let line: f64 = 0.250654888412772; // math.erf, see `exact`
+    // Simpson's error is below 1e-15 here; the sum of 2 x 10^4 terms may round by up to
+    // 2 x 10^4 ulps.
+    assert!((peak / line.powi(3) - 1.0).abs() < 1e-11, "{peak}");
+    assert!((ratio - 0.4000133828388526).abs() < 1e-15, "{ratio}");
 }
 
 /// The peak and its moment as one vector integrand.
@@ -74,7 +105,8 @@ fn one_output_is_the_scalar_run_and_threads_do_not_change_bits() {
 
 #[test]
 fn intervals_of_outputs_and_ratio_cover_and_the_ratio_error_is_its_spread() {
-    let exact = [peak_integral(), 0.4 * peak_integral()];
+    let [peak, moment, ratio_exact] = exact();
+    let exact = [peak, moment];
     for stratified in [false, true] {
         let mut covered = [0u64; 3];
         let mut ratios = Vec::new();
@@ -87,7 +119,7 @@ fn intervals_of_outputs_and_ratio_cover_and_the_ratio_error_is_its_spread() {
             }
             let ratio = run.derived(&Derived::ratio(1, 0)).unwrap();
             let (lo, hi) = ratio.confidence_interval(0.95).unwrap().unwrap();
-            covered[2] += u64::from(lo <= 0.4 && 0.4 <= hi);
+            covered[2] += u64::from(lo <= ratio_exact && ratio_exact <= hi);
             ratios.push(ratio.mean);
             predicted += ratio.std_error.unwrap() / SEEDS as f64;
         }

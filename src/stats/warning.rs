@@ -79,8 +79,8 @@ pub enum Warning {
     /// their agreement this large or larger has probability `q_value`, below
     /// [`DISAGREEMENT_Q`], if their variances are right. Their variances are then
     /// underestimated (a discontinuity the grid squeezes into a sliver that most iterations
-    /// miss, as a rule), the inverse-variance weights favour the iterations that missed it,
-    /// and the combined estimate can sit many standard errors from the truth.
+    /// miss, as a rule), the combination trusts the iterations that missed it, and the
+    /// combined estimate can sit many standard errors from the truth.
     IterationsDisagree {
         /// `chi^2` per degree of freedom.
         chi2_dof: f64,

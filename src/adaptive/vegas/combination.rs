@@ -1,4 +1,16 @@
-//! The inverse-variance combination of VEGAS iterations, with their `chi^2` agreement.
+//! The combination of VEGAS iterations, with their `chi^2` agreement.
+//!
+//! Each iteration is weighted by the inverse of the variance that the iteration before it
+//! measured (the last warm-up iteration's for the first), not by its own. An iteration's
+//! estimate and its own variance come from the same points and are correlated (points that
+//! happen to hold large values raise both), so weights of their own variance pull the
+//! combination towards the iterations that undershot, or overshot, by about the skewness times
+//! `sqrt(m / n)` standard errors for `m` iterations of `n` points: negligible over ten
+//! iterations, not over the thousands a tight tolerance takes. With such weights, 1000
+//! iterations of 1000 points of the 3-D Genz product peak (VEGAS+) sat 1.0 standard errors low
+//! on average and covered 77 of 100 seeds. A weight fixed before an iteration's points are drawn
+//! leaves each term unbiased; the variance of the combination, `sum w_i^2 var_i / (sum w_i)^2`,
+//! takes the iterations' own variances.
 
 use super::moments::pair;
 use super::pass::Totals;
@@ -6,17 +18,33 @@ use crate::special::chi_square_sf;
 use crate::stats::rounding::gamma;
 use crate::stats::{DISAGREEMENT_Q, ErrorBasis, Estimate, StopReason, VectorEstimate};
 
-/// Smallest iteration variance used as a weight, so that exact (zero-variance) iterations
-/// do not divide by zero (the `TINY` of `vegas`).
+/// Smallest iteration variance used, so that exact (zero-variance) iterations do not divide
+/// by zero (the `TINY` of `vegas`).
 const TINY_VARIANCE: f64 = 1e-250;
 
-/// Inverse-variance weighted combination of the iterations after the warm-up.
+/// One combined iteration: its estimate, its variance and its weight.
+#[derive(Clone, Copy)]
+struct Iteration {
+    mean: f64,
+    variance: f64,
+    weight: f64,
+}
+
+/// The weighted combination of the iterations after the warm-up.
 #[derive(Default)]
 pub(super) struct Combination {
-    /// Each iteration's estimate and variance.
-    results: Vec<(f64, f64)>,
+    results: Vec<Iteration>,
+    /// The variance that weights the next iteration: the last one's, warm-up included.
+    previous_variance: Option<f64>,
+    /// The last warm-up iteration's estimate and variance.
+    warmup: Option<(f64, f64)>,
+    /// The largest weight so far: the sums below hold weights divided by it, which are at
+    /// most 1 (weights themselves reach `1 / TINY_VARIANCE`, and their squares would overflow).
+    scale: f64,
     sum_weights: f64,
     sum_weighted: f64,
+    /// `sum w_i^2 var_i`, the variance of the weighted sum.
+    sum_weighted_variance: f64,
     /// The iterations' rounding bounds, weighted like their means.
     sum_weighted_rounding: f64,
     dof: f64,
@@ -27,15 +55,52 @@ impl Combination {
         self.results.len() as u64
     }
 
+    /// Notes a warm-up iteration's estimate and variance: the first combined iteration is
+    /// weighted by the last one's variance and checked against its estimate.
+    pub(super) fn warm_up(&mut self, mean: f64, variance: f64) {
+        let variance = variance.max(TINY_VARIANCE);
+        self.previous_variance = Some(variance);
+        self.warmup = Some((mean, variance));
+    }
+
     /// Adds an iteration's estimate, its variance and degrees of freedom, and the bound on
     /// the rounding error of its estimate.
     pub(super) fn add(&mut self, mean: f64, variance: f64, dof: u64, rounding: f64) {
         let variance = variance.max(TINY_VARIANCE);
-        self.results.push((mean, variance));
-        self.sum_weights += 1.0 / variance;
-        self.sum_weighted += mean / variance;
-        self.sum_weighted_rounding += rounding / variance;
+        let weight = 1.0 / self.previous_variance.unwrap_or(variance);
+        self.previous_variance = Some(variance);
+        self.results.push(Iteration {
+            mean,
+            variance,
+            weight,
+        });
+        if weight > self.scale {
+            let shrink = self.scale / weight;
+            self.sum_weights *= shrink;
+            self.sum_weighted *= shrink;
+            self.sum_weighted_variance *= shrink * shrink;
+            self.sum_weighted_rounding *= shrink;
+            self.scale = weight;
+        }
+        let relative = weight / self.scale;
+        self.sum_weights += relative;
+        self.sum_weighted += relative * mean;
+        self.sum_weighted_variance += relative * relative * variance;
+        self.sum_weighted_rounding += relative * rounding;
         self.dof += dof.max(1) as f64;
+    }
+
+    /// Whether the first iteration agrees with the last warm-up iteration (true without a
+    /// warm-up): their `chi^2` on one degree of freedom has a `Q` of at least
+    /// [`DISAGREEMENT_Q`].
+    fn first_agrees(&self) -> bool {
+        match (self.results.first(), self.warmup) {
+            (Some(first), Some((mean, variance))) => {
+                let chi2 = (first.mean - mean).powi(2) / (first.variance + variance);
+                chi_square_sf(chi2, 1.0) >= DISAGREEMENT_Q
+            }
+            _ => true,
+        }
     }
 
     /// The combined estimate of `n` measured evaluations, out of `evaluations` spent.
@@ -46,7 +111,7 @@ impl Combination {
             let chi2: f64 = self
                 .results
                 .iter()
-                .map(|(v, var)| (v - mean) * (v - mean) / var)
+                .map(|r| (r.mean - mean).powi(2) / r.variance)
                 .sum();
             let dof = (m - 1) as f64;
             (Some(chi2 / dof), Some(chi_square_sf(chi2, dof)))
@@ -55,12 +120,12 @@ impl Combination {
         };
         // The weighted sums of m terms and their ratio: at most 2m + 2 roundings of the
         // largest iteration estimate.
-        let largest = self.results.iter().fold(0.0f64, |l, (v, _)| l.max(v.abs()));
+        let largest = self.results.iter().fold(0.0f64, |l, r| l.max(r.mean.abs()));
         let rounding =
             self.sum_weighted_rounding / self.sum_weights + gamma(2.0 * m as f64 + 2.0) * largest;
         let mut estimate = Estimate {
             mean,
-            std_error: Some((1.0 / self.sum_weights).sqrt()),
+            std_error: Some(self.sum_weighted_variance.sqrt() / self.sum_weights),
             dof: Some(self.dof),
             basis: ErrorBasis::PerSample,
             n,
@@ -81,10 +146,10 @@ impl Combination {
     }
 }
 
-/// The iterations of several outputs: each output combined with its own inverse-variance
-/// weights (as one output alone would be), and the covariance of the combined estimates,
-/// `cov(I_j, I_k) = sum_i w_ij w_ik cov_i(j, k) / (W_j W_k)` over iterations `i`, with
-/// `w_ij = 1 / var_ij` and `W_j = sum_i w_ij`.
+/// The iterations of several outputs: each output combined with its own weights (as one
+/// output alone would be), and the covariance of the combined estimates,
+/// `cov(I_j, I_k) = sum_i w_ij w_ik cov_i(j, k) / (W_j W_k)` over iterations `i`, with `w_ij`
+/// the weight of output `j` in iteration `i` and `W_j = sum_i w_ij`.
 pub(super) struct VectorCombination {
     outputs: Vec<Combination>,
     /// Each iteration's covariance of each pair of outputs, as `Totals` lays them out.
@@ -112,18 +177,18 @@ impl VectorCombination {
         self.covariances.push(totals.sums.covariance.clone());
     }
 
-    /// Whether the first iteration agrees with `other`, each output's estimate and variance
-    /// in another iteration (true when `other` is empty): their `chi^2` on one degree of
-    /// freedom has a `Q` of at least [`DISAGREEMENT_Q`] for every output.
-    pub(super) fn first_agrees(&self, other: &[(f64, f64)]) -> bool {
-        self.outputs
-            .iter()
-            .zip(other)
-            .all(|(c, &(mean, variance))| {
-                let (first, first_variance) = c.results[0];
-                let chi2 = (first - mean).powi(2) / (first_variance + variance).max(TINY_VARIANCE);
-                chi_square_sf(chi2, 1.0) >= DISAGREEMENT_Q
-            })
+    /// Notes a warm-up iteration's totals (see [`Combination::warm_up`]).
+    pub(super) fn warm_up(&mut self, totals: &Totals) {
+        for (combination, sums) in self.outputs.iter_mut().zip(&totals.sums.outputs) {
+            combination.warm_up(sums.mean, sums.variance);
+        }
+    }
+
+    /// Whether every output's first iteration agrees with its last warm-up iteration (true
+    /// without a warm-up): `chi^2` on one degree of freedom with a `Q` of at least
+    /// [`DISAGREEMENT_Q`].
+    pub(super) fn first_agrees(&self) -> bool {
+        self.outputs.iter().all(Combination::first_agrees)
     }
 
     /// The combined estimate of every output from `n` measured evaluations, `evaluations`
@@ -143,7 +208,9 @@ impl VectorCombination {
                     .covariances
                     .iter()
                     .zip(a.results.iter().zip(&b.results))
-                    .map(|(cov, ((_, var_j), (_, var_k)))| cov[pair(j, k)] / (var_j * var_k))
+                    .map(|(cov, (r_j, r_k))| {
+                        cov[pair(j, k)] * (r_j.weight / a.scale) * (r_k.weight / b.scale)
+                    })
                     .sum();
                 let c = sum / (a.sum_weights * b.sum_weights);
                 matrix[j * m + k] = c;
