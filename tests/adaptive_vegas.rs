@@ -393,8 +393,7 @@ fn agreeing_iterations_seldom_warn() {
 /// weights of each iteration's own variance, correlated with its estimate, put 100 runs of
 /// 2000 iterations of 250 points 2.1 standard errors high on average, covering 44 of 100 (the
 /// 3-D Genz Gaussian, classic VEGAS). The mean of 100 z-scores has a standard error of about
-/// 0.1: 0.45 is 4.5 of
-/// them.
+/// 0.1: 0.45 is 4.5 of them.
 #[test]
 fn many_iterations_combine_without_drift() {
     let g = Genz::with_defaults(GenzFamily::Gaussian, 3).unwrap();
