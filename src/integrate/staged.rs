@@ -119,7 +119,8 @@ impl Stage<'_> {
     }
 }
 
-/// Independent points: a pilot sizes a fresh main stage (extended if it still misses).
+/// Independent points: a pilot, which stands if it meets the tolerance, else sizes a fresh
+/// main stage of at least its own size (extended if it still misses).
 fn two_stage(stage: &Stage<'_>) -> Result<VectorEstimate> {
     let pilot_size = stage.config.samples.unwrap_or(DEFAULT_PILOT).max(2);
     if pilot_size > stage.contribution_limit() {
@@ -146,13 +147,27 @@ fn two_stage(stage: &Stage<'_>) -> Result<VectorEstimate> {
         stage.targets.finish(&mut estimate, stop, 1);
         return Ok(estimate);
     }
+    // A pilot that meets the tolerance is a sample of fixed size judged once, whose interval
+    // is as honest as any; the main stage it would size could be a handful of points, whose
+    // own spread is no error bar (13 points of the 4-D Genz discontinuous function under
+    // importance sampling covered 81% of such runs).
+    if pilot.accumulators[0].count() >= 2 {
+        let (mut estimate, met) = stage.targets.judge(pilot.independent_estimate());
+        if met {
+            stage
+                .targets
+                .finish(&mut estimate, StopReason::ToleranceMet, 1);
+            return Ok(estimate);
+        }
+    }
     let z = normal_quantile(0.975);
     let mut used = pilot_size;
     let mut main: Option<Folded> = None;
     let mut stages = 1;
     let stop = loop {
         let current = main.as_ref().unwrap_or(&pilot);
-        let needed = points_needed(stage.targets, current, z * SD_INFLATION);
+        // The main stage is never smaller than the pilot that sized it.
+        let needed = points_needed(stage.targets, current, z * SD_INFLATION).max(pilot_size);
         let main_count = main.as_ref().map_or(0, |m| m.accumulators[0].count());
         let more = needed.saturating_sub(main_count).max(1);
         let more = match stage.limit(used, more)? {
