@@ -60,18 +60,18 @@ const DEFAULT_SAMPLES: u64 = 1 << 16;
 /// with the number of samples. A batch integrand ([`over_box_batch`](Integrator::over_box_batch))
 /// sees those blocks directly.
 ///
-/// With a [`tolerance`](Integrator::tolerance), independent points use a two-stage rule: a
-/// pilot of [`samples`](Integrator::samples) points (default 4096) gives the estimate if its
-/// interval meets the tolerance; else it estimates the standard deviation `s`, and a fresh main
-/// stage of `(1.96 * 1.1 * s / target)^2` points (at least the pilot's), independent of the
-/// pilot, gives the estimate and its CLT interval (the factor 1.1 inflates the variance against
-/// an unlucky pilot; should the main stage still miss, it is extended by the same rule). The interval assumes the CLT holds at that size, which needs `n` well above the
-/// square of the integrand's skewness: sharply peaked or heavy-tailed integrands need a
-/// tighter tolerance, or importance sampling. Randomized QMC and stratified points keep `R`
-/// replicates (default 16) and double the points per replicate, starting from `samples`
-/// (default: the pass size, or 1024), until the Student-t interval over the replicates, with
-/// its standard error inflated by 1.2 against optional stopping, meets the tolerance; each
-/// stage adds only the new points.
+/// With a [`tolerance`](Integrator::tolerance), independent points use a two-stage rule: a pilot of
+/// [`samples`](Integrator::samples) points (default 4096) gives the estimate if its interval meets
+/// the tolerance; else it estimates the standard deviation `s`, and a fresh main stage of
+/// `(1.96 * 1.1 * s / target)^2` points (at least the pilot's), independent of the pilot, gives the
+/// estimate and its CLT interval (the factor 1.1 inflates the variance against an unlucky pilot; should the
+/// main stage still miss, it is extended by the same rule). The interval assumes the CLT holds at
+/// that size, which needs `n` well above the square of the integrand's skewness: sharply peaked or
+/// heavy-tailed integrands need a tighter tolerance, or importance sampling. Randomized QMC and
+/// stratified points keep `R` replicates (default 16) and double the points per replicate, starting
+/// from `samples` (default: the pass size, or 1024), until the Student-t interval over the
+/// replicates, with its standard error inflated by 1.2 against optional stopping, meets the
+/// tolerance; each stage adds only the new points.
 ///
 /// ```
 /// use mcint::{Integrator, pdf::UniformBox, sampler::Jittered};

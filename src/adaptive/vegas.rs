@@ -78,11 +78,11 @@ const EVALUATIONS_PER_INCREMENT: u64 = 10;
 /// `alpha = 0.5`, adaptive stratification on with `beta = 0.75`, independent points with
 /// seed 0, all available threads.
 ///
-/// The estimate is the combination of the iterations weighted by the inverse of the variance
-/// of the iteration before each, and its standard error that of this weighted mean (basis
-/// [`ErrorBasis::PerSample`](crate::stats::ErrorBasis::PerSample), with `dof` the sum of
-/// `n_h - 1` over hypercubes and iterations); `iterations` and `replicates` are the number of iterations combined,
-/// `chi2_dof` and `q_value` their agreement (from the second one on), `n` counts the
+/// The estimate is the combination of the iterations weighted by the inverse of the variance of the
+/// iteration before each, and its standard error that of this weighted mean (basis
+/// [`ErrorBasis::PerSample`](crate::stats::ErrorBasis::PerSample), with `dof` the sum of `n_h - 1`
+/// over hypercubes and iterations); `iterations` and `replicates` are the number of iterations
+/// combined, `chi2_dof` and `q_value` their agreement (from the second one on), `n` counts the
 /// evaluations of the combined iterations and `evaluations` every one spent, warm-up included.
 ///
 /// ```

@@ -100,15 +100,15 @@ const TAG_HALTON: u64 = 0x6861_6c74;
 /// division). `Permute` blocks find the images of the digits each position meets once per block,
 /// sixteen at a time, and round each value by one multiplication: about 5 ns per value at d = 4 or
 /// 32 (and 40 ns at d = 10,000, where bases above the block length give every index a lowest digit
-/// of its own to permute). `Owen` blocks keep the nodes of a pass in tables of the filling
-/// thread (the nodes of every digit position with at most 2^16 prefixes and the digit images of
-/// those with at most 2^16 residues; up to 8 MiB per thread, past which further columns get
-/// tables of their block only; the crate's runners release them on every thread when a run
-/// ends), so each node is computed once per pass whatever the block
-/// size; what remains per value is the tail of digits below the index's own (two hashes) and
-/// one correct rounding: about 17 ns per value at d = 10 and 30 on an AVX2 core (AMD EPYC,
-/// 2026-12-03; Owen-scrambled Sobol' takes 1.2 ns there). [`point`](Sampler::point)
-/// recomputes everything per call: use [`fill`](Sampler::fill) for throughput.
+/// of its own to permute). `Owen` blocks keep the nodes of a pass in tables of the filling thread
+/// (the nodes of every digit position with at most 2^16 prefixes and the digit images of those with
+/// at most 2^16 residues; up to 8 MiB per thread, past which further columns get tables of their
+/// block only; the crate's runners release them on every thread when a run ends), so each node is
+/// computed once per pass whatever the block size; what remains per value is the tail of digits
+/// below the index's own (two hashes) and one correct rounding: about 17 ns per value at d = 10 and
+/// 30 on an AVX2 core (AMD EPYC, 2026-12-03; Owen-scrambled Sobol' takes 1.2 ns there).
+/// [`point`](Sampler::point) recomputes everything per call: use [`fill`](Sampler::fill) for
+/// throughput.
 ///
 /// # Passes
 ///
