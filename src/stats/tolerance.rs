@@ -144,7 +144,8 @@ impl Tolerance {
 
     /// Whether `estimate`'s 95% interval is narrow enough (false without a standard error, and
     /// false when its combined iterations disagree, `q_value` below [`DISAGREEMENT_Q`]: their
-    /// error bar is then too small, see [`Warning::IterationsDisagree`](super::Warning::IterationsDisagree)).
+    /// error bar is then too small, see
+    /// [`Warning::IterationsDisagree`](super::Warning::IterationsDisagree)).
     ///
     /// ```
     /// use mcint::stats::{Estimate, Tolerance};
