@@ -11,7 +11,7 @@
 //! [`VectorRun`] carries `m` outputs and their tolerances through the same plan, stages and
 //! checkpoints.
 
-use crate::engine::{Executor, Limits, RunConfig, RunScope, run_settings};
+use crate::engine::{Executor, Limits, RunConfig, run_settings};
 use crate::estimator::{
     BatchUniformEstimator, Estimator, ExpectationEstimator, ImportanceEstimator, UniformEstimator,
     VectorEstimator, WarpImportanceEstimator,
@@ -289,8 +289,7 @@ impl<E> Integrator<E> {
     {
         self.estimator.validate()?;
         let sampler = self.run_sampler()?;
-        let executor = self.config.executor()?;
-        let _run = RunScope::enter();
+        let (executor, _run) = self.config.executor()?;
         let targets = self.estimator.targets(&self.config);
         let limits = self.config.limits_with(targets.time());
         self.estimator.with_main(

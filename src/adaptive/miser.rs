@@ -28,8 +28,8 @@
 use super::batches::{BLOCK, Batches};
 use super::cell::Cell;
 use crate::engine::{
-    ChunkJob, DEFAULT_REPLICATES, Executor, Limits, RunConfig, RunScope, Stopping,
-    require_uniform_points, run_settings,
+    ChunkJob, DEFAULT_REPLICATES, Executor, Limits, RunConfig, Stopping, require_uniform_points,
+    run_settings,
 };
 use crate::hash::hash_words;
 use crate::integrate::NonFinitePolicy;
@@ -239,8 +239,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
     /// [`run`](Self::run) before its result is checked for overflow.
     fn run_unchecked(&self) -> Result<Estimate> {
         let settings = self.settings()?;
-        let executor = self.config.executor()?;
-        let _run = RunScope::enter();
+        let (executor, _run) = self.config.executor()?;
         let sampler = self
             .config
             .sampler(self.domain.dims(), "sampler (the dimension of the domain)")?;

@@ -4,7 +4,7 @@
 //! sequences"; GAIL's `cubSobol_g`, QMCPy's `CubQMCSobolG`).
 
 use super::walsh::WalshCoefficients;
-use crate::engine::{ChunkJob, RunConfig, RunScope, run_settings};
+use crate::engine::{ChunkJob, RunConfig, run_settings};
 use crate::estimator::{BatchUniformEstimator, Estimator, UniformEstimator};
 use crate::pdf::UniformBox;
 use crate::sampler::{Sampler, Scramble, Sobol};
@@ -185,8 +185,7 @@ impl<E: Estimator> SobolG<E> {
             ));
         }
         let sobol = Sobol::new(dims, Scramble::Lms, self.config.seed().unwrap_or(0))?;
-        let executor = self.config.executor()?;
-        let _run = RunScope::enter();
+        let (executor, _run) = self.config.executor()?;
         let limits = self.config.limits();
         let planned = if tolerance.is_some() { 0 } else { first };
 

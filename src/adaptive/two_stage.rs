@@ -21,9 +21,7 @@
 
 use super::batches::{BLOCK, Batches};
 use super::cell::Cell;
-use crate::engine::{
-    ChunkJob, Executor, Limits, RunConfig, RunScope, require_uniform_points, run_settings,
-};
+use crate::engine::{ChunkJob, Executor, Limits, RunConfig, require_uniform_points, run_settings};
 use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
 use crate::stats::rounding::{UNIT_ROUNDOFF, gamma};
@@ -220,8 +218,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
                 format!("at least (pilot + {MIN_MAIN}) x {strata} strata = {least} evaluations"),
             ));
         }
-        let executor = self.config.executor()?;
-        let _run = RunScope::enter();
+        let (executor, _run) = self.config.executor()?;
         let sampler = self
             .config
             .sampler(dims, "sampler (the dimension of the domain)")?;

@@ -48,7 +48,7 @@ mod pass;
 mod strata;
 
 use super::vegas_grid::{VegasGrid, check_alpha, check_increments};
-use crate::engine::{RunConfig, RunScope, Stopping, Targets, require_randomized, run_settings};
+use crate::engine::{RunConfig, Stopping, Targets, require_randomized, run_settings};
 use crate::estimator::checked_outputs;
 use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
@@ -293,8 +293,7 @@ impl<F> Vegas<F> {
             .sampler(dims, "sampler (the domain's dimensions)")?;
         let limit = targets.limits();
         let settings = self.settings(&*sampler, limit.as_ref())?;
-        let executor = self.config.executor()?;
-        let _run = RunScope::enter();
+        let (executor, _run) = self.config.executor()?;
         let limits = self.config.limits_with(limit.and_then(|t| t.time()));
         let stopping = limit
             .as_ref()

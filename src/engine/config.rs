@@ -5,7 +5,7 @@ use std::ops::Deref;
 use std::sync::Arc;
 use std::time::Duration;
 
-use super::{CancelToken, Executor, Limits};
+use super::{CancelToken, Executor, Limits, RunScope};
 use crate::integrate::NonFinitePolicy;
 use crate::sampler::{Independent, PassKind, Sampler};
 use crate::stats::Tolerance;
@@ -66,12 +66,13 @@ impl RunConfig {
         self.seed
     }
 
-    /// The executor of the thread setting (spread over the cluster, if one is set).
-    pub(crate) fn executor(&self) -> Result<Executor> {
+    /// The executor of the thread setting (spread over the cluster, if one is set), and the
+    /// run's [`RunScope`]: a runner holds it until its run ends.
+    pub(crate) fn executor(&self) -> Result<(Executor, RunScope)> {
         let executor = Executor::new(self.threads)?;
         #[cfg(feature = "mpi")]
         let executor = executor.spread_over(self.cluster);
-        Ok(executor)
+        Ok((executor, RunScope::enter()))
     }
 
     /// The limits of a run that starts now: the shorter of the time limit and the

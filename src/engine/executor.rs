@@ -520,7 +520,7 @@ mod tests {
             "no tables were kept"
         );
         assert_eq!(thread_table_slots(), 0);
-        let pool = pool(threads.min(MAX_THREADS_PER_CORE * available_threads())).unwrap();
+        let pool = pool(Executor::new(Some(threads)).unwrap().threads()).unwrap();
         assert_eq!(
             pool.broadcast(|_| thread_table_slots()),
             vec![0; pool.current_num_threads()]

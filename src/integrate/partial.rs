@@ -8,7 +8,7 @@ use super::engine::RunEstimator;
 use super::layout::Layout;
 use super::plan::{CHUNKS_IN_MEMORY, ChunkResult, Chunks, Folded, Plan};
 use super::{Integrator, VectorRun};
-use crate::engine::{Executor, RunScope};
+use crate::engine::Executor;
 use crate::estimator::{Estimator, VectorEstimator};
 use crate::sampler::Sampler;
 use crate::stats::{Estimate, VectorEstimate};
@@ -424,8 +424,7 @@ impl<E> Integrator<E> {
             ));
         }
         let sampler = self.run_sampler()?;
-        let executor = self.config.executor()?;
-        let _run = RunScope::enter();
+        let (executor, _run) = self.config.executor()?;
         let plan = Plan::new(self.config.samples, self.config.replicates, &*sampler)?;
         work(&plan, &*sampler, &executor)
     }

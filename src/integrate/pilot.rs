@@ -2,7 +2,7 @@
 //! the Integrator's control-variate mode built on it.
 
 use super::{Integrator, NonFinitePolicy};
-use crate::engine::{ChunkJob, Executor, Limits, RunConfig, RunScope};
+use crate::engine::{ChunkJob, Executor, Limits, RunConfig};
 use crate::estimator::{ControlFit, ControlVariates, Estimator, PilotFit};
 use crate::hash::hash_words;
 use crate::pdf::Pdf;
@@ -177,8 +177,7 @@ where
     /// assert!(fit.variance_reduction < 1e-12);
     /// ```
     pub fn fit(&self) -> Result<ControlFit> {
-        let executor = self.config.executor()?;
-        let _run = RunScope::enter();
+        let (executor, _run) = self.config.executor()?;
         let limits = self.config.limits();
         let (summary, _) = run(
             &self.estimator,

@@ -42,7 +42,7 @@
 
 use std::fmt;
 
-use crate::engine::{ChunkJob, Limits, RunConfig, RunScope, run_settings};
+use crate::engine::{ChunkJob, Limits, RunConfig, run_settings};
 use crate::hash::hash_words;
 use crate::sampler::{PassKind, Sampler};
 use crate::testfns::TestFunction;
@@ -351,8 +351,7 @@ impl<'a> Convergence<'a> {
         S: Sampler,
         F: Fn(u64, u64) -> Result<S> + Sync,
     {
-        let executor = self.config.executor()?;
-        let _run = RunScope::enter();
+        let (executor, _run) = self.config.executor()?;
         let passes = usize::try_from(self.passes).map_err(|_| Error::IndexOutOfRange {
             what: "number of passes",
             limit: usize::MAX as u64,
