@@ -34,8 +34,6 @@ struct Iteration {
 #[derive(Default)]
 pub(super) struct Combination {
     results: Vec<Iteration>,
-    /// The variance that weights the next iteration: the last one's, warm-up included.
-    previous_variance: Option<f64>,
     /// The last warm-up iteration's estimate and variance.
     warmup: Option<(f64, f64)>,
     /// The largest weight so far: the sums below hold weights divided by it, which are at
@@ -58,17 +56,16 @@ impl Combination {
     /// Notes a warm-up iteration's estimate and variance: the first combined iteration is
     /// weighted by the last one's variance and checked against its estimate.
     pub(super) fn warm_up(&mut self, mean: f64, variance: f64) {
-        let variance = variance.max(TINY_VARIANCE);
-        self.previous_variance = Some(variance);
-        self.warmup = Some((mean, variance));
+        self.warmup = Some((mean, variance.max(TINY_VARIANCE)));
     }
 
     /// Adds an iteration's estimate, its variance and degrees of freedom, and the bound on
     /// the rounding error of its estimate.
     pub(super) fn add(&mut self, mean: f64, variance: f64, dof: u64, rounding: f64) {
         let variance = variance.max(TINY_VARIANCE);
-        let weight = 1.0 / self.previous_variance.unwrap_or(variance);
-        self.previous_variance = Some(variance);
+        // The variance of the iteration before: the last combined one, or the last warm-up.
+        let previous = self.results.last().map(|r| r.variance);
+        let weight = 1.0 / previous.or(self.warmup.map(|(_, v)| v)).unwrap_or(variance);
         self.results.push(Iteration {
             mean,
             variance,
