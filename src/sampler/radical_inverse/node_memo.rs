@@ -120,10 +120,10 @@ pub(crate) fn any_held() -> bool {
     HOLDERS.load(Ordering::Relaxed) > 0
 }
 
-/// Forgets this thread's tables and frees their memory (unless a fill on this thread is
-/// using them, which a [`release`] from inside that fill could only be).
+/// Forgets this thread's tables and frees their memory.
 pub(crate) fn release() {
-    // The thread may be exiting (no thread-local left) or inside a fill: nothing to do then.
+    // Nothing to do on a thread that is exiting (no thread-local left) or that is inside a
+    // fill (the tables are borrowed): a fill does not end runs.
     let _ = MEMO.try_with(|cell| {
         if let Ok(mut memo) = cell.try_borrow_mut() {
             *memo = Memo::default();
