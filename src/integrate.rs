@@ -287,10 +287,9 @@ impl<E> Integrator<E> {
     where
         E: RunEstimator,
     {
-        self.estimator.validate()?;
+        let targets = self.estimator.targets(&self.config)?;
         let sampler = self.run_sampler()?;
         let (executor, _run) = self.config.executor()?;
-        let targets = self.estimator.targets(&self.config);
         let limits = self.config.limits_with(targets.time());
         self.estimator.with_main(
             &self.config,

@@ -143,10 +143,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Vegas<F> {
     /// assert!(bad.unwrap_err().to_string().contains("non-finite"));
     /// ```
     pub fn run(&self) -> Result<Estimate> {
-        let targets = Targets {
-            outputs: vec![self.config.tolerance],
-            derived: &[],
-        };
+        let targets = Targets::new(1, self.config.tolerance, None, &[])?;
         let run = self.run_engine(&Scalar(&self.f), &targets)?;
         let single = run.outputs.into_iter().next();
         single
@@ -685,25 +682,12 @@ impl<G: Fn(&[f64], &mut [f64]) + Sync> Vegas<VegasOutputs<G>> {
     /// assert!(err.to_string().contains("in output 1"), "{err}");
     /// ```
     pub fn run(&self) -> Result<VectorEstimate> {
-        let m = checked_outputs(self.f.outputs)?;
-        let outputs = match &self.f.output_tolerances {
-            Some(each) if each.len() != m => {
-                return Err(Error::invalid(
-                    "output tolerances",
-                    format!("{} tolerances", each.len()),
-                    format!("one tolerance per output ({m})"),
-                ));
-            }
-            Some(each) => each.iter().copied().map(Some).collect(),
-            None => vec![self.config.tolerance; m],
-        };
-        for (quantity, _) in &self.f.derived_tolerances {
-            quantity.check(m)?;
-        }
-        let targets = Targets {
-            outputs,
-            derived: &self.f.derived_tolerances,
-        };
+        let targets = Targets::new(
+            self.f.outputs,
+            self.config.tolerance,
+            self.f.output_tolerances.as_deref(),
+            &self.f.derived_tolerances,
+        )?;
         self.run_engine(&self.f, &targets)?.checked()
     }
 }

@@ -4,7 +4,9 @@
 use std::time::Duration;
 
 use super::REPLICATE_INFLATION;
+use crate::estimator::checked_outputs;
 use crate::stats::{Derived, ErrorBasis, Estimate, StopReason, Tolerance, VectorEstimate, Warning};
+use crate::{Error, Result};
 
 /// The tolerances of one run: `outputs[k]` for output `k` (none where only derived quantities
 /// decide), and a tolerance for each derived quantity. A run meets them when every one is met.
@@ -13,7 +15,34 @@ pub(crate) struct Targets<'a> {
     pub(crate) derived: &'a [(Derived, Tolerance)],
 }
 
-impl Targets<'_> {
+impl<'a> Targets<'a> {
+    /// The targets of a run of `outputs` outputs: `each` output's own tolerance, or
+    /// `tolerance` for all of them, and the derived quantities' (checked against `outputs`).
+    pub(crate) fn new(
+        outputs: usize,
+        tolerance: Option<Tolerance>,
+        each: Option<&[Tolerance]>,
+        derived: &'a [(Derived, Tolerance)],
+    ) -> Result<Targets<'a>> {
+        let m = checked_outputs(outputs)?;
+        let outputs = match each {
+            Some(each) if each.len() != m => {
+                return Err(Error::invalid(
+                    "output tolerances",
+                    format!("{} tolerances", each.len()),
+                    format!("one tolerance per output ({m})"),
+                ));
+            }
+            Some(each) => each.iter().copied().map(Some).collect(),
+            // One tolerance for all outputs; none when only derived quantities decide.
+            None => vec![tolerance; m],
+        };
+        for (quantity, _) in derived {
+            quantity.check(m)?;
+        }
+        Ok(Targets { outputs, derived })
+    }
+
     /// Whether there is anything to reach (otherwise the run has a fixed budget).
     pub(crate) fn any(&self) -> bool {
         self.outputs.iter().any(Option::is_some) || !self.derived.is_empty()

@@ -14,12 +14,6 @@ pub(super) trait RunEstimator {
     /// Number of canonical coordinates per point.
     fn canonical_dims(&self) -> usize;
 
-    /// Ok when the run's outputs and tolerances are consistent (checked before anything
-    /// else).
-    fn validate(&self) -> Result<()> {
-        Ok(())
-    }
-
     /// Calls `work` with the estimator of the main run, seen as a vector estimator, and the
     /// evaluations a pilot stage spent before it.
     fn with_main<R>(
@@ -30,8 +24,9 @@ pub(super) trait RunEstimator {
         work: impl FnOnce(&dyn VectorEstimator, u64) -> Result<R>,
     ) -> Result<R>;
 
-    /// The tolerances the run must reach (none for a fixed budget).
-    fn targets<'a>(&'a self, config: &RunConfig) -> Targets<'a>;
+    /// The tolerances the run must reach (none for a fixed budget), checked against its
+    /// outputs.
+    fn targets<'a>(&'a self, config: &RunConfig) -> Result<Targets<'a>>;
 
     /// The fingerprint of the run of `plan` with `sampler`.
     fn layout(&self, plan: &Plan, sampler: &dyn Sampler, config: &RunConfig) -> Result<Layout>;
@@ -59,11 +54,8 @@ impl<E: Estimator> RunEstimator for E {
         }
     }
 
-    fn targets<'a>(&'a self, config: &RunConfig) -> Targets<'a> {
-        Targets {
-            outputs: vec![config.tolerance],
-            derived: &[],
-        }
+    fn targets<'a>(&'a self, config: &RunConfig) -> Result<Targets<'a>> {
+        Targets::new(1, config.tolerance, None, &[])
     }
 
     fn layout(&self, plan: &Plan, sampler: &dyn Sampler, config: &RunConfig) -> Result<Layout> {
@@ -76,10 +68,6 @@ impl<E: VectorEstimator> RunEstimator for VectorRun<E> {
         self.estimator.canonical_dims()
     }
 
-    fn validate(&self) -> Result<()> {
-        VectorRun::validate(self)
-    }
-
     fn with_main<R>(
         &self,
         _: &RunConfig,
@@ -90,17 +78,13 @@ impl<E: VectorEstimator> RunEstimator for VectorRun<E> {
         work(&self.estimator, 0)
     }
 
-    fn targets<'a>(&'a self, config: &RunConfig) -> Targets<'a> {
-        let m = self.estimator.outputs();
-        let outputs = match &self.output_tolerances {
-            Some(each) => each.iter().copied().map(Some).collect(),
-            // One tolerance for all outputs; none when only derived quantities decide.
-            None => vec![config.tolerance; m],
-        };
-        Targets {
-            outputs,
-            derived: &self.derived_tolerances,
-        }
+    fn targets<'a>(&'a self, config: &RunConfig) -> Result<Targets<'a>> {
+        Targets::new(
+            self.estimator.outputs(),
+            config.tolerance,
+            self.output_tolerances.as_deref(),
+            &self.derived_tolerances,
+        )
     }
 
     fn layout(&self, plan: &Plan, sampler: &dyn Sampler, config: &RunConfig) -> Result<Layout> {

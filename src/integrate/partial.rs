@@ -414,8 +414,7 @@ impl<E> Integrator<E> {
     where
         E: RunEstimator,
     {
-        self.estimator.validate()?;
-        if self.estimator.targets(&self.config).any() {
+        if self.estimator.targets(&self.config)?.any() {
             return Err(Error::invalid(
                 "tolerance",
                 "set",

@@ -5,12 +5,12 @@ use super::Integrator;
 use crate::engine::RunConfig;
 use crate::estimator::{
     BatchVectorUniformEstimator, VectorEstimator, VectorExpectationEstimator,
-    VectorImportanceEstimator, VectorUniformEstimator, checked_outputs,
+    VectorImportanceEstimator, VectorUniformEstimator,
 };
 use crate::measure::Measure;
 use crate::pdf::{Pdf, UniformBox};
 use crate::stats::{Derived, Tolerance, VectorEstimate};
-use crate::{Error, Points, Result};
+use crate::{Points, Result};
 
 /// A [`VectorEstimator`] with the tolerances of its run: what
 /// [`Integrator::over_box_vector`] and the other vector constructors integrate.
@@ -219,25 +219,5 @@ impl<E: VectorEstimator> Integrator<VectorRun<E>> {
     /// ```
     pub fn run(&self) -> Result<VectorEstimate> {
         self.run_engine()?.checked()
-    }
-}
-
-impl<E: VectorEstimator> VectorRun<E> {
-    /// Ok when the outputs and the tolerances agree.
-    pub(super) fn validate(&self) -> Result<()> {
-        let m = checked_outputs(self.estimator.outputs())?;
-        if let Some(each) = &self.output_tolerances
-            && each.len() != m
-        {
-            return Err(Error::invalid(
-                "output tolerances",
-                format!("{} tolerances", each.len()),
-                format!("one tolerance per output ({m})"),
-            ));
-        }
-        for (quantity, _) in &self.derived_tolerances {
-            quantity.check(m)?;
-        }
-        Ok(())
     }
 }
