@@ -1,7 +1,7 @@
 //! The uniform estimator over a box for a batch integrand: one call per block of points.
 
 use super::Estimator;
-use super::box_block::{is_unit, with_mapped};
+use super::box_block::{evaluate_scaled, is_unit, with_mapped};
 use crate::Points;
 use crate::pdf::{Pdf, UniformBox};
 
@@ -81,16 +81,7 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchUniformEstimator<F> {
 
     /// Evaluates `f` on `mapped` (domain points) and scales by the volume.
     fn evaluate(&self, mapped: &Points, out: &mut [f64]) {
-        out.fill(f64::NAN);
-        (self.f)(mapped, out);
-        let volume = self.domain.volume();
-        // Over a box of volume one the product is the value itself (bit for bit): no pass.
-        if volume != 1.0 {
-            for y in out.iter_mut() {
-                // The per-point estimator's `volume * f`: IEEE multiplication commutes exactly.
-                *y *= volume;
-            }
-        }
+        evaluate_scaled(self.domain.volume(), out, |out| (self.f)(mapped, out));
     }
 }
 
@@ -107,14 +98,10 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> Estimator for BatchUniformEstimat
     /// [`contributions`](Estimator::contributions).
     fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
         self.domain.sample(u, x);
-        let mut block = match Points::new(x.len(), 1) {
-            Ok(block) => block,
-            // Unreachable: a box has at least one dimension.
-            Err(_) => return f64::NAN,
+        // A box has at least one dimension, so the block of one point exists.
+        let Ok(block) = Points::from_rows(&[&*x]) else {
+            return f64::NAN;
         };
-        for (d, &v) in x.iter().enumerate() {
-            block.column_mut(d)[0] = v;
-        }
         let mut out = [0.0];
         self.evaluate(&block, &mut out);
         out[0]

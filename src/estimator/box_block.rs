@@ -42,6 +42,20 @@ pub(super) fn with_mapped(
     SCRATCH.set(scratch);
 }
 
+/// Fills `out` with NaN (so a value the integrand leaves unwritten is caught as non-finite),
+/// lets `f` write it, and scales it by `volume`: the per-point estimator's `volume * f`, bit
+/// for bit (IEEE multiplication commutes exactly; over a volume of one the product is the
+/// value itself, so there is no pass).
+pub(super) fn evaluate_scaled(volume: f64, out: &mut [f64], f: impl FnOnce(&mut [f64])) {
+    out.fill(f64::NAN);
+    f(out);
+    if volume != 1.0 {
+        for y in out.iter_mut() {
+            *y *= volume;
+        }
+    }
+}
+
 /// Whether every coordinate is in `[+0, 1)`: then `0 + u * (1 - 0)` is `u` itself. Written
 /// without early exits so that it vectorizes: a comparison below one (false for NaN and
 /// `+inf`) and the OR of all sign bits (set for negative numbers, `-0.0` and `-inf`).

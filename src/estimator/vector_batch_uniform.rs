@@ -2,7 +2,7 @@
 //! block of points.
 
 use super::VectorEstimator;
-use super::box_block::{is_unit, with_mapped};
+use super::box_block::{evaluate_scaled, is_unit, with_mapped};
 use crate::Points;
 use crate::pdf::{Pdf, UniformBox};
 
@@ -63,15 +63,7 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchVectorUniformEstimator<F> {
 
     fn evaluate(&self, mapped: &Points, out: &mut [f64]) {
         let out = &mut out[..self.outputs * mapped.len()];
-        out.fill(f64::NAN);
-        (self.f)(mapped, out);
-        let volume = self.domain.volume();
-        // Over a box of volume one the product is the value itself (bit for bit): no pass.
-        if volume != 1.0 {
-            for y in out.iter_mut() {
-                *y *= volume;
-            }
-        }
+        evaluate_scaled(self.domain.volume(), out, |out| (self.f)(mapped, out));
     }
 }
 
@@ -90,13 +82,10 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> VectorEstimator for BatchVectorUn
 
     fn contribution(&self, u: &[f64], x: &mut [f64], out: &mut [f64]) {
         self.domain.sample(u, x);
-        let Ok(mut block) = Points::new(x.len(), 1) else {
-            // Unreachable: a box has at least one dimension.
+        // A box has at least one dimension, so the block of one point exists.
+        let Ok(block) = Points::from_rows(&[&*x]) else {
             return out.fill(f64::NAN);
         };
-        for (d, &v) in x.iter().enumerate() {
-            block.column_mut(d)[0] = v;
-        }
         self.evaluate(&block, out);
     }
 
