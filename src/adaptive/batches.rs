@@ -18,12 +18,31 @@
 //! arbitrary size would be a partial pass, which is not uniformly distributed for every
 //! construction.
 
-use crate::engine::require_randomized;
+use crate::engine::{require_randomized, require_uniform_points};
 use crate::sampler::{PassKind, Sampler};
 use crate::{Error, Points, Result};
 
 /// Points generated and evaluated together.
 pub(in crate::adaptive) const BLOCK: usize = 256;
+
+/// Per-thread buffers of a method that draws batches: a block of canonical points, and one
+/// point in canonical and in domain coordinates.
+pub(in crate::adaptive) struct Workspace {
+    pub(in crate::adaptive) points: Points,
+    pub(in crate::adaptive) unit: Vec<f64>,
+    pub(in crate::adaptive) x: Vec<f64>,
+}
+
+impl Workspace {
+    /// The buffers for points of `dims` coordinates.
+    pub(in crate::adaptive) fn new(dims: usize) -> Result<Workspace> {
+        Ok(Workspace {
+            points: Points::new(dims, BLOCK)?,
+            unit: vec![0.0; dims],
+            x: vec![0.0; dims],
+        })
+    }
+}
 
 /// The source of every batch of one run.
 pub(in crate::adaptive) struct Batches<'a> {
@@ -35,6 +54,10 @@ pub(in crate::adaptive) struct Batches<'a> {
 impl<'a> Batches<'a> {
     /// Checks that `sampler` can feed `method` (named in messages) over `domain`.
     pub(in crate::adaptive) fn new(sampler: &'a dyn Sampler, method: &str) -> Result<Self> {
+        require_uniform_points(
+            sampler,
+            &format!("{method}, which draws batches of any size"),
+        )?;
         require_randomized(
             sampler,
             &format!(
@@ -42,26 +65,16 @@ impl<'a> Batches<'a> {
             ),
         )?;
         let slot_size = match sampler.passes() {
-            PassKind::Independent => 1,
-            PassKind::Extensible { max } if max > 0 => max,
-            PassKind::Extensible { max } => {
-                return Err(Error::invalid(
-                    "sampler pass size",
-                    max,
-                    "at least 1 point per pass",
-                ));
-            }
-            PassKind::Fixed { size } => {
-                return Err(Error::invalid(
-                    "sampler",
-                    format!("{} (fixed passes of {size} points)", sampler.name()),
-                    format!(
-                        "independent points or an extensible sequence for {method}, which draws \
-                         batches of any size (a partial fixed pass is not uniform)"
-                    ),
-                ));
-            }
+            PassKind::Extensible { max } => max,
+            _ => 1,
         };
+        if slot_size == 0 {
+            return Err(Error::invalid(
+                "sampler pass size",
+                0,
+                "at least 1 point per pass",
+            ));
+        }
         Ok(Batches { sampler, slot_size })
     }
 

@@ -25,18 +25,17 @@
 //! replicate means are independent and identically distributed, so their Student-t interval
 //! with `R - 1` degrees of freedom is honest ([`Estimate::from_replicates`]).
 
-use super::batches::{BLOCK, Batches};
+use super::batches::{BLOCK, Batches, Workspace};
 use super::cell::Cell;
 use crate::engine::{
-    ChunkJob, DEFAULT_REPLICATES, Executor, Limits, RunConfig, Stopping, require_uniform_points,
-    run_settings,
+    ChunkJob, DEFAULT_REPLICATES, Executor, Limits, RunConfig, Stopping, run_settings,
 };
 use crate::hash::hash_words;
 use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
 use crate::stats::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
 use crate::stats::{Estimate, StopReason};
-use crate::{Error, Points, Result};
+use crate::{Error, Result};
 
 /// Points per replicate of a run without [`Miser::samples`].
 const DEFAULT_SAMPLES: u64 = 1 << 14;
@@ -243,7 +242,6 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
         let sampler = self
             .config
             .sampler(self.domain.dims(), "sampler (the dimension of the domain)")?;
-        require_uniform_points(&*sampler, "MISER, which draws batches of any size")?;
         let limits = self.config.limits();
         let run = Run {
             f: &self.f,
@@ -464,23 +462,6 @@ impl Partial {
                 point: point.to_vec(),
             });
         }
-    }
-}
-
-/// Per-thread buffers.
-struct Workspace {
-    points: Points,
-    unit: Vec<f64>,
-    x: Vec<f64>,
-}
-
-impl Workspace {
-    fn new(dims: usize) -> Result<Workspace> {
-        Ok(Workspace {
-            points: Points::new(dims, BLOCK)?,
-            unit: vec![0.0; dims],
-            x: vec![0.0; dims],
-        })
     }
 }
 

@@ -19,14 +19,14 @@
 //! dilute that value, while a stratum whose pilot saw only small values keeps them at full
 //! weight, so rare large values are systematically under-counted.
 
-use super::batches::{BLOCK, Batches};
+use super::batches::{BLOCK, Batches, Workspace};
 use super::cell::Cell;
-use crate::engine::{ChunkJob, Executor, Limits, RunConfig, require_uniform_points, run_settings};
+use crate::engine::{ChunkJob, Executor, Limits, RunConfig, run_settings};
 use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
 use crate::stats::rounding::{UNIT_ROUNDOFF, gamma};
 use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason};
-use crate::{Error, Points, Result};
+use crate::{Error, Result};
 
 /// Pilot points per stratum without [`TwoStage::pilot`].
 const DEFAULT_PILOT: u64 = 8;
@@ -222,10 +222,6 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
         let sampler = self
             .config
             .sampler(dims, "sampler (the dimension of the domain)")?;
-        require_uniform_points(
-            &*sampler,
-            "two-stage sampling, which draws batches of any size",
-        )?;
         let batches = Batches::new(&*sampler, "two-stage sampling")?;
         if total > batches.slots() {
             return Err(Error::IndexOutOfRange {
@@ -331,13 +327,6 @@ struct Grid<'a, F> {
     skip_non_finite: bool,
 }
 
-/// Per-thread buffers.
-struct Workspace {
-    points: Points,
-    unit: Vec<f64>,
-    x: Vec<f64>,
-}
-
 /// A stratum's first non-finite value: stratum, index within its batch, value, point.
 type NonFinite = (usize, u64, f64, Vec<f64>);
 
@@ -436,10 +425,6 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
     }
 }
 
-/// Second-stage points per stratum: `MIN_MAIN` each, and the rest of `main` in proportion to
-/// the pilot standard deviations (all strata have the same volume), rounded by largest
-/// remainders so that the counts add up to `main` exactly. With no spread anywhere the rest
-/// is shared equally.
 /// Chunks of strata, as work for the executor: chunk `c` samples strata
 /// `c * STRATA_PER_CHUNK ..`, each with its batch.
 struct StrataJob<'a, 'b, F> {
@@ -453,12 +438,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StrataJob<'_, '_, F> {
     type Output = (Vec<Accumulator>, Option<NonFinite>);
 
     fn scratch(&self) -> Result<Workspace> {
-        let dims = self.grid.domain.dims();
-        Ok(Workspace {
-            points: Points::new(dims, BLOCK)?,
-            unit: vec![0.0; dims],
-            x: vec![0.0; dims],
-        })
+        Workspace::new(self.grid.domain.dims())
     }
 
     fn run(&self, work: &mut Workspace, chunk: u64) -> Result<Self::Output> {
@@ -479,6 +459,10 @@ impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StrataJob<'_, '_, F> {
     }
 }
 
+/// Second-stage points per stratum: `MIN_MAIN` each, and the rest of `main` in proportion to
+/// the pilot standard deviations (all strata have the same volume), rounded by largest
+/// remainders so that the counts add up to `main` exactly. With no spread anywhere the rest
+/// is shared equally.
 fn neyman_allocation(pilot: &[Accumulator], main: u64) -> Vec<u64> {
     let strata = pilot.len();
     let free = main - MIN_MAIN * strata as u64;
