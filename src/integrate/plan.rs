@@ -2,7 +2,7 @@
 //! uses, cut into fixed chunks that the [`Executor`] evaluates and folds in chunk order.
 
 use super::{CHUNK, DEFAULT_SAMPLES, NonFinitePolicy};
-use crate::engine::{ChunkJob, Executor, Limits, require_randomized};
+use crate::engine::{ChunkJob, Executor, Limits};
 use crate::estimator::VectorEstimator;
 use crate::sampler::{PassKind, Sampler};
 use crate::stats::{Accumulator, CovarianceAccumulator, StopReason, VectorEstimate, Warning};
@@ -48,23 +48,16 @@ impl Plan {
                 format!("1 to {MAX_REPLICATES} (each keeps an accumulator in memory)"),
             ));
         }
-        if replicates > 1 {
-            require_randomized(
-                sampler,
-                "independent replicates, whose spread is the error bar, need a randomized \
-                 sampler: the passes of an unrandomized one repeat each other",
-            )
-            .map_err(|_| {
-                Error::invalid(
-                    "replicates",
-                    replicates,
-                    format!(
-                        "1 for the unrandomized {} sampler (its passes repeat each other; \
-                         choose a scramble to get independent replicates and an error bar)",
-                        sampler.name()
-                    ),
-                )
-            })?;
+        if replicates > 1 && !sampler.is_randomized() {
+            return Err(Error::invalid(
+                "replicates",
+                replicates,
+                format!(
+                    "1 for the unrandomized {} sampler (its passes repeat each other; choose a \
+                     scramble to get independent replicates and an error bar)",
+                    sampler.name()
+                ),
+            ));
         }
         let passes = sampler.passes();
         let samples = samples.unwrap_or(match passes {
@@ -458,9 +451,7 @@ impl Folded {
             // Same dimension by construction.
             let _ = all.merge(part);
         }
-        if self.first_non_finite.is_none() {
-            self.first_non_finite = result.first_non_finite;
-        }
+        self.first_non_finite = self.first_non_finite.or(result.first_non_finite);
     }
 
     /// Merges a fold of the same shape (later points of the same replicates).
@@ -472,9 +463,7 @@ impl Folded {
             // Same dimension by construction.
             let _ = cov.merge(part);
         }
-        if self.first_non_finite.is_none() {
-            self.first_non_finite = other.first_non_finite;
-        }
+        self.first_non_finite = self.first_non_finite.or(other.first_non_finite);
     }
 
     /// The estimate of a fold of one replicate of independent points.
@@ -495,9 +484,7 @@ impl Folded {
     pub(super) fn append(&mut self, added: &Folded) {
         self.accumulators.extend_from_slice(&added.accumulators);
         self.covariances.extend_from_slice(&added.covariances);
-        if self.first_non_finite.is_none() {
-            self.first_non_finite = added.first_non_finite;
-        }
+        self.first_non_finite = self.first_non_finite.or(added.first_non_finite);
     }
 
     /// Keeps the first `replicates` replicates.
@@ -567,11 +554,9 @@ impl ChunkJob for Chunks<'_> {
         let base = replicate * self.plan.stride;
         let m = self.estimator.outputs();
         let mut accumulators = vec![Accumulator::new(); m];
-        let mut covariance = if self.covariance {
-            Some(CovarianceAccumulator::new(m)?)
-        } else {
-            None
-        };
+        let mut covariance = (self.covariance)
+            .then(|| CovarianceAccumulator::new(m))
+            .transpose()?;
         let mut first_non_finite = None;
         let mut start = first;
         while start < end {

@@ -6,9 +6,7 @@ use std::cell::Cell;
 
 use super::Plan;
 use super::plan::{Folded, MAX_REPLICATES, balance_warning};
-use crate::engine::{
-    Executor, RunConfig, Stopping, TOLERANCE_REPLICATES, Targets, require_randomized,
-};
+use crate::engine::{Executor, RunConfig, Stopping, TOLERANCE_REPLICATES, Targets};
 use crate::estimator::VectorEstimator;
 use crate::sampler::{PassKind, Sampler};
 use crate::special::{normal_quantile, student_t_quantile};
@@ -31,13 +29,8 @@ pub(super) fn run_to_tolerance(
     executor: &Executor,
     targets: &Targets<'_>,
 ) -> Result<VectorEstimate> {
-    require_randomized(
-        sampler,
-        "a run to a tolerance compares an error bar with the tolerance, and the passes of an \
-         unrandomized sampler give none",
-    )
-    .map_err(|_| {
-        Error::invalid(
+    if !sampler.is_randomized() {
+        return Err(Error::invalid(
             "tolerance",
             "requested",
             format!(
@@ -45,8 +38,8 @@ pub(super) fn run_to_tolerance(
                  with a tolerance; choose a scramble)",
                 sampler.name()
             ),
-        )
-    })?;
+        ));
+    }
     let Some(limits) = targets.limits() else {
         return Err(Error::invalid(
             "tolerance",

@@ -164,9 +164,7 @@ impl Totals {
             *sum += part;
         }
         self.non_finite += out.non_finite;
-        if self.first_non_finite.is_none() {
-            self.first_non_finite = out.first_non_finite;
-        }
+        self.first_non_finite = self.first_non_finite.or(out.first_non_finite);
     }
 }
 
