@@ -7,14 +7,14 @@
 //! (in 2D: `N^-1` and `N^-0.75`), not the "`sigma ∝ 1/N`" the seed states in general.
 
 use super::number_theory::integer_root;
-use super::{PassKind, Sampler, check_block, check_dims, check_point};
+use super::{PassKind, Sampler, check_dims, check_point};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_words, unit_f64};
 
 /// Leads every hash of this sampler, so that other samplers given the same seed (which hash
 /// the same `(pass, index, dim)` words) draw unrelated jitters.
 const SALT: u64 = 0x6a69_7474; // "jitt"
-use crate::{Error, Points, Result};
+use crate::{Error, Result};
 
 /// One uniform point in each of the `k^d` cells of a regular grid, per pass.
 ///
@@ -135,20 +135,6 @@ impl Jittered {
     pub fn strata_per_axis(&self) -> u64 {
         self.strata_per_axis
     }
-
-    /// Writes the point with number `index` (pass `index / k^d`) into `out`.
-    #[inline]
-    fn write_point(&self, index: u64, out: &mut [f64]) {
-        let pass = index / self.pass_size;
-        let mut cell = index % self.pass_size;
-        let strata = self.strata_per_axis as f64;
-        for (dim, x) in out.iter_mut().enumerate() {
-            let digit = cell % self.strata_per_axis;
-            cell /= self.strata_per_axis;
-            let jitter = unit_f64(hash_words(self.seed, &[SALT, pass, index, dim as u64]));
-            *x = ((digit as f64 + jitter) / strata).min(ONE_BELOW);
-        }
-    }
 }
 
 impl Sampler for Jittered {
@@ -174,22 +160,17 @@ impl Sampler for Jittered {
         self.seed = seed;
     }
 
+    /// Point `index` (pass `index / k^d`); the trait's `fill` writes a block point by point.
     fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
         check_point(self.dims, out)?;
-        self.write_point(index, out);
-        Ok(())
-    }
-
-    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
-        check_block(self.dims, start, points)?;
-        let mut buffer = vec![0.0; self.dims];
-        let len = points.len();
-        let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
-        for i in 0..len {
-            self.write_point(start + i as u64, &mut buffer);
-            for (column, &x) in columns.iter_mut().zip(&buffer) {
-                column[i] = x;
-            }
+        let pass = index / self.pass_size;
+        let mut cell = index % self.pass_size;
+        let strata = self.strata_per_axis as f64;
+        for (dim, x) in out.iter_mut().enumerate() {
+            let digit = cell % self.strata_per_axis;
+            cell /= self.strata_per_axis;
+            let jitter = unit_f64(hash_words(self.seed, &[SALT, pass, index, dim as u64]));
+            *x = ((digit as f64 + jitter) / strata).min(ONE_BELOW);
         }
         Ok(())
     }
