@@ -14,7 +14,7 @@ use super::radical_inverse::{
     MAX_DIMS, PASS_BITS, PASS_SIZE, SCRAMBLES, Scratch, bases, check_halton_dims, column_key,
     coordinate, fill_column,
 };
-use super::{PassKind, Sampler, Scramble, check_block, check_point};
+use super::{PassKind, Sampler, Scramble, check_block, check_point, pass_runs};
 use crate::{Points, Result};
 
 /// Hash tags that keep the random streams of different purposes apart.
@@ -227,16 +227,10 @@ impl Sampler for Halton {
         let mut scratch = Scratch::default();
         for (dim, base) in bases().iter().enumerate().take(self.dims) {
             let column = points.column_mut(dim);
-            // Split the block into runs of indices that share a pass.
-            let mut offset = 0usize;
-            while offset < column.len() {
-                let index = start + offset as u64;
-                let (pass, local) = (index >> PASS_BITS, index & (PASS_SIZE - 1));
-                let run = ((PASS_SIZE - local).min((column.len() - offset) as u64)) as usize;
+            for (offset, pass, local, run) in pass_runs(start, column.len(), PASS_SIZE) {
                 let key = column_key(self.seed, TAG_HALTON, pass, dim);
                 let out = &mut column[offset..offset + run];
                 fill_column(self.scramble, base, key, local, out, &mut scratch);
-                offset += run;
             }
         }
         Ok(())

@@ -10,7 +10,7 @@
 use super::radical_inverse::{
     PASS_SIZE, SCRAMBLES, Scratch, bases, check_halton_dims, column_key, coordinate, fill_column,
 };
-use super::{PassKind, Sampler, Scramble, check_block, check_point};
+use super::{PassKind, Sampler, Scramble, check_block, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_words, mix64, unit_f64};
 use crate::{Error, Points, Result};
@@ -204,12 +204,7 @@ impl Sampler for Hammersley {
         let mut scratch = Scratch::default();
         for dim in 0..self.dims {
             let column = points.column_mut(dim);
-            // Split the block into runs of indices that share a pass.
-            let mut offset = 0usize;
-            while offset < column.len() {
-                let index = start + offset as u64;
-                let (pass, local) = (index / n, index % n);
-                let run = ((n - local).min((column.len() - offset) as u64)) as usize;
+            for (offset, pass, local, run) in pass_runs(start, column.len(), n) {
                 let out = &mut column[offset..offset + run];
                 if dim == 0 {
                     let rotation = self.rotation(pass);
@@ -221,7 +216,6 @@ impl Sampler for Hammersley {
                     let base = &bases()[dim - 1];
                     fill_column(self.scramble, base, key, local, out, &mut scratch);
                 }
-                offset += run;
             }
         }
         Ok(())

@@ -7,8 +7,8 @@
 //! the additive (one-dimensional) part of the integrand's variation.
 
 use super::permutation::Permutation;
-use super::simd::{Kernel, dispatch};
-use super::{PassKind, Sampler, check_block, check_dims, check_point};
+use super::simd::{BlockFill, Kernel, dispatch_fill};
+use super::{PassKind, Sampler, check_block, check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
 
@@ -110,11 +110,7 @@ impl Sampler for LatinHypercube {
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.dims, start, points)?;
-        dispatch(FillLatin {
-            sampler: self,
-            start,
-            points,
-        });
+        dispatch_fill(self, start, points);
         Ok(())
     }
 }
@@ -122,39 +118,26 @@ impl Sampler for LatinHypercube {
 /// Indices per step of the block fill kernel (a multiple of the 16 permutation lanes).
 const CHUNK: usize = 256;
 
-/// The block fill, compiled for each instruction set by [`dispatch`]. Per column and per run
+/// The block fill, compiled for each instruction set by [`dispatch_fill`]. Per column and per run
 /// of indices within one pass: the slabs of a chunk of indices by the pass's permutation,
 /// 16 indices at a time (independent chains of hash rounds, vector lanes on a wide
 /// instruction set), and the jitter hash with its seed and pass words absorbed once per run.
 /// The integers and the final `f64` expression are those of `coordinate`, so the values are
 /// bit-identical to `point`.
-struct FillLatin<'a> {
-    sampler: &'a LatinHypercube,
-    start: u64,
-    points: &'a mut Points,
-}
-
-impl Kernel for FillLatin<'_> {
+impl Kernel for BlockFill<'_, LatinHypercube> {
     type Output = ();
 
     #[inline(always)]
     fn run(self) {
-        let FillLatin {
-            sampler,
-            start,
-            points,
-        } = self;
+        let (sampler, start, points) = (self.sampler, self.start, self.points);
         let size = sampler.pass_size;
         let size_f64 = size as f64;
         let len = points.len();
         let (mut inputs, mut slabs) = ([0u64; CHUNK], [0u64; CHUNK]);
         for dim in 0..sampler.dims {
             let column = points.column_mut(dim);
-            let mut done = 0;
-            while done < len {
+            for (done, pass, local, run) in pass_runs(start, len, size) {
                 let index = start + done as u64;
-                let (pass, local) = (index / size, index % size);
-                let run = (len - done).min(usize::try_from(size - local).unwrap_or(usize::MAX));
                 let permutation = sampler.permutation(pass, dim);
                 // hash_words(seed, [SALT, pass, index, dim]) with the seed, salt and pass
                 // absorbed.
@@ -176,7 +159,6 @@ impl Kernel for FillLatin<'_> {
                         *x = ((slab as f64 + jitter) / size_f64).min(ONE_BELOW);
                     }
                 }
-                done += run;
             }
         }
     }

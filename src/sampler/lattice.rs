@@ -38,7 +38,7 @@
 //! - R. Cools, F. Y. Kuo & D. Nuyens, "Constructing embedded lattice rules for multivariate
 //!   integration", SIAM J. Sci. Comput. 28 (2006), 2162-2188.
 
-use super::simd::{Kernel, dispatch};
+use super::simd::{BlockFill, Kernel, dispatch_fill};
 use super::{PassKind, Sampler, Scramble, check_block, check_point};
 use crate::hash::{hash_words, unit_f64};
 use crate::{Error, Points, Result};
@@ -399,33 +399,19 @@ impl Sampler for Lattice {
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.z.len(), start, points)?;
-        dispatch(FillLattice {
-            lattice: self,
-            start,
-            points,
-        });
+        dispatch_fill(self, start, points);
         Ok(())
     }
 }
 
-/// A block fill, compiled for each instruction set by [`dispatch`]: the inner loop is one
+/// A block fill, compiled for each instruction set by [`dispatch_fill`]: the inner loop is one
 /// 64-bit multiply-add and conversion per value, which AVX-512 does in 8 lanes.
-struct FillLattice<'a> {
-    lattice: &'a Lattice,
-    start: u64,
-    points: &'a mut Points,
-}
-
-impl Kernel for FillLattice<'_> {
+impl Kernel for BlockFill<'_, Lattice> {
     type Output = ();
 
     #[inline(always)]
     fn run(self) {
-        let FillLattice {
-            lattice,
-            start,
-            points,
-        } = self;
+        let (lattice, start, points) = (self.sampler, self.start, self.points);
         let len = points.len();
         let mask = lattice.mask();
         for (dim, column) in points.columns_mut().enumerate() {

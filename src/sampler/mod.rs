@@ -281,6 +281,27 @@ pub trait Sampler: Send + Sync {
 const F32_STEP: usize = 1024;
 
 /// Checks that a point buffer has the sampler's dimension.
+/// The runs of a block of `len` points from index `start` that share a pass of `size` points,
+/// in order: `(done, pass, local, run)` for block positions `done .. done + run`, which are
+/// points `local ..` of pass `pass`.
+#[inline(always)]
+pub(crate) fn pass_runs(
+    start: u64,
+    len: usize,
+    size: u64,
+) -> impl Iterator<Item = (usize, u64, u64, usize)> {
+    let mut done = 0;
+    std::iter::from_fn(move || {
+        (done < len).then(|| {
+            let index = start + done as u64;
+            let (pass, local) = (index / size, index % size);
+            let run = (len - done).min(usize::try_from(size - local).unwrap_or(usize::MAX));
+            done += run;
+            (done - run, pass, local, run)
+        })
+    })
+}
+
 pub(crate) fn check_point(dims: usize, out: &[f64]) -> Result<()> {
     if out.len() != dims {
         return Err(Error::DimensionMismatch {

@@ -24,8 +24,8 @@
 
 use super::number_theory::integer_root;
 use super::permutation::{Permutation, PermutationCache};
-use super::simd::{Kernel, dispatch};
-use super::{PassKind, check_block, check_dims, check_point};
+use super::simd::{BlockFill, Kernel, dispatch_fill};
+use super::{PassKind, check_block, check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
@@ -265,32 +265,13 @@ impl MjCore {
 
     pub(super) fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.dims, start, points)?;
-        dispatch(FillMultiJittered {
-            core: self,
-            start,
-            points,
-        });
+        dispatch_fill(self, start, points);
         Ok(())
     }
 }
 
 /// Values per chunk of the fill kernel (a multiple of the 16 permutation lanes).
 const CHUNK: usize = 256;
-
-/// The block fill, compiled for each instruction set by [`dispatch`]. Per run of one pass and per
-/// pair of dimensions: the cells of a chunk of points by the cell permutation over 16 indices at a
-/// time; column and row by a division done in `f64` and corrected exactly; for the correlated
-/// variant the shared sub-column and sub-row permutations from tables of their `n + m` images when
-/// the run is at least that long, else over lanes; for the uncorrelated one each column's and row's
-/// own permutation, built once per run and pair and stepped 16 at a time in lockstep (a
-/// `PermutationCache`); and the jitter hash with its seed and pass words absorbed once per run.
-/// Every step computes the integers `write_pair` does and the same final `f64` expression, so the
-/// values are bit-identical.
-struct FillMultiJittered<'a> {
-    core: &'a MjCore,
-    start: u64,
-    points: &'a mut Points,
-}
 
 /// `(c / m, c % m)` for `c < 2^53`, `m >= 1`, without an integer division (which does not
 /// vectorize): the correctly rounded `f64` quotient truncates to within one of the true
@@ -308,16 +289,21 @@ pub(super) fn div_rem(c: u64, m: u64, m_f64: f64) -> (u64, u64) {
     )
 }
 
-impl Kernel for FillMultiJittered<'_> {
+/// The block fill, compiled for each instruction set by [`dispatch_fill`]. Per run of one pass and per
+/// pair of dimensions: the cells of a chunk of points by the cell permutation over 16 indices at a
+/// time; column and row by a division done in `f64` and corrected exactly; for the correlated
+/// variant the shared sub-column and sub-row permutations from tables of their `n + m` images when
+/// the run is at least that long, else over lanes; for the uncorrelated one each column's and row's
+/// own permutation, built once per run and pair and stepped 16 at a time in lockstep (a
+/// `PermutationCache`); and the jitter hash with its seed and pass words absorbed once per run.
+/// Every step computes the integers `write_pair` does and the same final `f64` expression, so the
+/// values are bit-identical.
+impl Kernel for BlockFill<'_, MjCore> {
     type Output = ();
 
     #[inline(always)]
     fn run(self) {
-        let FillMultiJittered {
-            core,
-            start,
-            points,
-        } = self;
+        let (core, start, points) = (self.sampler, self.start, self.points);
         let len = points.len();
         let size = core.pass_size;
         let size_f64 = size as f64;
@@ -330,11 +316,7 @@ impl Kernel for FillMultiJittered<'_> {
         let mut sub_rows = [0u64; CHUNK];
         let (mut column_table, mut row_table) = (Vec::new(), Vec::new());
         let (mut own_columns, mut own_rows) = <(PermutationCache, PermutationCache)>::default();
-        let mut done = 0;
-        while done < len {
-            let index = start + done as u64;
-            let (pass, local) = (index / size, index % size);
-            let run = (len - done).min(usize::try_from(size - local).unwrap_or(usize::MAX));
+        for (done, pass, local, run) in pass_runs(start, len, size) {
             // hash_words(seed, [salt, pass, index, dim]) with the first three words absorbed.
             let pass_hash = hash_words(core.seed, &[core.salt(), pass]);
             let coordinate = |slab: u64, index: u64, dim: u64| {
@@ -420,7 +402,6 @@ impl Kernel for FillMultiJittered<'_> {
                     offset += c;
                 }
             }
-            done += run;
         }
     }
 }

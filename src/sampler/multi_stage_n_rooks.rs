@@ -32,7 +32,7 @@
 
 use super::number_theory::integer_root;
 use super::permutation::Permutation;
-use super::{PassKind, Sampler, check_block, check_dims, check_point};
+use super::{PassKind, Sampler, check_block, check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
@@ -354,12 +354,8 @@ impl Sampler for MultiStageNRooks {
         check_block(self.dims, start, points)?;
         let len = points.len();
         let mut memo = NodeMemo::default();
-        let mut done = 0;
-        while done < len {
+        for (done, pass, local, run) in pass_runs(start, len, self.pass_size) {
             let index = start + done as u64;
-            let (pass, local) = (index / self.pass_size, index % self.pass_size);
-            let size = self.pass_size - local;
-            let run = (len - done).min(usize::try_from(size).unwrap_or(usize::MAX));
             let jitter_pass = hash_words(self.seed, &[pass]);
             for dim in 0..self.dims {
                 memo.reset(self.base, self.stages, run);
@@ -382,7 +378,6 @@ impl Sampler for MultiStageNRooks {
                     }
                 }
             }
-            done += run;
         }
         Ok(())
     }

@@ -35,8 +35,8 @@ use super::number_theory::{
     integer_root, is_prime, max_exponent, next_prime, polynomial_mod, previous_prime, prime_root,
 };
 use super::permutation::{Permutation, PermutationCache};
-use super::simd::{Kernel, dispatch};
-use super::{PassKind, Sampler, check_block, check_dims, check_point};
+use super::simd::{BlockFill, Kernel, dispatch_fill};
+use super::{PassKind, Sampler, check_block, check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
@@ -575,11 +575,7 @@ impl Sampler for OrthogonalArray {
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
         check_block(self.dims, start, points)?;
-        dispatch(FillOrthogonalArray {
-            array: self,
-            start,
-            points,
-        });
+        dispatch_fill(self, start, points);
         Ok(())
     }
 }
@@ -587,29 +583,19 @@ impl Sampler for OrthogonalArray {
 /// Indices per step of the block fill kernel (a multiple of the 16 permutation lanes).
 const CHUNK: usize = 256;
 
-/// The block fill, compiled for each instruction set by [`dispatch`]. Per run of indices
+/// The block fill, compiled for each instruction set by [`dispatch_fill`]. Per run of indices
 /// within one pass (whose keys are built once): the rows of a chunk by the order permutation,
 /// 16 indices at a time; then per column the entries, their symbols by the column's symbol
 /// permutation over lanes, the sub-strata by the shared (correlated) permutation over lanes or
 /// by 16 different per-symbol permutations stepped in lockstep, and the jitter hash with its
 /// seed and pass absorbed once per run. The integers and the final `f64` expressions are those
 /// of `write_point`, so the values are bit-identical to `point`.
-struct FillOrthogonalArray<'a> {
-    array: &'a OrthogonalArray,
-    start: u64,
-    points: &'a mut Points,
-}
-
-impl Kernel for FillOrthogonalArray<'_> {
+impl Kernel for BlockFill<'_, OrthogonalArray> {
     type Output = ();
 
     #[inline(always)]
     fn run(self) {
-        let FillOrthogonalArray {
-            array,
-            start,
-            points,
-        } = self;
+        let (array, start, points) = (self.sampler, self.start, self.points);
         let (size, p, t) = (array.pass_size, array.p, array.strength as usize);
         let len = points.len();
         let (mut rows, mut coefficients) = (Vec::new(), Vec::new());
@@ -618,11 +604,8 @@ impl Kernel for FillOrthogonalArray<'_> {
         let mut symbols = [0u64; CHUNK];
         let mut strata = [0u64; CHUNK];
         let mut own = PermutationCache::default();
-        let mut done = 0;
-        while done < len {
+        for (done, pass, local, run) in pass_runs(start, len, size) {
             let index = start + done as u64;
-            let (pass, local) = (index / size, index % size);
-            let run = (len - done).min(usize::try_from(size - local).unwrap_or(usize::MAX));
             let keys = array.pass_keys(pass);
             // The rows of the run, and their base-p digits (lowest first): the polynomial's
             // coefficients.
@@ -669,7 +652,6 @@ impl Kernel for FillOrthogonalArray<'_> {
                     }
                 }
             }
-            done += run;
         }
     }
 }

@@ -6,6 +6,7 @@
 
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
+use super::pass_runs;
 use crate::Points;
 
 /// A slot that one thread builds and every thread then shares.
@@ -112,11 +113,7 @@ pub(super) fn fill_from_passes(
 ) {
     let len = points.len();
     let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
-    let mut i = 0;
-    while i < len {
-        let index = start + i as u64;
-        let (pass, offset) = (index / pass_size, index % pass_size);
-        let run = ((pass_size - offset) as usize).min(len - i);
+    for (i, pass, offset, run) in pass_runs(start, len, pass_size) {
         let data = pass_points(pass);
         let first = offset as usize;
         for (dim, column) in columns.iter_mut().enumerate() {
@@ -124,7 +121,6 @@ pub(super) fn fill_from_passes(
                 *x = data[(first + k) * dims + dim];
             }
         }
-        i += run;
     }
 }
 

@@ -53,8 +53,8 @@
 //! coordinate of one more independent pair: a progressive 1-D stratified sequence, whose every
 //! prefix of `2^m` points has one point in each interval of width `2^-m`.
 
-use super::simd::{Kernel, dispatch};
-use super::{PassKind, Sampler, check_block, check_dims, check_point};
+use super::simd::{BlockFill, Kernel, dispatch_fill};
+use super::{PassKind, Sampler, check_block, check_dims, check_point, pass_runs};
 use crate::hash::{hash_words, mix64};
 use crate::{Error, Points, Result};
 
@@ -328,29 +328,13 @@ impl Sampler for Pmj02 {
             }
             return Ok(());
         }
-        dispatch(FillPmj02 {
-            sampler: self,
-            start,
-            points,
-        });
+        dispatch_fill(self, start, points);
         Ok(())
     }
 }
 
 /// Indices a step of the block fill kernel handles at once.
 const LANES: usize = 16;
-
-/// The block fill for passes of at least two points, compiled for each instruction set by
-/// [`dispatch`]. Per run of indices within one pass and per pair of dimensions, 16 indices
-/// at a time: the index scramble, the radical inverse and the Pascal-matrix word (XOR of the
-/// rows of the set bits, masked instead of branched), and both Owen scrambles, each with the
-/// digit positions outermost and the lanes innermost, so every step is a few vector
-/// instructions. The integers are those of `pair_point`, so the values are bit-identical.
-struct FillPmj02<'a> {
-    sampler: &'a Pmj02,
-    start: u64,
-    points: &'a mut Points,
-}
 
 /// Owen's scramble of the `bits`-digit words `digits`, lane by lane, as `owen_coordinate`.
 #[inline(always)]
@@ -371,26 +355,22 @@ fn owen_lanes(digits: &[u32; LANES], bits: u32, key: u64) -> [f64; LANES] {
     std::array::from_fn(|l| to_unit(scrambled[l], bits, node_hash(key, bits, digits[l])))
 }
 
-impl Kernel for FillPmj02<'_> {
+/// The block fill for passes of at least two points, compiled for each instruction set by
+/// [`dispatch_fill`]. Per run of indices within one pass and per pair of dimensions, 16 indices
+/// at a time: the index scramble, the radical inverse and the Pascal-matrix word (XOR of the
+/// rows of the set bits, masked instead of branched), and both Owen scrambles, each with the
+/// digit positions outermost and the lanes innermost, so every step is a few vector
+/// instructions. The integers are those of `pair_point`, so the values are bit-identical.
+impl Kernel for BlockFill<'_, Pmj02> {
     type Output = ();
 
     #[inline(always)]
     fn run(self) {
-        let FillPmj02 {
-            sampler,
-            start,
-            points,
-        } = self;
+        let (sampler, start, points) = (self.sampler, self.start, self.points);
         let bits = sampler.log2_max;
-        let mask = (1u64 << bits) - 1;
         let len = points.len();
-        let mut done = 0;
-        while done < len {
-            let index = start + done as u64;
-            let pass = index >> bits;
-            let local = (index & mask) as u32;
-            let run = (len - done)
-                .min(usize::try_from((mask + 1) - u64::from(local)).unwrap_or(usize::MAX));
+        for (done, pass, local, run) in pass_runs(start, len, 1 << bits) {
+            let local = local as u32;
             for pair in 0..sampler.dims.div_ceil(2) {
                 let keys = sampler.keys(pass, pair);
                 let dx = 2 * pair;
@@ -425,7 +405,6 @@ impl Kernel for FillPmj02<'_> {
                     points.column_mut(dx + 1)[at..at + n].copy_from_slice(&ys[..n]);
                 }
             }
-            done += run;
         }
     }
 }

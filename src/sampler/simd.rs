@@ -26,6 +26,26 @@ pub(crate) trait Kernel {
     fn run(self) -> Self::Output;
 }
 
+/// The block fill of `sampler`'s points `start ..` into `points`: a sampler with a vectorized
+/// fill implements [`Kernel`] for its own `BlockFill`.
+pub(crate) struct BlockFill<'a, S> {
+    pub(crate) sampler: &'a S,
+    pub(crate) start: u64,
+    pub(crate) points: &'a mut crate::Points,
+}
+
+/// Runs `sampler`'s [`BlockFill`] kernel on the widest instruction set.
+pub(crate) fn dispatch_fill<'a, S>(sampler: &'a S, start: u64, points: &'a mut crate::Points)
+where
+    BlockFill<'a, S>: Kernel<Output = ()>,
+{
+    dispatch(BlockFill {
+        sampler,
+        start,
+        points,
+    })
+}
+
 /// Instruction sets the kernels are compiled for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Level {

@@ -10,6 +10,7 @@ use super::unit::Unit;
 use super::{PASS_BITS, Sobol};
 use crate::PointBlock;
 use crate::sampler::owen::OwenScramble;
+use crate::sampler::pass_runs;
 use crate::sampler::simd::{Kernel, dispatch};
 use std::ops::BitXorAssign;
 
@@ -77,24 +78,15 @@ fn owen_chunk<T: Unit>(
 impl Sobol {
     /// Fills a checked block of either precision, split at pass boundaries.
     pub(super) fn fill_block<T: Unit>(&self, start: u64, points: &mut PointBlock<T>) {
-        let len = points.len();
-        let mut done = 0;
-        // Split the block at pass boundaries; each run lies within one pass.
-        while done < len {
-            let index = start + done as u64;
-            let pass = index >> PASS_BITS;
-            let first = index as u32;
-            let room = (1u64 << PASS_BITS) - u64::from(first);
-            let n = (len - done).min(usize::try_from(room).unwrap_or(usize::MAX));
+        for (done, pass, first, n) in pass_runs(start, points.len(), 1 << PASS_BITS) {
             dispatch(FillRun {
                 sobol: self,
                 pass,
-                first,
+                first: first as u32,
                 out: points,
                 offset: done,
                 len: n,
             });
-            done += n;
         }
     }
 
