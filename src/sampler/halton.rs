@@ -188,24 +188,14 @@ impl Halton {
 }
 
 impl Sampler for Halton {
+    sampler_fields!();
+
     fn name(&self) -> &'static str {
         "halton"
     }
 
-    fn dims(&self) -> usize {
-        self.dims
-    }
-
     fn passes(&self) -> PassKind {
         PassKind::Extensible { max: PASS_SIZE }
-    }
-
-    fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    fn reseed(&mut self, seed: u64) {
-        self.seed = seed;
     }
 
     fn is_randomized(&self) -> bool {

@@ -10,7 +10,7 @@
 use super::radical_inverse::{
     PASS_SIZE, SCRAMBLES, Scratch, bases, check_halton_dims, column_key, coordinate, fill_column,
 };
-use super::{PassKind, Sampler, Scramble, check_block, check_point, pass_runs};
+use super::{Sampler, Scramble, check_block, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_words, mix64, unit_f64};
 use crate::{Error, Points, Result};
@@ -26,9 +26,9 @@ const TAG_ROTATION: u64 = 0x726f_7461;
 /// `phi_b` is the radical inverse in base `b` (Halton 1960; see [`Halton`](super::Halton)).
 /// Knowing `N` in advance buys the first coordinate: the star discrepancy drops from
 /// `O(log^d N / N)` for the Halton sequence to `O(log^(d-1) N / N)`, but the set is not
-/// extensible, so a pass is exactly `N` points ([`PassKind::Fixed`]). In two dimensions with
-/// `N = 2^m` it is a `(0, m, 2)`-net in base 2: every box `[a / 2^j, (a + 1) / 2^j) x
-/// [c / 2^(m-j), (c + 1) / 2^(m-j))` holds exactly one point.
+/// extensible, so a pass is exactly `N` points ([`PassKind::Fixed`](super::PassKind::Fixed)).
+/// In two dimensions with `N = 2^m` it is a `(0, m, 2)`-net in base 2: every box
+/// `[a / 2^j, (a + 1) / 2^j) x [c / 2^(m-j), (c + 1) / 2^(m-j))` holds exactly one point.
 ///
 /// # Randomization
 ///
@@ -153,6 +153,8 @@ impl Hammersley {
 }
 
 impl Sampler for Hammersley {
+    sampler_fields!(fixed);
+
     /// Each pass is one Hammersley set, a net when its size is a power of two.
     fn unbalanced_by(&self, _n: u64) -> Option<u64> {
         (!self.pass_size.is_power_of_two()).then_some(2)
@@ -160,24 +162,6 @@ impl Sampler for Hammersley {
 
     fn name(&self) -> &'static str {
         "hammersley"
-    }
-
-    fn dims(&self) -> usize {
-        self.dims
-    }
-
-    fn passes(&self) -> PassKind {
-        PassKind::Fixed {
-            size: self.pass_size,
-        }
-    }
-
-    fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    fn reseed(&mut self, seed: u64) {
-        self.seed = seed;
     }
 
     fn is_randomized(&self) -> bool {

@@ -8,7 +8,7 @@
 
 use super::permutation::Permutation;
 use super::simd::{BlockFill, Kernel, dispatch_fill};
-use super::{PassKind, Sampler, check_block, check_dims, check_point, pass_runs};
+use super::{Sampler, check_block, check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
 
@@ -77,26 +77,10 @@ impl LatinHypercube {
 }
 
 impl Sampler for LatinHypercube {
+    sampler_fields!(fixed);
+
     fn name(&self) -> &'static str {
         "latin"
-    }
-
-    fn dims(&self) -> usize {
-        self.dims
-    }
-
-    fn passes(&self) -> PassKind {
-        PassKind::Fixed {
-            size: self.pass_size,
-        }
-    }
-
-    fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    fn reseed(&mut self, seed: u64) {
-        self.seed = seed;
     }
 
     fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {

@@ -25,7 +25,7 @@
 use super::number_theory::integer_root;
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{BlockFill, Kernel, dispatch_fill};
-use super::{PassKind, check_block, check_dims, check_point, pass_runs};
+use super::{check_block, check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
@@ -58,11 +58,11 @@ pub(super) struct PairPermutations {
 /// [`CorrelatedMultiJittered`](super::CorrelatedMultiJittered).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(super) struct MjCore {
-    dims: usize,
+    pub(super) dims: usize,
     m: u64,
     n: u64,
-    pass_size: u64,
-    seed: u64,
+    pub(super) pass_size: u64,
+    pub(super) seed: u64,
     correlated: bool,
 }
 
@@ -134,24 +134,6 @@ impl MjCore {
 
     pub(super) fn n(&self) -> u64 {
         self.n
-    }
-
-    pub(super) fn dims(&self) -> usize {
-        self.dims
-    }
-
-    pub(super) fn passes(&self) -> PassKind {
-        PassKind::Fixed {
-            size: self.pass_size,
-        }
-    }
-
-    pub(super) fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    pub(super) fn reseed(&mut self, seed: u64) {
-        self.seed = seed;
     }
 
     /// Seed of the permutation with `role` for pair `pair` of `pass` (`which` selects the
@@ -508,21 +490,7 @@ macro_rules! sampler_from_core {
                 $name
             }
 
-            fn dims(&self) -> usize {
-                self.core.dims()
-            }
-
-            fn passes(&self) -> super::PassKind {
-                self.core.passes()
-            }
-
-            fn seed(&self) -> u64 {
-                self.core.seed()
-            }
-
-            fn reseed(&mut self, seed: u64) {
-                self.core.reseed(seed);
-            }
+            sampler_fields!(fixed.core);
 
             fn point(&self, index: u64, out: &mut [f64]) -> $crate::Result<()> {
                 self.core.point(index, out)

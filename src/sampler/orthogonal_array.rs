@@ -36,7 +36,7 @@ use super::number_theory::{
 };
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{BlockFill, Kernel, dispatch_fill};
-use super::{PassKind, Sampler, check_block, check_dims, check_point, pass_runs};
+use super::{Sampler, check_block, check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
@@ -541,29 +541,13 @@ impl OrthogonalArray {
 }
 
 impl Sampler for OrthogonalArray {
+    sampler_fields!(fixed);
+
     fn name(&self) -> &'static str {
         match self.construction {
             Construction::Bose => "oa-bose",
             Construction::Bush => "oa-bush",
         }
-    }
-
-    fn dims(&self) -> usize {
-        self.dims
-    }
-
-    fn passes(&self) -> PassKind {
-        PassKind::Fixed {
-            size: self.pass_size,
-        }
-    }
-
-    fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    fn reseed(&mut self, seed: u64) {
-        self.seed = seed;
     }
 
     fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {

@@ -282,6 +282,8 @@ fn scramble_index(index: u32, bits: u32, key: u64) -> u32 {
 }
 
 impl Sampler for Pmj02 {
+    sampler_fields!();
+
     fn unbalanced_by(&self, n: u64) -> Option<u64> {
         (!n.is_power_of_two()).then_some(2)
     }
@@ -290,22 +292,10 @@ impl Sampler for Pmj02 {
         "pmj02"
     }
 
-    fn dims(&self) -> usize {
-        self.dims
-    }
-
     fn passes(&self) -> PassKind {
         PassKind::Extensible {
             max: 1 << self.log2_max,
         }
-    }
-
-    fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    fn reseed(&mut self, seed: u64) {
-        self.seed = seed;
     }
 
     fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {

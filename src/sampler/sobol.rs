@@ -233,6 +233,8 @@ impl PartialEq for Sobol {
 impl Eq for Sobol {}
 
 impl Sampler for Sobol {
+    sampler_fields!();
+
     fn unbalanced_by(&self, n: u64) -> Option<u64> {
         (!n.is_power_of_two()).then_some(2)
     }
@@ -241,22 +243,10 @@ impl Sampler for Sobol {
         "sobol"
     }
 
-    fn dims(&self) -> usize {
-        self.dims
-    }
-
     fn passes(&self) -> PassKind {
         PassKind::Extensible {
             max: 1 << PASS_BITS,
         }
-    }
-
-    fn seed(&self) -> u64 {
-        self.seed
-    }
-
-    fn reseed(&mut self, seed: u64) {
-        self.seed = seed;
     }
 
     fn is_randomized(&self) -> bool {
