@@ -126,6 +126,27 @@ impl Error {
     }
 }
 
+/// The value of `all` whose `name_of` is `name`, or an error for the setting `what` that lists
+/// every name: the `FromStr` of the crate's named enums.
+pub(crate) fn parse_name<T: Copy>(
+    what: &'static str,
+    name: &str,
+    all: &[T],
+    name_of: impl Fn(T) -> &'static str,
+) -> Result<T> {
+    all.iter()
+        .copied()
+        .find(|&x| name_of(x) == name)
+        .ok_or_else(|| {
+            let names: Vec<&str> = all.iter().map(|&x| name_of(x)).collect();
+            Error::invalid(
+                what,
+                format!("{name:?}"),
+                format!("one of {}", names.join(", ")),
+            )
+        })
+}
+
 /// The most memory one buffer of the crate may take, 8 GiB: a size that needs more (a point
 /// block of `2^40` points, a covariance of a million outputs, a test function in `2^40`
 /// dimensions) is refused with an error saying how much was asked for, instead of aborting

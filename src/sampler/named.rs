@@ -6,6 +6,7 @@ use super::{
     LatinHypercube, Lattice, MultiJittered, MultiStageNRooks, OaOffset, OrthogonalArray, Pmj02,
     PoissonDisk, Sampler, Scramble, Sobol,
 };
+use crate::error::parse_name;
 use crate::{Error, Result};
 use std::fmt;
 use std::str::FromStr;
@@ -257,17 +258,7 @@ impl FromStr for SamplerKind {
     type Err = Error;
 
     fn from_str(name: &str) -> Result<Self> {
-        SamplerKind::ALL
-            .into_iter()
-            .find(|kind| kind.name() == name)
-            .ok_or_else(|| {
-                let names: Vec<&str> = SamplerKind::ALL.iter().map(|k| k.name()).collect();
-                Error::invalid(
-                    "sampler",
-                    format!("{name:?}"),
-                    format!("one of {}", names.join(", ")),
-                )
-            })
+        parse_name("sampler", name, &SamplerKind::ALL, SamplerKind::name)
     }
 }
 

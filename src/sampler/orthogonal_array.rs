@@ -37,6 +37,7 @@ use super::number_theory::{
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{BlockFill, Kernel, dispatch_fill};
 use super::{Sampler, check_block, check_dims, check_point, pass_runs};
+use crate::error::parse_name;
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
@@ -115,17 +116,7 @@ impl FromStr for OaOffset {
     type Err = Error;
 
     fn from_str(name: &str) -> Result<Self> {
-        OaOffset::ALL
-            .into_iter()
-            .find(|o| o.name() == name)
-            .ok_or_else(|| {
-                let names: Vec<&str> = OaOffset::ALL.iter().map(|o| o.name()).collect();
-                Error::invalid(
-                    "offset",
-                    format!("{name:?}"),
-                    format!("one of {}", names.join(", ")),
-                )
-            })
+        parse_name("offset", name, &OaOffset::ALL, OaOffset::name)
     }
 }
 

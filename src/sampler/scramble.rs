@@ -5,6 +5,7 @@
 //! error bars (Owen 1995; L'Ecuyer & Lemieux 2002). Not every randomization fits every
 //! generator: each constructor says which it accepts.
 
+use crate::error::parse_name;
 use crate::{Error, Result};
 use std::fmt;
 use std::str::FromStr;
@@ -95,16 +96,6 @@ impl FromStr for Scramble {
     type Err = Error;
 
     fn from_str(name: &str) -> Result<Self> {
-        Scramble::ALL
-            .into_iter()
-            .find(|s| s.name() == name)
-            .ok_or_else(|| {
-                let names: Vec<&str> = Scramble::ALL.iter().map(|s| s.name()).collect();
-                Error::invalid(
-                    "scramble",
-                    format!("{name:?}"),
-                    format!("one of {}", names.join(", ")),
-                )
-            })
+        parse_name("scramble", name, &Scramble::ALL, Scramble::name)
     }
 }

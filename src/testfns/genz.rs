@@ -30,6 +30,7 @@ use std::str::FromStr;
 use super::TestFunction;
 use super::genz_batch::Parameters;
 use crate::Points;
+use crate::error::parse_name;
 use crate::quadrature::gauss_kronrod;
 use crate::{Error, Result};
 
@@ -56,10 +57,6 @@ pub enum GenzFamily {
     /// `0` if `x_1 > u_1` or `x_2 > u_2` (the latter only when `d >= 2`), else `exp(Σ a_i x_i)`.
     Discontinuous,
 }
-
-/// The accepted names, for error messages.
-const FAMILY_NAMES: &str =
-    "one of oscillatory, product-peak, corner-peak, gaussian, continuous, discontinuous";
 
 impl GenzFamily {
     /// All six families, in the order Genz listed them.
@@ -114,10 +111,7 @@ impl FromStr for GenzFamily {
     /// assert!("Gauss".parse::<GenzFamily>().unwrap_err().to_string().contains("product-peak"));
     /// ```
     fn from_str(s: &str) -> Result<Self> {
-        GenzFamily::ALL
-            .into_iter()
-            .find(|fam| fam.name() == s)
-            .ok_or_else(|| Error::invalid("family", format!("{s:?}"), FAMILY_NAMES))
+        parse_name("family", s, &GenzFamily::ALL, GenzFamily::name)
     }
 }
 

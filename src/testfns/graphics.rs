@@ -33,6 +33,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use super::TestFunction;
+use crate::error::parse_name;
 use crate::{Error, Result};
 
 /// `r²` of the quarter disk: `2/π`, so that its area `π r² / 4` is one half.
@@ -133,16 +134,12 @@ impl FromStr for GraphicsIntegrand {
     /// assert!("disc".parse::<GraphicsIntegrand>().unwrap_err().to_string().contains("triangle"));
     /// ```
     fn from_str(name: &str) -> Result<Self> {
-        GraphicsIntegrand::ALL
-            .into_iter()
-            .find(|f| f.name() == name)
-            .ok_or_else(|| {
-                Error::invalid(
-                    "integrand",
-                    format!("{name:?}"),
-                    "one of disk, gaussian, bilinear, step, triangle",
-                )
-            })
+        parse_name(
+            "integrand",
+            name,
+            &GraphicsIntegrand::ALL,
+            GraphicsIntegrand::name,
+        )
     }
 }
 
