@@ -504,7 +504,8 @@ fn out_of_range<K: Kernel>(points: &Points, what: &str, log10: f64, hint: &str) 
     )
 }
 
-/// `m * 2^e` if it is a normal f64.
+/// `m * 2^e` if it is a normal f64 (`m` itself when `e` is 0 and `m` is normal: nothing was
+/// rescaled).
 fn in_range(m: f64, e: i64) -> Option<f64> {
     let magnitude = exponent(m) + e;
     (-1022..=1023)
@@ -526,12 +527,7 @@ fn check_digits<K: Kernel>(points: &Points, sq: &Squared) -> Result<()> {
 fn squared_value<K: Kernel>(points: &Points) -> Result<f64> {
     let sq = squared::<K>(points)?;
     check_digits::<K>(points, &sq)?;
-    if sq.exp == 0 {
-        // The plain case: nothing was rescaled.
-        if sq.value >= f64::MIN_POSITIVE && sq.value.is_finite() {
-            return Ok(sq.value);
-        }
-    } else if let Some(v) = in_range(sq.value, sq.exp) {
+    if let Some(v) = in_range(sq.value, sq.exp) {
         return Ok(v);
     }
     let log10 = sq.value.log10() + sq.exp as f64 * std::f64::consts::LOG10_2;
@@ -556,9 +552,6 @@ fn root_value<K: Kernel>(points: &Points) -> Result<f64> {
     // sqrt(v 2^e) = sqrt(v 2^(e mod 2)) 2^(e div 2), exact in the scaling.
     let (odd, half) = (sq.exp.rem_euclid(2), sq.exp.div_euclid(2));
     let root = (sq.value * if odd == 1 { 2.0 } else { 1.0 }).sqrt();
-    if half == 0 && root >= f64::MIN_POSITIVE && root.is_finite() {
-        return Ok(root);
-    }
     if let Some(v) = in_range(root, half) {
         return Ok(v);
     }
