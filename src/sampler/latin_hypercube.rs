@@ -8,7 +8,7 @@
 
 use super::permutation::Permutation;
 use super::simd::{BlockFill, Kernel, dispatch_fill};
-use super::{Sampler, check_block, check_dims, check_point, pass_runs};
+use super::{Sampler, check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
 
@@ -93,9 +93,7 @@ impl Sampler for LatinHypercube {
     }
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
-        check_block(self.dims, start, points)?;
-        dispatch_fill(self, start, points);
-        Ok(())
+        dispatch_fill(self, self.dims, start, points)
     }
 }
 

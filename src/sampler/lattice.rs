@@ -39,7 +39,7 @@
 //!   integration", SIAM J. Sci. Comput. 28 (2006), 2162-2188.
 
 use super::simd::{BlockFill, Kernel, dispatch_fill};
-use super::{PassKind, Sampler, Scramble, check_block, check_point};
+use super::{PassKind, Sampler, Scramble, check_point};
 use crate::hash::{hash_words, unit_f64};
 use crate::{Error, Points, Result};
 use std::borrow::Cow;
@@ -398,9 +398,7 @@ impl Sampler for Lattice {
     }
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
-        check_block(self.z.len(), start, points)?;
-        dispatch_fill(self, start, points);
-        Ok(())
+        dispatch_fill(self, self.z.len(), start, points)
     }
 }
 

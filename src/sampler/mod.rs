@@ -252,17 +252,7 @@ pub trait Sampler: Send + Sync {
     /// [`dims`](Self::dims) columns). The default calls [`point`](Self::point) for each index;
     /// samplers override it with block kernels that give identical bits.
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
-        check_block(self.dims(), start, points)?;
-        let mut buffer = vec![0.0; self.dims()];
-        let len = points.len();
-        let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
-        for i in 0..len {
-            self.point(start + i as u64, &mut buffer)?;
-            for (column, &x) in columns.iter_mut().zip(&buffer) {
-                column[i] = x;
-            }
-        }
-        Ok(())
+        fill_pointwise(self, start, points)
     }
 
     /// Writes points `start .. start + points.len()` in single precision into `points` (which
@@ -307,6 +297,25 @@ pub trait Sampler: Send + Sync {
 const F32_STEP: usize = 1024;
 
 /// Checks that a point buffer has the sampler's dimension.
+/// The default [`Sampler::fill`]: point by point into a buffer, scattered to the columns.
+pub(crate) fn fill_pointwise<S: Sampler + ?Sized>(
+    sampler: &S,
+    start: u64,
+    points: &mut Points,
+) -> Result<()> {
+    check_block(sampler.dims(), start, points)?;
+    let mut buffer = vec![0.0; sampler.dims()];
+    let len = points.len();
+    let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
+    for i in 0..len {
+        sampler.point(start + i as u64, &mut buffer)?;
+        for (column, &x) in columns.iter_mut().zip(&buffer) {
+            column[i] = x;
+        }
+    }
+    Ok(())
+}
+
 /// The runs of a block of `len` points from index `start` that share a pass of `size` points,
 /// in order: `(done, pass, local, run)` for block positions `done .. done + run`, which are
 /// points `local ..` of pass `pass`.

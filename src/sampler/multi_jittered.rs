@@ -25,7 +25,7 @@
 use super::number_theory::integer_root;
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{BlockFill, Kernel, dispatch_fill};
-use super::{check_block, check_dims, check_point, pass_runs};
+use super::{check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::{Error, Points, Result};
@@ -246,9 +246,7 @@ impl MjCore {
     }
 
     pub(super) fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
-        check_block(self.dims, start, points)?;
-        dispatch_fill(self, start, points);
-        Ok(())
+        dispatch_fill(self, self.dims, start, points)
     }
 }
 

@@ -36,7 +36,7 @@ use super::number_theory::{
 };
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{BlockFill, Kernel, dispatch_fill};
-use super::{Sampler, check_block, check_dims, check_point, pass_runs};
+use super::{Sampler, check_dims, check_point, pass_runs};
 use crate::error::parse_name;
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
@@ -549,9 +549,7 @@ impl Sampler for OrthogonalArray {
     }
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
-        check_block(self.dims, start, points)?;
-        dispatch_fill(self, start, points);
-        Ok(())
+        dispatch_fill(self, self.dims, start, points)
     }
 }
 

@@ -54,7 +54,7 @@
 //! prefix of `2^m` points has one point in each interval of width `2^-m`.
 
 use super::simd::{BlockFill, Kernel, dispatch_fill};
-use super::{PassKind, Sampler, check_block, check_dims, check_point, pass_runs};
+use super::{PassKind, Sampler, check_dims, check_point, fill_pointwise, pass_runs};
 use crate::hash::{hash_words, mix64};
 use crate::{Error, Points, Result};
 
@@ -306,20 +306,11 @@ impl Sampler for Pmj02 {
     }
 
     fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
-        check_block(self.dims, start, points)?;
         if self.log2_max == 0 {
             // One point per pass: nothing to vectorize.
-            let mut buffer = vec![0.0; self.dims];
-            for i in 0..points.len() {
-                self.point(start + i as u64, &mut buffer)?;
-                for (dim, &x) in buffer.iter().enumerate() {
-                    points.column_mut(dim)[i] = x;
-                }
-            }
-            return Ok(());
+            return fill_pointwise(self, start, points);
         }
-        dispatch_fill(self, start, points);
-        Ok(())
+        dispatch_fill(self, self.dims, start, points)
     }
 }
 

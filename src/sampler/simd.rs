@@ -34,16 +34,24 @@ pub(crate) struct BlockFill<'a, S> {
     pub(crate) points: &'a mut crate::Points,
 }
 
-/// Runs `sampler`'s [`BlockFill`] kernel on the widest instruction set.
-pub(crate) fn dispatch_fill<'a, S>(sampler: &'a S, start: u64, points: &'a mut crate::Points)
+/// Checks the block against the sampler's `dims` and runs `sampler`'s [`BlockFill`] kernel
+/// on the widest instruction set.
+pub(crate) fn dispatch_fill<'a, S>(
+    sampler: &'a S,
+    dims: usize,
+    start: u64,
+    points: &'a mut crate::Points,
+) -> crate::Result<()>
 where
     BlockFill<'a, S>: Kernel<Output = ()>,
 {
+    super::check_block(dims, start, points)?;
     dispatch(BlockFill {
         sampler,
         start,
         points,
-    })
+    });
+    Ok(())
 }
 
 /// Instruction sets the kernels are compiled for.
