@@ -104,8 +104,12 @@ const EVALUATIONS_PER_INCREMENT: u64 = 10;
 /// before the next iteration once its time limit has passed (the warm-up always runs in full).
 /// Iterations that disagree (`Q` below [`DISAGREEMENT_Q`](crate::stats::DISAGREEMENT_Q)) have
 /// underestimated variances, and meet no tolerance; the first combined iteration, which has no
-/// `Q` yet, must agree in the same sense with the last warm-up iteration, whose estimate is as
-/// unbiased and whose variance is as honest (without a warm-up it is not checked).
+/// `Q` yet, must agree in the same sense with the warm-up iterations, whose estimates are as
+/// unbiased and whose variances are as honest (without a warm-up it is not checked). A run
+/// whose interval is narrow enough but for the disagreement goes on to twice the evaluations
+/// it had spent then, so that a chance disagreement can pass, and stops there on
+/// [`StopReason::IterationsDisagree`](crate::stats::StopReason::IterationsDisagree) if its
+/// iterations still disagree.
 pub struct Vegas<F> {
     f: F,
     domain: UniformBox,
@@ -322,6 +326,9 @@ impl<F> Vegas<F> {
         let mut measured_evaluations: u64 = 0;
         let mut non_finite: u64 = 0;
         let mut stop = StopReason::Budget;
+        // The evaluations spent when the interval first met the tolerance but for iterations
+        // that disagree.
+        let mut held_back_at: Option<u64> = None;
 
         for k in 0..self.warmup + self.iterations {
             let measured = k >= self.warmup;
@@ -419,9 +426,21 @@ impl<F> Vegas<F> {
                 // Two or more iterations carry their own chi^2 (`Tolerance::is_met` refuses
                 // those that disagree); a first one is checked against the last warm-up.
                 let checked = combination.count() > 1 || combination.first_agrees();
-                if checked && targets.judge(so_far).1 {
+                let (mut so_far, met) = targets.judge(so_far);
+                if checked && met {
                     stop = StopReason::ToleranceMet;
                     break;
+                }
+                // Narrow enough but for the disagreement: the run doubles its evaluations, so
+                // that a chance disagreement (1% of honest runs) can pass; iterations that
+                // still disagree then have error bars too small for more of them to help.
+                so_far.for_each_output(|_, e| e.q_value = None);
+                if targets.met(&so_far) {
+                    let since = *held_back_at.get_or_insert(spent);
+                    if spent >= 2 * since {
+                        stop = StopReason::IterationsDisagree;
+                        break;
+                    }
                 }
             }
         }

@@ -24,4 +24,9 @@ pub enum StopReason {
     /// The sampler ran out of points: a run to a tolerance reached the end of a pass (the
     /// most points per replicate an extensible sequence has).
     SamplerExhausted,
+    /// The interval met the tolerance, but the iterations it combines disagree
+    /// ([`Warning::IterationsDisagree`](super::Warning::IterationsDisagree)), and still did after
+    /// twice the evaluations: their error bars are too small, and more iterations would not
+    /// make the interval honest (VEGAS).
+    IterationsDisagree,
 }

@@ -41,9 +41,10 @@ pub enum Warning {
         /// The nearest balanced size above `samples`.
         above: u64,
     },
-    /// A run to a tolerance stopped on a limit before meeting it.
+    /// A run to a tolerance stopped on a limit (or, VEGAS, on iterations that kept
+    /// disagreeing) before meeting it.
     ToleranceNotMet {
-        /// The limit that stopped it.
+        /// What stopped it.
         stop: StopReason,
     },
     /// Fewer than 8 independent replicates: the Student-t interval is wide, and the standard
@@ -199,5 +200,6 @@ fn stop_words(stop: StopReason) -> &'static str {
         StopReason::TimeLimit => "time limit",
         StopReason::Cancelled => "cancelled",
         StopReason::SamplerExhausted => "the sampler ran out of points",
+        StopReason::IterationsDisagree => "iterations that disagree",
     }
 }

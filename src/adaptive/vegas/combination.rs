@@ -34,8 +34,8 @@ struct Iteration {
 #[derive(Default)]
 pub(super) struct Combination {
     results: Vec<Iteration>,
-    /// The last warm-up iteration's estimate and variance.
-    warmup: Option<(f64, f64)>,
+    /// The warm-up iterations' estimates and variances.
+    warmups: Vec<(f64, f64)>,
     /// The largest weight so far: the sums below hold weights divided by it, which are at
     /// most 1 (weights themselves reach `1 / TINY_VARIANCE`, and their squares would overflow).
     scale: f64,
@@ -54,9 +54,9 @@ impl Combination {
     }
 
     /// Notes a warm-up iteration's estimate and variance: the first combined iteration is
-    /// weighted by the last one's variance and checked against its estimate.
+    /// weighted by the last one's variance and checked against every one's estimate.
     pub(super) fn warm_up(&mut self, mean: f64, variance: f64) {
-        self.warmup = Some((mean, variance.max(TINY_VARIANCE)));
+        self.warmups.push((mean, variance.max(TINY_VARIANCE)));
     }
 
     /// Adds an iteration's estimate, its variance and degrees of freedom, and the bound on
@@ -65,7 +65,8 @@ impl Combination {
         let variance = variance.max(TINY_VARIANCE);
         // The variance of the iteration before: the last combined one, or the last warm-up.
         let previous = self.results.last().map(|r| r.variance);
-        let weight = 1.0 / previous.or(self.warmup.map(|(_, v)| v)).unwrap_or(variance);
+        let last_warmup = self.warmups.last().map(|&(_, v)| v);
+        let weight = 1.0 / previous.or(last_warmup).unwrap_or(variance);
         self.results.push(Iteration {
             mean,
             variance,
@@ -87,17 +88,24 @@ impl Combination {
         self.dof += dof.max(1) as f64;
     }
 
-    /// Whether the first iteration agrees with the last warm-up iteration (true without a
-    /// warm-up): their `chi^2` on one degree of freedom has a `Q` of at least
-    /// [`DISAGREEMENT_Q`].
+    /// Whether the first iteration agrees with the warm-up iterations (true without a
+    /// warm-up): each is an unbiased estimate with its own variance, so, if those are right,
+    /// the `chi^2` of all of them about their weighted mean has a `Q` of at least
+    /// [`DISAGREEMENT_Q`] but by chance. A single earlier iteration is a weak check: one whose
+    /// variance is honest, and so large, agrees with anything.
     fn first_agrees(&self) -> bool {
-        match (self.results.first(), self.warmup) {
-            (Some(first), Some((mean, variance))) => {
-                let chi2 = (first.mean - mean).powi(2) / (first.variance + variance);
-                chi_square_sf(chi2, 1.0) >= DISAGREEMENT_Q
-            }
-            _ => true,
+        let Some(first) = self.results.first() else {
+            return true;
+        };
+        if self.warmups.is_empty() {
+            return true;
         }
+        let all =
+            || std::iter::once((first.mean, first.variance)).chain(self.warmups.iter().copied());
+        let (weights, weighted) = all().fold((0.0, 0.0), |(w, s), (m, v)| (w + 1.0 / v, s + m / v));
+        let mean = weighted / weights;
+        let chi2: f64 = all().map(|(m, v)| (m - mean).powi(2) / v).sum();
+        chi_square_sf(chi2, self.warmups.len() as f64) >= DISAGREEMENT_Q
     }
 
     /// The combined estimate of `n` measured evaluations, out of `evaluations` spent.

@@ -306,6 +306,7 @@ pub fn stop_name(stop: StopReason) -> &'static str {
         StopReason::TimeLimit => "time limit",
         StopReason::Cancelled => "cancelled",
         StopReason::SamplerExhausted => "sampler exhausted",
+        StopReason::IterationsDisagree => "iterations disagree",
         _ => "other",
     }
 }
