@@ -89,3 +89,43 @@ fn every_program_answers_help_with_its_flags() {
         );
     }
 }
+
+#[test]
+fn whole_numbers_may_be_written_in_scientific_notation() {
+    let out = run(
+        "integrate",
+        &["--genz", "gaussian", "--dims", "2", "--n", "1e3", "--json"],
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{out:?}");
+    assert!(text.contains("\"evaluations\":1000"), "{text}");
+    // Not a whole number, or too large for one: refused as before.
+    for bad in ["1.5", "1e30"] {
+        let args = ["--genz", "gaussian", "--dims", "2", "--n", bad];
+        assert_one_line_error("integrate", &args, "expected a whole number");
+    }
+}
+
+#[test]
+fn a_value_that_starts_with_a_minus_sign_is_shown_how_to_pass() {
+    let args = ["--genz", "gaussian", "--dims", "2", "--a", "-1,1"];
+    assert_one_line_error("integrate", &args, "given after '='");
+    // Given after '=', it reaches the check of its range.
+    let args = ["--genz", "gaussian", "--dims", "2", "--a=-1,1"];
+    assert_one_line_error("integrate", &args, "expected finite values > 0");
+}
+
+#[test]
+fn sampler_errors_name_the_coordinates_an_estimator_draws() {
+    let args = [
+        "--genz",
+        "gaussian",
+        "--dims",
+        "6",
+        "--sampler",
+        "best-candidate",
+        "--estimator",
+        "mis",
+    ];
+    assert_one_line_error("integrate", &args, "12 coordinates a point for --dims 6");
+}

@@ -20,8 +20,16 @@ const REPLICATES: u64 = 16;
 
 fn main() {
     if let Some(flag) = std::env::args().nth(1) {
+        if flag == "--help" || flag == "-h" {
+            println!(
+                "Integrates a few functions several ways (independent, stratified and \
+                 quasi-random points, importance sampling) and prints each estimate with its \
+                 standard error and true error.\n\nUsage: quickstart (it takes no flags)"
+            );
+            return;
+        }
         fail(format!(
-            "unexpected argument '{flag}' (quickstart takes no flags)"
+            "unexpected argument '{flag}' (quickstart takes no flags but --help)"
         ));
     }
     if let Err(e) = run() {

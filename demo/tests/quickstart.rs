@@ -41,4 +41,12 @@ fn quickstart_takes_no_flags() {
         assert!(stderr.contains("takes no flags"), "{stderr}");
         assert!(out.stdout.is_empty());
     }
+    // --help says what it does, and runs nothing.
+    for flag in ["--help", "-h"] {
+        let out = quickstart(&[flag]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{out:?}");
+        assert!(stdout.contains("Usage: quickstart"), "{stdout}");
+        assert!(!stdout.contains("genz gaussian"), "{stdout}");
+    }
 }

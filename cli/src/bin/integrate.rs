@@ -301,7 +301,14 @@ fn run() -> Result<(), String> {
     let strength: Option<u32> = args.get("strength", "a whole number >= 1 (oa-bush)")?;
     let sampler = kind
         .build_with(canonical_dims, n, scramble, strength, seed)
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| match canonical_dims == dims {
+            true => e.to_string(),
+            false => format!(
+                "{e} (the sampler draws {canonical_dims} coordinates a point for --dims {dims} \
+                 with --estimator {})",
+                estimator_kind.name()
+            ),
+        })?;
     let independent = sampler.passes() == PassKind::Independent;
     if method == Method::Rqmc && (independent || !sampler.is_randomized()) {
         return Err(format!(
@@ -628,7 +635,8 @@ impl Report {
             _ if e.error_bound.is_some() => {}
             _ => {
                 println!(
-                    "std error   none (one replicate of dependent points has no honest error bar)"
+                    "std error   none (a single point, or one replicate of dependent points, has \
+                     no honest error bar)"
                 );
                 println!("|error|     {error:.3e}");
             }

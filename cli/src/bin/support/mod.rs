@@ -130,15 +130,22 @@ impl Args {
         Ok(Args { values, switches })
     }
 
-    /// The value of `--name`, parsed; `None` when absent.
+    /// The value of `--name`, parsed; `None` when absent. A whole number may also be written
+    /// in scientific notation (`--n 1e6`), as Python's peers accept it.
     pub fn get<T: FromStr>(&self, name: &str, what: &str) -> Result<Option<T>, String> {
-        match self.values.get(name) {
-            None => Ok(None),
-            Some(v) => v
-                .parse()
-                .map(Some)
-                .map_err(|_| format!("invalid --{name} '{v}': expected {what}")),
-        }
+        let Some(v) = self.values.get(name) else {
+            return Ok(None);
+        };
+        let whole = || {
+            let x: f64 = v.parse().ok()?;
+            let exact = x.fract() == 0.0 && x.abs() < 2f64.powi(64);
+            exact.then(|| format!("{}", x as i128).parse().ok())?
+        };
+        v.parse()
+            .ok()
+            .or_else(whole)
+            .map(Some)
+            .ok_or_else(|| format!("invalid --{name} '{v}': expected {what}"))
     }
 
     /// The value of `--name`, which must be present.
@@ -197,6 +204,11 @@ fn one_line(error: &clap::Error, spec: Spec) -> String {
         ErrorKind::UnknownArgument if arg.starts_with("--") => {
             format!("unknown flag '{arg}' (flags are: {})", known())
         }
+        ErrorKind::UnknownArgument if arg.starts_with('-') => format!(
+            "unexpected argument '{arg}': a value that starts with '-' is given after '=' \
+             (--a=-1,2), or it is read as a flag (flags are: {})",
+            known()
+        ),
         ErrorKind::UnknownArgument => {
             format!("unexpected argument '{arg}' (flags are: {})", known())
         }
