@@ -424,7 +424,7 @@ impl<F> Vegas<F> {
             if stopping.is_some() {
                 let so_far = combination.estimate(measured_evaluations, spent);
                 // Two or more iterations carry their own chi^2 (`Tolerance::is_met` refuses
-                // those that disagree); a first one is checked against the last warm-up.
+                // those that disagree); a first one is checked against the warm-up ones.
                 let checked = combination.count() > 1 || combination.first_agrees();
                 let (mut so_far, met) = targets.judge(so_far);
                 if checked && met {
