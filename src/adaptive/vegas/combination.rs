@@ -189,9 +189,8 @@ impl VectorCombination {
         }
     }
 
-    /// Whether every output's first iteration agrees with its last warm-up iteration (true
-    /// without a warm-up): `chi^2` on one degree of freedom with a `Q` of at least
-    /// [`DISAGREEMENT_Q`].
+    /// Whether every output's first iteration agrees with its warm-up iterations (true
+    /// without a warm-up; see [`Combination::first_agrees`]).
     pub(super) fn first_agrees(&self) -> bool {
         self.outputs.iter().all(Combination::first_agrees)
     }
