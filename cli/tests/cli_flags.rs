@@ -99,8 +99,33 @@ fn whole_numbers_may_be_written_in_scientific_notation() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{out:?}");
     assert!(text.contains("\"evaluations\":1000"), "{text}");
+    // Read exactly in decimal: a seed of 20 digits is the same seed either way (through an
+    // f64 it would lose its last four digits and give another estimate).
+    let estimate = |seed: &str| {
+        let args = [
+            "--genz", "gaussian", "--dims", "2", "--n", "64", "--seed", seed, "--json",
+        ];
+        let out = run("integrate", &args);
+        assert!(out.status.success(), "{out:?}");
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        text.split("\"estimate\":")
+            .nth(1)
+            .unwrap()
+            .split(',')
+            .next()
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(
+        estimate("1.2345678901234567891e19"),
+        estimate("12345678901234567891")
+    );
+    assert_ne!(
+        estimate("1.2345678901234567891e19"),
+        estimate("12345678901234567890")
+    );
     // Not a whole number, or too large for one: refused as before.
-    for bad in ["1.5", "1e30"] {
+    for bad in ["1.5", "1e30", "1.0001e3", "2e-3"] {
         let args = ["--genz", "gaussian", "--dims", "2", "--n", bad];
         assert_one_line_error("integrate", &args, "expected a whole number");
     }

@@ -136,14 +136,9 @@ impl Args {
         let Some(v) = self.values.get(name) else {
             return Ok(None);
         };
-        let whole = || {
-            let x: f64 = v.parse().ok()?;
-            let exact = x.fract() == 0.0 && x.abs() < 2f64.powi(64);
-            exact.then(|| format!("{}", x as i128).parse().ok())?
-        };
         v.parse()
             .ok()
-            .or_else(whole)
+            .or_else(|| whole_digits(v)?.parse().ok())
             .map(Some)
             .ok_or_else(|| format!("invalid --{name} '{v}': expected {what}"))
     }
@@ -181,6 +176,35 @@ impl Args {
     pub fn has(&self, name: &str) -> bool {
         self.switches.iter().any(|s| s == name)
     }
+}
+
+/// The digits of the whole number that `text` writes in scientific notation (`1e6`, `2.5E3`,
+/// `-1.5e1`), read exactly, in decimal, so that no digit is lost to a rounding through `f64`;
+/// `None` when it is not one, or not whole (`1.5`, `1e-3`).
+fn whole_digits(text: &str) -> Option<String> {
+    let (mantissa, exponent) = text.split_once(['e', 'E'])?;
+    let exponent: i64 = exponent.parse().ok()?;
+    let (sign, mantissa) = match mantissa.strip_prefix('-') {
+        Some(rest) => ("-", rest),
+        None => ("", mantissa.strip_prefix('+').unwrap_or(mantissa)),
+    };
+    let (int, frac) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+    let digits = format!("{int}{frac}");
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    // Where the decimal point falls in `digits`; every digit after it must be zero.
+    let point = int.len() as i64 + exponent;
+    let (whole, rest) = match usize::try_from(point) {
+        Ok(p) if p <= digits.len() => digits.split_at(p),
+        // Past the digits: zeros follow (at most 40, more than any count holds).
+        Ok(p) if p <= 40 => return Some(format!("{sign}{digits}{}", "0".repeat(p - digits.len()))),
+        Ok(_) => return None,
+        Err(_) => ("", digits.as_str()),
+    };
+    rest.bytes()
+        .all(|b| b == b'0')
+        .then(|| format!("{sign}0{whole}"))
 }
 
 /// clap's error as one line that names the flag and what is allowed.
