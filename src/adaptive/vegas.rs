@@ -47,7 +47,7 @@ mod moments;
 mod pass;
 mod strata;
 
-use super::vegas_grid::{VegasGrid, check_alpha, check_increments};
+use super::vegas_grid::{VegasGrid, check_alpha, check_density_floor, check_increments};
 use crate::engine::{RunConfig, Stopping, Targets, require_randomized, run_settings};
 use crate::estimator::checked_outputs;
 use crate::integrate::NonFinitePolicy;
@@ -66,6 +66,15 @@ const DEFAULT_SAMPLES: u64 = 10_000;
 /// The fewest evaluations per iteration: measured over 200 seeds on 5-D Genz integrals, 50
 /// per iteration still gave honest intervals (184-189 of 200 covered).
 const MIN_SAMPLES: u64 = 50;
+/// The lowest density, as a fraction of the uniform one, that the grid keeps on any axis.
+/// Measured over 50 seeds of the customary Genz discontinuous family in 5-D, 8-D and 10-D
+/// (`--tol-rel 1e-3`, at most 2e7 evaluations): without it VEGAS and VEGAS+ claimed the
+/// tolerance in 29 to 48 runs, of which 0 to 8 covered the exact value (`vegas` 6.4.1: 10 of
+/// 10 in 10-D, none covering); with it they claim it in 44 to 50, of which 29 to 44 cover,
+/// in 1.2 to 28 times fewer evaluations. Where no axis's density falls below it (every other
+/// 5-D and 10-D Genz family but the 10-D Gaussian, which takes about 20% more evaluations
+/// at `--tol-rel 1e-4`), runs are unchanged to the bit.
+const DEFAULT_DENSITY_FLOOR: f64 = 0.005;
 /// Grid increments are capped at one per this many evaluations (as `vegas` does), so that
 /// every increment sees some points in each iteration.
 const EVALUATIONS_PER_INCREMENT: u64 = 10;
@@ -75,7 +84,7 @@ const EVALUATIONS_PER_INCREMENT: u64 = 10;
 /// Defaults: `10_000` evaluations per iteration ([`samples`](Self::samples)), 5 warm-up iterations (they train the grid
 /// and the allocation and are then discarded, as `vegas` users do with a separate training
 /// call) followed by 10 iterations that are combined, 1000 grid increments per axis at most,
-/// `alpha = 0.5`, adaptive stratification on with `beta = 0.75`, independent points with
+/// `alpha = 0.5`, a density floor of 0.005, adaptive stratification on with `beta = 0.75`, independent points with
 /// seed 0, all available threads.
 ///
 /// The estimate is the combination of the iterations weighted by the inverse of the variance of the
@@ -118,6 +127,7 @@ pub struct Vegas<F> {
     warmup: u64,
     increments: usize,
     alpha: f64,
+    density_floor: f64,
     stratified: bool,
     beta: f64,
 }
@@ -168,6 +178,7 @@ impl<F> Vegas<F> {
             warmup: 5,
             increments: 1000,
             alpha: 0.5,
+            density_floor: DEFAULT_DENSITY_FLOOR,
             stratified: true,
             beta: 0.75,
         }
@@ -254,6 +265,29 @@ impl<F> Vegas<F> {
     /// ```
     pub fn alpha(mut self, alpha: f64) -> Self {
         self.alpha = alpha;
+        self
+    }
+
+    /// The lowest density the grid keeps on each axis, as a fraction of the uniform density
+    /// (in `[0, 1)`; default 0.005; 0 gives the classic grid, as in `vegas`).
+    ///
+    /// Without a floor the grid can starve a region that holds part of the integral: an
+    /// increment that straddles a jump sees the nonzero side so rarely that it keeps widening,
+    /// and every iteration then misses the same part of the integral while agreeing with the
+    /// others, so a run claims a tolerance that its interval does not cover. The floor bounds
+    /// every increment's width by about `1 / floor` times the average; grids that never get
+    /// that thin are unchanged.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Vegas, pdf::UniformBox};
+    /// // A jump at 0.2: the integral is 0.2.
+    /// let f = |x: &[f64]| if x[0] < 0.2 { 1.0 } else { 0.0 };
+    /// let e = Vegas::new(f, UniformBox::unit(1).unwrap()).density_floor(0.01).run().unwrap();
+    /// assert!((e.mean - 0.2).abs() < 5.0 * e.std_error.unwrap());
+    /// assert!(Vegas::new(f, UniformBox::unit(1).unwrap()).density_floor(1.0).run().is_err());
+    /// ```
+    pub fn density_floor(mut self, floor: f64) -> Self {
+        self.density_floor = floor;
         self
     }
 
@@ -401,7 +435,7 @@ impl<F> Vegas<F> {
                 });
             }
             spent += total;
-            grid.adapt_to(&training, self.alpha);
+            grid.adapt_to(&training, self.alpha, self.density_floor);
             if allocating {
                 std::mem::swap(&mut sigf, &mut next_sigf);
                 sum_sigf = sigf.iter().sum();
@@ -493,6 +527,7 @@ impl<F> Vegas<F> {
         }
         check_increments(self.increments)?;
         check_alpha(self.alpha)?;
+        check_density_floor(self.density_floor)?;
         if !(0.0..=1.0).contains(&self.beta) {
             return Err(Error::invalid(
                 "beta",

@@ -211,7 +211,7 @@ impl VegasGrid {
     pub fn adapt(&mut self, alpha: f64) -> Result<()> {
         check_alpha(alpha)?;
         let training = std::mem::take(&mut self.training);
-        self.adapt_to(&training, alpha);
+        self.adapt_to(&training, alpha, 0.0);
         self.training = training;
         self.training.fill(0.0);
         Ok(())
@@ -219,12 +219,13 @@ impl VegasGrid {
 
     /// Adapts every axis to `training` (pairs of weighted sums of `(J f)^2` and sums of
     /// weights per increment, as [`add_training`](Self::add_training) accumulates them),
-    /// with a checked `alpha`.
+    /// with a checked `alpha`, keeping each axis's density at least `floor` times the
+    /// uniform one (see [`floor_density`]; 0 is classic VEGAS).
     ///
     /// The weighted average per increment, rather than the sum, is what the grid follows:
     /// it does not carry the fluctuation of the number of points that fell in the increment,
     /// which with about ten points per increment would otherwise dominate the noise.
-    pub(crate) fn adapt_to(&mut self, training: &[f64], alpha: f64) {
+    pub(crate) fn adapt_to(&mut self, training: &[f64], alpha: f64, floor: f64) {
         if alpha == 0.0 {
             return;
         }
@@ -253,6 +254,7 @@ impl VegasGrid {
             let new_nodes = &mut new_nodes[..=n];
             let nodes = &self.nodes[nodes_at..=nodes_at + n];
             let widths = &self.widths[cells_at..cells_at + n];
+            floor_density(nodes, widths, weights, floor);
             regrid(nodes, widths, weights, new_nodes);
             self.nodes[nodes_at..=nodes_at + n].copy_from_slice(new_nodes);
             for (width, pair) in self.widths[cells_at..cells_at + n]
@@ -333,6 +335,18 @@ pub(crate) fn check_alpha(alpha: f64) -> Result<()> {
     Ok(())
 }
 
+/// Validates the density floor of the grid's adaptation.
+pub(crate) fn check_density_floor(floor: f64) -> Result<()> {
+    if !(0.0..1.0).contains(&floor) {
+        return Err(Error::invalid(
+            "density_floor",
+            floor,
+            "a fraction of the uniform density in [0, 1) (0 is classic VEGAS; default 0.005)",
+        ));
+    }
+    Ok(())
+}
+
 /// The largest grid damping exponent accepted (see [`check_alpha`]).
 const MAX_ALPHA: f64 = 2.0;
 
@@ -366,6 +380,26 @@ fn damped_weights(raw: &[f64], alpha: f64, weights: &mut [f64]) -> bool {
         };
     }
     true
+}
+
+/// Raises the weight of every increment to at least `floor` times the weight it would have
+/// if the axis's density were uniform, so that no increment is wider than about `1 / floor`
+/// times the average.
+///
+/// Without a floor, an increment whose training data come from a rare region (the sliver of
+/// a wide increment that lies before a jump of the integrand, everything beyond it zero)
+/// averages to nearly nothing, widens, and makes the region rarer still: the iterations then
+/// agree with one another while all of them miss part of the integral. The floor binds
+/// only where the density has fallen below it, so grids that never get that thin are unchanged.
+fn floor_density(nodes: &[f64], widths: &[f64], weights: &mut [f64], floor: f64) {
+    if floor == 0.0 {
+        return;
+    }
+    let total: f64 = weights.iter().sum();
+    let length = nodes[nodes.len() - 1] - nodes[0];
+    for (weight, width) in weights.iter_mut().zip(widths) {
+        *weight = weight.max(floor * total * width / length);
+    }
 }
 
 /// New nodes that split `weights` (spread uniformly over each old increment) into equal
@@ -423,6 +457,55 @@ mod tests {
         for (a, b) in new_nodes.iter().zip(expected) {
             assert!((a - b).abs() < 1e-15, "{new_nodes:?}");
         }
+    }
+
+    /// Training data as `add_training` leaves them: the average `(J f)^2` of each increment
+    /// of a one-axis grid, over one point each.
+    fn one_axis_training(averages: &[f64]) -> Vec<f64> {
+        averages.iter().flat_map(|&a| [a, 1.0]).collect()
+    }
+
+    /// The widest increment of axis 0 after repeated adaptation to the same averages.
+    fn widest_after(averages: &[f64], floor: f64) -> f64 {
+        let mut grid = VegasGrid::new(&UniformBox::unit(1).unwrap(), averages.len()).unwrap();
+        for _ in 0..20 {
+            grid.adapt_to(&one_axis_training(averages), 0.5, floor);
+        }
+        grid.widths.iter().copied().fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn the_density_floor_bounds_every_width() {
+        // All the weight in the first of 100 increments: without a floor the grid piles up
+        // there and leaves one increment for almost all the axis.
+        let n = 100;
+        let mut averages = vec![0.0; n];
+        averages[0] = 1.0;
+        assert!(widest_after(&averages, 0.0) > 0.9);
+        // With one, the density stays at least floor / (1 + floor) times uniform, so no
+        // increment is wider than (1 + floor) / (floor n).
+        for floor in [0.005, 0.05, 0.5] {
+            let widest = widest_after(&averages, floor);
+            let bound = (1.0 + floor) / (floor * n as f64);
+            assert!(
+                widest <= bound * (1.0 + 1e-12),
+                "floor {floor}: {widest} > {bound}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_density_floor_leaves_moderate_grids_alone() {
+        // Averages within a factor of 4: the damped density never falls near 0.005 of
+        // uniform, so the floor changes no bit.
+        let averages: Vec<f64> = (0..50).map(|i| 1.0 + 3.0 * f64::from(i) / 49.0).collect();
+        let mut with = VegasGrid::new(&UniformBox::unit(1).unwrap(), 50).unwrap();
+        let mut without = with.clone();
+        for _ in 0..20 {
+            with.adapt_to(&one_axis_training(&averages), 0.5, 0.005);
+            without.adapt_to(&one_axis_training(&averages), 0.5, 0.0);
+        }
+        assert_eq!(with, without);
     }
 
     #[test]
