@@ -81,11 +81,12 @@ const EVALUATIONS_PER_INCREMENT: u64 = 10;
 
 /// VEGAS and VEGAS+ adaptive Monte Carlo integration over a box.
 ///
-/// Defaults: `10_000` evaluations per iteration ([`samples`](Self::samples)), 5 warm-up iterations (they train the grid
-/// and the allocation and are then discarded, as `vegas` users do with a separate training
-/// call) followed by 10 iterations that are combined, 1000 grid increments per axis at most,
-/// `alpha = 0.5`, a density floor of 0.005, adaptive stratification on with `beta = 0.75`, independent points with
-/// seed 0, all available threads.
+/// Defaults: `10_000` evaluations per iteration ([`samples`](Self::samples)), 5 warm-up
+/// iterations (they train the grid and the allocation and are then discarded, as `vegas`
+/// users do with a separate training call) followed by 10 iterations that are combined, 1000
+/// grid increments per axis at most, `alpha = 0.5`, a
+/// [`density_floor`](Self::density_floor) of 0.005, adaptive stratification on with
+/// `beta = 0.75`, independent points with seed 0, all available threads.
 ///
 /// The estimate is the combination of the iterations weighted by the inverse of the variance of the
 /// iteration before each, and its standard error that of this weighted mean (basis
