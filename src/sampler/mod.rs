@@ -296,7 +296,6 @@ pub trait Sampler: Send + Sync {
 /// Points converted per step of the default [`Sampler::fill_f32`].
 const F32_STEP: usize = 1024;
 
-/// Checks that a point buffer has the sampler's dimension.
 /// The default [`Sampler::fill`]: point by point into a buffer, scattered to the columns.
 pub(crate) fn fill_pointwise<S: Sampler + ?Sized>(
     sampler: &S,
@@ -337,6 +336,7 @@ pub(crate) fn pass_runs(
     })
 }
 
+/// Checks that a point buffer has the sampler's dimension.
 pub(crate) fn check_point(dims: usize, out: &[f64]) -> Result<()> {
     if out.len() != dims {
         return Err(Error::DimensionMismatch {
