@@ -337,7 +337,6 @@ fn iterations_that_disagree_warn_and_meet_no_tolerance() {
             .iter()
             .any(|w| matches!(w, Warning::IterationsDisagree { .. }))
     };
-    let mut stopped_on_disagreement = 0;
     for stratified in [false, true] {
         let fixed = genz_run(&g, stratified, 1000, 0);
         assert!(
@@ -369,22 +368,22 @@ fn iterations_that_disagree_warn_and_meet_no_tolerance() {
                     .any(|w| matches!(w, Warning::ToleranceNotMet { stop } if *stop == e.stop)),
                 "{e:?}"
             );
-            // Either the interval never gets below the tolerance and the limit stops the run
-            // (classic VEGAS, whose density floor keeps the region beyond the jump sampled:
-            // half-widths of 1.1e-3 and 3.1e-4 at the limit; VEGAS+ with 1000 points an
-            // iteration: 3.8e-3), or it does but the iterations disagree, and the run stops on
-            // that at twice the evaluations it had spent (VEGAS+ with 10,000: 117,321).
-            if e.stop == StopReason::MaxEvaluations {
+            if !stratified || samples.is_some() {
+                // The interval never gets below the tolerance here, and the limit stops the
+                // run: classic VEGAS, whose density floor keeps the region beyond the jump
+                // sampled (half-widths of 1.1e-3 with 1000 points an iteration and 3.1e-4
+                // with 10,000), and VEGAS+ with 1000 (3.8e-3).
                 let half_width = e.half_width(0.95).unwrap().unwrap();
                 assert!(half_width > 1e-4, "{e:?}");
+                assert_eq!(e.stop, StopReason::MaxEvaluations, "{e:?}");
             } else {
+                // VEGAS+ with 10,000 gets narrow enough, but its iterations disagree: it
+                // stops on that at twice the evaluations it had spent (117,321).
                 assert_eq!(e.stop, StopReason::IterationsDisagree, "{e:?}");
                 assert!(e.evaluations < limit / 4, "{e:?}");
-                stopped_on_disagreement += 1;
             }
         }
     }
-    assert!(stopped_on_disagreement > 0);
 }
 
 /// Iterations with honest variances (smooth integrands) warn of disagreement in about 1% of
