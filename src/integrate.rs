@@ -223,7 +223,7 @@ impl<E> Integrator<E> {
                 const DIMS: usize = 2;\n\
                 let runner = || Integrator::over_box(|x: &[f64]| x[0] * x[1], UniformBox::unit(DIMS).unwrap()).samples(4096);",
         run: ".run().unwrap()";
-        sampler, seed, threads, tolerance, non_finite, time_limit, cancel_token, progress, cluster
+        sampler, seed, threads, tolerance, non_finite, time_limit, deadline, cancel_token, progress, cluster
     }
 
     /// Points per replicate (at least 1; a multiple of the pass size for samplers with

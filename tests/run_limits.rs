@@ -317,3 +317,37 @@ fn progress_is_reported_after_every_chunk() {
         .unwrap();
     check(log, e, 2 * 16, "two-stage");
 }
+
+/// A time limit past the last instant the clock can represent is no limit (it panicked on
+/// `Instant + Duration` overflow in every runner).
+#[test]
+fn a_limit_of_duration_max_is_no_limit() {
+    use mcint::adaptive::SobolG;
+    let f = |x: &[f64]| x[0] * x[1];
+    for limit in [Duration::MAX, Duration::from_secs(u64::MAX)] {
+        let runs = [
+            Integrator::over_box(f, unit()).time_limit(limit).run(),
+            Integrator::over_box(f, unit())
+                .tolerance(Tolerance::absolute(1e-3).unwrap().time_limit(limit))
+                .run(),
+            Vegas::new(f, unit()).time_limit(limit).run(),
+            Miser::new(f, unit()).time_limit(limit).run(),
+            TwoStage::new(f, unit(), 4).time_limit(limit).run(),
+            SobolG::new(f, unit()).time_limit(limit).run(),
+        ];
+        for run in runs {
+            let e = run.unwrap();
+            assert_ne!(e.stop, StopReason::TimeLimit);
+            assert!((e.mean - 0.25).abs() < 5.0 * e.std_error.or(e.error_bound).unwrap());
+        }
+        let vector = Integrator::over_box_vector(
+            2,
+            |x: &[f64], out: &mut [f64]| out.copy_from_slice(x),
+            unit(),
+        )
+        .time_limit(limit)
+        .run()
+        .unwrap();
+        assert_eq!(vector.outputs.len(), 2);
+    }
+}

@@ -117,7 +117,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
                 const DIMS: usize = 2;\n\
                 let runner = || Miser::new(|x: &[f64]| (x[0] * x[1]).exp(), UniformBox::unit(DIMS).unwrap()).samples(2048);",
         run: ".run().unwrap()";
-        sampler, seed, threads, tolerance, non_finite, time_limit, cancel_token, progress, cluster
+        sampler, seed, threads, tolerance, non_finite, time_limit, deadline, cancel_token, progress, cluster
     }
 
     /// Integrand evaluations per replicate, exploration included (at least 1; default

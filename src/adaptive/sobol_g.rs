@@ -129,7 +129,7 @@ impl<E: Estimator> SobolG<E> {
                 const DIMS: usize = 2;\n\
                 let runner = || SobolG::new(|x: &[f64]| (x[0] * x[1]).exp(), UniformBox::unit(DIMS).unwrap());",
         run: ".run().unwrap()";
-        seed, threads, tolerance, time_limit, cancel_token, progress, cluster
+        seed, threads, tolerance, time_limit, deadline, cancel_token, progress, cluster
     }
 
     /// Points of the first stage: a power of two from 256 to 2^28 (default 1024). Without a

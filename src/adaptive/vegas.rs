@@ -190,7 +190,7 @@ impl<F> Vegas<F> {
                 const DIMS: usize = 2;\n\
                 let runner = || Vegas::new(|x: &[f64]| (x[0] * x[1]).exp(), UniformBox::unit(DIMS).unwrap()).samples(4000);",
         run: ".run().unwrap()";
-        sampler, seed, threads, tolerance, non_finite, time_limit, cancel_token, progress, cluster
+        sampler, seed, threads, tolerance, non_finite, time_limit, deadline, cancel_token, progress, cluster
     }
 
     /// Evaluations per iteration, `N` (at least 50; default `10_000`). With stratification

@@ -3,7 +3,7 @@
 use std::ops::Deref;
 
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use super::{CancelToken, Executor, Limits, RunScope};
 use crate::integrate::NonFinitePolicy;
@@ -29,6 +29,8 @@ pub(crate) struct RunConfig {
     pub(crate) label: Option<String>,
     /// The longest the run may take (checked before every chunk of work).
     pub(crate) time_limit: Option<Duration>,
+    /// The instant the run must stop by, whatever its time limit.
+    pub(crate) deadline: Option<Instant>,
     pub(crate) cancel: Option<CancelToken>,
     /// Told `(evaluations done, evaluations planned or 0 if unknown)` as the run goes.
     pub(crate) progress: Option<Progress>,
@@ -91,6 +93,7 @@ impl RunConfig {
         let tolerance = self.tolerance.as_ref().and_then(|t| t.time());
         Limits::new(
             shortest(shortest(self.time_limit, tolerance), time),
+            self.deadline,
             self.cancel.clone(),
         )
     }
@@ -99,6 +102,7 @@ impl RunConfig {
     /// limit bounds the run; `what` names the setting that plans them.
     pub(crate) fn check_budget(&self, what: &'static str, evaluations: u64) -> Result<()> {
         let timed = self.time_limit.is_some()
+            || self.deadline.is_some()
             || self.tolerance.as_ref().is_some_and(|t| t.time().is_some());
         if evaluations <= MAX_UNTIMED_EVALUATIONS || timed {
             return Ok(());

@@ -465,7 +465,7 @@ mod tests {
         use super::super::CancelToken;
         for threads in [1, 2, 3] {
             let token = CancelToken::new();
-            let limits = Limits::new(None, Some(token.clone()));
+            let limits = Limits::new(None, None, Some(token.clone()));
             let mut folded = Vec::new();
             let stop = Executor::new(Some(threads))
                 .unwrap()
@@ -481,7 +481,7 @@ mod tests {
             // The window holding chunk 20 was finished; nothing after it started.
             assert_eq!(folded, (0..24).collect::<Vec<u64>>(), "{threads} threads");
         }
-        let limits = Limits::new(Some(std::time::Duration::ZERO), None);
+        let limits = Limits::new(Some(std::time::Duration::ZERO), None, None);
         let stop = Executor::new(Some(2))
             .unwrap()
             .run(&Squares { bad: None }, 0..10, 4, &limits, |_, _| Ok(()))

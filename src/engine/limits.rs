@@ -74,12 +74,20 @@ pub(crate) struct Limits {
 }
 
 impl Limits {
-    /// Limits that start now: `time_limit` from now, and `cancel`.
-    pub(crate) fn new(time_limit: Option<Duration>, cancel: Option<CancelToken>) -> Limits {
-        Limits {
-            deadline: time_limit.map(|limit| Instant::now() + limit),
-            cancel,
-        }
+    /// Limits that start now: `time_limit` from now or `deadline`, whichever comes first,
+    /// and `cancel`. A limit past the last instant the clock can represent (`Duration::MAX`)
+    /// is no limit.
+    pub(crate) fn new(
+        time_limit: Option<Duration>,
+        deadline: Option<Instant>,
+        cancel: Option<CancelToken>,
+    ) -> Limits {
+        let from_now = time_limit.and_then(|limit| Instant::now().checked_add(limit));
+        let deadline = match (from_now, deadline) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        Limits { deadline, cancel }
     }
 
     /// Why the run must stop now, if it must.

@@ -128,6 +128,25 @@ macro_rules! run_settings {
             self
         }
     };
+    (@deadline $setup:literal $run:literal) => {
+        /// The instant by which the run must stop, as for a
+        /// [time limit](Self::time_limit) (the earlier of the two applies). For work done in
+        /// several calls under one limit, such as a checkpointed run resumed part by part.
+        ///
+        #[doc = concat!(
+            "```\n", $setup, "\n",
+            "use std::time::{Duration, Instant};\n",
+            "let e = runner().deadline(Instant::now() + Duration::from_secs(3600))", $run, ";\n",
+            "assert_eq!(e.stop, mcint::stats::StopReason::Budget); // finished well before it\n",
+            "let past = runner().deadline(Instant::now()).run().unwrap_err();\n",
+            "assert!(matches!(past, mcint::Error::Interrupted { .. }), \"{past}\");\n",
+            "```"
+        )]
+        pub fn deadline(mut self, deadline: std::time::Instant) -> Self {
+            self.config.deadline = Some(deadline);
+            self
+        }
+    };
     (@cancel_token $setup:literal $run:literal) => {
         /// A token that stops the run from another thread (see
         /// [`CancelToken`](crate::CancelToken)): it returns with what it has, as for a time
