@@ -308,14 +308,91 @@ fn progress_is_reported_after_every_chunk() {
         .run()
         .unwrap();
     check(log, e, 16, "miser");
-    // 32 x 32 strata: 16 chunks of 64 strata in each of the two stages.
+    // 32 x 32 strata: a pilot of 8192 evaluations in one chunk, then 16 chunks of at most
+    // 2^16 evaluations.
     let (log, progress) = logger();
     let e = TwoStage::new(f, unit(), 32)
-        .samples(1 << 16)
+        .samples(1 << 20)
         .progress(progress)
         .run()
         .unwrap();
-    check(log, e, 2 * 16, "two-stage");
+    check(log, e, 1 + 16, "two-stage");
+}
+
+/// A stopped TwoStage keeps its pilot, a whole stage and an unbiased stratified estimate of
+/// its own (it returned `Err(Interrupted)`); a stratum of any size is sampled in chunks, so a
+/// cancellation inside one huge stratum stops the run within one chunk of calls (a run of one
+/// stratum and 2^40 points ignored it, and its time limit, until its end).
+#[test]
+fn a_stopped_two_stage_run_keeps_its_pilot_and_stops_within_a_chunk() {
+    // 16 strata x 8 pilot points; the main stage is cancelled 1000 calls in.
+    let token = CancelToken::new();
+    let (f, calls) = cancelling(token.clone(), 16 * 8 + 1000);
+    let e = TwoStage::new(f, unit(), 4)
+        .samples(1 << 40)
+        .time_limit(Duration::from_secs(3600))
+        .threads(1)
+        .cancel_token(token)
+        .run()
+        .unwrap();
+    assert_eq!(
+        (e.stop, e.iterations, e.n),
+        (StopReason::Cancelled, 1, 16 * 8)
+    );
+    assert!(stopped(&e), "{:?}", e.warnings);
+    assert!((e.mean - 0.25).abs() < 5.0 * e.std_error.unwrap());
+    // Chunks of at most 2^16 evaluations in 2 dimensions (and the pilot's two strata
+    // pieces at most beyond them).
+    let spent = calls.load(Ordering::Relaxed);
+    assert!(spent <= 16 * 8 + 1000 + 3 * (1 << 16), "{spent} calls");
+    assert_eq!(e.evaluations, spent);
+
+    // One stratum: the main stage is a single batch of 2^40 - 2 points.
+    let token = CancelToken::new();
+    let (f, calls) = cancelling(token.clone(), 100_000);
+    let e = TwoStage::new(f, unit(), 1)
+        .pilot(2)
+        .samples(1 << 40)
+        .time_limit(Duration::from_secs(3600))
+        .threads(2)
+        .cancel_token(token)
+        .run()
+        .unwrap();
+    assert_eq!((e.stop, e.n), (StopReason::Cancelled, 2));
+    let spent = calls.load(Ordering::Relaxed);
+    assert!(spent <= 100_000 + 2 * 256 * (1 << 16), "{spent} calls");
+
+    // Cancelled in the pilot (of 128 x 128 strata x 8 points, two chunks): no whole
+    // stage, no estimate.
+    let token = CancelToken::new();
+    let (f, _) = cancelling(token.clone(), 10);
+    let err = TwoStage::new(f, unit(), 128)
+        .threads(1)
+        .cancel_token(token)
+        .run()
+        .unwrap_err();
+    assert_eq!(
+        err,
+        Error::Interrupted {
+            stop: StopReason::Cancelled,
+            evaluations: 1 << 16
+        }
+    );
+}
+
+/// The strata per axis a budget affords are computed, not searched one at a time: a
+/// budget of 10^14 evaluations in one dimension took minutes (and then failed, as more
+/// strata than the run may keep); now it plans the most strata the helper allows.
+#[test]
+fn strata_per_axis_for_any_budget_is_immediate() {
+    type T = TwoStage<fn(&[f64]) -> f64>;
+    assert_eq!(T::strata_per_axis_for(1, 100_000_000_000_000), 1 << 20);
+    assert_eq!(T::strata_per_axis_for(1, u64::MAX), 1 << 20);
+    assert_eq!(T::strata_per_axis_for(2, u64::MAX), 1 << 10);
+    assert_eq!(T::strata_per_axis_for(5, 32 * 3u64.pow(5)), 3);
+    assert_eq!(T::strata_per_axis_for(5, 32 * 3u64.pow(5) - 1), 2);
+    assert_eq!(T::strata_per_axis_for(10_000, u64::MAX), 1);
+    assert_eq!(T::strata_per_axis_for(3, 0), 1);
 }
 
 /// A time limit past the last instant the clock can represent is no limit (it panicked on

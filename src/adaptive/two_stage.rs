@@ -25,7 +25,7 @@ use crate::engine::{ChunkJob, Executor, Limits, RunConfig, run_settings};
 use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
 use crate::stats::rounding::{UNIT_ROUNDOFF, gamma};
-use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason};
+use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason, Warning};
 use crate::{Error, Result};
 
 /// Pilot points per stratum without [`TwoStage::pilot`].
@@ -36,8 +36,17 @@ const DEFAULT_TOTAL_PER_PILOT: u64 = 4;
 const MIN_MAIN: u64 = 2;
 /// The most strata a grid may have (the per-stratum statistics are kept in memory).
 const MAX_STRATA: u64 = 1 << 24;
-/// Strata handed to a thread at a time.
-const STRATA_PER_CHUNK: usize = 64;
+/// The most strata [`TwoStage::strata_per_axis_for`] plans: each costs memory (its
+/// statistics in both stages), and beyond this many more strata gain little.
+const MAX_PLANNED_STRATA: u64 = 1 << 20;
+/// Coordinates a chunk of work draws at most (about): a stratum with more points is sampled
+/// in pieces, so that limits are checked every few milliseconds of work whatever the strata
+/// and the dimension.
+const CHUNK_COORDINATES: u64 = 1 << 22;
+/// The fewest and the most evaluations of a chunk, whatever the dimension.
+const CHUNK_EVALUATIONS: (u64, u64) = (BLOCK as u64, 1 << 16);
+/// Chunks evaluated between two checks of the window's outputs (bounds their memory).
+const WINDOW: u64 = 256;
 
 /// Two-stage adaptive stratified sampling: a pilot estimates each stratum's spread, the main
 /// budget follows Neyman allocation, and the estimate comes from fresh samples only.
@@ -94,27 +103,20 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
 
     /// The most strata per axis a run of `evaluations` in `dims` dimensions affords with the
     /// default pilot (8 points per stratum, a total of 4 pilots): the largest `k >= 1` with
-    /// `32 k^dims <= evaluations`.
+    /// `32 k^dims <= evaluations`, and at most `2^20` strata in all (each stratum's statistics
+    /// are kept in memory, and beyond that more strata gain little).
     ///
     /// ```
     /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
     /// assert_eq!(TwoStage::<fn(&[f64]) -> f64>::strata_per_axis_for(2, 65536), 45);
+    /// assert_eq!(TwoStage::<fn(&[f64]) -> f64>::strata_per_axis_for(1, u64::MAX), 1 << 20);
     /// let k = TwoStage::<fn(&[f64]) -> f64>::strata_per_axis_for(3, 100_000);
     /// let e = TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(3).unwrap(), k).samples(100_000).run();
     /// assert!(e.is_ok());
     /// ```
     pub fn strata_per_axis_for(dims: usize, evaluations: u64) -> usize {
-        let per_stratum = 4 * DEFAULT_PILOT;
-        let exponent = u32::try_from(dims).unwrap_or(u32::MAX);
-        let mut k = 1u64;
-        while (k + 1)
-            .checked_pow(exponent)
-            .and_then(|strata| strata.checked_mul(per_stratum))
-            .is_some_and(|n| n <= evaluations)
-        {
-            k += 1;
-        }
-        usize::try_from(k).unwrap_or(usize::MAX)
+        let strata = (evaluations / (4 * DEFAULT_PILOT)).min(MAX_PLANNED_STRATA);
+        usize::try_from(integer_root(strata, dims)).unwrap_or(usize::MAX)
     }
 
     run_settings! {
@@ -122,7 +124,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
                 const DIMS: usize = 2;\n\
                 let runner = || TwoStage::new(|x: &[f64]| (x[0] * x[1]).exp(), UniformBox::unit(DIMS).unwrap(), 8).samples(4096);",
         run: ".run().unwrap()";
-        sampler, seed, threads, non_finite, time_limit, cancel_token, progress, cluster
+        sampler, seed, threads, non_finite, time_limit, deadline, cancel_token, progress, cluster
     }
 
     /// Pilot points per stratum (at least 2, for a standard deviation; default 8).
@@ -242,10 +244,19 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
 
         // Stage 1: the pilot, stratum j at slots j * pilot ...
         let pilot = self.pilot;
-        let mut pilot_progress = |done: u64| self.config.report(done, total);
-        let pilot_stats =
-            grid.sample_strata(strata, &|j| (j as u64 * pilot, pilot), &mut pilot_progress)?;
         let main_base = strata as u64 * pilot;
+        let mut pilot_progress = |done: u64| self.config.report(done, total);
+        let pilot_stats = match grid.sample_strata(
+            strata,
+            &|j| (j as u64 * pilot, pilot),
+            main_base,
+            &mut pilot_progress,
+        )? {
+            Sampled::All(stats) => stats,
+            Sampled::Stopped { stop, evaluations } => {
+                return Err(Error::Interrupted { stop, evaluations });
+            }
+        };
         let counts = neyman_allocation(&pilot_stats, total - main_base);
 
         // Stage 2: fresh samples, stratum j right after stratum j - 1.
@@ -256,8 +267,28 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
             next += n;
         }
         let mut main_progress = |done: u64| self.config.report(main_base + done, total);
-        let main_stats =
-            grid.sample_strata(strata, &|j| (starts[j], counts[j]), &mut main_progress)?;
+        let main_stats = match grid.sample_strata(
+            strata,
+            &|j| (starts[j], counts[j]),
+            total - main_base,
+            &mut main_progress,
+        )? {
+            Sampled::All(stats) => stats,
+            // The pilot is a whole stage: an unbiased stratified estimate of its own.
+            Sampled::Stopped { stop, evaluations } => {
+                let volume = self.domain.volume() / strata as f64;
+                let mut estimate =
+                    stratified_estimate(&pilot_stats, volume, main_base + evaluations)?;
+                estimate.iterations = 1;
+                estimate.stop = stop;
+                estimate.warn(Warning::StoppedEarly {
+                    stop,
+                    done: estimate.evaluations,
+                    planned: total,
+                });
+                return Ok(estimate);
+            }
+        };
 
         let used: Vec<Accumulator> = if self.reuse_pilot {
             pilot_stats
@@ -272,23 +303,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
         } else {
             main_stats
         };
-        // Skipping non-finite values can leave a stratum without the two values its variance
-        // needs.
-        if let Some(j) = used.iter().position(|a| a.count() < 2) {
-            return Err(Error::invalid(
-                "integrand",
-                format!(
-                    "non-finite at all but {} points of stratum {j}",
-                    used[j].count()
-                ),
-                "at least two finite values per stratum, even when skipping",
-            ));
-        }
-        Ok(stratified_estimate(
-            &used,
-            self.domain.volume() / strata as f64,
-            total,
-        ))
+        stratified_estimate(&used, self.domain.volume() / strata as f64, total)
     }
 
     /// Number of strata, checked.
@@ -345,40 +360,50 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
         cell
     }
 
-    /// Samples every stratum `j` with the batch `batch(j) = (first slot, points)` and returns
-    /// the per-stratum statistics in stratum order (each computed in index order, so the
-    /// result does not depend on the thread count). `progress` is told the evaluations folded
-    /// so far, after every chunk of strata.
+    /// Samples every stratum `j` with the batch `batch(j) = (first slot, points)`, whose
+    /// slots follow each other without a gap and hold `evaluations` in all, and returns the
+    /// per-stratum statistics in stratum order (each computed in index order, in pieces of a
+    /// fixed size, so the result does not depend on the thread count); or, when a limit stops
+    /// the stage, the evaluations done. `progress` is told the evaluations folded so far,
+    /// after every chunk.
     fn sample_strata(
         &self,
         strata: usize,
         batch: &(dyn Fn(usize) -> (u64, u64) + Sync),
+        evaluations: u64,
         progress: &mut dyn FnMut(u64),
-    ) -> Result<Vec<Accumulator>> {
+    ) -> Result<Sampled> {
         let job = StrataJob {
             grid: self,
-            strata,
-            batch,
+            stage: Stage {
+                strata,
+                batch,
+                base: batch(0).0,
+                evaluations,
+                per_chunk: chunk_evaluations(self.domain.dims()),
+            },
         };
-        let chunks = strata.div_ceil(STRATA_PER_CHUNK) as u64;
-        let mut all = Vec::with_capacity(strata);
+        let chunks = evaluations.div_ceil(job.stage.per_chunk);
+        let mut all: Vec<Accumulator> = Vec::with_capacity(strata);
         let mut first_bad = None;
         let mut folded = 0;
         let stopped =
             self.executor
-                .run(&job, 0..chunks, chunks, &self.limits, |_, (stats, bad)| {
-                    folded += stats
-                        .iter()
-                        .map(|a| a.count() + a.non_finite())
-                        .sum::<u64>();
-                    all.extend(stats);
+                .run(&job, 0..chunks, WINDOW, &self.limits, |_, (pieces, bad)| {
+                    for (j, piece) in pieces {
+                        folded += piece.count() + piece.non_finite();
+                        match all.get_mut(j) {
+                            Some(stratum) => stratum.merge(&piece),
+                            None => all.push(piece),
+                        }
+                    }
                     first_bad = first_bad.take().or(bad);
                     progress(folded);
                     Ok(())
                 })?;
         if let Some(stop) = stopped {
-            // A stage cut short leaves strata unsampled: there is no estimate.
-            return Err(Error::Interrupted {
+            // A stage cut short leaves strata unsampled: it has no estimate of its own.
+            return Ok(Sampled::Stopped {
                 stop,
                 evaluations: folded,
             });
@@ -393,23 +418,23 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
                 first_point: point,
             });
         }
-        Ok(all)
+        Ok(Sampled::All(all))
     }
 
-    /// `n` points in stratum `j` from the batch at `slot`.
+    /// Points `first .. first + n` of stratum `j` from the batch at `slot`.
     fn sample_stratum(
         &self,
         j: usize,
         slot: u64,
-        n: u64,
+        (first, n): (u64, u64),
         work: &mut Workspace,
         bad: &mut Option<NonFinite>,
     ) -> Result<Accumulator> {
         let cell = self.cell(j);
         let mut acc = Accumulator::new();
-        let mut k = 0u64;
-        while k < n {
-            let want = (n - k).min(BLOCK as u64) as usize;
+        let mut k = first;
+        while k < first + n {
+            let want = (first + n - k).min(BLOCK as u64) as usize;
             let len = self.batches.fill(slot, k, want, &mut work.points)?;
             for i in 0..len {
                 cell.place(&work.points, i, self.domain, &mut work.unit, &mut work.x);
@@ -425,37 +450,131 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
     }
 }
 
-/// Chunks of strata, as work for the executor: chunk `c` samples strata
-/// `c * STRATA_PER_CHUNK ..`, each with its batch.
+/// A stage's per-stratum statistics, or how far it got before a limit stopped it.
+enum Sampled {
+    All(Vec<Accumulator>),
+    Stopped { stop: StopReason, evaluations: u64 },
+}
+
+/// Evaluations per chunk of work in `dims` dimensions.
+fn chunk_evaluations(dims: usize) -> u64 {
+    let (least, most) = CHUNK_EVALUATIONS;
+    (CHUNK_COORDINATES / dims.max(1) as u64).clamp(least, most)
+}
+
+/// The largest `k >= 1` with `k^dims <= n` (1 when `n <= 1`).
+fn integer_root(n: u64, dims: usize) -> u64 {
+    if n <= 1 || dims == 0 {
+        return 1;
+    }
+    let fits = |k: u64| {
+        u32::try_from(dims)
+            .ok()
+            .and_then(|d| k.checked_pow(d))
+            .is_some_and(|p| p <= n)
+    };
+    // The floating-point root is within one of the answer; step to it exactly.
+    let mut k = ((n as f64).powf(1.0 / dims as f64).round() as u64).max(1);
+    while k > 1 && !fits(k) {
+        k -= 1;
+    }
+    while k.checked_add(1).is_some_and(fits) {
+        k += 1;
+    }
+    k
+}
+
+/// A stage as work for the executor: its strata, laid end to end, cut into chunks of
+/// `per_chunk` evaluations. Chunk `c` samples whole every stratum that starts in its range
+/// (only the first `per_chunk` points of a larger one), and the next piece of the larger
+/// stratum its range begins in, if any; a stratum's pieces start at multiples of `per_chunk`
+/// from its own start, so the pieces, and hence the bits, do not depend on the thread count.
 struct StrataJob<'a, 'b, F> {
     grid: &'a Grid<'b, F>,
+    stage: Stage<'a>,
+}
+
+/// A stage's strata laid end to end, and its chunks.
+struct Stage<'a> {
     strata: usize,
     batch: &'a (dyn Fn(usize) -> (u64, u64) + Sync),
+    /// The slot of stratum 0: stratum `j` starts `batch(j).0 - base` evaluations in.
+    base: u64,
+    evaluations: u64,
+    per_chunk: u64,
+}
+
+impl Stage<'_> {
+    /// Where stratum `j` starts in the stage, and its points.
+    fn span(&self, j: usize) -> (u64, u64) {
+        let (slot, n) = (self.batch)(j);
+        (slot - self.base, n)
+    }
+
+    /// The pieces of chunk `chunk`, in order: `(stratum, (first point, points))`.
+    fn pieces(&self, chunk: u64) -> Vec<(usize, (u64, u64))> {
+        let lo = chunk * self.per_chunk;
+        let hi = lo.saturating_add(self.per_chunk).min(self.evaluations);
+        // The first stratum that starts at or after `lo` (starts increase with `j`).
+        let (mut a, mut b) = (0, self.strata);
+        while a < b {
+            let mid = a + (b - a) / 2;
+            if self.span(mid).0 < lo {
+                a = mid + 1;
+            } else {
+                b = mid;
+            }
+        }
+        let mut pieces = Vec::new();
+        if a > 0 {
+            let (start, n) = self.span(a - 1);
+            let first = (lo - start).div_ceil(self.per_chunk) * self.per_chunk;
+            if first < n && start + first < hi {
+                pieces.push((a - 1, (first, (n - first).min(self.per_chunk))));
+            }
+        }
+        for j in a..self.strata {
+            let (start, n) = self.span(j);
+            if start >= hi {
+                break;
+            }
+            pieces.push((j, (0, n.min(self.per_chunk))));
+        }
+        pieces
+    }
 }
 
 impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StrataJob<'_, '_, F> {
     type Scratch = Workspace;
-    type Output = (Vec<Accumulator>, Option<NonFinite>);
+    type Output = (Vec<(usize, Accumulator)>, Option<NonFinite>);
 
     fn scratch(&self) -> Result<Workspace> {
         Workspace::new(self.grid.domain.dims())
     }
 
     fn run(&self, work: &mut Workspace, chunk: u64) -> Result<Self::Output> {
-        let first = chunk as usize * STRATA_PER_CHUNK;
-        let last = (first + STRATA_PER_CHUNK).min(self.strata);
         let mut bad = None;
-        let stats = (first..last)
-            .map(|j| {
-                let (slot, n) = (self.batch)(j);
-                self.grid.sample_stratum(j, slot, n, work, &mut bad)
+        let stats = self
+            .stage
+            .pieces(chunk)
+            .into_iter()
+            .map(|(j, piece)| {
+                let slot = (self.stage.batch)(j).0;
+                let acc = self.grid.sample_stratum(j, slot, piece, work, &mut bad)?;
+                Ok((j, acc))
             })
             .collect::<Result<_>>()?;
         Ok((stats, bad))
     }
 
     fn origin(&self, chunk: u64) -> (u64, u64) {
-        (chunk * STRATA_PER_CHUNK as u64, 0)
+        let (j, (first, _)) = self
+            .stage
+            .pieces(chunk)
+            .first()
+            .copied()
+            .unwrap_or_default();
+        (j as u64, first)
     }
 }
 
@@ -498,8 +617,19 @@ fn neyman_allocation(pilot: &[Accumulator], main: u64) -> Vec<u64> {
 }
 
 /// `sum_j V_j mean_j` with variance `sum_j V_j^2 s_j^2 / n_j` and Welch-Satterthwaite degrees
-/// of freedom.
-fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) -> Estimate {
+/// of freedom; an error when a stratum has fewer than the two finite values its variance
+/// needs (skipping non-finite values can leave it so).
+fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) -> Result<Estimate> {
+    if let Some(j) = strata.iter().position(|a| a.count() < 2) {
+        return Err(Error::invalid(
+            "integrand",
+            format!(
+                "non-finite at all but {} points of stratum {j}",
+                strata[j].count()
+            ),
+            "at least two finite values per stratum, even when skipping",
+        ));
+    }
     let mut mean = 0.0;
     let mut variance = 0.0;
     let mut dof_denominator = 0.0;
@@ -541,7 +671,7 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
         error_bound: None,
     };
     estimate.finalize();
-    estimate
+    Ok(estimate)
 }
 
 #[cfg(test)]
@@ -578,9 +708,72 @@ mod tests {
     }
 
     #[test]
+    fn integer_roots_are_exact() {
+        for dims in 1..6 {
+            for n in 0..5000u64 {
+                let k = integer_root(n, dims);
+                let brute = (1..)
+                    .take_while(|k: &u64| k.pow(dims as u32) <= n.max(1))
+                    .last();
+                assert_eq!(Some(k), brute, "{n}^(1/{dims})");
+            }
+        }
+        assert_eq!(integer_root(u64::MAX, 1), u64::MAX);
+        assert_eq!(integer_root(u64::MAX, 2), u64::from(u32::MAX));
+        assert_eq!(integer_root(1 << 62, 64), 1);
+        assert_eq!(integer_root(u64::MAX, usize::MAX), 1);
+    }
+
+    #[test]
+    fn chunks_cover_every_point_of_every_stratum_once_in_order() {
+        // Strata of 1 to 40 points (and one of 333), chunks of 16 evaluations.
+        let counts: Vec<u64> = (0..50)
+            .map(|j| if j == 7 { 333 } else { 1 + (j * 7) % 40 })
+            .collect();
+        let starts: Vec<u64> = counts
+            .iter()
+            .scan(100, |next, n| {
+                let start = *next;
+                *next += n;
+                Some(start)
+            })
+            .collect();
+        let batch = |j: usize| (starts[j], counts[j]);
+        let stage = Stage {
+            strata: counts.len(),
+            batch: &batch,
+            base: 100,
+            evaluations: counts.iter().sum(),
+            per_chunk: 16,
+        };
+        let mut seen: Vec<(usize, u64, u64)> = Vec::new();
+        for chunk in 0..stage.evaluations.div_ceil(16) {
+            let pieces = stage.pieces(chunk);
+            assert!(!pieces.is_empty(), "chunk {chunk}");
+            // A chunk holds less than two chunks' worth of points plus one piece.
+            let points: u64 = pieces.iter().map(|(_, (_, n))| n).sum();
+            assert!(points < 3 * 16, "chunk {chunk}: {points}");
+            for (j, (first, n)) in pieces {
+                assert!(n >= 1 && n <= 16 && first % 16 == 0);
+                seen.push((j, first, n));
+            }
+        }
+        // Every stratum's points, in order, in pieces that start where the last one ended.
+        let mut expected = Vec::new();
+        for (j, &n) in counts.iter().enumerate() {
+            let mut first = 0;
+            while first < n {
+                expected.push((j, first, (n - first).min(16)));
+                first += 16;
+            }
+        }
+        assert_eq!(seen, expected);
+    }
+
+    #[test]
     fn stratified_estimate_adds_strata_and_their_variances() {
         let strata = pilot(&[&[1.0, 3.0], &[2.0, 2.0, 2.0]]);
-        let e = stratified_estimate(&strata, 0.5, 10);
+        let e = stratified_estimate(&strata, 0.5, 10).unwrap();
         assert_eq!(e.mean, 0.5 * 2.0 + 0.5 * 2.0);
         // Only the first stratum varies: 0.25 * 2 / 2, with its 1 degree of freedom.
         assert_eq!((e.std_error, e.dof), (Some(0.5), Some(1.0)));
