@@ -54,36 +54,59 @@ fn a_closed_stdout_ends_every_program_quietly() {
     }
 }
 
-/// Every program, its stdout closed before it writes anything (a reader that exits at once):
-/// the first write fails, and the program ends quietly with success instead of panicking.
-#[test]
-fn a_stdout_closed_from_the_start_ends_every_program_quietly() {
-    let dir = std::env::temp_dir().join(format!("mcint-closed-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+/// Every program with arguments that make it write to stdout, its input files in `dir`.
+fn every_program(dir: &std::path::Path) -> Vec<(&'static str, Vec<String>)> {
+    std::fs::create_dir_all(dir).unwrap();
     let points = dir.join("points.txt");
     let listed = run(
         "points",
         &["--sampler", "sobol", "--dims", "2", "--n", "64"],
     );
     std::fs::write(&points, &listed.stdout).unwrap();
-    let out_dir = dir.join("figures");
-    let (points, out_dir) = (points.to_str().unwrap(), out_dir.to_str().unwrap());
-    let programs: Vec<(&str, Vec<&str>)> = TALKATIVE
+    let (points, out_dir) = (
+        points.to_str().unwrap().to_string(),
+        dir.join("figures").to_str().unwrap().to_string(),
+    );
+    let owned = |args: &[&str]| args.iter().map(|a| a.to_string()).collect::<Vec<_>>();
+    TALKATIVE
         .iter()
-        .map(|(name, args)| (*name, args.to_vec()))
+        .map(|(name, args)| (*name, owned(args)))
         .chain([
-            ("quality", vec!["--input", points, "--measure", "centered"]),
+            (
+                "quality",
+                owned(&["--input", &points, "--measure", "centered"]),
+            ),
             (
                 "gallery",
-                vec!["--out", out_dir, "--n", "64", "--passes", "2"],
+                owned(&["--out", &out_dir, "--n", "64", "--passes", "2"]),
             ),
             (
                 "convergence",
-                vec!["--out", out_dir, "--max-log2", "8", "--passes", "4"],
+                owned(&["--out", &out_dir, "--max-log2", "8", "--passes", "4"]),
+            ),
+            ("integrate", owned(&["--help"])),
+            (
+                "integrate",
+                owned(&[
+                    "--genz",
+                    "gaussian,oscillatory",
+                    "--dims",
+                    "3",
+                    "--n",
+                    "4096",
+                    "--json",
+                ]),
             ),
         ])
-        .collect();
-    for (name, args) in programs {
+        .collect()
+}
+
+/// Every program, its stdout closed before it writes anything (a reader that exits at once):
+/// the first write fails, and the program ends quietly with success instead of panicking.
+#[test]
+fn a_stdout_closed_from_the_start_ends_every_program_quietly() {
+    let dir = std::env::temp_dir().join(format!("mcint-closed-{}", std::process::id()));
+    for (name, args) in every_program(&dir) {
         let mut child = Command::new(example(name))
             .args(&args)
             .stdout(Stdio::piped())
@@ -93,6 +116,39 @@ fn a_stdout_closed_from_the_start_ends_every_program_quietly() {
         drop(child.stdout.take()); // the read end closes before anything is written
         let out = child.wait_with_output().unwrap();
         assert_quiet_success(name, &out);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Every program, its stdout on a full device: one line naming the error, status 2 (they
+/// panicked with status 101, all but `points`).
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_stdout_is_a_one_line_error_in_every_program() {
+    let dir = std::env::temp_dir().join(format!("mcint-full-stdout-{}", std::process::id()));
+    for (name, args) in every_program(&dir) {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let out = Command::new(example(name))
+            .args(&args)
+            .stdout(full)
+            .output()
+            .unwrap();
+        assert_eq!(
+            out.status.code(),
+            Some(2),
+            "{name} {args:?}: {}",
+            stderr(&out)
+        );
+        let err = stderr(&out);
+        let errors: Vec<&str> = err.lines().filter(|l| !l.starts_with("warning:")).collect();
+        assert_eq!(
+            errors,
+            ["error: cannot write the output: No space left on device (os error 28)"],
+            "{name} {args:?}"
+        );
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -34,7 +34,8 @@ use mcint::sampler::{SamplerKind, Scramble};
 use mcint::stats::Tolerance;
 use mcint::{Estimate, Integrator};
 use std::time::Instant;
-use support::{Args, fail};
+use support::Args;
+use support::output::{note, say};
 
 /// What `--help` says the program does.
 const ABOUT: &str =
@@ -73,9 +74,7 @@ const SPEC: support::Spec = &[
 const MAX_DATES: usize = 4096;
 
 fn main() {
-    if let Err(message) = run() {
-        fail(message);
-    }
+    support::finish(run());
 }
 
 /// One pricing run's choices.
@@ -173,7 +172,7 @@ fn run() -> Result<(), String> {
     let estimate = price(&contract, choice, &budget)?;
     let seconds = started.elapsed().as_secs_f64();
     for warning in &estimate.warnings {
-        eprintln!("warning: {warning}");
+        note!("warning: {warning}");
     }
     let exact = (!choice.arithmetic).then(|| contract.geometric_price());
     if args.has("json") {
@@ -192,10 +191,10 @@ fn run() -> Result<(), String> {
             "replicates": estimate.replicates,
             "seconds": seconds,
         });
-        println!("{json}");
+        say!("{json}");
         return Ok(());
     }
-    println!(
+    say!(
         "{} Asian call, {} dates, S0 {} K {} r {} sigma {} T {}",
         if choice.arithmetic {
             "arithmetic"
@@ -209,28 +208,28 @@ fn run() -> Result<(), String> {
         contract.sigma,
         contract.maturity
     );
-    println!(
+    say!(
         "paths       {} construction, {} points, control {}",
         construction_name(choice.construction),
         choice.sampler.name(),
         if choice.control { "geometric" } else { "none" }
     );
-    println!("price       {:.10}", estimate.mean);
+    say!("price       {:.10}", estimate.mean);
     match (estimate.std_error, estimate.confidence_interval(0.95)) {
         (Some(se), Ok(Some((lo, hi)))) => {
-            println!("std error   {se:.3e}");
-            println!("95% CI      [{lo:.10}, {hi:.10}]");
+            say!("std error   {se:.3e}");
+            say!("95% CI      [{lo:.10}, {hi:.10}]");
         }
-        _ => println!("std error   none"),
+        _ => say!("std error   none"),
     }
     if let Some(exact) = exact {
-        println!("exact       {exact:.10} (closed form)");
+        say!("exact       {exact:.10} (closed form)");
     }
-    println!("evaluations {}", estimate.evaluations);
+    say!("evaluations {}", estimate.evaluations);
     if let Some(converged) = estimate.converged {
-        println!("tolerance   {}", if converged { "met" } else { "NOT met" });
+        say!("tolerance   {}", if converged { "met" } else { "NOT met" });
     }
-    println!("time        {seconds:.3} s");
+    say!("time        {seconds:.3} s");
     Ok(())
 }
 
@@ -353,15 +352,18 @@ fn print_table(contract: &Contract, budget: &Budget) -> Result<(), String> {
     let Some(tolerance) = budget.tolerance else {
         return Err("--table needs a tolerance".into());
     };
-    println!(
+    say!(
         "arithmetic Asian call, {} dates: evaluations to a 95% half-width of {} x price (limit {})",
         contract.dates,
         tolerance.target(1.0),
         tolerance.evaluation_limit()
     );
-    println!(
+    say!(
         "{:<10} {:<12} {:>14} {:>14}",
-        "paths", "points", "no control", "geometric cv"
+        "paths",
+        "points",
+        "no control",
+        "geometric cv"
     );
     for sampler in [
         SamplerKind::Independent,
@@ -389,7 +391,7 @@ fn print_table(contract: &Contract, budget: &Budget) -> Result<(), String> {
                     format!("> {}", tolerance.evaluation_limit())
                 });
             }
-            println!(
+            say!(
                 "{:<10} {:<12} {:>14} {:>14}",
                 construction_name(construction),
                 sampler.name(),

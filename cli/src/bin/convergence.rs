@@ -23,7 +23,8 @@ use mcint::sampler::{Sampler, SamplerKind};
 use mcint::testfns::{Genz, GenzFamily, GraphicsIntegrand, TestFunction};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use support::{Args, fail};
+use support::Args;
+use support::output::say;
 
 /// What `--help` says the program does.
 const ABOUT: &str =
@@ -48,9 +49,7 @@ const MIN_LOG2: u32 = 4;
 const GENZ_DIMS: usize = 4;
 
 fn main() {
-    if let Err(message) = run() {
-        fail(message);
-    }
+    support::finish(run());
 }
 
 /// One integrand, the samplers compared on it and the slopes drawn for reference.
@@ -194,7 +193,7 @@ fn run() -> Result<(), String> {
     let path = out.join("slopes.md");
     std::fs::write(&path, format!("{caption}{table}"))
         .map_err(|e| format!("cannot write '{}': {e}", path.display()))?;
-    print!("{caption}{table}");
+    say!("{caption}{}", table.trim_end_matches('\n'));
     Ok(())
 }
 

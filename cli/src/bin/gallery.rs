@@ -25,7 +25,8 @@ use mcint::quality::{Discrepancy, Periodogram, mean_periodogram, t_value};
 use mcint::sampler::{Sampler, SamplerKind};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use support::{Args, fail};
+use support::Args;
+use support::output::say;
 
 /// What `--help` says the program does.
 const ABOUT: &str = "Draws every sampler's 2-D points and Fourier spectrum, one image per sampler, with an index page.";
@@ -52,9 +53,7 @@ const SPEC: support::Spec = &[
 const FALLBACK_SIZES: [u64; 4] = [289, 343, 243, 225];
 
 fn main() {
-    if let Err(message) = run() {
-        fail(message);
-    }
+    support::finish(run());
 }
 
 struct Settings {
@@ -100,7 +99,7 @@ fn run() -> Result<(), String> {
     let index = out.join("index.html");
     std::fs::write(&index, index_page(&rows, &settings))
         .map_err(|e| format!("cannot write '{}': {e}", index.display()))?;
-    println!("{}", index.display());
+    say!("{}", index.display());
     Ok(())
 }
 

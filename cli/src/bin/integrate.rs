@@ -92,7 +92,8 @@ use std::io::IsTerminal;
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
-use support::{Args, fail};
+use support::Args;
+use support::output::{note, say};
 use vector_run::stop_name;
 
 /// Cancelled on SIGINT or SIGTERM: the run stops after its current chunks and reports what it
@@ -180,12 +181,10 @@ fn main() {
     let _ = ctrlc::set_handler(move || token.cancel());
     let result = run();
     let cancelled = CANCEL.get().is_some_and(CancelToken::is_cancelled);
-    if let Err(message) = result {
-        if QUIET.load(Ordering::Relaxed) {
-            std::process::exit(2);
-        }
-        fail(message);
+    if result.is_err() && QUIET.load(Ordering::Relaxed) {
+        std::process::exit(2);
     }
+    support::finish(result);
     if cancelled {
         std::process::exit(130);
     }
@@ -362,7 +361,7 @@ fn run() -> Result<(), String> {
             seconds: started.elapsed().as_secs_f64(),
         };
         for warning in report.warnings() {
-            eprintln!("warning: {warning}");
+            note!("warning: {warning}");
         }
         return if args.has("json") {
             report.print_json()
@@ -454,7 +453,7 @@ fn run() -> Result<(), String> {
         seconds,
     };
     for warning in &report.estimate.warnings {
-        eprintln!("warning: {warning}");
+        note!("warning: {warning}");
     }
     if args.has("json") {
         report.print_json()
@@ -573,13 +572,13 @@ impl Report {
             "ranks": self.ranks,
             "seconds": number(Some(self.seconds)),
         });
-        println!("{json}");
+        say!("{json}");
     }
 
     fn print_text(&self) {
         let e = &self.estimate;
         let error = (e.mean - self.exact).abs();
-        println!(
+        say!(
             "integrand   {}{} in {} dimensions",
             if self.family == "keister" {
                 ""
@@ -589,7 +588,7 @@ impl Report {
             self.family,
             self.dims
         );
-        println!("method      {}", self.method.name());
+        say!("method      {}", self.method.name());
         let layout = if matches!(self.method, Method::Vegas | Method::VegasPlus) {
             format!("{} iterations combined, {} points", e.iterations, e.n)
         } else if self.method == Method::SobolG {
@@ -605,44 +604,45 @@ impl Report {
                 e.n / e.replicates
             )
         };
-        println!(
+        say!(
             "sampler     {}, scramble {} ({layout})",
-            self.kind, self.scramble
+            self.kind,
+            self.scramble
         );
-        println!(
+        say!(
             "estimator   {}: {}",
             self.estimator.name(),
             self.estimator_description
         );
-        println!("estimate    {:.12e}", e.mean);
-        println!("exact       {:.12e}", self.exact);
+        say!("estimate    {:.12e}", e.mean);
+        say!("exact       {:.12e}", self.exact);
         if let Some(bound) = e.error_bound {
-            println!("error bound {bound:.3e} (from the Walsh coefficients; no confidence level)");
-            println!("|error|     {error:.3e}");
+            say!("error bound {bound:.3e} (from the Walsh coefficients; no confidence level)");
+            say!("|error|     {error:.3e}");
         }
         match (e.std_error, e.confidence_interval(0.95)) {
             (Some(se), Ok(Some((lo, hi)))) => {
-                println!("std error   {se:.3e} ({:?})", e.basis);
+                say!("std error   {se:.3e} ({:?})", e.basis);
                 if let Some(v) = self.variance_per_evaluation() {
-                    println!("var/eval    {v:.3e} (variance x integrand evaluations)");
+                    say!("var/eval    {v:.3e} (variance x integrand evaluations)");
                 }
-                println!("95% CI      [{lo:.12e}, {hi:.12e}]");
-                println!(
+                say!("95% CI      [{lo:.12e}, {hi:.12e}]");
+                say!(
                     "|error|     {error:.3e} = {:.2} standard errors",
                     error / se
                 );
             }
             _ if e.error_bound.is_some() => {}
             _ => {
-                println!(
+                say!(
                     "std error   none (a single point, or one replicate of dependent points, has \
                      no honest error bar)"
                 );
-                println!("|error|     {error:.3e}");
+                say!("|error|     {error:.3e}");
             }
         }
         if let Some(converged) = e.converged {
-            println!(
+            say!(
                 "tolerance   {} ({}, {} stage{}, {} evaluations in all)",
                 if converged { "met" } else { "NOT met" },
                 stop_name(e.stop),
@@ -652,15 +652,15 @@ impl Report {
             );
         }
         if let Some(chi2) = e.chi2_dof {
-            println!(
+            say!(
                 "chi2/dof    {chi2:.2} over {} iterations (Q = {:.2})",
                 e.iterations,
                 e.q_value.unwrap_or(f64::NAN)
             );
         }
         if self.ranks > 1 {
-            println!("ranks       {} MPI processes", self.ranks);
+            say!("ranks       {} MPI processes", self.ranks);
         }
-        println!("time        {:.3} s", self.seconds);
+        say!("time        {:.3} s", self.seconds);
     }
 }

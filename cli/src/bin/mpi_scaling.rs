@@ -21,6 +21,7 @@ use mcint::mpi::traits::{Communicator, CommunicatorCollectives, Root};
 use mcint::{Cluster, Integrator, pdf::UniformBox};
 use std::hint::black_box;
 use std::time::Instant;
+use support::output::say;
 use support::{Args, fail};
 
 /// What `--help` says the program does.
@@ -37,9 +38,7 @@ const SPEC: support::Spec = &[
 ];
 
 fn main() {
-    if let Err(message) = run() {
-        fail(message);
-    }
+    support::finish(run());
 }
 
 /// An integrand of `x` that takes `rounds` rounds of arithmetic (about 4 ns each).
@@ -94,7 +93,7 @@ fn run() -> Result<(), String> {
         }
         times.sort_by(f64::total_cmp);
         if cluster.is_root() {
-            println!(
+            say!(
                 "exchange ranks={} bytes={bytes} seconds={:.3e}",
                 cluster.size(),
                 times[times.len() / 2]
@@ -114,7 +113,7 @@ fn run() -> Result<(), String> {
         .map_err(|e| e.to_string())?;
     let seconds = start.elapsed().as_secs_f64();
     if cluster.is_root() {
-        println!(
+        say!(
             "run ranks={} threads={threads} points={points} cost_us={cost_us} seconds={seconds:.3} \
              evaluations_per_second={:.3e} estimate={}",
             cluster.size(),

@@ -37,7 +37,8 @@ use mcint::Points;
 use mcint::measure::{Factorization, Gaussian, Measure};
 use mcint::sampler::{PassKind, SamplerKind};
 use std::io::{BufWriter, Write};
-use support::{Args, fail};
+use support::Args;
+use support::output::{self, note};
 
 /// What `--help` says the program does.
 const ABOUT: &str =
@@ -88,9 +89,7 @@ const SPEC: support::Spec = &[
 const MAX_PAIR_DIMS: usize = 16;
 
 fn main() {
-    if let Err(message) = run() {
-        fail(message);
-    }
+    support::finish(run());
 }
 
 fn run() -> Result<(), String> {
@@ -158,7 +157,7 @@ fn run() -> Result<(), String> {
     };
     // As scipy does: a count that breaks the points' balance is written, with a warning.
     if let Some(base) = sampler.unbalanced_by(n) {
-        eprintln!(
+        note!(
             "warning: {n} points break the balance of the {name} sampler, whose points are \
              nets only in blocks of a whole power of {base}"
         );
@@ -215,16 +214,19 @@ fn run() -> Result<(), String> {
         if format == "sum" {
             add_columns(&mut sums, &block);
         } else {
-            write_block(&mut out, &block, &format).map_err(write_failed)?;
+            write_block(&mut out, &block, &format)
+                .unwrap_or_else(|e| output::exit_on_write_error(e));
         }
         written += len;
     }
     if format == "sum" {
         for sum in &sums {
-            writeln!(out, "{sum:?}").map_err(write_failed)?;
+            writeln!(out, "{sum:?}").unwrap_or_else(|e| output::exit_on_write_error(e));
         }
     }
-    out.flush().map_err(write_failed)
+    out.flush()
+        .unwrap_or_else(|e| output::exit_on_write_error(e));
+    Ok(())
 }
 
 /// The normal law of `--measure gaussian`, `--mean`, `--cov` and `--factorization`, if asked
@@ -389,13 +391,4 @@ fn write_block(out: &mut impl Write, block: &Points, format: &str) -> std::io::R
         }
     }
     Ok(())
-}
-
-/// The error of a failed write to stdout; a reader that has closed the pipe (`| head`) ends
-/// the program quietly instead.
-fn write_failed(e: std::io::Error) -> String {
-    if e.kind() == std::io::ErrorKind::BrokenPipe {
-        std::process::exit(0);
-    }
-    format!("write failed: {e}")
 }

@@ -24,7 +24,8 @@ mod support;
 
 use mcint::Points;
 use mcint::quality;
-use support::{Args, fail};
+use support::Args;
+use support::output::say;
 
 /// What `--help` says the program does.
 const ABOUT: &str =
@@ -55,10 +56,7 @@ enum Choice {
 const MEASURES: &str = "l2-star, centered, wrap-around, mixture, star or t-value";
 
 fn main() {
-    match run() {
-        Ok(value) => println!("{value}"),
-        Err(message) => fail(message),
-    }
+    support::finish(run().map(|value| say!("{value}")));
 }
 
 /// The measured value, formatted for printing (`{:?}` of an f64 reads back to the same f64).

@@ -35,7 +35,8 @@ use mcint::stats::{Derived, VectorEstimate, Warning};
 use mcint::{Estimate, Integrator};
 use pick_freeze::{MAX_INPUTS, PickFreeze};
 use sensitivity_models::Model;
-use support::{Args, fail};
+use support::Args;
+use support::output::{note, say};
 
 const SPEC: support::Spec = &[
     ("function", true, "ishigami or sobol-g"),
@@ -76,9 +77,7 @@ const DEFAULT_REPLICATES: u64 = 16;
 const DEFAULT_SOBOL_G_DIMS: usize = 6;
 
 fn main() {
-    if let Err(message) = run() {
-        fail(message);
-    }
+    support::finish(run());
 }
 
 fn run() -> Result<(), String> {
@@ -86,10 +85,10 @@ fn run() -> Result<(), String> {
     let settings = Settings::from_args(&args)?;
     let report = analyse(settings)?;
     for warning in &report.warnings {
-        eprintln!("warning: {warning}");
+        note!("warning: {warning}");
     }
     if args.has("json") {
-        println!("{}", report.json());
+        say!("{}", report.json());
     } else {
         report.print_table();
     }
@@ -284,20 +283,20 @@ impl Report {
             .into_iter()
             .map(|(name, values)| format!("{name} = {}", list(&values)))
             .collect();
-        println!(
+        say!(
             "model       {} with {} inputs, {}",
             s.model.name(),
             self.design.inputs,
             parameters.join(", ")
         );
-        println!(
+        say!(
             "design      pick-freeze over Owen-scrambled Sobol' points in {} dimensions, {} \
              replicates x {} points",
             self.design.point_dims(),
             s.replicates,
             s.n
         );
-        println!(
+        say!(
             "cost        {} integrand evaluations = {} model evaluations ({} per point: f(A), \
              f(B) and f(AB_i) for each input)",
             self.evaluations,
@@ -305,19 +304,25 @@ impl Report {
             self.design.model_runs_per_point()
         );
         let v = &self.variance;
-        println!(
+        say!(
             "variance    {:.6} (std error {}, exact {:.6})",
             v.estimate,
             std_error(v.std_error),
             v.exact
         );
-        println!();
-        println!(
+        say!();
+        say!(
             "{:<6} {:>10} {:>9} {:>10} {:>10} {:>9} {:>10}",
-            "input", "S_i", "std err", "exact", "ST_i", "std err", "exact"
+            "input",
+            "S_i",
+            "std err",
+            "exact",
+            "ST_i",
+            "std err",
+            "exact"
         );
         for (i, (first, total)) in self.first_order.iter().zip(&self.total).enumerate() {
-            println!(
+            say!(
                 "{:<6} {:>10.6} {:>9} {:>10.6} {:>10.6} {:>9} {:>10.6}",
                 format!("x{}", i + 1),
                 first.estimate,

@@ -27,7 +27,8 @@ use mcint::estimator::{
 use mcint::pdf::{Exponential, Linear, Mixture, Normal, Pdf, Pdf1d, TruncatedNormal, UniformBox};
 use mcint::sampler::{Antithetic, Independent};
 use mcint::{Estimate, Integrator};
-use support::{Args, fail};
+use support::Args;
+use support::output::{note, say};
 
 /// What `--help` says the program does.
 const ABOUT: &str = "Jarosz's variance-reduction scenarios: every technique's estimate, standard error and variance per evaluation.";
@@ -35,9 +36,7 @@ const ABOUT: &str = "Jarosz's variance-reduction scenarios: every technique's es
 const SPEC: support::Spec = &[("n", true, "evaluations per technique"), support::SEED];
 
 fn main() {
-    if let Err(message) = run() {
-        fail(message);
-    }
+    support::finish(run());
 }
 
 fn run() -> Result<(), String> {
@@ -66,14 +65,18 @@ struct Table {
 
 impl Table {
     fn header(&self, title: &str, exact: f64) {
-        println!("\n{title}");
-        println!(
+        say!("\n{title}");
+        say!(
             "exact integral {exact:.10}, {} evaluations per technique",
             self.n
         );
-        println!(
+        say!(
             "{:<44} {:>14} {:>11} {:>12} {:>9}",
-            "technique", "estimate", "std error", "var/eval", "vs first"
+            "technique",
+            "estimate",
+            "std error",
+            "var/eval",
+            "vs first"
         );
     }
 
@@ -94,13 +97,13 @@ impl Table {
         let se = estimate.std_error.unwrap_or(f64::NAN);
         let variance = se * se * (estimate.n * evaluations) as f64;
         let reference = *first.get_or_insert(variance);
-        println!(
+        say!(
             "{name:<44} {:>14.10} {se:>11.3e} {variance:>12.4e} {:>9.3}",
             estimate.mean,
             variance / reference
         );
         for warning in &estimate.warnings {
-            eprintln!("warning ({name}): {warning}");
+            note!("warning ({name}): {warning}");
         }
     }
 }

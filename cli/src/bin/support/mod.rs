@@ -1,7 +1,8 @@
 //! Command-line plumbing shared by the programs: `--flag value` parsing (clap, with `--help`)
-//! with one-line
+//! with one-line errors that say what is allowed, and output that never panics.
 #![allow(dead_code)] // each example binary uses a different subset of these helpers
-//! errors that say what is allowed.
+
+pub mod output;
 
 use mcint::sampler::{SamplerKind, Scramble};
 use std::collections::HashMap;
@@ -68,11 +69,8 @@ pub const MAX_EVALS: Flag = (
 impl Args {
     /// Parses the process arguments against `spec` with clap: `--help` prints the program's
     /// `about` line and its flags and exits; unknown flags, missing values, repeated flags and
-    /// arguments that are not UTF-8 are one-line errors. Every program calls it first, so it
-    /// also makes a closed stdout (`| head -1`) end the program quietly instead of with a
-    /// panic.
+    /// arguments that are not UTF-8 are one-line errors.
     pub fn parse(about: &str, spec: Spec) -> Result<Args, String> {
-        quiet_on_broken_pipe();
         let args = std::env::args_os()
             .skip(1)
             .map(|a| {
@@ -113,7 +111,13 @@ impl Args {
         }
         let matches = match command.try_get_matches_from(args) {
             Ok(matches) => matches,
-            Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelp => e.exit(),
+            Err(e) if e.kind() == clap::error::ErrorKind::DisplayHelp => {
+                if let Err(write) = e.print() {
+                    output::exit_on_write_error(write);
+                }
+                output::flush();
+                std::process::exit(0)
+            }
             Err(e) => return Err(one_line(&e, spec)),
         };
         let mut values = HashMap::new();
@@ -248,27 +252,17 @@ fn one_line(error: &clap::Error, spec: Spec) -> String {
     }
 }
 
-/// Makes a write to a closed stdout or stderr end the program with status 0 and no message:
-/// Rust ignores SIGPIPE, so `println!` to a pipe whose reader is gone panics instead, and the
-/// panic hook turns exactly that panic into a quiet exit.
-fn quiet_on_broken_pipe() {
-    let default = std::panic::take_hook();
-    std::panic::set_hook(Box::new(move |info| {
-        let message = info
-            .payload()
-            .downcast_ref::<String>()
-            .map(String::as_str)
-            .or_else(|| info.payload().downcast_ref::<&str>().copied())
-            .unwrap_or("");
-        if message.starts_with("failed printing to std") && message.contains("Broken pipe") {
-            std::process::exit(0);
-        }
-        default(info);
-    }));
+/// Ends a program with the result of its work: stdout flushed (a failed write is one line and
+/// status 2), then for an error one `error:` line and status 2.
+pub fn finish(result: Result<(), String>) {
+    output::flush();
+    if let Err(message) = result {
+        fail(message);
+    }
 }
 
 /// Prints `error: message` on one line and exits with status 2.
 pub fn fail(message: impl std::fmt::Display) -> ! {
-    eprintln!("error: {message}");
+    output::note_line(format_args!("error: {message}"));
     std::process::exit(2)
 }

@@ -11,6 +11,7 @@ use mcint::{CancelToken, Integrator, VectorEstimate};
 use crate::checkpoint;
 use crate::integrands::Named;
 use crate::methods::VEGAS_ITERATIONS_TO_TOLERANCE;
+use crate::support::output::say;
 use mcint::Method;
 
 /// What a vector run needs from the command line.
@@ -227,13 +228,13 @@ impl VectorReport<'_> {
                 "exact": exact,
             });
         }
-        println!("{json}");
+        say!("{json}");
         Ok(())
     }
 
     pub fn print_text(&self) -> Result<(), String> {
         let run = &self.run;
-        println!(
+        say!(
             "{} outputs over the same points: {} in {} dimensions",
             run.len(),
             self.functions
@@ -243,7 +244,7 @@ impl VectorReport<'_> {
                 .join(", "),
             self.functions[0].dims()
         );
-        println!(
+        say!(
             "method {}, sampler {}, scramble {}, {} {}, {} evaluations",
             self.method,
             self.sampler,
@@ -256,16 +257,21 @@ impl VectorReport<'_> {
             },
             run.evaluations
         );
-        println!(
+        say!(
             "{:>3}  {:<14} {:>20} {:>20} {:>10} {:>8}",
-            "k", "family", "estimate", "exact", "std err", "|err|/se"
+            "k",
+            "family",
+            "estimate",
+            "exact",
+            "std err",
+            "|err|/se"
         );
         for (k, (e, f)) in run.outputs.iter().zip(self.functions).enumerate() {
             let se = e.std_error.map_or("none".into(), |s| format!("{s:.3e}"));
             let z = e.std_error.map_or("-".into(), |s| {
                 format!("{:.2}", (e.mean - f.exact()).abs() / s)
             });
-            println!(
+            say!(
                 "{k:>3}  {:<14} {:>20.12e} {:>20.12e} {se:>10} {z:>8}",
                 f.name(),
                 e.mean,
@@ -278,13 +284,13 @@ impl VectorReport<'_> {
             let se = estimate
                 .std_error
                 .map_or("none".into(), |s| format!("{s:.3e}"));
-            println!(
+            say!(
                 "ratio {i}/{j}  {:>20.12e} {exact:>20.12e} {se:>10} (delta method)",
                 estimate.mean
             );
         }
         if let Some(converged) = run.converged {
-            println!(
+            say!(
                 "tolerance {} ({}, {} stage{})",
                 if converged { "met" } else { "NOT met" },
                 stop_name(run.stop),
@@ -292,7 +298,7 @@ impl VectorReport<'_> {
                 if run.iterations == 1 { "" } else { "s" }
             );
         }
-        println!("time {:.3} s", self.seconds);
+        say!("time {:.3} s", self.seconds);
         Ok(())
     }
 }

@@ -1,0 +1,60 @@
+//! Writing reports: to stdout through [`say!`], so that a reader that closes the pipe
+//! (`| head -1`) ends the program quietly with success, and any other write error (a full
+//! disk, `> /dev/full`) is one line on stderr and exit status 2, never a panic; warnings go to
+//! stderr through [`note!`], which drops what it cannot write (there is no other place left
+//! to report it).
+
+// Each program uses a different subset.
+#![allow(unused_macros, unused_imports)]
+
+use std::io::Write;
+
+/// `println!` to stdout, ending the program on a write error (see the module).
+macro_rules! say {
+    () => {
+        $crate::support::output::line(format_args!(""))
+    };
+    ($($arg:tt)*) => {
+        $crate::support::output::line(format_args!($($arg)*))
+    };
+}
+
+/// `eprintln!` that never panics: a message stderr cannot take is dropped.
+macro_rules! note {
+    ($($arg:tt)*) => {
+        $crate::support::output::note_line(format_args!($($arg)*))
+    };
+}
+
+pub(crate) use {note, say};
+
+/// Writes `args` and a newline to stdout (see [`say!`]).
+pub fn line(args: std::fmt::Arguments) {
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = out.write_fmt(args).and_then(|()| out.write_all(b"\n")) {
+        exit_on_write_error(e);
+    }
+}
+
+/// Writes `args` and a newline to stderr, ignoring a failure.
+pub fn note_line(args: std::fmt::Arguments) {
+    let mut err = std::io::stderr().lock();
+    let _ = err.write_fmt(args).and_then(|()| err.write_all(b"\n"));
+}
+
+/// Flushes stdout, ending the program on a write error: every program calls it last, so that
+/// output still buffered cannot fail unseen at exit.
+pub fn flush() {
+    if let Err(e) = std::io::stdout().lock().flush() {
+        exit_on_write_error(e);
+    }
+}
+
+/// Ends the program after a failed write to stdout or to an output file: quietly with
+/// success for a closed pipe, else with one line naming the error and status 2.
+pub fn exit_on_write_error(e: std::io::Error) -> ! {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        std::process::exit(0);
+    }
+    super::fail(format!("cannot write the output: {e}"))
+}
