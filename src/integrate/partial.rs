@@ -34,7 +34,9 @@ use crate::{Error, Result};
 /// and merge refuse a part of another run with an error naming the first field that differs.
 /// An integrand that differs only away from the probe points is not detected: label it. Saved
 /// with serde, the part also carries a CRC-32 of its whole content, and a part that fails it
-/// (a corrupted file) does not deserialize.
+/// (a corrupted file) does not deserialize; nor does a part whose state its plan cannot reach
+/// (an edited file with its CRC recomputed: a replicate or chunk whose counts are not its
+/// points, chunks out of order), with an error naming the field.
 ///
 /// Chunks finished in order from the first are folded as they arrive, so a part holds one
 /// accumulator per replicate plus the chunks finished out of order: its size does not grow
