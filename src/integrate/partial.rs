@@ -6,7 +6,7 @@ use std::ops::Range;
 
 use super::engine::RunEstimator;
 use super::layout::Layout;
-use super::plan::{CHUNKS_IN_MEMORY, ChunkResult, Chunks, Folded, Plan};
+use super::plan::{CHUNKS_IN_MEMORY, ChunkResult, Chunks, Folded, Plan, keeps_covariance};
 use super::{Integrator, VectorRun};
 use crate::engine::Executor;
 use crate::estimator::{Estimator, VectorEstimator};
@@ -402,6 +402,23 @@ impl<E> Integrator<E> {
                         partial.total_chunks()
                     ),
                     format!("every chunk finished (chunk {missing} is missing)"),
+                ));
+            }
+            // The layout does not say whether the run keeps covariances; its sampler does.
+            let keeps = keeps_covariance(partial.layout.outputs, sampler);
+            if keeps == partial.folded.covariances.is_empty() {
+                let (has, wants) = if keeps {
+                    (
+                        "without covariances",
+                        "keeps the covariance of its outputs per replicate",
+                    )
+                } else {
+                    ("with covariances", "keeps no covariance")
+                };
+                return Err(Error::invalid(
+                    "partial run",
+                    has,
+                    format!("a part of this run, which {wants}"),
                 ));
             }
             plan.estimate(sampler, &partial.folded, self.config.non_finite)

@@ -643,6 +643,30 @@ mod tests {
         );
     }
 
+    /// A vector run of independent points whose covariances were all removed reads back (the
+    /// saved part cannot tell), but does not finish.
+    #[test]
+    fn a_part_without_the_covariances_of_its_run_does_not_finish() {
+        let f = |x: &[f64], out: &mut [f64]| out.fill(x[0]);
+        let vector = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap())
+            .samples(50_000)
+            .seed(3);
+        let mut part = vector.run_part(0..1).unwrap();
+        part.merge(vector.run_part(2..4).unwrap()).unwrap();
+        let mut stripped = forged(&part, |v| {
+            v["folded"].as_object_mut().unwrap().remove("covariances");
+            for chunk in v["chunks"].as_array_mut().unwrap() {
+                chunk[1].as_object_mut().unwrap().remove("covariance");
+            }
+        })
+        .unwrap();
+        vector.resume(&mut stripped, 4).unwrap();
+        let e = vector.finish(&stripped).unwrap_err().to_string();
+        assert!(e.contains("without covariances"), "{e}");
+        vector.resume(&mut part, 4).unwrap();
+        assert_eq!(vector.finish(&part).unwrap(), vector.run().unwrap());
+    }
+
     #[test]
     fn the_first_non_finite_value_is_where_one_was_counted() {
         let nan_corner = |x: &[f64]| if x[0] > 0.999 { f64::NAN } else { x[0] };
