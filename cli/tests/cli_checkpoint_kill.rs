@@ -1,11 +1,12 @@
 //! `integrate --checkpoint` killed (SIGKILL) at 20 moments of its run: every checkpoint it
 //! leaves is whole (saves are atomic: a temporary file, synced, renamed), and the run resumed
-//! from it gives the bits of an uninterrupted run.
+//! from it gives the bits of an uninterrupted run. A checkpoint that is no regular file is
+//! refused.
 #![cfg(unix)]
 
 mod common;
 
-use common::{example, run, stderr, stdout};
+use common::{assert_one_line_error, example, output_or_hang, run, scratch_dir, stderr, stdout};
 use mcint::PartialRun;
 use serde_json::Value;
 use std::process::{Command, Stdio};
@@ -86,8 +87,8 @@ fn runs_killed_during_saves_resume_to_the_uninterrupted_bits() {
 }
 
 /// A checkpoint named `*.partial` is saved through a temporary file too, two checkpoints whose
-/// names differ only by extension run side by side without sharing one, and a "checkpoint"
-/// that never ends (`/dev/zero`) is refused after a bounded read.
+/// names differ only by extension run side by side without sharing one, and a checkpoint
+/// larger than any (64 MiB) is refused after a bounded read.
 #[test]
 fn checkpoint_names_never_collide_and_reads_are_bounded() {
     let dir = std::env::temp_dir().join(format!("mcint-names-{}", std::process::id()));
@@ -127,11 +128,51 @@ fn checkpoint_names_never_collide_and_reads_are_bounded() {
         .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
-    std::fs::remove_dir_all(&dir).unwrap();
+    // A regular file past the bound (sparse: it takes no room on disk).
+    let huge = dir.join("huge.json");
+    std::fs::File::create(&huge)
+        .unwrap()
+        .set_len((64 << 20) + 1)
+        .unwrap();
     let out = run(
         "integrate",
-        &[ARGS, &["--checkpoint", "/dev/zero"]].concat(),
+        &[ARGS, &["--checkpoint", huge.to_str().unwrap()]].concat(),
     );
     assert!(!out.status.success());
     assert!(stderr(&out).contains("larger than"), "{}", stderr(&out));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A checkpoint path that exists and is no regular file is refused before the run, in one
+/// line, instead of blocking on a read that never ends: `/dev/stdout` when stdout is a pipe,
+/// a FIFO, a directory, a device.
+#[test]
+fn checkpoints_that_are_not_regular_files_are_refused() {
+    let dir = scratch_dir("special");
+    let fifo = dir.join("fifo");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    let mut cases = vec![
+        ("/dev/stdout".to_string(), "is a pipe"),
+        (dir.to_str().unwrap().to_string(), "is a directory"),
+        ("/dev/null".to_string(), "is a device"),
+    ];
+    if made.is_ok_and(|s| s.success()) {
+        cases.push((fifo.to_str().unwrap().to_string(), "is a pipe"));
+    } else {
+        eprintln!("no mkfifo: the FIFO case is skipped");
+    }
+    for (path, what) in cases {
+        let args = [ARGS, &["--checkpoint", &path]].concat();
+        // stdout is a pipe here, so /dev/stdout is one too.
+        let out = output_or_hang(Command::new(example("integrate")).args(&args));
+        assert_eq!(out.status.code(), Some(2), "{path}: {}", stderr(&out));
+        assert_one_line_error(&out, what);
+        assert!(
+            stderr(&out).contains("takes a regular file"),
+            "{}",
+            stderr(&out)
+        );
+        assert!(stdout(&out).is_empty(), "{path}: {}", stdout(&out));
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }

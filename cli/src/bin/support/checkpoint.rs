@@ -3,13 +3,14 @@
 //!
 //! Saves are atomic: the checkpoint is written to a temporary file of its own in the same
 //! directory, synced to disk, and renamed over FILE, so a process killed at any moment leaves
-//! either the previous checkpoint or the new one. A checkpoint is read up to
+//! either the previous checkpoint or the new one. FILE, if it exists, must be a regular file:
+//! a pipe such as `/dev/stdout` would block the read forever. A checkpoint is read up to
 //! [`MAX_CHECKPOINT_BYTES`]; the library refuses a corrupted one (its checksum) or one of
 //! another run (its fingerprint, which includes the integrand's label).
 
 use mcint::estimator::{Estimator, VectorEstimator};
 use mcint::{CancelToken, Estimate, Integrator, PartialRun, VectorEstimate, VectorRun};
-use std::io::{Read, Write};
+use std::io::{ErrorKind, Read, Write};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -82,6 +83,7 @@ pub fn run<R: Checkpointed>(
         settings.save_every,
         settings.stop_after,
     );
+    check_kind(path)?;
     let mut fresh = false;
     let mut part = match read_bounded(path) {
         Ok(text) => {
@@ -214,4 +216,37 @@ fn temporary_path(path: &Path) -> PathBuf {
         SAVES.fetch_add(1, Ordering::Relaxed)
     );
     path.with_file_name(unique)
+}
+
+/// Refuses a checkpoint `path` that exists and is not a regular file: a directory, a device,
+/// or a pipe such as `/dev/stdout`, whose read would never end.
+fn check_kind(path: &Path) -> Result<(), String> {
+    let kind = match std::fs::metadata(path) {
+        Ok(meta) if meta.is_file() => return Ok(()),
+        Ok(meta) => meta.file_type(),
+        Err(e) if e.kind() == ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(format!("cannot read checkpoint '{}': {e}", path.display())),
+    };
+    let what = if kind.is_dir() {
+        "a directory"
+    } else if is_pipe(kind) {
+        "a pipe"
+    } else {
+        "a device or another special file"
+    };
+    Err(format!(
+        "checkpoint '{}' is {what}: --checkpoint takes a regular file, or a path where one can \
+         be created",
+        path.display()
+    ))
+}
+
+#[cfg(unix)]
+fn is_pipe(kind: std::fs::FileType) -> bool {
+    std::os::unix::fs::FileTypeExt::is_fifo(&kind)
+}
+
+#[cfg(not(unix))]
+fn is_pipe(_: std::fs::FileType) -> bool {
+    false
 }
