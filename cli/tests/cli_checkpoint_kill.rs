@@ -1,7 +1,7 @@
 //! `integrate --checkpoint` killed (SIGKILL) at 20 moments of its run: every checkpoint it
 //! leaves is whole (saves are atomic: a temporary file, synced, renamed), and the run resumed
-//! from it gives the bits of an uninterrupted run. A checkpoint that is no regular file is
-//! refused.
+//! from it gives the bits of an uninterrupted run. A checkpoint given as a symbolic link is
+//! saved to its target; one that is no regular file is refused.
 #![cfg(unix)]
 
 mod common;
@@ -174,5 +174,44 @@ fn checkpoints_that_are_not_regular_files_are_refused() {
         );
         assert!(stdout(&out).is_empty(), "{path}: {}", stdout(&out));
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The chunks saved in the checkpoint at `path`.
+fn chunks_saved(path: &std::path::Path) -> u64 {
+    let text = std::fs::read_to_string(path).unwrap();
+    serde_json::from_str::<PartialRun>(&text)
+        .unwrap()
+        .chunks_done()
+}
+
+/// A checkpoint given as a symbolic link: every save updates the link's target (even one
+/// that does not exist yet), and the link stays a link.
+#[test]
+fn a_checkpoint_through_a_symbolic_link_saves_to_its_target() {
+    let dir = scratch_dir("symlink");
+    std::fs::create_dir_all(dir.join("real")).unwrap();
+    let (link, target) = (dir.join("link.json"), dir.join("real/run.json"));
+    std::os::unix::fs::symlink("real/run.json", &link).unwrap();
+    let link_arg = link.to_str().unwrap();
+    let step = |stop_after: &str| {
+        let args = ["--checkpoint", link_arg, "--save-every", "1"];
+        run(
+            "integrate",
+            &[ARGS, &args, &["--stop-after", stop_after]].concat(),
+        )
+    };
+    for (stop_after, saved) in [("2", 2), ("3", 5)] {
+        let out = step(stop_after);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let meta = std::fs::symlink_metadata(&link).unwrap();
+        assert!(meta.file_type().is_symlink(), "the link was replaced");
+        assert_eq!(chunks_saved(&target), saved);
+    }
+    let whole = run("integrate", ARGS);
+    let resumed = run("integrate", &[ARGS, &["--checkpoint", link_arg]].concat());
+    assert!(resumed.status.success(), "{}", stderr(&resumed));
+    assert_eq!(answer(&stdout(&resumed)), answer(&stdout(&whole)));
+    assert_eq!(chunks_saved(&target), 123);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -3,7 +3,8 @@
 //!
 //! Saves are atomic: the checkpoint is written to a temporary file of its own in the same
 //! directory, synced to disk, and renamed over FILE, so a process killed at any moment leaves
-//! either the previous checkpoint or the new one. FILE, if it exists, must be a regular file:
+//! either the previous checkpoint or the new one. A symbolic link FILE is followed: saves
+//! replace its target and keep the link. FILE, if it exists, must be a regular file:
 //! a pipe such as `/dev/stdout` would block the read forever. A checkpoint is read up to
 //! [`MAX_CHECKPOINT_BYTES`]; the library refuses a corrupted one (its checksum) or one of
 //! another run (its fingerprint, which includes the integrand's label).
@@ -84,8 +85,15 @@ pub fn run<R: Checkpointed>(
         settings.stop_after,
     );
     check_kind(path)?;
+    let target =
+        resolve(path).map_err(|e| format!("cannot follow checkpoint '{}': {e}", path.display()))?;
+    // Reads and saves go to the link's target; messages name the path as given.
+    let settings = &Settings {
+        path: target,
+        ..*settings
+    };
     let mut fresh = false;
-    let mut part = match read_bounded(path) {
+    let mut part = match read_bounded(&settings.path) {
         Ok(text) => {
             let part: PartialRun = serde_json::from_str(&text)
                 .map_err(|e| format!("cannot read checkpoint '{}': {e}", path.display()))?;
@@ -249,4 +257,22 @@ fn is_pipe(kind: std::fs::FileType) -> bool {
 #[cfg(not(unix))]
 fn is_pipe(_: std::fs::FileType) -> bool {
     false
+}
+
+/// `path` with symbolic links followed to the file they name, which may not exist yet: saves
+/// replace that file and keep the links.
+fn resolve(path: &Path) -> std::io::Result<PathBuf> {
+    let mut path = path.to_path_buf();
+    // As many links as Linux follows in one path.
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&path) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let target = std::fs::read_link(&path)?;
+                // A relative target is relative to the link's directory.
+                path = path.parent().unwrap_or(Path::new("")).join(target);
+            }
+            _ => return Ok(path),
+        }
+    }
+    Err(std::io::Error::other("too many levels of symbolic links"))
 }
