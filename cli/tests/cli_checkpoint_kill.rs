@@ -1,7 +1,8 @@
 //! `integrate --checkpoint` killed (SIGKILL) at 20 moments of its run: every checkpoint it
 //! leaves is whole (saves are atomic: a temporary file, synced, renamed), and the run resumed
-//! from it gives the bits of an uninterrupted run. A checkpoint given as a symbolic link is
-//! saved to its target; one that is no regular file is refused.
+//! from it gives the bits of an uninterrupted run. The checkpoint file itself: saved through a
+//! symbolic link, cleared of the temporary files of killed saves, locked against a second
+//! process, and refused when it is no regular file.
 #![cfg(unix)]
 
 mod common;
@@ -87,8 +88,9 @@ fn runs_killed_during_saves_resume_to_the_uninterrupted_bits() {
 }
 
 /// A checkpoint named `*.partial` is saved through a temporary file too, two checkpoints whose
-/// names differ only by extension run side by side without sharing one, and a checkpoint
-/// larger than any (64 MiB) is refused after a bounded read.
+/// names differ only by extension run side by side without sharing one, neither leaves a
+/// temporary or lock file, and a checkpoint larger than any (64 MiB) is refused after a
+/// bounded read.
 #[test]
 fn checkpoint_names_never_collide_and_reads_are_bounded() {
     let dir = std::env::temp_dir().join(format!("mcint-names-{}", std::process::id()));
@@ -121,11 +123,14 @@ fn checkpoint_names_never_collide_and_reads_are_bounded() {
     for path in [&a, &b] {
         serde_json::from_str::<PartialRun>(&std::fs::read_to_string(path).unwrap()).unwrap();
     }
-    // No temporary file is left behind by a finished run.
+    // No temporary or lock file is left behind by a finished run.
     let leftovers: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
         .filter_map(|e| e.ok())
-        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .filter(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            name.ends_with(".tmp") || name.ends_with(".lock")
+        })
         .collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
     // A regular file past the bound (sparse: it takes no room on disk).
@@ -213,5 +218,69 @@ fn a_checkpoint_through_a_symbolic_link_saves_to_its_target() {
     assert!(resumed.status.success(), "{}", stderr(&resumed));
     assert_eq!(answer(&stdout(&resumed)), answer(&stdout(&whole)));
     assert_eq!(chunks_saved(&target), 123);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The temporary files that SIGKILLed saves leave (`.NAME.tmp`, and `.NAME.PID.N.tmp` of
+/// earlier versions, here of a process that no longer runs) are removed by the next run of
+/// that checkpoint; the files of other checkpoints are not.
+#[test]
+fn temporary_files_of_killed_saves_are_removed_by_the_next_run() {
+    let dir = scratch_dir("stale");
+    let path = dir.join("run.json");
+    let stale = [".run.json.tmp", ".run.json.4194304.7.tmp"];
+    let others = [".other.json.tmp", ".run.json.x.tmp", "run.json.tmp"];
+    for name in stale.iter().chain(&others) {
+        std::fs::write(dir.join(name), "{\"half\": ").unwrap();
+    }
+    let args = ["--checkpoint", path.to_str().unwrap(), "--stop-after", "1"];
+    let out = run("integrate", &[ARGS, &args].concat());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let mut left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    let mut expected: Vec<String> = others.iter().map(|s| s.to_string()).collect();
+    expected.push("run.json".into());
+    expected.sort();
+    assert_eq!(left, expected);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A second process on a checkpoint that a running process holds is refused at once, in one
+/// line with exit status 2, and leaves the checkpoint to the first; once the first is killed
+/// (SIGKILL: its lock goes with it), the checkpoint runs again.
+#[test]
+fn a_second_process_on_a_checkpoint_in_use_is_refused() {
+    let dir = scratch_dir("locked");
+    let path = dir.join("run.json");
+    let path_arg = path.to_str().unwrap();
+    // 12208 chunks: far more than this test lets it run.
+    let mut long: Vec<&str> = ARGS
+        .iter()
+        .map(|&a| if a == "2000000" { "200000000" } else { a })
+        .collect();
+    long.extend(["--checkpoint", path_arg, "--save-every", "1"]);
+    let mut first = Command::new(example("integrate"))
+        .args(&long)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    // Started: its first save is done, so it holds the lock.
+    while !path.exists() {
+        assert!(first.try_wait().unwrap().is_none(), "the first run ended");
+        std::thread::yield_now();
+    }
+    let second = [&long[..], &["--stop-after", "1"]].concat();
+    let refused = output_or_hang(Command::new(example("integrate")).args(&second));
+    assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
+    assert_one_line_error(&refused, "is in use by another process");
+    assert!(first.try_wait().unwrap().is_none(), "the first run ended");
+    first.kill().unwrap();
+    first.wait().unwrap();
+    let after = run("integrate", &second);
+    assert!(after.status.success(), "{}", stderr(&after));
     std::fs::remove_dir_all(&dir).unwrap();
 }
