@@ -352,3 +352,38 @@ fn a_checked_in_checkpoint_of_this_format_finishes_to_its_pinned_bits() {
 
 const PINNED_MEAN: u64 = 0x3fd5_7071_ab87_d791;
 const PINNED_STD_ERROR: u64 = 0x3ea3_63ef_895f_490c;
+
+/// The reader checks a part's state against its plan (counts per replicate and chunk, chunk
+/// order, first non-finite value); every part a run leaves passes, whatever its shape: vector
+/// outputs with their covariance, skipped non-finite values, gaps, complete parts.
+#[test]
+fn honest_parts_of_every_shape_read_back_and_finish() {
+    let f = |x: &[f64], out: &mut [f64]| {
+        out[0] = x[0];
+        out[1] = if x[1] > 0.9 { f64::NAN } else { x[1] };
+    };
+    let vector = Integrator::over_box_vector(2, f, UniformBox::unit(2).unwrap())
+        .samples(70_000)
+        .non_finite(mcint::NonFinitePolicy::Skip)
+        .seed(5);
+    let whole = vector.run().unwrap();
+    let mut part = through_json(&vector.run_part(1..2).unwrap());
+    part.merge(through_json(&vector.run_part(3..5).unwrap()))
+        .unwrap();
+    while !part.is_complete() {
+        part = through_json(&part);
+        vector.resume(&mut part, 1).unwrap();
+    }
+    assert_eq!(vector.finish(&through_json(&part)).unwrap(), whole);
+
+    let scalar = sobol_replicates(1).non_finite(mcint::NonFinitePolicy::Skip);
+    let mut part = through_json(&scalar.run_part(6..8).unwrap());
+    part.merge(through_json(&scalar.run_part(0..3).unwrap()))
+        .unwrap();
+    scalar.resume(&mut through_json(&part), 2).unwrap();
+    scalar.resume(&mut part, 100).unwrap();
+    assert_eq!(
+        scalar.finish(&through_json(&part)).unwrap(),
+        scalar.run().unwrap()
+    );
+}

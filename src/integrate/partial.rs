@@ -6,7 +6,7 @@ use std::ops::Range;
 
 use super::engine::RunEstimator;
 use super::layout::Layout;
-use super::plan::{CHUNKS_IN_MEMORY, ChunkResult, Chunks, Folded, Plan};
+use super::plan::{CHUNKS_IN_MEMORY, ChunkResult, Chunks, Folded, Plan, keeps_covariance};
 use super::{Integrator, VectorRun};
 use crate::engine::Executor;
 use crate::estimator::{Estimator, VectorEstimator};
@@ -34,7 +34,9 @@ use crate::{Error, Result};
 /// and merge refuse a part of another run with an error naming the first field that differs.
 /// An integrand that differs only away from the probe points is not detected: label it. Saved
 /// with serde, the part also carries a CRC-32 of its whole content, and a part that fails it
-/// (a corrupted file) does not deserialize.
+/// (a corrupted file) does not deserialize; nor does a part whose state its plan cannot reach
+/// (an edited file with its CRC recomputed: a replicate or chunk whose counts are not its
+/// points, chunks out of order), with an error naming the field.
 ///
 /// Chunks finished in order from the first are folded as they arrive, so a part holds one
 /// accumulator per replicate plus the chunks finished out of order: its size does not grow
@@ -400,6 +402,23 @@ impl<E> Integrator<E> {
                         partial.total_chunks()
                     ),
                     format!("every chunk finished (chunk {missing} is missing)"),
+                ));
+            }
+            // The layout does not say whether the run keeps covariances; its sampler does.
+            let keeps = keeps_covariance(partial.layout.outputs, sampler);
+            if keeps == partial.folded.covariances.is_empty() {
+                let (has, wants) = if keeps {
+                    (
+                        "without covariances",
+                        "keeps the covariance of its outputs per replicate",
+                    )
+                } else {
+                    ("with covariances", "keeps no covariance")
+                };
+                return Err(Error::invalid(
+                    "partial run",
+                    has,
+                    format!("a part of this run, which {wants}"),
                 ));
             }
             plan.estimate(sampler, &partial.folded, self.config.non_finite)

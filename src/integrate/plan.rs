@@ -497,6 +497,13 @@ impl Folded {
     }
 }
 
+/// Whether a run of `outputs` outputs with `sampler` keeps the outputs' covariance per
+/// replicate: several outputs of independent points (with dependent points it comes from the
+/// replicate means).
+pub(super) fn keeps_covariance(outputs: usize, sampler: &dyn Sampler) -> bool {
+    outputs > 1 && sampler.passes() == PassKind::Independent
+}
+
 /// The chunks of one plan, as work for the [`Executor`].
 pub(super) struct Chunks<'a> {
     plan: &'a Plan,
@@ -513,7 +520,7 @@ impl<'a> Chunks<'a> {
         sampler: &'a dyn Sampler,
         estimator: &'a dyn VectorEstimator,
     ) -> Self {
-        let covariance = estimator.outputs() > 1 && sampler.passes() == PassKind::Independent;
+        let covariance = keeps_covariance(estimator.outputs(), sampler);
         Chunks {
             plan,
             sampler,

@@ -51,3 +51,24 @@ pub fn assert_one_line_error(output: &Output, needle: &str) {
     assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err:?}");
     assert!(err.contains(needle), "{err:?} does not mention {needle:?}");
 }
+
+/// Runs `command` with stdout and stderr captured, for a run that should end at once (it
+/// prints little: the pipes are read at its end). A hang guard, not a timing: a run still going
+/// after two minutes is killed and the test fails as hung.
+pub fn output_or_hang(command: &mut Command) -> Output {
+    let mut child = command
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot run {command:?}: {e}"));
+    let started = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed() > std::time::Duration::from_secs(120) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{command:?} hung");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    child.wait_with_output().unwrap()
+}

@@ -1,18 +1,23 @@
 //! `integrate --checkpoint FILE`: a fixed-budget run saved to FILE every few chunks and
 //! resumed from it, with the same result as an uninterrupted run.
 //!
-//! Saves are atomic: the checkpoint is written to a temporary file of its own in the same
+//! Saves are atomic: the checkpoint is written to a temporary file `.NAME.tmp` in the same
 //! directory, synced to disk, and renamed over FILE, so a process killed at any moment leaves
-//! either the previous checkpoint or the new one. A checkpoint is read up to
-//! [`MAX_CHECKPOINT_BYTES`]; the library refuses a corrupted one (its checksum) or one of
-//! another run (its fingerprint, which includes the integrand's label).
+//! either the previous checkpoint or the new one. A symbolic link FILE is followed: saves
+//! replace its target and keep the link. While a process runs from FILE it holds an advisory
+//! lock on `.NAME.lock` beside it, so a second process on the same checkpoint is refused instead
+//! of racing the first to the last save; holding it, it removes the temporary files of saves
+//! killed midway. FILE, if it exists, must be a regular file: a pipe such as `/dev/stdout` would
+//! block the read forever. A checkpoint is read up to [`MAX_CHECKPOINT_BYTES`]; the library
+//! refuses a corrupted one (its checksum), an impossible one (its counts) or one of another run
+//! (its fingerprint, which includes the integrand's label).
 
 use mcint::estimator::{Estimator, VectorEstimator};
 use mcint::{CancelToken, Estimate, Integrator, PartialRun, VectorEstimate, VectorRun};
-use std::io::{Read, Write};
+use std::fs::{File, OpenOptions, TryLockError};
+use std::io::{ErrorKind, Read, Write};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The largest checkpoint read: a checkpoint holds one accumulator per replicate and the
 /// chunks finished out of order, far below this.
@@ -82,8 +87,27 @@ pub fn run<R: Checkpointed>(
         settings.save_every,
         settings.stop_after,
     );
+    check_kind(path)?;
+    let target =
+        resolve(path).map_err(|e| format!("cannot follow checkpoint '{}': {e}", path.display()))?;
+    // The process that saves holds the lock; every rank stops if it cannot.
+    let lock = settings.spread.is_root().then(|| Lock::take(&target, path));
+    if settings.spread.any(matches!(lock, Some(Err(_)))) {
+        return Err(match lock {
+            Some(Err(e)) => e,
+            _ => format!("checkpoint '{}' is locked on rank 0", path.display()),
+        });
+    }
+    if lock.is_some() {
+        remove_stale_temporaries(&target);
+    }
+    // Reads and saves go to the link's target; messages name the path as given.
+    let settings = &Settings {
+        path: target,
+        ..*settings
+    };
     let mut fresh = false;
-    let mut part = match read_bounded(path) {
+    let mut part = match read_bounded(&settings.path) {
         Ok(text) => {
             let part: PartialRun = serde_json::from_str(&text)
                 .map_err(|e| format!("cannot read checkpoint '{}': {e}", path.display()))?;
@@ -179,19 +203,19 @@ fn save(settings: &Settings, part: &PartialRun) -> Result<(), String> {
     write(&settings.path, part)
 }
 
-/// Writes the checkpoint to a temporary file of its own next to `path`, syncs it and renames
-/// it into place, so an interrupted save never leaves a truncated checkpoint.
+/// Writes the checkpoint to its temporary file next to `path`, syncs it and renames it into
+/// place, so an interrupted save never leaves a truncated checkpoint.
 fn write(path: &Path, part: &PartialRun) -> Result<(), String> {
     let text = serde_json::to_string(part).map_err(|e| format!("cannot encode checkpoint: {e}"))?;
-    let temporary = temporary_path(path);
+    let temporary = beside(path, "tmp");
     let written = (|| {
-        let mut file = std::fs::File::create(&temporary)?;
+        let mut file = File::create(&temporary)?;
         file.write_all(text.as_bytes())?;
         file.sync_all()?;
         std::fs::rename(&temporary, path)?;
         // The rename itself reaches the disk with the directory.
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::File::open(dir)?.sync_all()?;
+            File::open(dir)?.sync_all()?;
         }
         Ok::<(), std::io::Error>(())
     })();
@@ -201,17 +225,174 @@ fn write(path: &Path, part: &PartialRun) -> Result<(), String> {
     })
 }
 
-/// A temporary name next to `path` that no other checkpoint, process or save shares:
-/// `.NAME.PID.N.tmp`.
-fn temporary_path(path: &Path) -> PathBuf {
-    static SAVES: AtomicU64 = AtomicU64::new(0);
+/// `.NAME.EXTENSION` next to the checkpoint `path`: its temporary file (one at a time, under
+/// the lock) and its lock file.
+fn beside(path: &Path, extension: &str) -> PathBuf {
     let name = path
         .file_name()
         .map_or("checkpoint".into(), |n| n.to_string_lossy());
-    let unique = format!(
-        ".{name}.{}.{}.tmp",
-        std::process::id(),
-        SAVES.fetch_add(1, Ordering::Relaxed)
-    );
-    path.with_file_name(unique)
+    path.with_file_name(format!(".{name}.{extension}"))
+}
+
+/// Refuses a checkpoint `path` that exists and is not a regular file: a directory, a device,
+/// or a pipe such as `/dev/stdout`, whose read would never end.
+fn check_kind(path: &Path) -> Result<(), String> {
+    let kind = match std::fs::metadata(path) {
+        Ok(meta) if meta.is_file() => return Ok(()),
+        Ok(meta) => meta.file_type(),
+        Err(e) if e.kind() == ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(format!("cannot read checkpoint '{}': {e}", path.display())),
+    };
+    let what = if kind.is_dir() {
+        "a directory"
+    } else if is_pipe(kind) {
+        "a pipe"
+    } else {
+        "a device or another special file"
+    };
+    Err(format!(
+        "checkpoint '{}' is {what}: --checkpoint takes a regular file, or a path where one can \
+         be created",
+        path.display()
+    ))
+}
+
+#[cfg(unix)]
+fn is_pipe(kind: std::fs::FileType) -> bool {
+    std::os::unix::fs::FileTypeExt::is_fifo(&kind)
+}
+
+#[cfg(not(unix))]
+fn is_pipe(_: std::fs::FileType) -> bool {
+    false
+}
+
+/// `path` with symbolic links followed to the file they name, which may not exist yet: saves
+/// replace that file and keep the links.
+fn resolve(path: &Path) -> std::io::Result<PathBuf> {
+    let mut path = path.to_path_buf();
+    // As many links as Linux follows in one path.
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&path) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let target = std::fs::read_link(&path)?;
+                // A relative target is relative to the link's directory.
+                path = path.parent().unwrap_or(Path::new("")).join(target);
+            }
+            _ => return Ok(path),
+        }
+    }
+    Err(std::io::Error::other("too many levels of symbolic links"))
+}
+
+/// An exclusive advisory lock on the checkpoint's `.NAME.lock`, held while a process runs
+/// from the checkpoint and saves it. The system releases it when the process ends, however it
+/// ends; the file is removed when the run ends.
+struct Lock {
+    _file: File,
+    path: PathBuf,
+}
+
+impl Lock {
+    /// Locks the lock file of the checkpoint at `target` (`shown` as given), or refuses with a
+    /// one-line message when another process holds it.
+    fn take(target: &Path, shown: &Path) -> Result<Lock, String> {
+        let path = beside(target, "lock");
+        let cannot = |e: std::io::Error| {
+            format!(
+                "cannot lock checkpoint '{}' with '{}': {e}",
+                shown.display(),
+                path.display()
+            )
+        };
+        // A run that ends removes its lock file, maybe just after this process opened it:
+        // the lock then holds a file no other process will find, so lock the new one.
+        for _ in 0..100 {
+            let file = OpenOptions::new()
+                .write(true)
+                .create(true)
+                .truncate(false)
+                .open(&path)
+                .map_err(cannot)?;
+            match file.try_lock() {
+                Ok(()) => {}
+                Err(TryLockError::WouldBlock) => {
+                    return Err(format!(
+                        "checkpoint '{}' is in use by another process, which holds its lock \
+                         '{}': let that run end, or give another --checkpoint",
+                        shown.display(),
+                        path.display()
+                    ));
+                }
+                Err(TryLockError::Error(e)) => return Err(cannot(e)),
+            }
+            if still_named(&file, &path).map_err(cannot)? {
+                return Ok(Lock { _file: file, path });
+            }
+        }
+        Err(cannot(std::io::Error::other(
+            "other processes keep replacing it",
+        )))
+    }
+}
+
+impl Drop for Lock {
+    fn drop(&mut self) {
+        // Removed while still locked, so no process locks it in between (see `take`); where
+        // that cannot be checked, the file stays.
+        if cfg!(unix) {
+            let _ = std::fs::remove_file(&self.path);
+        }
+    }
+}
+
+/// Whether `file` is still the file at `path`.
+#[cfg(unix)]
+fn still_named(file: &File, path: &Path) -> std::io::Result<bool> {
+    use std::os::unix::fs::MetadataExt;
+    let held = file.metadata()?;
+    match std::fs::metadata(path) {
+        Ok(named) => Ok((named.dev(), named.ino()) == (held.dev(), held.ino())),
+        Err(e) if e.kind() == ErrorKind::NotFound => Ok(false),
+        Err(e) => Err(e),
+    }
+}
+
+#[cfg(not(unix))]
+fn still_named(_: &File, _: &Path) -> std::io::Result<bool> {
+    Ok(true)
+}
+
+/// Removes the temporary files of the checkpoint at `target` that saves killed midway left
+/// (the lock is held: no other process is saving it): `.NAME.tmp`, and the
+/// `.NAME.PID.N.tmp` of earlier versions.
+fn remove_stale_temporaries(target: &Path) {
+    let Some(name) = target.file_name().and_then(|n| n.to_str()) else {
+        return;
+    };
+    let prefix = format!(".{name}");
+    let dir = target
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file = entry.file_name();
+        let Some(middle) = file
+            .to_str()
+            .and_then(|f| f.strip_prefix(&prefix))
+            .and_then(|f| f.strip_suffix(".tmp"))
+        else {
+            continue;
+        };
+        let numbers = |ids: &str| {
+            ids.split('.')
+                .all(|id| !id.is_empty() && id.bytes().all(|b| b.is_ascii_digit()))
+        };
+        if middle.is_empty() || middle.strip_prefix('.').is_some_and(numbers) {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
 }
