@@ -44,8 +44,8 @@ fn stopped(e: &Estimate) -> bool {
 
 #[test]
 fn a_cancelled_integrator_returns_the_chunks_it_finished() {
-    // One thread: chunks run in order; the 7th, in which call 100 000 falls, is finished and
-    // kept with the 6 before it.
+    // One thread: chunks run in order; the 7th, in which call 100 000 falls, is dropped at
+    // its next block of 1024 points, and the 6 before it are kept.
     let token = CancelToken::new();
     let (f, calls) = cancelling(token.clone(), 100_000);
     let e = Integrator::over_box(f, unit())
@@ -56,8 +56,11 @@ fn a_cancelled_integrator_returns_the_chunks_it_finished() {
         .unwrap();
     assert_eq!(e.stop, StopReason::Cancelled);
     assert!(stopped(&e), "{:?}", e.warnings);
-    assert_eq!(calls.load(Ordering::Relaxed), 7 * CHUNK);
-    assert_eq!(e.n, 7 * CHUNK);
+    assert_eq!(
+        calls.load(Ordering::Relaxed),
+        100_000u64.div_ceil(1024) * 1024
+    );
+    assert_eq!(e.n, 6 * CHUNK);
     assert!((e.mean - 0.25).abs() < 5.0 * e.std_error.unwrap());
     // Two threads: each finishes the chunk it is in (at most one window of chunks in all), and
     // only the chunks before the first one not finished count, so that the bits do not depend
@@ -427,4 +430,76 @@ fn a_limit_of_duration_max_is_no_limit() {
         .unwrap();
         assert_eq!(vector.outputs.len(), 2);
     }
+}
+
+/// Limits are checked between blocks of work inside a chunk, and a chunk stopped midway is
+/// dropped (its work is redone on resumption, so the bits do not change): in 10,000
+/// dimensions, where one chunk is seconds of work, every runner stops within a block of
+/// calls of a cancellation (VEGAS's blocks hold 2^16 coordinates, 6 points here), counted
+/// here in calls, never in seconds.
+#[test]
+fn every_runner_stops_within_a_block_in_high_dimension() {
+    use mcint::adaptive::SobolG;
+    let dims = 10_000;
+    let cube = || UniformBox::unit(dims).unwrap();
+    let at = 20;
+    let check = |name: &str, run: mcint::Result<Estimate>, calls: &AtomicU64, most: u64| {
+        match run {
+            Err(Error::Interrupted { stop, evaluations }) => {
+                assert_eq!(stop, StopReason::Cancelled, "{name}");
+                assert!(evaluations <= at + most, "{name}: {evaluations}");
+            }
+            other => panic!("{name}: expected an interrupted run, got {other:?}"),
+        }
+        let spent = calls.load(Ordering::Relaxed);
+        assert!(spent <= at + most, "{name}: {spent} calls");
+    };
+    let (token, f, calls) = high(at);
+    let run = Integrator::over_box(f, cube())
+        .threads(1)
+        .cancel_token(token)
+        .run();
+    check("integrator", run, calls, 1024);
+    let (token, f, calls) = high(at);
+    let run = Vegas::new(f, cube()).threads(1).cancel_token(token).run();
+    check("vegas", run, calls, 6);
+    let (token, f, calls) = high(at);
+    let run = Vegas::new(f, cube())
+        .stratified(true)
+        .threads(1)
+        .cancel_token(token)
+        .run();
+    check("vegas+", run, calls, 6);
+    let (token, f, calls) = high(at);
+    let run = Miser::new(f, cube()).threads(1).cancel_token(token).run();
+    check("miser", run, calls, 256);
+    // Chunks of 2^22 coordinates: 419 points.
+    let (token, f, calls) = high(at);
+    let run = TwoStage::new(f, cube(), 1)
+        .pilot(1000)
+        .threads(1)
+        .cancel_token(token)
+        .run();
+    check("two-stage", run, calls, 419);
+    // Chunks of 4096 points, each one batch call.
+    let (token, f, calls) = high(at);
+    let run = SobolG::new(f, cube())
+        .samples(1 << 16)
+        .threads(1)
+        .cancel_token(token)
+        .run();
+    check("sobol-g", run, calls, 4096);
+}
+
+/// A token, an integrand of 10,000 dimensions that cancels it at call `at`, and its calls.
+fn high(
+    at: u64,
+) -> (
+    CancelToken,
+    impl Fn(&[f64]) -> f64 + Send + Sync,
+    &'static AtomicU64,
+) {
+    let token = CancelToken::new();
+    let (f, calls) = cancelling(token.clone(), at);
+    (token, move |x: &[f64]| f(&x[..2]), calls)
 }

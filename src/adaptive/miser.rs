@@ -783,11 +783,14 @@ impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StageJob<'_, '_, F> {
         Workspace::new(self.run.settings.dims)
     }
 
-    fn run(&self, work: &mut Workspace, r: u64) -> Result<Partial> {
+    fn run(&self, work: &mut Workspace, r: u64, _: &Limits) -> Result<Option<Partial>> {
         let slot = self.stage.base + r * self.stage.per_replicate;
         let cell = Cell::unit(self.run.settings.dims);
+        // The run's own limits are checked before every region and block (an interrupted
+        // replicate is an error the stage handles).
         self.run
             .region(&self.stage, cell, self.stage.per_replicate, slot, 0, work)
+            .map(Some)
     }
 
     fn origin(&self, r: u64) -> (u64, u64) {

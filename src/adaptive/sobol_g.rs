@@ -4,7 +4,7 @@
 //! sequences"; GAIL's `cubSobol_g`, QMCPy's `CubQMCSobolG`).
 
 use super::walsh::WalshCoefficients;
-use crate::engine::{ChunkJob, RunConfig, run_settings};
+use crate::engine::{ChunkJob, Limits, RunConfig, run_settings};
 use crate::estimator::{BatchUniformEstimator, Estimator, UniformEstimator};
 use crate::pdf::UniformBox;
 use crate::sampler::{Sampler, Scramble, Sobol};
@@ -196,6 +196,10 @@ impl<E: Estimator> SobolG<E> {
         let (mut start, mut end) = (0u64, first);
         let mut stages = 0u64;
         loop {
+            // Before the stage's buffer (gigabytes for the largest stages) is cleared.
+            if let Some(reason) = executor.reached(&limits)? {
+                return finish_early(best, reason, start * per_point);
+            }
             // The stage's values in natural order: Sobol' point i is natural point
             // i ^ (i >> 1), which maps [start, end) onto itself.
             natural.clear();
@@ -226,10 +230,18 @@ impl<E: Estimator> SobolG<E> {
             if let Some(reason) = stop {
                 return finish_early(best, reason, done * per_point);
             }
+            // Judging a stage transforms all its values, seconds of serial work for a large
+            // one: a limit reached meanwhile stops it, and the last stage judged stands.
             if start == 0 {
                 walsh = WalshCoefficients::new(std::mem::take(&mut natural));
-            } else {
-                walsh.double(&mut natural);
+            } else if !walsh.double(&mut natural, &|| {
+                // Read in agreement over MPI ranks, which all ask as often.
+                executor
+                    .reached(&limits)
+                    .map_or(true, |stop| stop.is_some())
+            }) {
+                let reason = executor.reached(&limits)?.unwrap_or(StopReason::Cancelled);
+                return finish_early(best, reason, done * per_point);
             }
             stages += 1;
             let mut estimate = bounded_estimate(&acc, FUDGE / end as f64 * walsh.lagged_sum());
@@ -319,14 +331,14 @@ impl<E: Estimator> ChunkJob for StageJob<'_, E> {
         Points::new(self.sobol.dims(), CHUNK as usize)
     }
 
-    fn run(&self, points: &mut Points, chunk: u64) -> Result<Vec<f64>> {
+    fn run(&self, points: &mut Points, chunk: u64, _: &Limits) -> Result<Option<Vec<f64>>> {
         let first = self.start + chunk * CHUNK;
         let len = CHUNK.min(self.end - first) as usize;
         points.set_len(len);
         self.sobol.fill(first, points)?;
         let mut values = vec![0.0; len];
         self.estimator.contributions(points, &mut values);
-        Ok(values)
+        Ok(Some(values))
     }
 
     fn origin(&self, chunk: u64) -> (u64, u64) {

@@ -552,7 +552,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StrataJob<'_, '_, F> {
         Workspace::new(self.grid.domain.dims())
     }
 
-    fn run(&self, work: &mut Workspace, chunk: u64) -> Result<Self::Output> {
+    fn run(&self, work: &mut Workspace, chunk: u64, _: &Limits) -> Result<Option<Self::Output>> {
         let mut bad = None;
         let stats = self
             .stage
@@ -564,7 +564,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StrataJob<'_, '_, F> {
                 Ok((j, acc))
             })
             .collect::<Result<_>>()?;
-        Ok((stats, bad))
+        Ok(Some((stats, bad)))
     }
 
     fn origin(&self, chunk: u64) -> (u64, u64) {

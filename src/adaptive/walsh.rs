@@ -38,21 +38,25 @@ impl WalshCoefficients {
     /// in natural point order, with every level of the map refined.
     pub(super) fn new(mut values: Vec<f64>) -> Self {
         debug_assert!(values.len().is_power_of_two() && values.len() >= 2);
-        transform(&mut values);
+        transform(&mut values, &|| false);
         let mut walsh = WalshCoefficients {
             kappa: (0..values.len() as u32).collect(),
             at_slot: values,
         };
-        walsh.refine(walsh.levels());
+        walsh.refine(walsh.levels(), &|| false);
         walsh
     }
 
     /// Appends the values of points `N .. 2N` in natural order (`N` of them, transformed in
-    /// place) and refines the map's `LAG` finest levels.
-    pub(super) fn double(&mut self, values: &mut [f64]) {
+    /// place) and refines the map's `LAG` finest levels. `stopped` is asked between passes
+    /// over the values (each `O(N)`): once it says so, the doubling is abandoned, `false` is
+    /// returned and the coefficients are left unusable.
+    pub(super) fn double(&mut self, values: &mut [f64], stopped: &dyn Fn() -> bool) -> bool {
         let n = self.at_slot.len();
         debug_assert_eq!(values.len(), n);
-        transform(values);
+        if !transform(values, stopped) {
+            return false;
+        }
         // Slot p holds index k = kappa[p]; slot n + p holds index n + k.
         self.at_slot.resize(2 * n, 0.0);
         self.kappa.resize(2 * n, 0);
@@ -63,7 +67,7 @@ impl WalshCoefficients {
             (*a, *b) = ((*a + z) / 2.0, (*a - z) / 2.0);
             *new_k = k + n as u32;
         }
-        self.refine(LAG.min(self.levels()));
+        self.refine(LAG.min(self.levels()), stopped)
     }
 
     /// `N`, the number of values.
@@ -89,12 +93,15 @@ impl WalshCoefficients {
     /// Refines the map at levels `m-1, m-2, ..` (`count` of them, finest first, `m = log2 N`,
     /// never level 0): at level `l`, the slots `j` in `1 .. 2^l` whose partner `2^l + j` holds
     /// a strictly larger coefficient in the first block of `2^(l+1)` are swapped with their
-    /// partners in every block.
-    fn refine(&mut self, count: u32) {
+    /// partners in every block. `false` when `stopped` said so between two levels.
+    fn refine(&mut self, count: u32, stopped: &dyn Fn() -> bool) -> bool {
         let m = self.levels();
         let lowest = m.saturating_sub(count).max(1);
         let mut larger = Vec::new();
         for level in (lowest..m).rev() {
+            if stopped() {
+                return false;
+            }
             let h = 1usize << level;
             let (low, high) = self.at_slot[..2 * h].split_at(h);
             // The slots to swap, collected without a branch per slot (each comparison is a
@@ -114,26 +121,37 @@ impl WalshCoefficients {
                 }
             }
         }
+        true
     }
 }
 
 /// Values per cache-resident block of the transform (32 KiB).
 const BLOCK: usize = 1 << 12;
 
-/// The Walsh-Hadamard transform in place, divided by the length (a power of two):
-/// `y_k <- (1/N) sum_i (-1)^popcount(i & k) y_i`. The butterflies of spans below [`BLOCK`]
-/// run block by block while the block is in cache; only the wider spans pass over the whole
-/// array.
-fn transform(values: &mut [f64]) {
+/// The Walsh-Hadamard transform in place, divided by the length (a power of two): the
+/// spans within a cache-resident block first, block by block, then the longer ones. `false`
+/// when `stopped` said so between two passes (every `BLOCK` blocks, and every longer span).
+fn transform(values: &mut [f64], stopped: &dyn Fn() -> bool) -> bool {
     let n = values.len();
-    for block in values.chunks_mut(BLOCK) {
+    for (i, block) in values.chunks_mut(BLOCK).enumerate() {
+        if i % BLOCK == BLOCK - 1 && stopped() {
+            return false;
+        }
         butterflies(block, 1, block.len());
     }
-    butterflies(values, BLOCK, n);
+    let mut h = BLOCK;
+    while h < n {
+        if stopped() {
+            return false;
+        }
+        butterflies(values, h, 2 * h);
+        h *= 2;
+    }
     let scale = 1.0 / n as f64;
     for v in values.iter_mut() {
         *v *= scale;
     }
+    true
 }
 
 /// The butterflies of spans `h = from, 2 from, ..` below `to` over `values`.
@@ -165,7 +183,7 @@ mod tests {
     fn transform_is_the_walsh_sum() {
         let y = values(64, 1);
         let mut fast = y.clone();
-        transform(&mut fast);
+        transform(&mut fast, &|| false);
         for (k, &c) in fast.iter().enumerate() {
             let direct: f64 = y
                 .iter()
@@ -181,7 +199,7 @@ mod tests {
     fn blocked_transform_equals_the_plain_one() {
         let y = values(4 * BLOCK, 5);
         let mut blocked = y.clone();
-        transform(&mut blocked);
+        transform(&mut blocked, &|| false);
         let mut plain = y;
         butterflies(&mut plain, 1, 4 * BLOCK);
         for (k, (&a, &b)) in blocked.iter().zip(&plain).enumerate() {
@@ -193,10 +211,10 @@ mod tests {
     fn doubling_gives_the_transform_of_all_values() {
         let y = values(256, 2);
         let mut walsh = WalshCoefficients::new(y[..64].to_vec());
-        walsh.double(&mut y[64..128].to_vec());
-        walsh.double(&mut y[128..].to_vec());
+        assert!(walsh.double(&mut y[64..128].to_vec(), &|| false));
+        assert!(walsh.double(&mut y[128..].to_vec(), &|| false));
         let mut all = y.clone();
-        transform(&mut all);
+        transform(&mut all, &|| false);
         for (&c, &k) in walsh.at_slot.iter().zip(&walsh.kappa) {
             let exact = all[k as usize];
             assert!((c - exact).abs() < 1e-14, "k {k}: {c} vs {exact}");
@@ -207,7 +225,7 @@ mod tests {
     fn the_map_is_a_permutation_that_keeps_the_mean_first_and_puts_larger_first() {
         let y = values(1024, 3);
         let mut walsh = WalshCoefficients::new(y[..512].to_vec());
-        walsh.double(&mut y[512..].to_vec());
+        assert!(walsh.double(&mut y[512..].to_vec(), &|| false));
         let mut seen = walsh.kappa.clone();
         seen.sort_unstable();
         assert!(seen.iter().enumerate().all(|(p, &k)| k as usize == p));
@@ -265,7 +283,7 @@ mod tests {
         for (stage, (sum, kappa)) in reference.iter().enumerate() {
             if stage > 0 {
                 let n = walsh.len();
-                walsh.double(&mut y[n..2 * n].to_vec());
+                assert!(walsh.double(&mut y[n..2 * n].to_vec(), &|| false));
             }
             let ours = walsh.lagged_sum();
             assert!(

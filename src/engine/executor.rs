@@ -41,8 +41,15 @@ pub(crate) trait ChunkJob: Sync {
     /// A fresh scratch space.
     fn scratch(&self) -> Result<Self::Scratch>;
 
-    /// Evaluates chunk `chunk`.
-    fn run(&self, scratch: &mut Self::Scratch, chunk: u64) -> Result<Self::Output>;
+    /// Evaluates chunk `chunk`; `None` when a limit was reached midway and the chunk's work
+    /// was dropped (a long chunk checks `limits` between its blocks, so that a run stops
+    /// within a block of work whatever its chunks cost; the chunk then counts as not started).
+    fn run(
+        &self,
+        scratch: &mut Self::Scratch,
+        chunk: u64,
+        limits: &Limits,
+    ) -> Result<Option<Self::Output>>;
 
     /// Where a chunk starts, as `(replicate, first sample index)` (an iteration, stratum or
     /// pass in place of the replicate where the method has those): named by the error of a
@@ -180,7 +187,7 @@ impl Executor {
             if limits.reached().is_some() {
                 return Ok(None);
             }
-            guarded(job.origin(chunk), || job.run(scratch, chunk)).map(Some)
+            guarded(job.origin(chunk), || job.run(scratch, chunk, limits))
         };
         if self.threads == 1 {
             let mut scratch = job.scratch()?;
@@ -342,10 +349,10 @@ mod tests {
             Ok(Vec::new())
         }
 
-        fn run(&self, scratch: &mut Vec<u64>, chunk: u64) -> Result<u64> {
+        fn run(&self, scratch: &mut Vec<u64>, chunk: u64, _: &Limits) -> Result<Option<u64>> {
             assert!(Some(chunk) != self.bad, "chunk {chunk} is bad");
             scratch.push(chunk);
-            Ok(chunk * chunk)
+            Ok(Some(chunk * chunk))
         }
 
         fn origin(&self, chunk: u64) -> (u64, u64) {

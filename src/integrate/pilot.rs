@@ -88,7 +88,12 @@ impl ChunkJob for PilotChunks<'_> {
         })
     }
 
-    fn run(&self, work: &mut Scratch, chunk: u64) -> Result<CovarianceAccumulator> {
+    fn run(
+        &self,
+        work: &mut Scratch,
+        chunk: u64,
+        _: &Limits,
+    ) -> Result<Option<CovarianceAccumulator>> {
         let start = chunk * CHUNK;
         let len = (self.points - start).min(CHUNK) as usize;
         work.points.set_len(len);
@@ -99,7 +104,7 @@ impl ChunkJob for PilotChunks<'_> {
             self.pilot.row(&work.u, &mut work.x, &mut work.row);
             summary.push(&work.row)?;
         }
-        Ok(summary)
+        Ok(Some(summary))
     }
 
     fn origin(&self, chunk: u64) -> (u64, u64) {

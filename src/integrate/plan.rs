@@ -556,7 +556,12 @@ impl ChunkJob for Chunks<'_> {
         })
     }
 
-    fn run(&self, work: &mut Workspace, chunk: u64) -> Result<ChunkResult> {
+    fn run(
+        &self,
+        work: &mut Workspace,
+        chunk: u64,
+        limits: &Limits,
+    ) -> Result<Option<ChunkResult>> {
         let (replicate, first, end) = self.plan.chunk_range(chunk);
         let base = replicate * self.plan.stride;
         let m = self.estimator.outputs();
@@ -567,6 +572,9 @@ impl ChunkJob for Chunks<'_> {
         let mut first_non_finite = None;
         let mut start = first;
         while start < end {
+            if start > first && limits.reached().is_some() {
+                return Ok(None);
+            }
             let len = (end - start).min(BLOCK) as usize;
             work.points.set_len(len);
             self.sampler.fill(base + start, &mut work.points)?;
@@ -594,11 +602,11 @@ impl ChunkJob for Chunks<'_> {
             }
             start += len as u64;
         }
-        Ok(ChunkResult {
+        Ok(Some(ChunkResult {
             accumulators,
             covariance,
             first_non_finite,
-        })
+        }))
     }
 
     fn origin(&self, chunk: u64) -> (u64, u64) {

@@ -415,15 +415,15 @@ where
         Points::new(self.plan.integrand.dims(), BLOCK)
     }
 
-    fn run(&self, block: &mut Points, item: u64) -> Result<f64> {
+    fn run(&self, block: &mut Points, item: u64, _: &Limits) -> Result<Option<f64>> {
         let (k, r) = self.order[item as usize];
         let n = self.sizes[k];
         let integrand = self.plan.integrand;
         if r == 0 {
-            pass_error(&self.first_passes[k], integrand, n, r, block)
+            pass_error(&self.first_passes[k], integrand, n, r, block).map(Some)
         } else {
             let sampler = self.plan.build(self.factory, n, r)?;
-            pass_error(&sampler, integrand, n, r, block)
+            pass_error(&sampler, integrand, n, r, block).map(Some)
         }
     }
 

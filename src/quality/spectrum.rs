@@ -529,10 +529,10 @@ impl ChunkJob for Steps<'_> {
         Ok(Scratch::new(self.ys.len()))
     }
 
-    fn run(&self, scratch: &mut Scratch, ky: u64) -> Result<Vec<f64>> {
+    fn run(&self, scratch: &mut Scratch, ky: u64, _: &Limits) -> Result<Option<Vec<f64>>> {
         let mut row = vec![0.0; 2 * self.max_frequency + 1];
         self.row(ky as usize, scratch, &mut row);
-        Ok(row)
+        Ok(Some(row))
     }
 
     fn origin(&self, ky: u64) -> (u64, u64) {

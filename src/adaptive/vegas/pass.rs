@@ -16,8 +16,11 @@ use crate::sampler::Sampler;
 use crate::stats::StopReason;
 use crate::{Points, Result};
 
-/// Points drawn from the sampler at once.
+/// Points drawn from the sampler at once, at most.
 const BLOCK: usize = 512;
+/// Coordinates drawn at once, at most (about): a block of a high dimension is a few points,
+/// so that limits are checked every few milliseconds whatever the dimension.
+const BLOCK_COORDINATES: usize = 1 << 16;
 /// Chunk outputs (each with a copy of the grid's training data) held in memory at once.
 const WINDOW: u64 = 64;
 
@@ -122,10 +125,15 @@ impl<I: Integrand> ChunkJob for Pass<'_, I> {
         Scratch::new(self)
     }
 
-    fn run(&self, scratch: &mut Scratch, chunk: u64) -> Result<ChunkOutput> {
+    fn run(
+        &self,
+        scratch: &mut Scratch,
+        chunk: u64,
+        limits: &Limits,
+    ) -> Result<Option<ChunkOutput>> {
         let mut out = ChunkOutput::new(self);
-        scratch.run_chunk(self, chunk as usize, &mut out)?;
-        Ok(out)
+        let finished = scratch.run_chunk(self, chunk as usize, &mut out, limits)?;
+        Ok(finished.then_some(out))
     }
 
     fn origin(&self, chunk: u64) -> (u64, u64) {
@@ -208,9 +216,9 @@ impl ChunkOutput {
         }
     }
 
-    /// Clears the results for chunk `start`.
+    /// Sets the results of a new output (its training data zero) to those of chunk `start`
+    /// before any point.
     fn reset(&mut self, start: &ChunkStart) {
-        self.training.fill(0.0);
         self.start_cube = start.cube;
         self.head = None;
         self.head_ends = false;
@@ -244,6 +252,8 @@ impl ChunkOutput {
 
 /// Per-worker buffers, allocated once per iteration.
 pub(super) struct Scratch {
+    /// Points per block.
+    block: usize,
     points: Points,
     /// The block's points, one row per point.
     rows: Vec<f64>,
@@ -259,9 +269,11 @@ pub(super) struct Scratch {
 impl Scratch {
     fn new<I: Integrand>(pass: &Pass<I>) -> Result<Scratch> {
         let dims = pass.grid.dims();
+        let block = (BLOCK_COORDINATES / dims.max(1)).clamp(1, BLOCK);
         Ok(Scratch {
-            points: Points::new(dims, BLOCK)?,
-            rows: vec![0.0; dims * BLOCK],
+            block,
+            points: Points::new(dims, block)?,
+            rows: vec![0.0; dims * block],
             x: vec![0.0; dims],
             cells: vec![0; dims],
             coords: vec![0; dims],
@@ -308,7 +320,8 @@ impl Scratch {
         pass: &Pass<I>,
         chunk: usize,
         out: &mut ChunkOutput,
-    ) -> Result<()> {
+        limits: &Limits,
+    ) -> Result<bool> {
         let start = pass.chunks[chunk];
         let end = pass.chunks.get(chunk + 1).map_or(pass.total, |c| c.index);
         let dims = self.x.len();
@@ -328,9 +341,13 @@ impl Scratch {
         let m = pass.f.outputs();
         let mut sums = CubeSums::new(m);
 
+        let block = self.block as u64;
         let mut index = start.index;
         while index < end {
-            let len = (end - index).min(BLOCK as u64) as usize;
+            if limits.reached().is_some() {
+                return Ok(false);
+            }
+            let len = (end - index).min(block) as usize;
             self.points.set_len(len);
             pass.sampler.fill(pass.base + index, &mut self.points)?;
             for d in 0..dims {
@@ -392,6 +409,6 @@ impl Scratch {
         } else {
             out.tail = Some(sums.moments());
         }
-        Ok(())
+        Ok(true)
     }
 }
