@@ -182,3 +182,33 @@ fn a_cancelled_run_stops_with_the_reason() {
         "{err}"
     );
 }
+
+/// A tolerance out of reach: the run says why it stopped with the same warning as every
+/// other runner (it gave none).
+#[test]
+fn an_unmet_tolerance_is_a_warning() {
+    use mcint::stats::{StopReason, Warning};
+    let e = SobolG::new(
+        |x: &[f64]| (9.0 * x[0]).sin() * x[1],
+        UniformBox::unit(2).unwrap(),
+    )
+    .tolerance(
+        Tolerance::absolute(1e-9)
+            .unwrap()
+            .max_evaluations(1 << 14)
+            .unwrap(),
+    )
+    .run()
+    .unwrap();
+    assert_eq!(
+        (e.stop, e.converged),
+        (StopReason::MaxEvaluations, Some(false))
+    );
+    assert!(
+        e.warnings.contains(&Warning::ToleranceNotMet {
+            stop: StopReason::MaxEvaluations
+        }),
+        "{:?}",
+        e.warnings
+    );
+}

@@ -154,3 +154,34 @@ fn sampler_errors_name_the_coordinates_an_estimator_draws() {
     ];
     assert_one_line_error("integrate", &args, "12 coordinates a point for --dims 6");
 }
+
+/// `--time-limit` takes a positive number of seconds; the checkpoint's step flags need
+/// `--checkpoint` (they were silently ignored without it).
+#[test]
+fn time_limits_and_checkpoint_steps_are_checked() {
+    let integrate = ["--genz", "gaussian", "--dims", "2"];
+    for bad in ["0", "-1", "nan", "soon"] {
+        assert_one_line_error(
+            "integrate",
+            &[&integrate[..], &["--time-limit", bad]].concat(),
+            "--time-limit",
+        );
+    }
+    for flag in ["--save-every", "--stop-after"] {
+        assert_one_line_error(
+            "integrate",
+            &[&integrate[..], &[flag, "4"]].concat(),
+            "applies to a run with --checkpoint",
+        );
+    }
+    // A limit too long for the clock is no limit.
+    let out = run(
+        "integrate",
+        &[&integrate[..], &["--n", "64", "--time-limit", "1e300"]].concat(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

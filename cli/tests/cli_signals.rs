@@ -1,11 +1,12 @@
 //! `integrate` cancelled by SIGINT or SIGTERM: it stops after its current chunks, prints what
 //! it has (the JSON says `"stop": "cancelled"`) and exits with status 130; with
 //! `--checkpoint` it saves first, and the run resumed later gives the uninterrupted bits.
+//! `--time-limit` stops every program that integrates the same way, with status 0.
 #![cfg(target_os = "linux")]
 
 mod common;
 
-use common::{example, run, stderr, stdout};
+use common::{example, output_or_hang, run, stderr, stdout};
 use mcint::PartialRun;
 use serde_json::Value;
 use std::process::{Child, Command, Stdio};
@@ -157,4 +158,156 @@ fn sigterm_saves_the_checkpoint_which_resumes_to_the_uninterrupted_bits() {
         (v["estimate"].clone(), v["std_error"].clone())
     };
     assert_eq!(answer(&stdout(&resumed)), answer(&stdout(&whole)));
+}
+
+/// `integrate METHOD` with an unreachable tolerance (or a budget of days) and `--time-limit`.
+fn timed(method: &str, extra: &[&str]) -> std::process::Output {
+    let mut command = Command::new(example("integrate"));
+    command.args(["--integrand", "gaussian", "--dims", "3", "--method", method]);
+    command.args(extra).args(["--time-limit", "0.5"]);
+    output_or_hang(&mut command)
+}
+
+/// Every method stops at `--time-limit` with its last whole stage, and says so in JSON
+/// (`"stop": "time limit"`) and in text; a run that had no whole stage by then is a one-line
+/// error naming the limit. Either way the process ends (the hang guard kills it otherwise:
+/// these runs would take days).
+#[test]
+fn time_limit_stops_every_method_and_the_report_says_so() {
+    let tolerance = ["--tol-rel", "1e-15", "--max-evals", "1e15"];
+    let cases: [(&str, Vec<&str>); 7] = [
+        ("plain", vec!["--n", "1e15"]),
+        ("rqmc", tolerance.to_vec()),
+        ("vegas", [&tolerance[..], &["--n", "1000"]].concat()),
+        ("vegas-plus", [&tolerance[..], &["--n", "1000"]].concat()),
+        ("miser", [&tolerance[..], &["--n", "1024"]].concat()),
+        ("two-stage", vec!["--n", "1e14"]),
+        ("sobol-g", tolerance.to_vec()),
+    ];
+    for (method, args) in cases {
+        let json = timed(method, &[&args[..], &["--json"]].concat());
+        let text = timed(method, &args);
+        for out in [&json, &text] {
+            if out.status.code() == Some(2) {
+                // A busy machine gave the first stage no time.
+                assert!(
+                    stderr(out).contains("stopped (TimeLimit)"),
+                    "{method}: {}",
+                    stderr(out)
+                );
+                continue;
+            }
+            assert!(out.status.success(), "{method}: {}", stderr(out));
+            assert!(
+                stderr(out).contains("time limit"),
+                "{method}: {}",
+                stderr(out)
+            );
+        }
+        if json.status.success() {
+            let v: Value = serde_json::from_str(&stdout(&json)).unwrap();
+            assert_eq!(v["stop"], "time limit", "{method}: {v}");
+            assert!(v["estimate"].as_f64().unwrap().is_finite(), "{method}: {v}");
+        }
+        if text.status.success() {
+            let report = stdout(&text);
+            assert!(
+                report.contains("time limit"),
+                "{method} does not say why it stopped: {report}"
+            );
+        }
+    }
+}
+
+/// A checkpointed run stopped by `--time-limit` saves its chunks and says so; run again
+/// (without the limit) it finishes with the bits of an uninterrupted run.
+#[test]
+fn time_limit_leaves_a_checkpoint_that_resumes_to_the_uninterrupted_bits() {
+    let dir = common::scratch_dir("time-limit-checkpoint");
+    let path = dir.join("run.json");
+    let path = path.to_str().unwrap();
+    let args = [
+        "--integrand",
+        "oscillatory",
+        "--dims",
+        "4",
+        "--n",
+        "4e7",
+        "--json",
+    ];
+    let limited = output_or_hang(Command::new(example("integrate")).args(args).args([
+        "--checkpoint",
+        path,
+        "--save-every",
+        "4",
+        "--time-limit",
+        "0.3",
+    ]));
+    assert!(limited.status.success(), "{}", stderr(&limited));
+    assert!(
+        stderr(&limited).contains("time limit reached"),
+        "{}",
+        stderr(&limited)
+    );
+    let saved: PartialRun = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    assert!(!saved.is_complete());
+    let resumed = run("integrate", &[&args[..], &["--checkpoint", path]].concat());
+    let whole = run("integrate", &args);
+    let estimate = |out: &std::process::Output| {
+        let v: Value = serde_json::from_str(&stdout(out)).unwrap();
+        (
+            v["estimate"].clone(),
+            v["std_error"].clone(),
+            v["evaluations"].clone(),
+        )
+    };
+    assert_eq!(estimate(&resumed), estimate(&whole));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The other programs that integrate take `--time-limit` too, and say the stop.
+#[test]
+fn time_limit_stops_the_other_programs() {
+    let cases: [(&str, &[&str], &str); 3] = [
+        (
+            "asian_option",
+            &[
+                "--tol-rel",
+                "1e-9",
+                "--max-evals",
+                "1e15",
+                "--n",
+                "256",
+                "--json",
+            ],
+            "\"stop\":\"time limit\"",
+        ),
+        (
+            "sensitivity",
+            &[
+                "--function",
+                "ishigami",
+                "--n",
+                "4294967296",
+                "--replicates",
+                "2",
+                "--json",
+            ],
+            "error: the run stopped (TimeLimit)",
+        ),
+        (
+            "variance_reduction",
+            &["--n", "1e13"],
+            "stopped (time limit)",
+        ),
+    ];
+    for (name, args, needle) in cases {
+        let out = output_or_hang(
+            Command::new(example(name))
+                .args(args)
+                .args(["--time-limit", "0.5"]),
+        );
+        let all = format!("{}{}", stdout(&out), stderr(&out));
+        assert!(all.contains(needle), "{name}: {all}");
+    }
 }

@@ -254,12 +254,15 @@ impl<E: Estimator> SobolG<E> {
             let bound = estimate.error_bound.unwrap_or(f64::INFINITY);
             let met = bound <= tolerance.target(estimate.mean);
             estimate.converged = Some(met);
-            if met || end * 2 > limit {
-                estimate.stop = if met {
-                    StopReason::ToleranceMet
-                } else {
-                    StopReason::MaxEvaluations
-                };
+            if met {
+                estimate.stop = StopReason::ToleranceMet;
+                return estimate.checked();
+            }
+            if end * 2 > limit {
+                estimate.stop = StopReason::MaxEvaluations;
+                estimate.warn(Warning::ToleranceNotMet {
+                    stop: StopReason::MaxEvaluations,
+                });
                 return estimate.checked();
             }
             best = Some(estimate);
@@ -290,6 +293,7 @@ fn finish_early(best: Option<Estimate>, reason: StopReason, evaluations: u64) ->
         Some(mut estimate) => {
             estimate.stop = reason;
             estimate.evaluations = evaluations;
+            estimate.warn(Warning::ToleranceNotMet { stop: reason });
             estimate.checked()
         }
         None => Err(Error::Interrupted {

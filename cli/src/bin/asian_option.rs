@@ -5,7 +5,8 @@
 //! cargo run --release --bin asian_option -- [--dates 64] [--s0 100 --strike 100 --rate 0.05
 //!     --sigma 0.2 --maturity 1] [--payoff arithmetic|geometric] [--construction standard|bridge|pca]
 //!     [--sampler sobol|independent|lattice|halton] [--control geometric|none] [--tol-rel X]
-//!     [--max-evals N] [--n N --replicates R] [--seed S] [--threads T] [--json] [--table]
+//!     [--max-evals N] [--n N --replicates R] [--seed S] [--threads T] [--time-limit SECONDS]
+//!     [--json] [--table]
 //! ```
 //!
 //! The price is `E[e^{-rT} max(A - K, 0)]` with `A` the arithmetic (or geometric) average of
@@ -17,7 +18,9 @@
 //! half-width is at most that fraction of the price (or at `--max-evals`, default 2^30);
 //! otherwise it takes `--n` points per replicate (default 4096) and `--replicates` (default 16,
 //! 1 for independent points). `--json` prints `price`, `std_error`, `evaluations`,
-//! `converged` and `exact` (the closed form for the geometric payoff, `null` otherwise).
+//! `converged`, `stop` and `exact` (the closed form for the geometric payoff, `null`
+//! otherwise). `--time-limit` stops the run (every run of `--table`, counted from the start)
+//! with the work done, and the report says so.
 //!
 //! `--table` prints, for every construction and sampler, with and without the control, the
 //! evaluations a run needs to reach `--tol-rel` (default 1e-4), each limited to `--max-evals`
@@ -31,7 +34,7 @@ mod support;
 use asian::Contract;
 use mcint::measure::Construction;
 use mcint::sampler::{SamplerKind, Scramble};
-use mcint::stats::Tolerance;
+use mcint::stats::{StopReason, Tolerance};
 use mcint::{Estimate, Integrator};
 use std::time::Instant;
 use support::Args;
@@ -58,6 +61,7 @@ const SPEC: support::Spec = &[
     ),
     support::TOL_REL,
     support::MAX_EVALS,
+    support::TIME_LIMIT,
     ("n", true, "points per replicate (default 4096)"),
     support::REPLICATES,
     support::SEED,
@@ -93,6 +97,7 @@ struct Budget {
     replicates: Option<u64>,
     seed: u64,
     threads: Option<usize>,
+    deadline: Option<std::time::Instant>,
 }
 
 fn run() -> Result<(), String> {
@@ -164,12 +169,13 @@ fn run() -> Result<(), String> {
         replicates: args.get("replicates", "a whole number >= 1")?,
         seed: args.get("seed", "a whole number")?.unwrap_or(0),
         threads: args.get("threads", "a whole number of threads >= 1")?,
+        deadline: args.deadline()?,
     };
     if table {
         return print_table(&contract, &budget);
     }
     let started = Instant::now();
-    let estimate = price(&contract, choice, &budget)?;
+    let estimate = price(&contract, choice, &budget).map_err(|e| e.to_string())?;
     let seconds = started.elapsed().as_secs_f64();
     for warning in &estimate.warnings {
         note!("warning: {warning}");
@@ -182,6 +188,7 @@ fn run() -> Result<(), String> {
             "interval": estimate.confidence_interval(0.95).ok().flatten().map(|(lo, hi)| [lo, hi]),
             "evaluations": estimate.evaluations,
             "converged": estimate.converged,
+            "stop": support::stop_name(estimate.stop),
             "exact": exact,
             "payoff": if choice.arithmetic { "arithmetic" } else { "geometric" },
             "construction": construction_name(choice.construction),
@@ -226,6 +233,9 @@ fn run() -> Result<(), String> {
         say!("exact       {exact:.10} (closed form)");
     }
     say!("evaluations {}", estimate.evaluations);
+    if estimate.stop == StopReason::TimeLimit {
+        say!("stopped     early (time limit)");
+    }
     if let Some(converged) = estimate.converged {
         say!("tolerance   {}", if converged { "met" } else { "NOT met" });
     }
@@ -301,10 +311,8 @@ fn construction_name(c: Construction) -> &'static str {
 }
 
 /// The price by one run of the Integrator.
-fn price(contract: &Contract, choice: Choice, budget: &Budget) -> Result<Estimate, String> {
-    let paths = contract
-        .paths(choice.construction)
-        .map_err(|e| e.to_string())?;
+fn price(contract: &Contract, choice: Choice, budget: &Budget) -> mcint::Result<Estimate> {
+    let paths = contract.paths(choice.construction)?;
     let exact_geometric = contract.geometric_price();
     let c = *contract;
     let payoff = move |prices: &[f64]| {
@@ -325,8 +333,7 @@ fn price(contract: &Contract, choice: Choice, budget: &Budget) -> Result<Estimat
     let n = budget.n.unwrap_or(4096);
     let sampler = choice
         .sampler
-        .build_with(contract.dates, n, scramble, None, budget.seed)
-        .map_err(|e| e.to_string())?;
+        .build_with(contract.dates, n, scramble, None, budget.seed)?;
     let default_replicates = mcint::Method::Rqmc.default_replicates(&*sampler);
     let mut integrator = Integrator::expectation(payoff, paths)
         .sampler(sampler)
@@ -343,7 +350,10 @@ fn price(contract: &Contract, choice: Choice, budget: &Budget) -> Result<Estimat
     if let Some(t) = budget.tolerance {
         integrator = integrator.tolerance(t);
     }
-    integrator.run().map_err(|e| e.to_string())
+    if let Some(deadline) = budget.deadline {
+        integrator = integrator.deadline(deadline);
+    }
+    integrator.run()
 }
 
 /// Evaluations to the tolerance for every construction and sampler, with and without the
@@ -384,11 +394,12 @@ fn print_table(contract: &Contract, budget: &Budget) -> Result<(), String> {
                     sampler,
                     control,
                 };
-                let e = price(contract, choice, budget)?;
-                cells.push(if e.converged == Some(true) {
-                    e.evaluations.to_string()
-                } else {
-                    format!("> {}", tolerance.evaluation_limit())
+                cells.push(match price(contract, choice, budget) {
+                    Ok(e) if e.converged == Some(true) => e.evaluations.to_string(),
+                    Ok(e) if e.stop == StopReason::TimeLimit => "time limit".to_string(),
+                    Ok(_) => format!("> {}", tolerance.evaluation_limit()),
+                    Err(mcint::Error::Interrupted { .. }) => "time limit".to_string(),
+                    Err(e) => return Err(e.to_string()),
                 });
             }
             say!(

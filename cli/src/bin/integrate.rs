@@ -84,7 +84,7 @@ use integrands::{INTEGRAND_NAMES, Named};
 use mcint::Method;
 use mcint::estimator::Estimator;
 use mcint::sampler::{Jittered, PassKind, SamplerKind, Scramble};
-use mcint::stats::Tolerance;
+use mcint::stats::{StopReason, Tolerance};
 use mcint::testfns::TestFunction;
 use mcint::{CancelToken, Estimate, Integrator};
 use methods::{AdaptiveRun, METHOD_NAMES, parse_method};
@@ -92,9 +92,8 @@ use std::io::IsTerminal;
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
-use support::Args;
 use support::output::{note, say};
-use vector_run::stop_name;
+use support::{Args, stop_name};
 
 /// Cancelled on SIGINT or SIGTERM: the run stops after its current chunks and reports what it
 /// has (a checkpoint is saved first), and the process exits with status 130.
@@ -145,6 +144,7 @@ const SPEC: support::Spec = &[
     support::TOL_ABS,
     support::TOL_REL,
     support::MAX_EVALS,
+    support::TIME_LIMIT,
     (
         "ratio",
         true,
@@ -218,6 +218,7 @@ fn progress_bar() -> Option<impl Fn(u64, u64) + Send + Sync + 'static> {
 
 fn run() -> Result<(), String> {
     let args = Args::parse(ABOUT, SPEC)?;
+    let deadline = args.deadline()?;
     // Lives until the run ends: MPI stays up as long as it.
     let ranks = ranks::Ranks::new(args.has("mpi"))?;
     let spread = ranks.spread;
@@ -319,7 +320,7 @@ fn run() -> Result<(), String> {
     let replicates_flag: Option<u64> = args.get("replicates", "a whole number >= 1")?;
     let threads: Option<usize> = args.get("threads", "a whole number of threads >= 1")?;
     let default_replicates = method.default_replicates(&*sampler);
-    let checkpoint = checkpoint_settings(&args, tolerance.is_some(), spread)?;
+    let checkpoint = checkpoint_settings(&args, tolerance.is_some(), spread, deadline)?;
     let started = Instant::now();
     if vector {
         let label = functions
@@ -342,6 +343,7 @@ fn run() -> Result<(), String> {
             label,
             checkpoint,
             cancel: cancel_token(),
+            deadline,
             spread,
         })?
         else {
@@ -394,6 +396,7 @@ fn run() -> Result<(), String> {
             seed,
             threads,
             cancel: cancel_token(),
+            deadline,
             spread,
         }
         .run()?
@@ -425,6 +428,9 @@ fn run() -> Result<(), String> {
         }
         if let Some(tolerance) = tolerance {
             integrator = integrator.tolerance(tolerance);
+        }
+        if let Some(deadline) = deadline {
+            integrator = integrator.deadline(deadline);
         }
         match checkpoint {
             None => integrator.run().map_err(|e| e.to_string())?,
@@ -468,8 +474,17 @@ fn checkpoint_settings(
     args: &Args,
     to_tolerance: bool,
     spread: ranks::Spread,
+    deadline: Option<std::time::Instant>,
 ) -> Result<Option<checkpoint::Settings>, String> {
     let Some(path) = args.get::<String>("checkpoint", "a file path")? else {
+        for flag in ["save-every", "stop-after"] {
+            if args.get::<String>(flag, "")?.is_some() {
+                return Err(format!(
+                    "--{flag} applies to a run with --checkpoint FILE (give one, or leave out \
+                     --{flag})"
+                ));
+            }
+        }
         return Ok(None);
     };
     if to_tolerance {
@@ -489,6 +504,7 @@ fn checkpoint_settings(
         path: path.into(),
         save_every,
         stop_after,
+        deadline,
         spread,
     }))
 }
@@ -640,6 +656,14 @@ impl Report {
                 );
                 say!("|error|     {error:.3e}");
             }
+        }
+        if e.converged.is_none() && matches!(e.stop, StopReason::TimeLimit | StopReason::Cancelled)
+        {
+            say!(
+                "stopped     early ({}) after {} evaluations",
+                stop_name(e.stop),
+                e.evaluations
+            );
         }
         if let Some(converged) = e.converged {
             say!(

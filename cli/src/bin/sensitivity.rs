@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! cargo run --release --bin sensitivity -- --function ishigami|sobol-g [--dims D]
-//!     [--n N] [--replicates R] [--seed S] [--json]
+//!     [--n N] [--replicates R] [--seed S] [--time-limit SECONDS] [--json]
 //! ```
 //! `ishigami` is `sin x1 + 7 sin^2 x2 + 0.1 x3^4 sin x1` on `[-pi, pi]^3`; `sobol-g` is the
 //! g-function on `[0, 1]^D` (default `D` = 6, at most 126) with the weights of Saltelli et al.
@@ -20,7 +20,9 @@
 //! `--json` prints one object: `function`, `dims`, `parameters`, `n` (points per replicate),
 //! `replicates`, `seed`, `evaluations`, `model_evaluations`, `variance`, and `first_order`
 //! and `total`, arrays with one `{"estimate", "std_error", "exact"}` object per input; and
-//! `warnings`, as `integrate --json` has them. Warnings also go to stderr.
+//! `stop` (`budget`, or `time limit` when `--time-limit` stopped the run with the whole
+//! replicates done by then) and `warnings`, as `integrate --json` has them. Warnings also go
+//! to stderr.
 
 #[path = "support/pick_freeze.rs"]
 mod pick_freeze;
@@ -31,7 +33,7 @@ mod support;
 
 use mcint::pdf::UniformBox;
 use mcint::sampler::{Scramble, Sobol};
-use mcint::stats::{Derived, VectorEstimate, Warning};
+use mcint::stats::{Derived, StopReason, VectorEstimate, Warning};
 use mcint::{Estimate, Integrator};
 use pick_freeze::{MAX_INPUTS, PickFreeze};
 use sensitivity_models::Model;
@@ -48,6 +50,7 @@ const SPEC: support::Spec = &[
     ),
     support::REPLICATES,
     support::SEED,
+    support::TIME_LIMIT,
     support::JSON,
 ];
 
@@ -101,6 +104,7 @@ struct Settings {
     n: u64,
     replicates: u64,
     seed: u64,
+    deadline: Option<std::time::Instant>,
 }
 
 impl Settings {
@@ -155,6 +159,7 @@ impl Settings {
             n,
             replicates,
             seed,
+            deadline: args.deadline()?,
         })
     }
 }
@@ -170,6 +175,7 @@ struct Report {
     settings: Settings,
     design: PickFreeze,
     evaluations: u64,
+    stop: StopReason,
     variance: Row,
     first_order: Vec<Row>,
     total: Vec<Row>,
@@ -184,7 +190,7 @@ fn analyse(settings: Settings) -> Result<Report, String> {
     let model = settings.model.clone();
     // Over the unit cube: each contribution is the integrand itself (no box volume), and the
     // model maps the point into its own input box.
-    let run = Integrator::over_box_vector(
+    let mut integrator = Integrator::over_box_vector(
         design.outputs(),
         design.integrand(move |u: &[f64]| model.eval_unit(u)),
         UniformBox::unit(design.point_dims()).map_err(|e| e.to_string())?,
@@ -195,9 +201,11 @@ fn analyse(settings: Settings) -> Result<Report, String> {
     )
     .samples(settings.n)
     .replicates(settings.replicates)
-    .seed(settings.seed)
-    .run()
-    .map_err(|e| e.to_string())?;
+    .seed(settings.seed);
+    if let Some(deadline) = settings.deadline {
+        integrator = integrator.deadline(deadline);
+    }
+    let run = integrator.run().map_err(|e| e.to_string())?;
     let exact = settings.model.exact();
     let row = |quantity: Derived, exact: f64| -> Result<Row, String> {
         let e: Estimate = run.derived(&quantity).map_err(|e| e.to_string())?;
@@ -218,6 +226,7 @@ fn analyse(settings: Settings) -> Result<Report, String> {
             .map(|i| row(design.total(i), exact.total[i]))
             .collect::<Result<_, _>>()?,
         evaluations: run.evaluations,
+        stop: run.stop,
         warnings: distinct_warnings(&run),
         settings,
         design,
@@ -265,6 +274,7 @@ impl Report {
             "seed": s.seed,
             "evaluations": self.evaluations,
             "model_evaluations": self.model_evaluations(),
+            "stop": support::stop_name(self.stop),
             "variance": row(&self.variance),
             "first_order": self.first_order.iter().map(row).collect::<Vec<_>>(),
             "total": self.total.iter().map(row).collect::<Vec<_>>(),
@@ -303,6 +313,12 @@ impl Report {
             self.model_evaluations(),
             self.design.model_runs_per_point()
         );
+        if self.stop != StopReason::Budget {
+            say!(
+                "stopped     early ({}): the indices use the whole replicates done by then",
+                support::stop_name(self.stop)
+            );
+        }
         let v = &self.variance;
         say!(
             "variance    {:.6} (std error {}, exact {:.6})",

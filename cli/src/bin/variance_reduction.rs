@@ -4,8 +4,11 @@
 //! work.
 //!
 //! ```text
-//! cargo run --release --bin variance_reduction [-- --n N] [--seed S]
+//! cargo run --release --bin variance_reduction [-- --n N] [--seed S] [--time-limit SECONDS]
 //! ```
+//! With `--time-limit` every run stops at that limit (counted from the start) with the
+//! evaluations done, which its warning names; the rows not reached are left out and the
+//! table says where it stopped.
 //! 1. Importance sampling (A.19, Figure A.2, A.23-A.24): a Gaussian bump sampled uniformly,
 //!    from a density of similar shape, from one of the wrong shape (more variance than
 //!    uniform), and from the density proportional to it (zero variance).
@@ -33,7 +36,11 @@ use support::output::{note, say};
 /// What `--help` says the program does.
 const ABOUT: &str = "Jarosz's variance-reduction scenarios: every technique's estimate, standard error and variance per evaluation.";
 
-const SPEC: support::Spec = &[("n", true, "evaluations per technique"), support::SEED];
+const SPEC: support::Spec = &[
+    ("n", true, "evaluations per technique"),
+    support::SEED,
+    support::TIME_LIMIT,
+];
 
 fn main() {
     support::finish(run());
@@ -50,17 +57,32 @@ fn run() -> Result<(), String> {
         ));
     }
     let seed: u64 = args.get("seed", "a whole number")?.unwrap_or(1);
-    let table = Table { n, seed };
-    importance_sampling(&table).map_err(|e| e.to_string())?;
-    product_and_mis(&table).map_err(|e| e.to_string())?;
-    control_variates(&table).map_err(|e| e.to_string())?;
-    Ok(())
+    let table = Table {
+        n,
+        seed,
+        deadline: args.deadline()?,
+    };
+    let all = importance_sampling(&table)
+        .and_then(|()| product_and_mis(&table))
+        .and_then(|()| control_variates(&table));
+    match all {
+        Err(mcint::Error::Interrupted { stop, .. }) => {
+            say!(
+                "\nstopped ({}): the rows not shown were not reached",
+                support::stop_name(stop)
+            );
+            Ok(())
+        }
+        other => other.map_err(|e| e.to_string()),
+    }
 }
 
-/// Prints rows of one scenario; every row uses `n` integrand evaluations and `seed`.
+/// Prints rows of one scenario; every row uses `n` integrand evaluations and `seed`, and
+/// stops by `deadline`.
 struct Table {
     n: u64,
     seed: u64,
+    deadline: Option<std::time::Instant>,
 }
 
 impl Table {
@@ -86,11 +108,20 @@ impl Table {
         estimator: impl Estimator + 'static,
         evaluations: u64,
     ) -> mcint::Result<(Estimate, u64)> {
-        let estimate = Integrator::new(estimator)
+        let estimate = self
+            .limited(Integrator::new(estimator))
             .samples(self.n / evaluations)
             .seed(self.seed)
             .run()?;
         Ok((estimate, evaluations))
+    }
+
+    /// `integrator`, stopping by the table's deadline.
+    fn limited<E>(&self, integrator: Integrator<E>) -> Integrator<E> {
+        match self.deadline {
+            Some(deadline) => integrator.deadline(deadline),
+            None => integrator,
+        }
     }
 
     fn row(&self, name: &str, (estimate, evaluations): (Estimate, u64), first: &mut Option<f64>) {
@@ -253,12 +284,13 @@ fn control_variates(t: &Table) -> mcint::Result<()> {
         if controls == 2 {
             runner = runner.control(|x: &[f64]| x[0] * x[0], 1.0 / 3.0);
         }
-        let estimate = runner.samples(t.n).seed(t.seed).run()?;
+        let estimate = t.limited(runner).samples(t.n).seed(t.seed).run()?;
         t.row(name, (estimate, 1), &mut first);
     }
     // Antithetic pairs are dependent: each pair is one replicate, so the error bar comes
     // from the spread of pair means.
-    let antithetic = Integrator::new(UniformEstimator::new(f, unit()?))
+    let antithetic = t
+        .limited(Integrator::new(UniformEstimator::new(f, unit()?)))
         .sampler(Antithetic::new(Independent::new(1, t.seed)?)?)
         .samples(2)
         .replicates(t.n / 2)

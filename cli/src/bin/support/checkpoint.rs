@@ -12,12 +12,14 @@
 //! refuses a corrupted one (its checksum), an impossible one (its counts) or one of another run
 //! (its fingerprint, which includes the integrand's label).
 
+use crate::support::output::note;
 use mcint::estimator::{Estimator, VectorEstimator};
 use mcint::{CancelToken, Estimate, Integrator, PartialRun, VectorEstimate, VectorRun};
 use std::fs::{File, OpenOptions, TryLockError};
 use std::io::{ErrorKind, Read, Write};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 /// The largest checkpoint read: a checkpoint holds one accumulator per replicate and the
 /// chunks finished out of order, far below this.
@@ -31,6 +33,8 @@ pub struct Settings {
     pub path: PathBuf,
     pub save_every: u64,
     pub stop_after: Option<u64>,
+    /// `--time-limit`: the instant the run stops by, leaving the checkpoint.
+    pub deadline: Option<std::time::Instant>,
     /// The ranks of an MPI job, whose rank 0 writes the checkpoint and says so (all ranks
     /// hold the same part), or this process alone.
     pub spread: crate::ranks::Spread,
@@ -152,20 +156,29 @@ pub fn run<R: Checkpointed>(
         })?;
         budget = budget.map(|left| left - step);
         save(settings, &part)?;
-        // Every rank stops after the same step, even if the signal reached some later.
-        if settings.spread.any(cancel.is_cancelled()) {
-            say(
-                settings,
-                format!(
-                    "checkpoint: cancelled; {} of {} chunks saved in '{}'; run the same command \
-                 again to continue",
-                    part.chunks_done(),
-                    part.total_chunks(),
-                    path.display()
-                ),
-            );
-            return Ok(None);
-        }
+        // Every rank stops after the same step, even if the signal (or the clock) reached
+        // some later.
+        let late = settings
+            .deadline
+            .is_some_and(|deadline| Instant::now() >= deadline);
+        let why = if settings.spread.any(cancel.is_cancelled()) {
+            "cancelled"
+        } else if settings.spread.any(late) {
+            "time limit reached"
+        } else {
+            continue;
+        };
+        say(
+            settings,
+            format!(
+                "checkpoint: {why}; {} of {} chunks saved in '{}'; run the same command again \
+                 to continue",
+                part.chunks_done(),
+                part.total_chunks(),
+                path.display()
+            ),
+        );
+        return Ok(None);
     }
     integrator
         .finish(&part)
@@ -191,7 +204,7 @@ fn read_bounded(path: &Path) -> std::io::Result<String> {
 /// Prints `message` on stderr from the process that saves.
 fn say(settings: &Settings, message: String) {
     if settings.spread.is_root() {
-        eprintln!("{message}");
+        note!("{message}");
     }
 }
 

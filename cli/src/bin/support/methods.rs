@@ -39,6 +39,8 @@ pub struct AdaptiveRun<'a> {
     pub threads: Option<usize>,
     /// Stops the run early (SIGINT or SIGTERM).
     pub cancel: mcint::CancelToken,
+    /// `--time-limit`: the instant the run stops by.
+    pub deadline: Option<std::time::Instant>,
     /// `--mpi`: the ranks to spread the run over.
     pub spread: crate::ranks::Spread,
 }
@@ -72,6 +74,9 @@ impl AdaptiveRun<'_> {
                 if let Some(t) = self.tolerance {
                     vegas = vegas.tolerance(t).iterations(VEGAS_ITERATIONS_TO_TOLERANCE);
                 }
+                if let Some(deadline) = self.deadline {
+                    vegas = vegas.deadline(deadline);
+                }
                 crate::ranks::spread!(vegas, self.spread).run()
             }
             Method::Miser => {
@@ -90,6 +95,9 @@ impl AdaptiveRun<'_> {
                 }
                 if let Some(t) = self.tolerance {
                     miser = miser.tolerance(t);
+                }
+                if let Some(deadline) = self.deadline {
+                    miser = miser.deadline(deadline);
                 }
                 crate::ranks::spread!(miser, self.spread).run()
             }
@@ -110,6 +118,9 @@ impl AdaptiveRun<'_> {
                     .cancel_token(self.cancel);
                 if let Some(t) = self.threads {
                     two_stage = two_stage.threads(t);
+                }
+                if let Some(deadline) = self.deadline {
+                    two_stage = two_stage.deadline(deadline);
                 }
                 crate::ranks::spread!(two_stage, self.spread).run()
             }
@@ -134,6 +145,9 @@ impl AdaptiveRun<'_> {
                 }
                 if let Some(t) = self.tolerance {
                     sobol_g = sobol_g.tolerance(t);
+                }
+                if let Some(deadline) = self.deadline {
+                    sobol_g = sobol_g.deadline(deadline);
                 }
                 crate::ranks::spread!(sobol_g, self.spread).run()
             }

@@ -60,6 +60,11 @@ pub const TOL_REL: Flag = (
     true,
     "run until the 95% half-width is at most this fraction of the estimate",
 );
+pub const TIME_LIMIT: Flag = (
+    "time-limit",
+    true,
+    "stop after this many seconds with the work done so far (the report says so)",
+);
 pub const MAX_EVALS: Flag = (
     "max-evals",
     true,
@@ -176,6 +181,23 @@ impl Args {
         }
     }
 
+    /// The instant `--time-limit SECONDS` (from now) ends the run by, if given: a positive
+    /// number of seconds, fractions allowed; one past what the clock can represent (`inf`)
+    /// is no limit.
+    pub fn deadline(&self) -> Result<Option<std::time::Instant>, String> {
+        let Some(seconds) = self.get::<f64>("time-limit", "a number of seconds > 0")? else {
+            return Ok(None);
+        };
+        if seconds.is_nan() || seconds <= 0.0 {
+            return Err(format!(
+                "invalid --time-limit {seconds}: expected a number of seconds > 0"
+            ));
+        }
+        let limit =
+            std::time::Duration::try_from_secs_f64(seconds).unwrap_or(std::time::Duration::MAX);
+        Ok(std::time::Instant::now().checked_add(limit))
+    }
+
     /// Whether `--name` (a switch) was given.
     pub fn has(&self, name: &str) -> bool {
         self.switches.iter().any(|s| s == name)
@@ -249,6 +271,20 @@ fn one_line(error: &clap::Error, spec: Spec) -> String {
             .unwrap_or("invalid arguments")
             .trim_start_matches("error: ")
             .to_string(),
+    }
+}
+
+/// How a run ended, in words.
+pub fn stop_name(stop: mcint::stats::StopReason) -> &'static str {
+    match stop {
+        mcint::stats::StopReason::Budget => "budget",
+        mcint::stats::StopReason::ToleranceMet => "tolerance met",
+        mcint::stats::StopReason::MaxEvaluations => "max evaluations",
+        mcint::stats::StopReason::TimeLimit => "time limit",
+        mcint::stats::StopReason::Cancelled => "cancelled",
+        mcint::stats::StopReason::SamplerExhausted => "sampler exhausted",
+        mcint::stats::StopReason::IterationsDisagree => "iterations disagree",
+        _ => "other",
     }
 }
 

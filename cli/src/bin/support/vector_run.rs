@@ -4,7 +4,7 @@
 
 use mcint::adaptive::Vegas;
 use mcint::sampler::Sampler;
-use mcint::stats::{Derived, StopReason, Tolerance};
+use mcint::stats::{Derived, Tolerance};
 use mcint::testfns::TestFunction;
 use mcint::{CancelToken, Integrator, VectorEstimate};
 
@@ -12,6 +12,7 @@ use crate::checkpoint;
 use crate::integrands::Named;
 use crate::methods::VEGAS_ITERATIONS_TO_TOLERANCE;
 use crate::support::output::say;
+use crate::support::stop_name;
 use mcint::Method;
 
 /// What a vector run needs from the command line.
@@ -31,6 +32,8 @@ pub struct VectorRunArgs<'a> {
     pub label: String,
     pub checkpoint: Option<checkpoint::Settings>,
     pub cancel: CancelToken,
+    /// `--time-limit`: the instant the run stops by.
+    pub deadline: Option<std::time::Instant>,
     /// `--mpi`: the ranks to spread the run over.
     pub spread: crate::ranks::Spread,
 }
@@ -71,6 +74,9 @@ pub fn run(args: VectorRunArgs<'_>) -> Result<Option<VectorEstimate>, String> {
     }
     if let Some(t) = args.threads {
         integrator = integrator.threads(t);
+    }
+    if let Some(deadline) = args.deadline {
+        integrator = integrator.deadline(deadline);
     }
     match (args.tolerance, args.ratio) {
         (Some(t), Some((i, j))) => {
@@ -117,6 +123,9 @@ fn run_vegas(args: VectorRunArgs<'_>) -> Result<VectorEstimate, String> {
     }
     if let Some(t) = args.threads {
         vegas = vegas.threads(t);
+    }
+    if let Some(deadline) = args.deadline {
+        vegas = vegas.deadline(deadline);
     }
     match (args.tolerance, args.ratio) {
         (Some(t), Some((i, j))) => {
@@ -300,19 +309,5 @@ impl VectorReport<'_> {
         }
         say!("time {:.3} s", self.seconds);
         Ok(())
-    }
-}
-
-/// How a run ended, in words.
-pub fn stop_name(stop: StopReason) -> &'static str {
-    match stop {
-        StopReason::Budget => "budget",
-        StopReason::ToleranceMet => "tolerance met",
-        StopReason::MaxEvaluations => "max evaluations",
-        StopReason::TimeLimit => "time limit",
-        StopReason::Cancelled => "cancelled",
-        StopReason::SamplerExhausted => "sampler exhausted",
-        StopReason::IterationsDisagree => "iterations disagree",
-        _ => "other",
     }
 }
