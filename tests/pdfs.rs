@@ -1030,6 +1030,8 @@ fn constructors_reject_bad_parameters_by_name() {
     assert_eq!(normal(0.0, 1.0, 60.0, 61.0), "[a, b]");
     assert_eq!(normal(0.0, 1.0, -61.0, -60.0), "[a, b]");
     assert_eq!(normal(0.0, 1.0, 45.0, INF), "[a, b]");
+    // a - mean overflows (a is 4.5 sd below the mean): samples there would be -inf.
+    assert_eq!(normal(9e307, 4e307, -9e307, -7e307), "[a, b]");
     let message = TruncatedNormal::new(0.0, 1.0, 60.0, 61.0)
         .unwrap_err()
         .to_string();

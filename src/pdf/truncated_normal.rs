@@ -42,9 +42,9 @@ pub struct TruncatedNormal {
 }
 
 impl TruncatedNormal {
-    /// Requires finite `mean`, finite `sd > 0`, and `a < b` (either may be infinite) with a
-    /// normal probability of the interval above 1e-300 and a peak density that is a finite
-    /// normal float.
+    /// Requires finite `mean`, finite `sd > 0`, and `a < b` (either may be infinite, a finite
+    /// end within `f64::MAX` of the mean) with a normal probability of the interval above
+    /// 1e-300 and a peak density that is a finite normal float.
     ///
     /// ```
     /// use mcint::pdf::TruncatedNormal;
@@ -53,6 +53,8 @@ impl TruncatedNormal {
     /// // A subnormal sd has an infinite peak 1 / (sd sqrt(2 pi)), the largest a subnormal one.
     /// assert!(TruncatedNormal::new(0.0, 1e-310, -1.0, 1.0).is_err());
     /// assert!(TruncatedNormal::new(0.0, f64::MAX, -f64::MAX, 0.0).is_err());
+    /// // b - mean overflows.
+    /// assert!(TruncatedNormal::new(-1e308, 1e308, 0.0, 1e308).is_err());
     /// // Samples 38 sd below the mean would overflow on (-inf, 0].
     /// assert!(TruncatedNormal::new(0.0, 1e307, f64::NEG_INFINITY, 0.0).is_err());
     /// // Samples are finite, also for u near 1 on a half-line.
@@ -86,7 +88,16 @@ impl TruncatedNormal {
                 ),
             ));
         }
+        // Standardised ends; the distance of a finite end from the mean must be finite.
         let (alpha, beta) = ((a - mean) / sd, (b - mean) / sd);
+        if (a.is_finite() && !(a - mean).is_finite()) || (b.is_finite() && !(b - mean).is_finite())
+        {
+            return Err(Error::invalid(
+                "[a, b]",
+                format!("[{a}, {b}]"),
+                format!("ends whose distance from the mean ({mean}) is finite (below 1.8e308)"),
+            ));
+        }
         let upper = alpha >= 0.0;
         let (at_a, at_b) = if upper {
             (normal_sf(alpha), normal_sf(beta))
