@@ -909,6 +909,32 @@ fn narrow_truncated_normals_keep_precision() {
     }
 }
 
+#[test]
+fn truncated_normals_are_scale_invariant() {
+    // N(0, s) on [20 s, 21 s] is N(0, 1) on [20, 21] in units of s: samples times s, density
+    // over s. At s = 1e-230 the normalisation sd * mass is 2.8e-319, a subnormal with five
+    // significant digits, which the density must not divide by. The tolerance allows the
+    // rounding of x * s, magnified by z^2 = 441 in exp(-z^2 / 2).
+    let unit = TruncatedNormal::new(0.0, 1.0, 20.0, 21.0).unwrap();
+    for scale in [1e-230, 1e-200, 1e200] {
+        let p = TruncatedNormal::new(0.0, scale, 20.0 * scale, 21.0 * scale).unwrap();
+        for u in [0.0, 0.1, 0.5, 0.9, ONE_BELOW] {
+            let x = unit.sample_1d(u);
+            let sample = p.sample_1d(u) / scale;
+            assert!(
+                (sample / x - 1.0).abs() < 1e-14,
+                "s = {scale:e}: {sample} vs {x}"
+            );
+            let density = p.pdf_1d(x * scale) * scale;
+            assert!(
+                (density / unit.pdf_1d(x) - 1.0).abs() < 1e-12,
+                "s = {scale:e}: pdf {density} vs {}",
+                unit.pdf_1d(x)
+            );
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Support and parameters
 

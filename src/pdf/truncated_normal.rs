@@ -37,8 +37,19 @@ pub struct TruncatedNormal {
     at_a: f64,
     /// Normal probability of `[a, b]`.
     mass: f64,
-    /// The density's normalisation, `sqrt(2 pi) sd mass`.
-    denominator: f64,
+    /// How the density is normalised.
+    density: Density,
+}
+
+/// The normalisation of the density `exp(-z^2 / 2) / (sqrt(2 pi) sd mass)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Density {
+    /// `sqrt(2 pi) sd mass`, when that is a normal float.
+    Denominator(f64),
+    /// Otherwise (a small sd and a small mass, whose product is subnormal and would lose
+    /// digits, or an sd near `f64::MAX`) the density relative to its peak `peak` at `z0`, the
+    /// point of the interval nearest the mean: `peak exp(-(z - z0)(z + z0) / 2)`.
+    Peak { z0: f64, peak: f64 },
 }
 
 impl TruncatedNormal {
@@ -117,15 +128,19 @@ impl TruncatedNormal {
                 format!("an interval with normal probability above 1e-300 (it has {mass:e})"),
             ));
         }
-        // sqrt(2 pi) sd mass, in that order unless sqrt(2 pi) sd overflows (sd near f64::MAX
-        // and a small mass). The density is largest at the point of [a, b] nearest the mean,
-        // and that peak must be a finite normal float (a subnormal sd would make it infinite).
-        let denominator = match (2.0 * PI).sqrt() * sd * mass {
-            d if d.is_finite() => d,
-            _ => (2.0 * PI).sqrt() * (sd * mass),
+        // The density is largest at the point of [a, b] nearest the mean, and that peak must
+        // be a finite normal float (a subnormal sd would make it infinite).
+        let z0 = (mean.clamp(a, b) - mean) / sd;
+        let top = (-0.5 * z0 * z0).exp();
+        let (density, peak) = match (2.0 * PI).sqrt() * sd * mass {
+            d if d.is_finite() && d >= f64::MIN_POSITIVE => (Density::Denominator(d), top / d),
+            _ => {
+                // top / mass lies in [1, 1e300]: the mass is at most the normal tail beyond
+                // z0, below top / 2 (or 1 when z0 = 0), and above 1e-300.
+                let peak = top / mass / sd / (2.0 * PI).sqrt();
+                (Density::Peak { z0, peak }, peak)
+            }
         };
-        let nearest = (mean.clamp(a, b) - mean) / sd;
-        let peak = (-0.5 * nearest * nearest).exp() / denominator;
         if !(peak.is_finite() && peak >= f64::MIN_POSITIVE) {
             return Err(Error::invalid(
                 "sd",
@@ -144,7 +159,7 @@ impl TruncatedNormal {
             upper,
             at_a,
             mass,
-            denominator,
+            density,
         })
     }
 }
@@ -176,7 +191,10 @@ impl Pdf1d for TruncatedNormal {
             return 0.0;
         }
         let z = (x - self.mean) / self.sd;
-        (-0.5 * z * z).exp() / self.denominator
+        match self.density {
+            Density::Denominator(d) => (-0.5 * z * z).exp() / d,
+            Density::Peak { z0, peak } => peak * (-0.5 * (z - z0) * (z + z0)).exp(),
+        }
     }
 
     fn invert_1d(&self, x: f64) -> f64 {
