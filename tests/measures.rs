@@ -133,6 +133,31 @@ fn every_brownian_construction_has_covariance_min_s_t() {
     }
 }
 
+#[test]
+fn brownian_constructions_keep_min_s_t_at_extreme_time_scales() {
+    // At dates near 1e300 the bridge's variance near far / span overflowed (paths of inf and
+    // NaN); near 1e-300 it underflowed to 0 (paths without their midpoint noise).
+    let base = [0.1, 0.25, 0.3, 0.7, 0.75, 1.0, 1.6];
+    let n = base.len();
+    for scale in [1e-300, 1e300] {
+        let times: Vec<f64> = base.iter().map(|t| t * scale).collect();
+        for construction in CONSTRUCTIONS {
+            let path = BrownianMotion::new(times.clone(), 0.0, 1.0, construction).unwrap();
+            let c = product(&path.factor(), n);
+            for i in 0..n {
+                for j in 0..n {
+                    let exact = times[i].min(times[j]);
+                    assert!(
+                        (c[i * n + j] - exact).abs() < 1e-13 * scale,
+                        "{construction:?} at {scale:e} ({i},{j}): {} vs {exact}",
+                        c[i * n + j]
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// The closed form of the geometric Asian call against a 1-D quadrature of the same
 /// lognormal expectation.
 #[test]

@@ -254,13 +254,20 @@ fn bridge_steps(times: &[f64]) -> Vec<BridgeStep> {
         let t_left = left.map_or(0.0, |l| times[l]);
         let (t_m, t_right) = (times[m], times[right]);
         let span = t_right - t_left;
+        let (near, far) = (t_m - t_left, t_right - t_m);
+        // The variance near far / span; for dates beyond about 1e154 (or below 1e-154) the
+        // product overflows (underflows), and near / span * far, with near / span <= 1, not.
+        let variance = match near * far {
+            product if product.is_normal() => product / span,
+            _ => near / span * far,
+        };
         steps.push(BridgeStep {
             m,
             left,
             right,
-            a: (t_right - t_m) / span,
-            b: (t_m - t_left) / span,
-            c: ((t_m - t_left) * (t_right - t_m) / span).sqrt(),
+            a: far / span,
+            b: near / span,
+            c: variance.sqrt(),
         });
         queue.push_back((left, m));
         queue.push_back((Some(m), right));
