@@ -158,6 +158,68 @@ fn brownian_constructions_keep_min_s_t_at_extreme_time_scales() {
     }
 }
 
+#[test]
+fn brownian_paths_that_would_overflow_are_refused() {
+    const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
+    let extremes = [[0.0; 3], [0.5; 3], [ONE_BELOW; 3], [0.0, ONE_BELOW, 0.0]];
+    for construction in CONSTRUCTIONS {
+        // drift t overflows: these paths were all +inf (NaN for the bridge).
+        for drift in [10.0, -10.0] {
+            let err = BrownianMotion::new(vec![1e307, 5e307, 1e308], drift, 1.0, construction)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.contains("drift") && err.contains("f64::MAX / 2"),
+                "{err}"
+            );
+        }
+        // Without a drift the same dates are fine (W(1e308) is about 1e154), and so is a
+        // diffusion that keeps the paths below f64::MAX / 2.
+        for diffusion in [1.0, 1e150] {
+            let path = BrownianMotion::new(vec![1e307, 5e307, 1e308], 0.0, diffusion, construction)
+                .unwrap();
+            for u in extremes {
+                let mut x = [0.0; 3];
+                path.map(&u, &mut x);
+                assert!(
+                    x.iter().all(|v| v.is_finite()),
+                    "{construction:?}: {u:?} -> {x:?}"
+                );
+            }
+        }
+        // ... but not one that takes them past it.
+        let err = BrownianMotion::new(vec![1e307, 5e307, 1e308], 0.0, 1e154, construction)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("diffusion"), "{err}");
+    }
+    // Prices: e^(rate t) overflows f64 from rate t = 709.8 on. The volatility alone adds at
+    // most 8.29^2 / 2 = 34.4 to the log-price (-sigma^2 t / 2 + 8.29 sigma sqrt(t) at its
+    // largest), which overflows from s0 = 1e300 (ln 690.8).
+    for (s0, rate, sigma, t) in [
+        (100.0, 1000.0, 0.2, 1.0),
+        (1.0, 1.0, 0.0, 710.0),
+        (1e300, 0.0, 8.0, 1.0),
+    ] {
+        let err = GeometricBrownianMotion::new(s0, rate, sigma, vec![t], Construction::Bridge)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("709") && err.contains("sigma"), "{err}");
+    }
+    assert!(GeometricBrownianMotion::new(1e300, 0.0, 1.0, vec![1.0], Construction::Bridge).is_ok());
+    // A volatility whose square overflows.
+    let err = GeometricBrownianMotion::new(1.0, 0.0, 1e160, vec![1.0], Construction::Pca)
+        .unwrap_err()
+        .to_string();
+    assert!(err.starts_with("invalid sigma"), "{err}");
+    // A large negative drift is fine: prices underflow to 0, which is what they round to.
+    let gbm =
+        GeometricBrownianMotion::new(1.0, -1e300, 0.2, vec![1e10], Construction::Standard).unwrap();
+    let mut s = [1.0];
+    gbm.map(&[0.5], &mut s);
+    assert_eq!(s, [0.0]);
+}
+
 /// The closed form of the geometric Asian call against a 1-D quadrature of the same
 /// lognormal expectation.
 #[test]

@@ -110,6 +110,8 @@ fn asian_option_refuses_bad_input() {
     bad(&["--sigma", "-0.2"], "sigma");
     bad(&["--s0", "NaN"], "finite");
     bad(&["--dates", "0"], "1 to 4096");
+    // e^(rate T) overflows f64: refused by the model, not priced as inf.
+    bad(&["--rate", "1000"], "709");
     bad(&["--max-evals", "100"], "give --tol-rel too");
     bad(&["--tol-rel", "0"], "tolerance");
 }
