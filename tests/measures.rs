@@ -13,8 +13,8 @@ mod asian;
 
 use asian::Contract;
 use mcint::measure::{
-    BrownianMotion, Construction, Factorization, Gaussian, GeometricBrownianMotion, Lebesgue,
-    Measure, UnboundedTransform,
+    BrownianMotion, Construction, FACTOR_MAX_DIMS, Factorization, Gaussian,
+    GeometricBrownianMotion, Lebesgue, Measure, UnboundedTransform,
 };
 use mcint::sampler::{Independent, Scramble, Sobol};
 use mcint::stats::Tolerance;
@@ -405,6 +405,39 @@ fn bridge_and_pca_reach_a_tolerance_with_fewer_evaluations() {
             2 * fewer <= standard,
             "{construction:?}: {fewer} evaluations, standard {standard}"
         );
+    }
+}
+
+#[test]
+fn covariances_too_large_to_factor_are_refused() {
+    // Past the limit the factorizations took d x d memory and O(d^3) time without a bound
+    // (20,000 dimensions: 5.9 GB and no end in sight); now they are refused up front.
+    let d = FACTOR_MAX_DIMS + 1;
+    let mut identity = vec![0.0; d * d];
+    for i in 0..d {
+        identity[i * d + i] = 1.0;
+    }
+    let limit = format!("at most {FACTOR_MAX_DIMS}");
+    for factorization in [Factorization::Cholesky, Factorization::Pca] {
+        let err = Gaussian::new(vec![0.0; d], identity.clone(), factorization)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(&limit) && err.contains("O(d^3)"), "{err}");
+    }
+    let err = Gaussian::standard(d).unwrap_err().to_string();
+    assert!(err.contains(&limit), "{err}");
+    // Brownian paths: only principal components factor the covariance.
+    let times: Vec<f64> = (1..=d).map(|i| i as f64).collect();
+    let err = BrownianMotion::new(times.clone(), 0.0, 1.0, Construction::Pca)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains(&limit) && err.contains("Bridge"), "{err}");
+    let err = GeometricBrownianMotion::new(1.0, 0.0, 0.01, times.clone(), Construction::Pca)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains(&limit), "{err}");
+    for construction in [Construction::Standard, Construction::Bridge] {
+        assert!(BrownianMotion::new(times.clone(), 0.0, 1.0, construction).is_ok());
     }
 }
 

@@ -5,8 +5,8 @@ use std::cell::RefCell;
 
 use nalgebra::{DMatrix, SymmetricEigen};
 
-use super::Measure;
 use super::normal_map::{check_finite, largest_normal, standard_normal};
+use super::{Measure, check_factor_dims};
 use crate::{Error, Result};
 
 /// The most a path may reach in magnitude, half of `f64::MAX`, so that rounding in the sums
@@ -80,10 +80,12 @@ pub struct BrownianMotion {
 }
 
 impl BrownianMotion {
-    /// Paths at `times` (finite, strictly increasing, the first above 0) with `drift` (finite)
-    /// and `diffusion` (finite, at least 0), built by `construction`. Every path must stay
-    /// finite: `|drift| t + diffusion |W(t)|`, with the normals behind `W` as large as the
-    /// canonical points allow (about 8.3 in magnitude), must stay below `f64::MAX / 2`.
+    /// Paths at `times` (finite, strictly increasing, the first above 0; at most
+    /// [`FACTOR_MAX_DIMS`](super::FACTOR_MAX_DIMS) of them for [`Construction::Pca`]) with
+    /// `drift` (finite) and `diffusion` (finite, at least 0), built by `construction`. Every
+    /// path must stay finite: `|drift| t + diffusion |W(t)|`, with the normals behind `W` as
+    /// large as the canonical points allow (about 8.3 in magnitude), must stay below
+    /// `f64::MAX / 2`.
     ///
     /// ```
     /// use mcint::measure::{BrownianMotion, Construction};
@@ -161,6 +163,12 @@ impl BrownianMotion {
             Vec::new()
         };
         let pca = if construction == Construction::Pca {
+            check_factor_dims(
+                "times",
+                times.len(),
+                "dates",
+                "; Construction::Bridge takes O(d)",
+            )?;
             pca_factor(&times)
         } else {
             Vec::new()
