@@ -13,8 +13,8 @@ mod asian;
 
 use asian::Contract;
 use mcint::measure::{
-    BrownianMotion, Construction, Factorization, Gaussian, GeometricBrownianMotion, Lebesgue,
-    Measure, UnboundedTransform,
+    BrownianMotion, Construction, FACTOR_MAX_DIMS, Factorization, Gaussian,
+    GeometricBrownianMotion, Lebesgue, Measure, UnboundedTransform,
 };
 use mcint::sampler::{Independent, Scramble, Sobol};
 use mcint::stats::Tolerance;
@@ -131,6 +131,93 @@ fn every_brownian_construction_has_covariance_min_s_t() {
             );
         }
     }
+}
+
+#[test]
+fn brownian_constructions_keep_min_s_t_at_extreme_time_scales() {
+    // At dates near 1e300 the bridge's variance near far / span overflowed (paths of inf and
+    // NaN); near 1e-300 it underflowed to 0 (paths without their midpoint noise).
+    let base = [0.1, 0.25, 0.3, 0.7, 0.75, 1.0, 1.6];
+    let n = base.len();
+    for scale in [1e-300, 1e300] {
+        let times: Vec<f64> = base.iter().map(|t| t * scale).collect();
+        for construction in CONSTRUCTIONS {
+            let path = BrownianMotion::new(times.clone(), 0.0, 1.0, construction).unwrap();
+            let c = product(&path.factor(), n);
+            for i in 0..n {
+                for j in 0..n {
+                    let exact = times[i].min(times[j]);
+                    assert!(
+                        (c[i * n + j] - exact).abs() < 1e-13 * scale,
+                        "{construction:?} at {scale:e} ({i},{j}): {} vs {exact}",
+                        c[i * n + j]
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn brownian_paths_that_would_overflow_are_refused() {
+    const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
+    let extremes = [[0.0; 3], [0.5; 3], [ONE_BELOW; 3], [0.0, ONE_BELOW, 0.0]];
+    for construction in CONSTRUCTIONS {
+        // drift t overflows: these paths were all +inf (NaN for the bridge).
+        for drift in [10.0, -10.0] {
+            let err = BrownianMotion::new(vec![1e307, 5e307, 1e308], drift, 1.0, construction)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.contains("drift") && err.contains("f64::MAX / 2"),
+                "{err}"
+            );
+        }
+        // Without a drift the same dates are fine (W(1e308) is about 1e154), and so is a
+        // diffusion that keeps the paths below f64::MAX / 2.
+        for diffusion in [1.0, 1e150] {
+            let path = BrownianMotion::new(vec![1e307, 5e307, 1e308], 0.0, diffusion, construction)
+                .unwrap();
+            for u in extremes {
+                let mut x = [0.0; 3];
+                path.map(&u, &mut x);
+                assert!(
+                    x.iter().all(|v| v.is_finite()),
+                    "{construction:?}: {u:?} -> {x:?}"
+                );
+            }
+        }
+        // ... but not one that takes them past it.
+        let err = BrownianMotion::new(vec![1e307, 5e307, 1e308], 0.0, 1e154, construction)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("diffusion"), "{err}");
+    }
+    // Prices: e^(rate t) overflows f64 from rate t = 709.8 on. The volatility alone adds at
+    // most 8.29^2 / 2 = 34.4 to the log-price (-sigma^2 t / 2 + 8.29 sigma sqrt(t) at its
+    // largest), which overflows from s0 = 1e300 (ln 690.8).
+    for (s0, rate, sigma, t) in [
+        (100.0, 1000.0, 0.2, 1.0),
+        (1.0, 1.0, 0.0, 710.0),
+        (1e300, 0.0, 8.0, 1.0),
+    ] {
+        let err = GeometricBrownianMotion::new(s0, rate, sigma, vec![t], Construction::Bridge)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("709") && err.contains("sigma"), "{err}");
+    }
+    assert!(GeometricBrownianMotion::new(1e300, 0.0, 1.0, vec![1.0], Construction::Bridge).is_ok());
+    // A volatility whose square overflows.
+    let err = GeometricBrownianMotion::new(1.0, 0.0, 1e160, vec![1.0], Construction::Pca)
+        .unwrap_err()
+        .to_string();
+    assert!(err.starts_with("invalid sigma"), "{err}");
+    // A large negative drift is fine: prices underflow to 0, which is what they round to.
+    let gbm =
+        GeometricBrownianMotion::new(1.0, -1e300, 0.2, vec![1e10], Construction::Standard).unwrap();
+    let mut s = [1.0];
+    gbm.map(&[0.5], &mut s);
+    assert_eq!(s, [0.0]);
 }
 
 /// The closed form of the geometric Asian call against a 1-D quadrature of the same
@@ -318,6 +405,39 @@ fn bridge_and_pca_reach_a_tolerance_with_fewer_evaluations() {
             2 * fewer <= standard,
             "{construction:?}: {fewer} evaluations, standard {standard}"
         );
+    }
+}
+
+#[test]
+fn covariances_too_large_to_factor_are_refused() {
+    // Past the limit the factorizations took d x d memory and O(d^3) time without a bound
+    // (20,000 dimensions: 5.9 GB and no end in sight); now they are refused up front.
+    let d = FACTOR_MAX_DIMS + 1;
+    let mut identity = vec![0.0; d * d];
+    for i in 0..d {
+        identity[i * d + i] = 1.0;
+    }
+    let limit = format!("at most {FACTOR_MAX_DIMS}");
+    for factorization in [Factorization::Cholesky, Factorization::Pca] {
+        let err = Gaussian::new(vec![0.0; d], identity.clone(), factorization)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(&limit) && err.contains("O(d^3)"), "{err}");
+    }
+    let err = Gaussian::standard(d).unwrap_err().to_string();
+    assert!(err.contains(&limit), "{err}");
+    // Brownian paths: only principal components factor the covariance.
+    let times: Vec<f64> = (1..=d).map(|i| i as f64).collect();
+    let err = BrownianMotion::new(times.clone(), 0.0, 1.0, Construction::Pca)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains(&limit) && err.contains("Bridge"), "{err}");
+    let err = GeometricBrownianMotion::new(1.0, 0.0, 0.01, times.clone(), Construction::Pca)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains(&limit), "{err}");
+    for construction in [Construction::Standard, Construction::Bridge] {
+        assert!(BrownianMotion::new(times.clone(), 0.0, 1.0, construction).is_ok());
     }
 }
 

@@ -110,6 +110,15 @@ fn asian_option_refuses_bad_input() {
     bad(&["--sigma", "-0.2"], "sigma");
     bad(&["--s0", "NaN"], "finite");
     bad(&["--dates", "0"], "1 to 4096");
+    // e^(rate T) overflows f64: refused by the model, not priced as inf.
+    bad(&["--rate", "1000"], "709");
+    // Principal components of 2000 dates: beyond the factorization's dimension bound, also
+    // before a table prints its first row.
+    let limit = format!("at most {}", mcint::measure::FACTOR_MAX_DIMS);
+    bad(&["--dates", "2000", "--construction", "pca"], &limit);
+    let table = run("asian_option", &["--dates", "2000", "--table"]);
+    assert_one_line_error(&table, &limit);
+    assert!(stdout(&table).is_empty(), "{}", stdout(&table));
     bad(&["--max-evals", "100"], "give --tol-rel too");
     bad(&["--tol-rel", "0"], "tolerance");
 }
@@ -197,6 +206,34 @@ fn points_with_a_gaussian_measure_have_its_mean_and_covariance() {
         "expected gaussian",
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn points_refuses_a_gaussian_too_large_to_factor() {
+    // 20,000 dimensions took 5.9 GB and an unbounded O(d^3) factorization: now one line,
+    // before the covariance is built.
+    for factorization in ["pca", "cholesky"] {
+        let out = run(
+            "points",
+            &[
+                "--sampler",
+                "independent",
+                "--dims",
+                "20000",
+                "--n",
+                "1",
+                "--measure",
+                "gaussian",
+                "--factorization",
+                factorization,
+            ],
+        );
+        assert_eq!(out.status.code(), Some(2), "{}", common::stderr(&out));
+        assert_one_line_error(
+            &out,
+            &format!("at most {}", mcint::measure::FACTOR_MAX_DIMS),
+        );
+    }
 }
 
 #[test]

@@ -5,9 +5,13 @@ use std::cell::RefCell;
 
 use nalgebra::{DMatrix, SymmetricEigen};
 
-use super::Measure;
-use super::normal_map::{check_finite, standard_normal};
+use super::normal_map::{check_finite, largest_normal, standard_normal};
+use super::{Measure, check_factor_dims};
 use crate::{Error, Result};
+
+/// The most a path may reach in magnitude, half of `f64::MAX`, so that rounding in the sums
+/// that build it cannot overflow.
+const LARGEST_PATH: f64 = f64::MAX / 2.0;
 
 /// How a Brownian path is built from independent normals `z_0, z_1, ...` (one per canonical
 /// coordinate). All three give the same law; they differ in how much of the path's variance
@@ -76,16 +80,60 @@ pub struct BrownianMotion {
 }
 
 impl BrownianMotion {
-    /// Paths at `times` (finite, strictly increasing, the first above 0) with `drift` (finite)
-    /// and `diffusion` (finite, at least 0), built by `construction`.
+    /// Paths at `times` (finite, strictly increasing, the first above 0; at most
+    /// [`FACTOR_MAX_DIMS`](super::FACTOR_MAX_DIMS) of them for [`Construction::Pca`]) with
+    /// `drift` (finite) and `diffusion` (finite, at least 0), built by `construction`. Every
+    /// path must stay finite: `|drift| t + diffusion |W(t)|`, with the normals behind `W` as
+    /// large as the canonical points allow (about 8.3 in magnitude), must stay below
+    /// `f64::MAX / 2`.
     ///
     /// ```
     /// use mcint::measure::{BrownianMotion, Construction};
     /// let err = BrownianMotion::new(vec![0.5, 0.5], 0.0, 1.0, Construction::Bridge).unwrap_err();
     /// assert!(err.to_string().contains("strictly increasing"), "{err}");
     /// assert!(BrownianMotion::new(vec![1.0], 0.0, -1.0, Construction::Standard).is_err());
+    /// // drift t overflows at t = 1e308.
+    /// let err = BrownianMotion::new(vec![1e308], 10.0, 1.0, Construction::Standard).unwrap_err();
+    /// assert!(err.to_string().contains("f64::MAX / 2"), "{err}");
+    /// // Without a drift the same date is fine: W(1e308) is about 1e154.
+    /// assert!(BrownianMotion::new(vec![1e308], 0.0, 1.0, Construction::Standard).is_ok());
     /// ```
     pub fn new(
+        times: Vec<f64>,
+        drift: f64,
+        diffusion: f64,
+        construction: Construction,
+    ) -> Result<Self> {
+        let path = BrownianMotion::build(times, drift, diffusion, construction)?;
+        let reach = path
+            .times
+            .iter()
+            .zip(path.spread())
+            .map(|(&t, spread)| drift.abs() * t + diffusion * spread)
+            .fold(
+                0.0,
+                |most: f64, r| if r > most || r.is_nan() { r } else { most },
+            );
+        if reach.is_nan() || reach > LARGEST_PATH {
+            return Err(Error::invalid(
+                "drift, diffusion and times",
+                format!(
+                    "drift {drift:?}, diffusion {diffusion:?}, last date {:?}",
+                    path.times[path.times.len() - 1]
+                ),
+                format!(
+                    "paths within f64::MAX / 2 = {LARGEST_PATH:.1e} in magnitude: |drift| t + \
+                     diffusion |W(t)|, with normals up to {:.2}, reaches {reach:.3e}",
+                    largest_normal()
+                ),
+            ));
+        }
+        Ok(path)
+    }
+
+    /// [`new`](Self::new) without the bound on the paths (geometric Brownian motion bounds
+    /// its prices instead).
+    pub(super) fn build(
         times: Vec<f64>,
         drift: f64,
         diffusion: f64,
@@ -115,6 +163,12 @@ impl BrownianMotion {
             Vec::new()
         };
         let pca = if construction == Construction::Pca {
+            check_factor_dims(
+                "times",
+                times.len(),
+                "dates",
+                "; Construction::Bridge takes O(d)",
+            )?;
             pca_factor(&times)
         } else {
             Vec::new()
@@ -163,6 +217,38 @@ impl BrownianMotion {
             }
         }
         l
+    }
+
+    /// For each date, the largest `|W(t_i)|` any canonical point gives: the normals are at
+    /// most [`largest_normal`] in magnitude, so `|W(t_i)|` is at most that times the sum of
+    /// the absolute values of row `i` of the factor (or a bound on it, for the bridge).
+    pub(super) fn spread(&self) -> Vec<f64> {
+        let n = self.times.len();
+        let mut sums = vec![0.0; n];
+        match self.construction {
+            Construction::Standard => {
+                let mut total = 0.0;
+                for (sum, &step) in sums.iter_mut().zip(&self.steps) {
+                    total += step;
+                    *sum = total;
+                }
+            }
+            Construction::Bridge => {
+                // |W(t_m)| <= a |W(left)| + b |W(right)| + c |z|, with a, b >= 0.
+                sums[n - 1] = self.times[n - 1].sqrt();
+                for step in &self.bridge {
+                    let left = step.left.map_or(0.0, |l| sums[l]);
+                    sums[step.m] = step.a * left + step.b * sums[step.right] + step.c;
+                }
+            }
+            Construction::Pca => {
+                for (i, sum) in sums.iter_mut().enumerate() {
+                    *sum = self.pca[i * n..(i + 1) * n].iter().map(|l| l.abs()).sum();
+                }
+            }
+        }
+        let z = largest_normal();
+        sums.iter().map(|s| z * s).collect()
     }
 
     /// The standard Brownian path `W(t_i)` from the normals `z`.
@@ -254,13 +340,20 @@ fn bridge_steps(times: &[f64]) -> Vec<BridgeStep> {
         let t_left = left.map_or(0.0, |l| times[l]);
         let (t_m, t_right) = (times[m], times[right]);
         let span = t_right - t_left;
+        let (near, far) = (t_m - t_left, t_right - t_m);
+        // The variance near far / span; for dates beyond about 1e154 (or below 1e-154) the
+        // product overflows (underflows), and near / span * far, with near / span <= 1, not.
+        let variance = match near * far {
+            product if product.is_normal() => product / span,
+            _ => near / span * far,
+        };
         steps.push(BridgeStep {
             m,
             left,
             right,
-            a: (t_right - t_m) / span,
-            b: (t_m - t_left) / span,
-            c: ((t_m - t_left) * (t_right - t_m) / span).sqrt(),
+            a: far / span,
+            b: near / span,
+            c: variance.sqrt(),
         });
         queue.push_back((left, m));
         queue.push_back((Some(m), right));

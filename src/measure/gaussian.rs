@@ -5,8 +5,8 @@ use std::cell::RefCell;
 
 use nalgebra::{DMatrix, SymmetricEigen};
 
-use super::Measure;
 use super::normal_map::{check_finite, standard_normal};
+use super::{Measure, check_factor_dims};
 use crate::{Error, Result};
 
 /// How a covariance `C` is factored as `C = L L'` to map independent normals `z` to `L z`.
@@ -54,7 +54,8 @@ pub struct Gaussian {
 }
 
 impl Gaussian {
-    /// The standard normal law on `R^dims` (`dims >= 1`): `x_j = Phi^-1(u_j)`.
+    /// The standard normal law on `R^dims`, `1 <= dims <=`
+    /// [`FACTOR_MAX_DIMS`](super::FACTOR_MAX_DIMS): `x_j = Phi^-1(u_j)`.
     ///
     /// ```
     /// use mcint::measure::{Gaussian, Measure};
@@ -66,6 +67,8 @@ impl Gaussian {
         if dims == 0 {
             return Err(Error::invalid("dims", 0, "at least 1"));
         }
+        // Before the identity's d x d entries are allocated.
+        check_factor_dims("dims", dims, "dimensions", "")?;
         let mut identity = vec![0.0; dims * dims];
         for i in 0..dims {
             identity[i * dims + i] = 1.0;
@@ -73,7 +76,8 @@ impl Gaussian {
         Gaussian::new(vec![0.0; dims], identity, Factorization::Cholesky)
     }
 
-    /// The normal law with `mean` (length `d`) and `covariance` (`d x d`, row by row),
+    /// The normal law with `mean` (length `d`, at most
+    /// [`FACTOR_MAX_DIMS`](super::FACTOR_MAX_DIMS)) and `covariance` (`d x d`, row by row),
     /// factored by `factorization`.
     ///
     /// ```
@@ -91,6 +95,7 @@ impl Gaussian {
         if d == 0 {
             return Err(Error::invalid("mean", "[]", "at least one dimension"));
         }
+        check_factor_dims("mean", d, "dimensions", "")?;
         if covariance.len() != d.saturating_mul(d) {
             return Err(Error::DimensionMismatch {
                 what: "covariance entries (d x d for a mean of d)",

@@ -2,7 +2,12 @@
 
 use super::Measure;
 use super::brownian::{BrownianMotion, Construction};
+use super::normal_map::largest_normal;
 use crate::{Error, Result};
+
+/// The largest log-price a path may reach: below `ln(f64::MAX / 2) = 709.08`, so that prices
+/// stay finite with room for rounding.
+const LARGEST_LOG_PRICE: f64 = 709.0;
 
 /// The law of `(S(t_1), ..., S(t_n))` for geometric Brownian motion
 /// `S(t) = S0 exp((r - sigma^2 / 2) t + sigma W(t))`, the Black-Scholes model of an asset under
@@ -24,12 +29,19 @@ pub struct GeometricBrownianMotion {
 
 impl GeometricBrownianMotion {
     /// Prices from `s0` (finite, `> 0`) with rate `rate` (finite) and volatility `sigma`
-    /// (finite, `>= 0`) at `times` (strictly increasing, above 0).
+    /// (finite, `>= 0`, with a finite square) at `times` (strictly increasing, above 0).
+    /// Every price must stay finite: `ln s0 + (rate - sigma^2 / 2) t + sigma W(t)`, with the
+    /// normals behind `W` as large as the canonical points allow (about 8.3), must stay below
+    /// 709 (`ln(f64::MAX / 2)` is 709.08).
     ///
     /// ```
     /// use mcint::measure::{Construction, GeometricBrownianMotion};
     /// assert!(GeometricBrownianMotion::new(0.0, 0.05, 0.2, vec![1.0], Construction::Pca).is_err());
     /// assert!(GeometricBrownianMotion::new(100.0, f64::NAN, 0.2, vec![1.0], Construction::Pca).is_err());
+    /// // e^1000 overflows.
+    /// let err = GeometricBrownianMotion::new(100.0, 1000.0, 0.2, vec![1.0], Construction::Standard)
+    ///     .unwrap_err();
+    /// assert!(err.to_string().contains("709"), "{err}");
     /// ```
     pub fn new(
         s0: f64,
@@ -47,7 +59,40 @@ impl GeometricBrownianMotion {
         if !rate.is_finite() {
             return Err(Error::invalid("rate", rate, "a finite rate"));
         }
-        let path = BrownianMotion::new(times, rate - 0.5 * sigma * sigma, sigma, construction)?;
+        let drift = rate - 0.5 * sigma * sigma;
+        if !drift.is_finite() {
+            return Err(Error::invalid(
+                "sigma",
+                format!("{sigma:?}"),
+                "a volatility whose square is finite (below 1.3e154)",
+            ));
+        }
+        let path = BrownianMotion::build(times, drift, sigma, construction)?;
+        // The largest log-price any canonical point gives, NaN if drift t and sigma W
+        // overflow with opposite signs.
+        let top = path
+            .times()
+            .iter()
+            .zip(path.spread())
+            .map(|(&t, spread)| s0.ln() + drift * t + sigma * spread)
+            .fold(f64::NEG_INFINITY, |most, r| {
+                if r > most || r.is_nan() { r } else { most }
+            });
+        if top.is_nan() || top > LARGEST_LOG_PRICE {
+            let times = path.times();
+            return Err(Error::invalid(
+                "s0, rate, sigma and times",
+                format!(
+                    "s0 {s0:?}, rate {rate:?}, sigma {sigma:?}, last date {:?}",
+                    times[times.len() - 1]
+                ),
+                format!(
+                    "prices below f64::MAX / 2: ln s0 + (rate - sigma^2 / 2) t + sigma W(t), \
+                     with normals up to {:.2}, at most {LARGEST_LOG_PRICE} (it reaches {top:.4e})",
+                    largest_normal()
+                ),
+            ));
+        }
         Ok(GeometricBrownianMotion { s0, path })
     }
 

@@ -30,6 +30,38 @@ pub use gaussian::{Factorization, Gaussian, Lognormal};
 pub use geometric_brownian::GeometricBrownianMotion;
 pub use lebesgue::{Lebesgue, UnboundedTransform};
 
+/// The most dimensions of a [`Gaussian`] (either [`Factorization`]) and of a
+/// [`BrownianMotion`] built by [`Construction::Pca`]: factoring their covariance keeps
+/// `d x d` matrices and takes `O(d^3)` time, so larger ones are refused with an error instead
+/// of running for minutes with gigabytes. (The standard and bridge constructions of Brownian
+/// paths take `O(d)` and have no such bound.)
+///
+/// ```
+/// use mcint::measure::{BrownianMotion, Construction, FACTOR_MAX_DIMS, Gaussian};
+/// let err = Gaussian::standard(FACTOR_MAX_DIMS + 1).unwrap_err();
+/// assert!(err.to_string().contains("O(d^3)"), "{err}");
+/// let times: Vec<f64> = (1..=2000).map(f64::from).collect();
+/// assert!(BrownianMotion::new(times.clone(), 0.0, 1.0, Construction::Pca).is_err());
+/// assert!(BrownianMotion::new(times, 0.0, 1.0, Construction::Bridge).is_ok());
+/// ```
+pub const FACTOR_MAX_DIMS: usize = 1024;
+
+/// Ok when `d` dimensions (`what`: the parameter that sets them, counted in `unit`) can be
+/// factored; `hint` ends the message.
+fn check_factor_dims(what: &'static str, d: usize, unit: &str, hint: &str) -> crate::Result<()> {
+    if d > FACTOR_MAX_DIMS {
+        return Err(crate::Error::invalid(
+            what,
+            format!("{d} {unit}"),
+            format!(
+                "at most {FACTOR_MAX_DIMS} (FACTOR_MAX_DIMS): factoring the covariance keeps d x d \
+                 matrices and takes O(d^3) time{hint}"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// A measure over `R^d` seen from the unit cube: canonical points `u` in `[0,1)^k` map to
 /// points `x` with weights, so that `int f dmu = int f(T(u)) w(u) du`.
 ///

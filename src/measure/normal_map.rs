@@ -13,6 +13,12 @@ pub(super) fn standard_normal(u: f64) -> f64 {
     normal_quantile(u.max(SMALLEST))
 }
 
+/// The largest `|Phi^-1(u)|` over canonical `u`: `-Phi^-1(2^-54)`, about 8.29 (the top,
+/// `Phi^-1(1 - 2^-53)`, is about 8.21).
+pub(super) fn largest_normal() -> f64 {
+    -standard_normal(0.0)
+}
+
 /// Checks that every value is finite, naming `what` otherwise.
 pub(super) fn check_finite(what: &'static str, values: &[f64]) -> crate::Result<()> {
     match values.iter().position(|v| !v.is_finite()) {

@@ -362,6 +362,15 @@ fn print_table(contract: &Contract, budget: &Budget) -> Result<(), String> {
     let Some(tolerance) = budget.tolerance else {
         return Err("--table needs a tolerance".into());
     };
+    // Every construction's paths can be built (principal components have a dimension
+    // bound), before any row is printed.
+    for construction in [
+        Construction::Standard,
+        Construction::Bridge,
+        Construction::Pca,
+    ] {
+        contract.paths(construction).map_err(|e| e.to_string())?;
+    }
     say!(
         "arithmetic Asian call, {} dates: evaluations to a 95% half-width of {} x price (limit {})",
         contract.dates,

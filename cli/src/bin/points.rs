@@ -34,7 +34,7 @@ mod plot;
 mod support;
 
 use mcint::Points;
-use mcint::measure::{Factorization, Gaussian, Measure};
+use mcint::measure::{FACTOR_MAX_DIMS, Factorization, Gaussian, Measure};
 use mcint::sampler::{PassKind, SamplerKind};
 use std::io::{BufWriter, Write};
 use support::Args;
@@ -245,6 +245,13 @@ fn gaussian(args: &Args, dims: usize) -> Result<Option<Gaussian>, String> {
         }
         Some("gaussian") => {}
         Some(other) => return Err(format!("invalid --measure '{other}': expected gaussian")),
+    }
+    // Before the dims x dims covariance is built (20,000 dimensions would take 3.2 GB).
+    if dims > FACTOR_MAX_DIMS {
+        return Err(format!(
+            "invalid --dims {dims} with --measure gaussian: at most {FACTOR_MAX_DIMS} (factoring \
+             the covariance keeps dims x dims matrices and takes O(dims^3) time)"
+        ));
     }
     let mean = args.list("mean")?.unwrap_or_else(|| vec![0.0; dims]);
     if mean.len() != dims {
