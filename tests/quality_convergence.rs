@@ -549,3 +549,32 @@ fn bad_settings_and_unfit_samplers_are_errors_not_panics() {
         .unwrap_err();
     assert!(message(e).contains("N = 81"));
 }
+
+/// Passes beyond memory are refused before anything is allocated (2^64 - 1 passes asked for
+/// a vector that large and aborted), and a point whose passes all have the same squared
+/// error, so that the slope's error bar is undefined, is an error naming the passes (the
+/// study reported a slope "± inf"; the same for passes that were all exact, which blamed the
+/// integrand).
+#[test]
+fn passes_beyond_memory_or_too_few_to_measure_a_spread_are_refused() {
+    let independent = |_: u64, seed: u64| Independent::new(2, seed);
+    for passes in [u64::MAX, 1 << 21] {
+        let e = Convergence::new(&GraphicsIntegrand::Disk, &[16, 64])
+            .passes(passes)
+            .run(independent)
+            .unwrap_err();
+        assert!(e.to_string().contains("2 to 2^20"), "{e}");
+    }
+    // Owen-scrambled Sobol' points count the disk's 32-point net the same way in 3 passes.
+    let sobol = |_: u64, seed: u64| Sobol::new(2, Scramble::Owen, seed);
+    let e = Convergence::new(&GraphicsIntegrand::Disk, &[16, 32, 64])
+        .passes(3)
+        .seed(2018)
+        .run(sobol)
+        .unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("invalid passes = 3") && text.contains("undefined"),
+        "{text}"
+    );
+}

@@ -50,6 +50,8 @@ use crate::{Error, Points, Result};
 
 /// Passes per point count when none is given.
 const DEFAULT_PASSES: u64 = 32;
+/// The most passes per point count: the error of every pass is kept in memory.
+const MAX_PASSES: u64 = 1 << 20;
 /// Points filled and evaluated at a time.
 const BLOCK: usize = 1024;
 /// Salt separating the pass seeds from other uses of the seed.
@@ -207,15 +209,16 @@ impl<'a> Convergence<'a> {
         seed, threads
     }
 
-    /// Independent passes `R` per point count (at least 2; default 32). The slope's standard
+    /// Independent passes `R` per point count (2 to `2^20`; default 32). The slope's standard
     /// error falls like `1/√R`.
     ///
     /// ```
     /// use mcint::quality::Convergence;
     /// use mcint::sampler::Independent;
     /// use mcint::testfns::GraphicsIntegrand;
-    /// let one = Convergence::new(&GraphicsIntegrand::Disk, &[16, 64]).passes(1);
-    /// assert!(one.run(|_n, seed| Independent::new(2, seed)).is_err());
+    /// let study = |r| Convergence::new(&GraphicsIntegrand::Disk, &[16, 64]).passes(r);
+    /// assert!(study(1).run(|_n, seed| Independent::new(2, seed)).is_err());
+    /// assert!(study(u64::MAX).run(|_n, seed| Independent::new(2, seed)).is_err());
     /// ```
     pub fn passes(mut self, passes: u64) -> Self {
         self.passes = passes;
@@ -288,13 +291,32 @@ impl<'a> Convergence<'a> {
             .zip(&errors)
             .map(|(&n, e)| summarize(n, e))
             .collect::<Vec<_>>();
+        // Estimates that take few values (an indicator's counts, a stratified sampler's
+        // discrete errors) can agree by chance in a few passes.
+        let few = if self.passes < 32 {
+            "; with more passes a chance agreement becomes unlikely"
+        } else {
+            ""
+        };
         if let Some(p) = points.iter().find(|p| p.rmse == 0.0) {
             return Err(Error::invalid(
-                "integrand",
-                self.integrand.name(),
+                "passes",
+                self.passes,
                 format!(
-                    "an integrand this sampler does not integrate exactly (every estimate at \
-                     N = {} was exact, so log RMSE is undefined)",
+                    "passes whose estimates are not all exact: every one at N = {} was, so \
+                     log RMSE is undefined (the sampler may integrate {} exactly){few}",
+                    p.n,
+                    self.integrand.name()
+                ),
+            ));
+        }
+        if let Some(p) = points.iter().find(|p| p.rmse_std_error == 0.0) {
+            return Err(Error::invalid(
+                "passes",
+                self.passes,
+                format!(
+                    "passes whose squared errors differ: every one at N = {} had the same, so \
+                     the spread of its RMSE, and the slope's error bar, are undefined{few}",
                     p.n
                 ),
             ));
@@ -335,11 +357,12 @@ impl<'a> Convergence<'a> {
                 "positive point counts in strictly increasing order",
             ));
         }
-        if self.passes < 2 {
+        if !(2..=MAX_PASSES).contains(&self.passes) {
             return Err(Error::invalid(
                 "passes",
                 self.passes,
-                "at least 2 independent passes per point count, to measure a spread",
+                "2 to 2^20 independent passes per point count (at least 2 to measure a \
+                 spread; the error of each is kept in memory)",
             ));
         }
         Ok(())
