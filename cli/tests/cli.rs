@@ -1125,6 +1125,13 @@ fn convergence_draws_plots_and_a_slope_table() {
         &run("convergence", &["--out", "/tmp/x", "--max-log2", "40"]),
         "--max-log2",
     );
+    // Passes beyond memory panicked (1e19) or aborted (1e15).
+    for passes in ["1e15", "1e19"] {
+        assert_one_line_error(
+            &run("convergence", &["--out", "/tmp/x", "--passes", passes]),
+            "2 to 2^20 independent passes",
+        );
+    }
 }
 
 #[test]

@@ -82,7 +82,7 @@ fn every_program(dir: &std::path::Path) -> Vec<(&'static str, Vec<String>)> {
             ),
             (
                 "convergence",
-                owned(&["--out", &out_dir, "--max-log2", "8", "--passes", "4"]),
+                owned(&["--out", &out_dir, "--max-log2", "8", "--passes", "8"]),
             ),
             ("integrate", owned(&["--help"])),
             (
@@ -207,6 +207,101 @@ fn sizes_beyond_memory_are_refused_before_anything_is_allocated() {
     assert_one_line_error(&out, "at most 16 dimensions");
     let out = run("integrate", &["--genz", "gaussian", "--dims", "10000000"]);
     assert_one_line_error(&out, "8 GiB");
+    // An image of 10^7 points took 1.3 GB; the spectra's work is bounded too.
+    let out = run(
+        "gallery",
+        &["--out", "/tmp/mcint-never-written", "--n", "1e7"],
+    );
+    assert_one_line_error(&out, "at most 65536");
+    let out = run(
+        "gallery",
+        &[
+            "--out",
+            "/tmp/mcint-never-written",
+            "--n",
+            "65536",
+            "--passes",
+            "1024",
+        ],
+    );
+    assert_one_line_error(&out, "at most 2^34");
+}
+
+/// Input files are read only when they are regular files, and at most 64 MiB of them:
+/// `quality --input /dev/zero` read 8 GiB before failing, and a pipe (`/dev/stdout` with
+/// stdout a pipe) blocked forever.
+#[cfg(target_os = "linux")]
+#[test]
+fn input_files_must_be_regular_and_bounded() {
+    use common::output_or_hang;
+    let dir = common::scratch_dir("inputs");
+    let big = dir.join("big.csv");
+    std::fs::File::create(&big)
+        .unwrap()
+        .set_len((64 << 20) + 1)
+        .unwrap();
+    let big = big.to_str().unwrap();
+    let dir_path = dir.to_str().unwrap();
+    let cases: [(&str, Vec<&str>, &str); 6] = [
+        (
+            "quality",
+            vec!["--input", "/dev/zero", "--measure", "star"],
+            "a device",
+        ),
+        (
+            "quality",
+            vec!["--input", "/dev/stdout", "--measure", "star"],
+            "a pipe",
+        ),
+        (
+            "quality",
+            vec!["--input", dir_path, "--measure", "star"],
+            "a directory",
+        ),
+        (
+            "quality",
+            vec!["--input", big, "--measure", "star"],
+            "larger than 67108864 bytes",
+        ),
+        (
+            "points",
+            vec![
+                "--sampler",
+                "sobol",
+                "--dims",
+                "2",
+                "--n",
+                "4",
+                "--measure",
+                "gaussian",
+                "--cov",
+                "/dev/zero",
+            ],
+            "a device",
+        ),
+        (
+            "points",
+            vec![
+                "--sampler",
+                "sobol",
+                "--dims",
+                "2",
+                "--n",
+                "4",
+                "--measure",
+                "gaussian",
+                "--cov",
+                big,
+            ],
+            "larger than",
+        ),
+    ];
+    for (name, args, needle) in cases {
+        // stdout a pipe, kept open: /dev/stdout is that pipe.
+        let out = output_or_hang(Command::new(example(name)).args(&args));
+        assert_one_line_error(&out, needle);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[cfg(target_os = "linux")]

@@ -6,7 +6,7 @@
 //! cargo run --release --bin gallery -- --out DIR [--n 256] [--passes 16] [--frequency 32]
 //!     [--format png|svg] [--seed S] [--publication]
 //! ```
-//! `--n` points per set (samplers that cannot make exactly `n` use the nearest size they
+//! `--n` points per set (at most 65536: an image holds no more; samplers that cannot make exactly `n` use the nearest size they
 //! can: 17^2 for `oa-bose` and `oa-bush`, the latter with strength 2); the spectrum is the periodogram averaged over
 //! `--passes` independent passes up to frequency `--frequency`. `--publication` uses 1024
 //! points, 64 passes and frequency 64 (a minute or so instead of seconds). The index,
@@ -33,21 +33,27 @@ const ABOUT: &str = "Draws every sampler's 2-D points and Fourier spectrum, one 
 
 const SPEC: support::Spec = &[
     ("out", true, "directory for the images and index.html"),
-    ("n", true, "points per image (default 256)"),
+    ("n", true, "points per image (default 256, at most 65536)"),
     (
         "passes",
         true,
-        "passes averaged into each spectrum (default 16)",
+        "passes averaged into each spectrum (default 16, at most 1024)",
     ),
     (
         "frequency",
         true,
-        "highest frequency of the spectra (default 32)",
+        "highest frequency of the spectra (default 32, at most 256)",
     ),
     ("format", true, "png (default) or svg"),
     support::SEED,
     support::PUBLICATION,
 ];
+
+/// The most points per image, passes per spectrum and highest frequency: an image shows no
+/// more points, and the spectra cost `passes n (2 frequency + 1)^2` operations.
+const MOST: [(&str, u64); 3] = [("n", 1 << 16), ("passes", 1 << 10), ("frequency", 1 << 8)];
+/// The most operations the spectra of one sampler may take (about `2^34`: minutes).
+const MAX_SPECTRUM_WORK: u64 = 1 << 34;
 
 /// Sizes tried, in order, when a construction cannot make `--n` points.
 const FALLBACK_SIZES: [u64; 4] = [289, 343, 243, 225];
@@ -72,13 +78,42 @@ fn run() -> Result<(), String> {
     let publication = args.has("publication");
     let settings = Settings {
         n: positive(&args, "n", if publication { 1024 } else { 256 })?,
-        passes: positive(&args, "passes", if publication { 64 } else { 16 })? as usize,
-        frequency: positive(&args, "frequency", if publication { 64 } else { 32 })? as usize,
+        passes: usize::try_from(positive(
+            &args,
+            "passes",
+            if publication { 64 } else { 16 },
+        )?)
+        .unwrap_or(usize::MAX),
+        frequency: usize::try_from(positive(
+            &args,
+            "frequency",
+            if publication { 64 } else { 32 },
+        )?)
+        .unwrap_or(usize::MAX),
         format: args
             .get::<String>("format", "png or svg")?
             .unwrap_or_else(|| "png".into()),
         seed: args.get("seed", "a whole number")?.unwrap_or(1),
     };
+    for (name, most) in MOST {
+        let value = match name {
+            "n" => settings.n,
+            "passes" => settings.passes as u64,
+            _ => settings.frequency as u64,
+        };
+        if value > most {
+            return Err(format!("invalid --{name} {value}: expected at most {most}"));
+        }
+    }
+    let side = 2 * settings.frequency as u64 + 1;
+    let work = settings.n * settings.passes as u64 * side * side;
+    if work > MAX_SPECTRUM_WORK {
+        return Err(format!(
+            "--n {} x --passes {} x (2 --frequency + 1)^2 = {work} operations per spectrum: \
+             expected at most 2^34 = {MAX_SPECTRUM_WORK} (fewer points, passes or frequencies)",
+            settings.n, settings.passes
+        ));
+    }
     if settings.format != "png" && settings.format != "svg" {
         return Err(format!(
             "invalid --format '{}': expected png or svg",

@@ -285,19 +285,7 @@ fn gaussian(args: &Args, dims: usize) -> Result<Option<Gaussian>, String> {
 
 /// A `dims x dims` matrix from a text file: rows of numbers separated by commas or spaces.
 fn read_matrix(path: &str, dims: usize) -> Result<Vec<f64>, String> {
-    const MAX_BYTES: u64 = 64 << 20;
-    let mut text = String::new();
-    std::io::Read::read_to_string(
-        &mut std::io::Read::take(
-            std::fs::File::open(path).map_err(|e| format!("cannot read --cov '{path}': {e}"))?,
-            MAX_BYTES + 1,
-        ),
-        &mut text,
-    )
-    .map_err(|e| format!("cannot read --cov '{path}': {e}"))?;
-    if text.len() as u64 > MAX_BYTES {
-        return Err(format!("--cov '{path}' is larger than {MAX_BYTES} bytes"));
-    }
+    let text = support::input::read_text(path, "cov")?;
     let rows: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
     if rows.len() != dims {
         return Err(format!(

@@ -103,7 +103,7 @@ fn t_value(points: &Points) -> Result<String, String> {
 
 /// Reads a CSV file of points (one per line, comma-separated coordinates in `[0, 1]`).
 fn read_points(path: &str) -> Result<Points, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read '{path}': {e}"))?;
+    let text = support::input::read_text(path, "input")?;
     // A final newline (or several) is not an empty point.
     let body = text.trim_end();
     if body.is_empty() {

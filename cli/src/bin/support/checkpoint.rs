@@ -250,34 +250,16 @@ fn beside(path: &Path, extension: &str) -> PathBuf {
 /// Refuses a checkpoint `path` that exists and is not a regular file: a directory, a device,
 /// or a pipe such as `/dev/stdout`, whose read would never end.
 fn check_kind(path: &Path) -> Result<(), String> {
-    let kind = match std::fs::metadata(path) {
-        Ok(meta) if meta.is_file() => return Ok(()),
-        Ok(meta) => meta.file_type(),
-        Err(e) if e.kind() == ErrorKind::NotFound => return Ok(()),
-        Err(e) => return Err(format!("cannot read checkpoint '{}': {e}", path.display())),
-    };
-    let what = if kind.is_dir() {
-        "a directory"
-    } else if is_pipe(kind) {
-        "a pipe"
-    } else {
-        "a device or another special file"
-    };
-    Err(format!(
-        "checkpoint '{}' is {what}: --checkpoint takes a regular file, or a path where one can \
-         be created",
-        path.display()
-    ))
-}
-
-#[cfg(unix)]
-fn is_pipe(kind: std::fs::FileType) -> bool {
-    std::os::unix::fs::FileTypeExt::is_fifo(&kind)
-}
-
-#[cfg(not(unix))]
-fn is_pipe(_: std::fs::FileType) -> bool {
-    false
+    let what = crate::support::input::irregular(path)
+        .map_err(|e| format!("cannot read checkpoint '{}': {e}", path.display()))?;
+    match what {
+        None => Ok(()),
+        Some(what) => Err(format!(
+            "checkpoint '{}' is {what}: --checkpoint takes a regular file, or a path where one \
+             can be created",
+            path.display()
+        )),
+    }
 }
 
 /// `path` with symbolic links followed to the file they name, which may not exist yet: saves

@@ -2,6 +2,7 @@
 //! with one-line errors that say what is allowed, and output that never panics.
 #![allow(dead_code)] // each example binary uses a different subset of these helpers
 
+pub mod input;
 pub mod output;
 
 use mcint::sampler::{SamplerKind, Scramble};
