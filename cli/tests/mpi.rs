@@ -57,6 +57,10 @@ fn launch() -> ExitCode {
             failed.push(format!("integrate --mpi on {ranks} ranks"));
         }
     }
+    if let Err(e) = one_error_line_from_the_job() {
+        eprintln!("mpi: {e}");
+        failed.push("an argument error on 3 ranks".to_string());
+    }
     if failed.is_empty() {
         println!(
             "mpi: every case matched the one-process run on 1, 2, 3 and 4 ranks, and so did \
@@ -146,6 +150,29 @@ fn cli_matches_one_process(ranks: usize) -> Result<(), String> {
                 "{flags:?} on {ranks} ranks: {spread} differs from {alone}"
             ));
         }
+    }
+    Ok(())
+}
+
+/// `mpirun -n 3 integrate --mpi` with a bad argument: one error line (from rank 0), where
+/// every rank printed it.
+fn one_error_line_from_the_job() -> Result<(), String> {
+    let launcher = std::env::var("MPIRUN").unwrap_or_else(|_| "mpirun".to_string());
+    let out = Command::new(&launcher)
+        .args(["--oversubscribe", "-n", "3"])
+        .arg(common::example("integrate"))
+        .args(["--integrand", "nope", "--dims", "2", "--mpi"])
+        .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
+        .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+        .output()
+        .map_err(|e| format!("cannot start {launcher}: {e}"))?;
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let errors = stderr.lines().filter(|l| l.starts_with("error: ")).count();
+    if out.status.success() || errors != 1 {
+        return Err(format!(
+            "a bad argument on 3 ranks: expected one error line and a failure, got {errors}: \
+             {stderr}"
+        ));
     }
     Ok(())
 }

@@ -754,7 +754,7 @@ mod tests {
             let points: u64 = pieces.iter().map(|(_, (_, n))| n).sum();
             assert!(points < 3 * 16, "chunk {chunk}: {points}");
             for (j, (first, n)) in pieces {
-                assert!(n >= 1 && n <= 16 && first % 16 == 0);
+                assert!((1..=16).contains(&n) && first % 16 == 0);
                 seen.push((j, first, n));
             }
         }

@@ -21,8 +21,8 @@ use mcint::mpi::traits::{Communicator, CommunicatorCollectives, Root};
 use mcint::{Cluster, Integrator, pdf::UniformBox};
 use std::hint::black_box;
 use std::time::Instant;
+use support::Args;
 use support::output::say;
-use support::{Args, fail};
 
 /// What `--help` says the program does.
 const ABOUT: &str = "Strong scaling over MPI ranks and the cost of one exchange between them.";
