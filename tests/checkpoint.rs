@@ -387,3 +387,27 @@ fn honest_parts_of_every_shape_read_back_and_finish() {
         scalar.run().unwrap()
     );
 }
+
+/// A covariance accumulator whose co-moment triangle does not match its means is refused
+/// when read (a checkpoint with a short triangle panicked in its checksum); an honest one
+/// reads back unchanged.
+#[test]
+fn covariance_accumulators_of_the_wrong_shape_are_refused() {
+    use mcint::stats::CovarianceAccumulator;
+    let mut acc = CovarianceAccumulator::new(2).unwrap();
+    acc.push(&[1.0, 2.0]).unwrap();
+    acc.push(&[3.0, 1.0]).unwrap();
+    let text = serde_json::to_string(&acc).unwrap();
+    assert_eq!(
+        serde_json::from_str::<CovarianceAccumulator>(&text).unwrap(),
+        acc
+    );
+    for bad in [
+        r#"{"count":2,"means":[2.0,1.5],"comoments":[2.0,-1.0],"non_finite":0}"#,
+        r#"{"count":2,"means":[],"comoments":[],"non_finite":0}"#,
+        r#"{"count":2,"means":[2.0],"comoments":[2.0,-1.0,0.5],"non_finite":0}"#,
+    ] {
+        let e = serde_json::from_str::<CovarianceAccumulator>(bad).unwrap_err();
+        assert!(e.to_string().contains("co-moments"), "{e}");
+    }
+}

@@ -32,7 +32,11 @@ use crate::{Error, Result};
 /// assert_eq!(left.means(), &[2.0, 11.0 / 3.0]);
 /// assert!((left.covariance(0, 1) - 1.5).abs() < 1e-15);
 /// ```
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(try_from = "CovarianceState")
+)]
 #[derive(Debug, Clone, PartialEq)]
 pub struct CovarianceAccumulator {
     count: u64,
@@ -41,6 +45,43 @@ pub struct CovarianceAccumulator {
     /// `i (i + 1) / 2 + j`.
     comoments: Vec<f64>,
     non_finite: u64,
+}
+
+/// The fields of a [`CovarianceAccumulator`] as read, before their shapes are checked (a
+/// co-moment triangle shorter than the means made every read of it panic).
+#[cfg(feature = "serde")]
+#[derive(serde::Deserialize)]
+struct CovarianceState {
+    count: u64,
+    means: Vec<f64>,
+    comoments: Vec<f64>,
+    non_finite: u64,
+}
+
+#[cfg(feature = "serde")]
+impl TryFrom<CovarianceState> for CovarianceAccumulator {
+    type Error = String;
+
+    fn try_from(state: CovarianceState) -> std::result::Result<Self, String> {
+        let d = state.means.len();
+        let triangle = d
+            .checked_add(1)
+            .and_then(|t| t.checked_mul(d))
+            .map(|t| t / 2);
+        if d == 0 || triangle != Some(state.comoments.len()) {
+            return Err(format!(
+                "a covariance accumulator of {d} means and {} co-moments: expected at least one \
+                 mean and d (d + 1) / 2 co-moments",
+                state.comoments.len()
+            ));
+        }
+        Ok(CovarianceAccumulator {
+            count: state.count,
+            means: state.means,
+            comoments: state.comoments,
+            non_finite: state.non_finite,
+        })
+    }
 }
 
 /// Position of `(i, j)`, `j <= i`, in the packed lower triangle.
