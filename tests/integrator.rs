@@ -291,3 +291,68 @@ fn skipped_non_finite_contributions_are_counted_and_left_out() {
         .unwrap_err();
     assert!(matches!(strict, mcint::Error::NonFiniteContribution { .. }));
 }
+
+/// One replicate of dependent points has no standard error, and the estimate says why (it
+/// said nothing: `std_error.unwrap()` panicked in a user's program without a hint).
+#[test]
+fn one_replicate_of_dependent_points_warns_that_it_has_no_error_bar() {
+    use mcint::sampler::{Scramble, Sobol};
+    use mcint::stats::Warning;
+    let f = |x: &[f64]| x[0] * x[1];
+    let square = || UniformBox::unit(2).unwrap();
+    let owen = || Sobol::new(2, Scramble::Owen, 3).unwrap();
+    let e = Integrator::over_box(f, square())
+        .sampler(owen())
+        .samples(1024)
+        .run()
+        .unwrap();
+    assert_eq!(e.std_error, None);
+    let expected = Warning::NoErrorBar {
+        sampler: "sobol".into(),
+        randomized: true,
+    };
+    assert!(e.warnings.contains(&expected), "{:?}", e.warnings);
+    assert_eq!(expected.kind(), "no-error-bar");
+    for sampler in [
+        Box::new(Jittered::new(2, 32, 3).unwrap()) as Box<dyn mcint::Sampler>,
+        Box::new(Sobol::new(2, Scramble::None, 3).unwrap()),
+    ] {
+        let randomized = sampler.is_randomized();
+        let e = Integrator::over_box(f, square())
+            .sampler(sampler)
+            .samples(1024)
+            .run()
+            .unwrap();
+        assert!(
+            e.warnings.iter().any(
+                |w| matches!(w, Warning::NoErrorBar { randomized: r, .. } if *r == randomized)
+            ),
+            "{:?}",
+            e.warnings
+        );
+    }
+    // With replicates there is an error bar, and no such warning.
+    let e = Integrator::over_box(f, square())
+        .sampler(owen())
+        .samples(1024)
+        .replicates(16)
+        .run()
+        .unwrap();
+    assert!(e.std_error.is_some());
+    assert!(
+        e.warnings.iter().all(|w| w.kind() != "no-error-bar"),
+        "{:?}",
+        e.warnings
+    );
+    // Independent points have a per-sample error bar.
+    let e = Integrator::over_box(f, square())
+        .sampler(Independent::new(2, 3).unwrap())
+        .samples(1024)
+        .run()
+        .unwrap();
+    assert!(
+        e.std_error.is_some() && e.warnings.is_empty(),
+        "{:?}",
+        e.warnings
+    );
+}

@@ -128,3 +128,22 @@ fn points_warns_about_a_count_that_breaks_a_net() {
     );
     assert!(stderr(&out).is_empty(), "{}", stderr(&out));
 }
+
+/// One replicate of dependent points: no standard error, and a warning that says how to get
+/// one.
+#[test]
+fn one_replicate_of_dependent_points_is_warned_about() {
+    let (json, err) = integrate_json(&[
+        "--genz",
+        "gaussian",
+        "--dims",
+        "3",
+        "--sampler",
+        "sobol",
+        "--replicates",
+        "1",
+    ]);
+    assert_eq!(json["std_error"], Value::Null);
+    assert_eq!(kinds(&json), ["no-error-bar"]);
+    assert!(err.contains("8 or more replicates"), "{err}");
+}

@@ -317,6 +317,13 @@ impl Plan {
         if let Some(warning) = balance_warning(sampler, self.samples) {
             estimate.for_each_output(|_, output| output.warn(warning.clone()));
         }
+        if self.replicates == 1 {
+            let warning = Warning::NoErrorBar {
+                sampler: sampler.name().to_string(),
+                randomized: sampler.is_randomized(),
+            };
+            estimate.for_each_output(|_, output| output.warn(warning.clone()));
+        }
         Ok(estimate)
     }
 }

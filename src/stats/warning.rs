@@ -53,6 +53,18 @@ pub enum Warning {
         /// The number of replicates.
         replicates: u64,
     },
+    /// One replicate of dependent points (a net, a lattice, stratified points): their
+    /// estimate has no honest standard error, so none is reported
+    /// ([`Estimate::std_error`](super::Estimate::std_error) is `None`). Independent
+    /// re-randomizations (`replicates(R)`, `R >= 8`, of a randomized sampler) give one from
+    /// their spread.
+    NoErrorBar {
+        /// The sampler's name.
+        sampler: String,
+        /// Whether it is randomized (an unrandomized one gives the same points every
+        /// replicate, so replicates alone do not help).
+        randomized: bool,
+    },
     /// NaN or infinite contributions were left out, as asked: the estimate is the mean over
     /// the finite ones, which is biased wherever the skipped points carry mass.
     NonFiniteSkipped {
@@ -119,6 +131,7 @@ impl Warning {
             Warning::UnbalancedSampleSize { .. } => "unbalanced-sample-size",
             Warning::ToleranceNotMet { .. } => "tolerance-not-met",
             Warning::FewReplicates { .. } => "few-replicates",
+            Warning::NoErrorBar { .. } => "no-error-bar",
             Warning::NonFiniteSkipped { .. } => "non-finite-skipped",
             Warning::AtRoundingFloor { .. } => "at-rounding-floor",
             Warning::StoppedEarly { .. } => "stopped-early",
@@ -169,6 +182,23 @@ impl fmt::Display for Warning {
                 f,
                 "only {replicates} replicates: the interval is wide and its standard error \
                  uncertain; use at least 8"
+            ),
+            Warning::NoErrorBar {
+                sampler,
+                randomized: true,
+            } => write!(
+                f,
+                "one replicate of {sampler} points has no error bar (its points are dependent): \
+                 run 8 or more replicates for one from their spread"
+            ),
+            Warning::NoErrorBar {
+                sampler,
+                randomized: false,
+            } => write!(
+                f,
+                "one replicate of {sampler} points has no error bar (its points are dependent), \
+                 and unrandomized points give none with more replicates: randomize them (a \
+                 scramble or a shift) and run 8 or more replicates"
             ),
             Warning::NonFiniteSkipped { count } => write!(
                 f,
