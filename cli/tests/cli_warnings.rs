@@ -129,6 +129,36 @@ fn points_warns_about_a_count_that_breaks_a_net() {
     assert!(stderr(&out).is_empty(), "{}", stderr(&out));
 }
 
+/// A vector run lists its warnings in `--json` as a scalar run does, `{"kind", "message"}`
+/// objects (it gave plain strings), with the output each belongs to.
+#[test]
+fn vector_runs_list_warnings_as_objects() {
+    let (json, err) = integrate_json(&[
+        "--genz",
+        "gaussian,oscillatory",
+        "--dims",
+        "3",
+        "--method",
+        "rqmc",
+        "--replicates",
+        "4",
+    ]);
+    let warnings = json["warnings"].as_array().expect("a warnings array");
+    assert_eq!(warnings.len(), 2, "{json}");
+    for (k, w) in warnings.iter().enumerate() {
+        assert_eq!(w["kind"], "few-replicates", "{w}");
+        assert_eq!(w["output"], k, "{w}");
+        assert!(
+            w["message"].as_str().unwrap().contains("only 4 replicates"),
+            "{w}"
+        );
+    }
+    assert!(
+        err.contains("warning: output 1: only 4 replicates"),
+        "{err}"
+    );
+}
+
 /// One replicate of dependent points: no standard error, and a warning that says how to get
 /// one.
 #[test]

@@ -189,14 +189,17 @@ impl VectorReport<'_> {
         })
     }
 
+    /// Every output's warnings, with the output they belong to.
+    fn output_warnings(&self) -> impl Iterator<Item = (usize, &mcint::stats::Warning)> {
+        let outputs = self.run.outputs.iter().enumerate();
+        outputs.flat_map(|(k, e)| e.warnings.iter().map(move |w| (k, w)))
+    }
+
+    /// The warnings as lines for stderr.
     pub fn warnings(&self) -> Vec<String> {
-        let mut lines = Vec::new();
-        for (k, e) in self.run.outputs.iter().enumerate() {
-            for w in &e.warnings {
-                lines.push(format!("output {k}: {w}"));
-            }
-        }
-        lines
+        self.output_warnings()
+            .map(|(k, w)| format!("output {k}: {w}"))
+            .collect()
     }
 
     pub fn print_json(&self) -> Result<(), String> {
@@ -223,7 +226,12 @@ impl VectorReport<'_> {
             "converged": run.converged,
             "stop": stop_name(run.stop),
             "iterations": run.iterations,
-            "warnings": self.warnings(),
+            // As a scalar run has them, with the output each belongs to.
+            "warnings": self.output_warnings().map(|(k, w)| serde_json::json!({
+                "kind": w.kind(),
+                "message": w.to_string(),
+                "output": k,
+            })).collect::<Vec<_>>(),
             "ranks": self.ranks,
             "seconds": self.seconds,
         });
