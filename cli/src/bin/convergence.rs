@@ -120,9 +120,7 @@ fn sizes(kind: SamplerKind, dims: usize, max_log2: u32) -> Vec<u64> {
 
 fn run() -> Result<(), String> {
     let args = Args::parse(ABOUT, SPEC)?;
-    let out: PathBuf = args
-        .require::<String>("out", "the folder to write the plots into")?
-        .into();
+    let out: PathBuf = args.folder("out", "the folder to write the plots into")?;
     let publication = args.has("publication");
     let passes: u64 = args
         .get("passes", "a whole number >= 2")?

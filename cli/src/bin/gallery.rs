@@ -72,9 +72,7 @@ struct Settings {
 
 fn run() -> Result<(), String> {
     let args = Args::parse(ABOUT, SPEC)?;
-    let out: PathBuf = args
-        .require::<String>("out", "the folder to write the gallery into")?
-        .into();
+    let out: PathBuf = args.folder("out", "the folder to write the gallery into")?;
     let publication = args.has("publication");
     let settings = Settings {
         n: positive(&args, "n", if publication { 1024 } else { 256 })?,

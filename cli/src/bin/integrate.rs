@@ -175,6 +175,10 @@ const SPEC: support::Spec = &[
 
 const DEFAULT_POINTS: u64 = 1 << 16;
 
+/// The most dimensions `--dims` takes: beyond, setting the test families up alone takes
+/// seconds (the corner peak's exact value took 30 s in 10^7 dimensions).
+const MAX_DIMS: usize = 1 << 17;
+
 fn main() {
     let token = CANCEL.get_or_init(CancelToken::new).clone();
     // Without a handler (another already installed) a signal ends the process as usual.
@@ -238,6 +242,13 @@ fn run() -> Result<(), String> {
         }
     };
     let dims: usize = args.require("dims", "a whole number of dimensions >= 1")?;
+    if dims > MAX_DIMS {
+        return Err(format!(
+            "invalid --dims {dims}: expected at most {MAX_DIMS} (the families' exact values take \
+             O(d) work per quadrature node, and VEGAS keeps grids of d x 1000 increments per \
+             chunk)"
+        ));
+    }
     let functions = Named::parse_list(&args, &names, dims)?;
     let ratio = args
         .get::<String>("ratio", "two output indices I,J")?

@@ -159,6 +159,18 @@ impl Args {
             .ok_or_else(|| format!("missing --{name} ({what})"))
     }
 
+    /// The folder `--name` names, which must be given and not blank (an empty path would
+    /// write into the current directory).
+    pub fn folder(&self, name: &str, what: &str) -> Result<std::path::PathBuf, String> {
+        let path: String = self.require(name, what)?;
+        if path.trim().is_empty() {
+            return Err(format!(
+                "invalid --{name} '{path}': expected {what}, not a blank path"
+            ));
+        }
+        Ok(path.into())
+    }
+
     /// A comma-separated list of numbers.
     pub fn list(&self, name: &str) -> Result<Option<Vec<f64>>, String> {
         let Some(text) = self.values.get(name) else {
