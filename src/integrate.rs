@@ -11,14 +11,13 @@
 //! [`VectorRun`] carries `m` outputs and their tolerances through the same plan, stages and
 //! checkpoints.
 
-use crate::engine::{Executor, Limits, RunConfig, run_settings};
+use crate::engine::{Drive, RunConfig, run_settings};
 use crate::estimator::{
     BatchUniformEstimator, Estimator, ExpectationEstimator, ImportanceEstimator, UniformEstimator,
-    VectorEstimator, WarpImportanceEstimator,
+    WarpImportanceEstimator,
 };
 use crate::measure::Measure;
 use crate::pdf::{GeometricWarp, Pdf, UniformBox, WarpPoint};
-use crate::sampler::Sampler;
 use crate::stats::{Estimate, VectorEstimate};
 use crate::{Error, Points, Result};
 
@@ -30,7 +29,7 @@ mod partial;
 mod partial_format;
 mod pilot;
 mod plan;
-mod staged;
+mod stages;
 mod vector;
 
 use engine::RunEstimator;
@@ -297,57 +296,41 @@ impl<E> Integrator<E> {
             &limits,
             |estimator, pilot_evaluations| {
                 let cost = estimator.evaluations_per_contribution();
-                let mut run = if targets.any() {
-                    staged::run_to_tolerance(
-                        estimator,
-                        &self.config,
-                        &*sampler,
-                        &executor,
-                        &targets,
-                    )?
-                } else {
-                    self.run_fixed(estimator, &*sampler, &executor, &limits, pilot_evaluations)?
+                let common = stages::Common {
+                    estimator,
+                    config: &self.config,
+                    sampler: &*sampler,
+                    cost,
+                    pilot_evaluations,
                 };
-                run.for_each_output(|_, output| {
-                    output.evaluations = output
-                        .evaluations
-                        .saturating_mul(cost)
-                        .saturating_add(pilot_evaluations);
-                });
-                Ok(run)
+                let mut drive = Drive {
+                    executor: &executor,
+                    limits: &limits,
+                    targets: &targets,
+                    config: &self.config,
+                    spent: 0,
+                    planned: 0,
+                };
+                if targets.any() {
+                    let mut stages = stages::to_tolerance(common, &targets)?;
+                    return crate::engine::drive(&mut *stages, &drive);
+                }
+                let plan = Plan::new(self.config.samples, self.config.replicates, &*sampler)?;
+                let planned = plan.samples.saturating_mul(plan.replicates);
+                self.config
+                    .check_budget("samples x replicates", planned.saturating_mul(cost))?;
+                drive.spent = pilot_evaluations;
+                drive.planned = planned
+                    .saturating_mul(cost)
+                    .saturating_add(pilot_evaluations);
+                let mut fixed = stages::Fixed {
+                    common,
+                    plan,
+                    done: None,
+                };
+                crate::engine::drive(&mut fixed, &drive)
             },
         )
-    }
-
-    /// A fixed-budget run of `estimator`'s plan.
-    fn run_fixed(
-        &self,
-        estimator: &dyn VectorEstimator,
-        sampler: &dyn Sampler,
-        executor: &Executor,
-        limits: &Limits,
-        pilot_evaluations: u64,
-    ) -> Result<VectorEstimate>
-    where
-        E: RunEstimator,
-    {
-        let cost = estimator.evaluations_per_contribution();
-        let plan = Plan::new(self.config.samples, self.config.replicates, sampler)?;
-        let planned = plan.samples.saturating_mul(plan.replicates);
-        self.config
-            .check_budget("samples x replicates", planned.saturating_mul(cost))?;
-        let mut done = pilot_evaluations;
-        let mut on_points = |points: u64| {
-            done += points * cost;
-            self.config.report(done, planned * cost + pilot_evaluations);
-        };
-        let (folded, chunks, stop) =
-            plan.run_folded(executor, limits, sampler, estimator, &mut on_points)?;
-        let policy = self.config.non_finite;
-        match stop {
-            None => plan.estimate(sampler, &folded, policy),
-            Some(stop) => plan.estimate_stopped(sampler, folded, chunks, policy, stop),
-        }
     }
 
     /// The run's sampler, checked against the estimator's canonical dimension.

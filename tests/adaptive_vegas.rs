@@ -513,7 +513,8 @@ fn limits_stop_the_run_with_the_right_reason() {
         "{err}"
     );
 
-    // The iteration budget, with and without a tolerance.
+    // The most iterations: a limit with a tolerance (as every runner names an evaluation
+    // limit), the budget without.
     let e = Vegas::new(f, unit())
         .iterations(3)
         .tolerance(unreachable)
@@ -521,7 +522,7 @@ fn limits_stop_the_run_with_the_right_reason() {
         .unwrap();
     assert_eq!(
         (e.stop, e.converged, e.iterations),
-        (StopReason::Budget, Some(false), 3)
+        (StopReason::MaxEvaluations, Some(false), 3)
     );
     let e = Vegas::new(f, unit()).iterations(3).run().unwrap();
     assert_eq!((e.stop, e.converged), (StopReason::Budget, None));

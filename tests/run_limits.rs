@@ -503,3 +503,83 @@ fn high(
     let (f, calls) = cancelling(token.clone(), at);
     (token, move |x: &[f64]| f(&x[..2]), calls)
 }
+
+/// The same unreachable tolerance stops every runner that takes one the same way: on the
+/// evaluation limit, not converged, with the tolerance-not-met warning (SobolG gave no
+/// warning, and VEGAS named its iteration cap the budget).
+#[test]
+fn an_unreachable_tolerance_ends_every_runner_the_same_way() {
+    use mcint::adaptive::SobolG;
+    let f = |x: &[f64]| (9.0 * x[0]).sin() * x[1];
+    let unreachable = || {
+        Tolerance::absolute(1e-9)
+            .unwrap()
+            .max_evaluations(1 << 14)
+            .unwrap()
+    };
+    let runs: [(&str, mcint::Result<Estimate>); 6] = [
+        (
+            "integrator, independent points",
+            Integrator::over_box(f, unit())
+                .samples(1024)
+                .tolerance(unreachable())
+                .run(),
+        ),
+        (
+            "integrator, rqmc",
+            Integrator::over_box(f, unit())
+                .sampler(Sobol::new(2, Scramble::Owen, 1).unwrap())
+                .samples(256)
+                .tolerance(unreachable())
+                .run(),
+        ),
+        (
+            "vegas",
+            Vegas::new(f, unit())
+                .samples(1000)
+                .warmup(1)
+                .iterations(1 << 20)
+                .tolerance(unreachable())
+                .run(),
+        ),
+        (
+            "vegas, its most iterations",
+            Vegas::new(f, unit())
+                .samples(1000)
+                .warmup(1)
+                .iterations(3)
+                .tolerance(unreachable())
+                .run(),
+        ),
+        (
+            "miser",
+            Miser::new(f, unit())
+                .samples(256)
+                .tolerance(unreachable())
+                .run(),
+        ),
+        (
+            "sobol-g",
+            SobolG::new(f, unit())
+                .samples(1024)
+                .tolerance(unreachable())
+                .run(),
+        ),
+    ];
+    for (name, run) in runs {
+        let e = run.unwrap_or_else(|err| panic!("{name}: {err}"));
+        assert_eq!(
+            (e.stop, e.converged),
+            (StopReason::MaxEvaluations, Some(false)),
+            "{name}"
+        );
+        assert!(
+            e.warnings.contains(&Warning::ToleranceNotMet {
+                stop: StopReason::MaxEvaluations
+            }),
+            "{name}: {:?}",
+            e.warnings
+        );
+        assert!(e.evaluations <= 1 << 14, "{name}: {}", e.evaluations);
+    }
+}

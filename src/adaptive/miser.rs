@@ -28,13 +28,13 @@
 use super::batches::{BLOCK, Batches, Workspace};
 use super::cell::Cell;
 use crate::engine::{
-    ChunkJob, DEFAULT_REPLICATES, Executor, Limits, RunConfig, Stopping, run_settings,
+    self, ChunkJob, DEFAULT_REPLICATES, Drive, Executor, Limits, Next, NonFinite, RunConfig,
+    StageEnd, Stages, Targets, run_settings,
 };
 use crate::hash::hash_words;
-use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
 use crate::stats::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
-use crate::stats::{Estimate, StopReason};
+use crate::stats::{Estimate, StopReason, VectorEstimate};
 use crate::{Error, Result};
 
 /// Points per replicate of a run without [`Miser::samples`].
@@ -251,23 +251,18 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
             seed: self.config.seed().unwrap_or_else(|| sampler.seed()),
             executor,
             limits: limits.clone(),
-            skip_non_finite: self.config.non_finite == NonFinitePolicy::Skip,
         };
         let r = settings.replicates;
         let mut per_replicate = self.config.samples.unwrap_or(DEFAULT_SAMPLES);
-        let stopping = self
-            .config
-            .tolerance
-            .as_ref()
-            .map(|t| Stopping::new(t, limits.clone(), executor));
-        let planned = match &stopping {
-            Some(stopping) => stopping.tolerance().evaluation_limit(),
+        let tolerance = self.config.tolerance;
+        let planned = match &tolerance {
+            Some(t) => t.evaluation_limit(),
             None => per_replicate.saturating_mul(r),
         };
         self.config.check_budget("samples x replicates", planned)?;
-        if let Some(stopping) = &stopping {
+        if let Some(t) = &tolerance {
             // The first stage fits the evaluation limit, if any stage does.
-            per_replicate = per_replicate.min(stopping.tolerance().evaluation_limit() / r);
+            per_replicate = per_replicate.min(t.evaluation_limit() / r);
         }
         if per_replicate == 0 {
             let (name, value) = match &self.config.tolerance {
@@ -283,49 +278,29 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
             ));
         }
 
-        let mut spent: u64 = 0;
-        let mut next_slot: u64 = 0;
-        let mut stage: u64 = 0;
-        let mut last: Option<Estimate> = None;
-        loop {
-            stage += 1;
-            let stage_evaluations = per_replicate * r;
-            let mut progress = |done: u64| self.config.report(spent + done, planned);
-            let estimate = match run.stage(per_replicate, r, next_slot, &mut progress) {
-                Ok(estimate) => estimate,
-                // A stage cut short has unfinished replicates: the last whole stage stands.
-                Err(Error::Interrupted { stop, .. }) => {
-                    let (Some(stopping), Some(mut estimate)) = (&stopping, last) else {
-                        return Err(Error::Interrupted {
-                            stop,
-                            evaluations: spent,
-                        });
-                    };
-                    stopping.finish(&mut estimate, stop, stage - 1);
-                    return Ok(estimate);
-                }
-                Err(e) => return Err(e),
-            };
-            spent = spent.saturating_add(stage_evaluations);
-            next_slot += stage_evaluations;
-            let Some(stopping) = &stopping else {
-                return Ok(estimate);
-            };
-            let (mut estimate, met) = stopping.judge(estimate);
-            estimate.evaluations = spent;
-            let next = per_replicate.saturating_mul(2 * r);
-            let stop = if met {
-                Some(StopReason::ToleranceMet)
-            } else {
-                stopping.limit(spent, next)?
-            };
-            if let Some(stop) = stop {
-                stopping.finish(&mut estimate, stop, stage);
-                return Ok(estimate);
-            }
-            last = Some(estimate);
-            per_replicate *= 2;
-        }
+        let targets = Targets::new(1, self.config.tolerance, None, &[])?;
+        let mut stages = MiserStages {
+            run: &run,
+            per_replicate,
+            next_slot: 0,
+            doubling: targets.any(),
+            stages: 0,
+            spent: 0,
+            last: None,
+        };
+        let drive = Drive {
+            executor: &executor,
+            limits: &limits,
+            targets: &targets,
+            config: &self.config,
+            spent: 0,
+            planned,
+        };
+        let run = engine::drive(&mut stages, &drive)?;
+        run.outputs
+            .into_iter()
+            .next()
+            .ok_or_else(|| Error::invalid("outputs", 0, "one output"))
     }
 
     fn settings(&self) -> Result<Settings> {
@@ -414,8 +389,6 @@ struct Run<'a, F> {
     executor: Executor,
     /// The run's time limit and cancellation, checked before every exploration and leaf.
     limits: Limits,
-    /// Leave NaN and infinite values out (counted) instead of failing.
-    skip_non_finite: bool,
 }
 
 /// Where a replicate's first non-finite value occurred.
@@ -506,15 +479,16 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
     }
 
     /// One stage: `replicates` independent MISER runs of `per_replicate` evaluations each,
-    /// from slot `base` on, as one estimate from the replicates; `progress` is told the
-    /// stage's evaluations folded so far, after every replicate.
+    /// from slot `base` on, as one estimate from the replicates (`None` when a limit cut the
+    /// stage short), and the first non-finite value met; `progress` is told the stage's
+    /// evaluations folded so far, after every replicate.
     fn stage(
         &self,
         per_replicate: u64,
         replicates: u64,
         base: u64,
         progress: &mut dyn FnMut(u64),
-    ) -> Result<Estimate> {
+    ) -> Result<(Option<Estimate>, StageEnd)> {
         let needed = per_replicate
             .checked_mul(replicates)
             .and_then(|n| n.checked_add(base));
@@ -541,27 +515,23 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
                     Ok(())
                 })?;
         if let Some(stop) = stopped {
-            return Err(Error::Interrupted {
-                stop,
-                evaluations: 0,
-            });
+            let end = StageEnd {
+                stop: Some(stop),
+                non_finite: None,
+            };
+            return Ok((None, end));
         }
-        let non_finite: u64 = partials.iter().map(|p| p.non_finite).sum();
-        if !self.skip_non_finite
-            && let Some((r, first)) = partials
-                .iter()
-                .enumerate()
-                .find_map(|(r, p)| p.first.as_ref().map(|first| (r, first)))
-        {
-            return Err(Error::NonFiniteContribution {
-                count: non_finite,
-                first_index: first.index,
-                first_replicate: r as u64,
-                first_output: None,
-                first_value: first.value,
-                first_point: first.point.clone(),
-            });
-        }
+        let count: u64 = partials.iter().map(|p| p.non_finite).sum();
+        let non_finite = partials.iter().enumerate().find_map(|(r, p)| {
+            p.first.as_ref().map(|first| NonFinite {
+                count,
+                replicate: r as u64,
+                index: first.index,
+                output: None,
+                value: first.value,
+                point: first.point.clone(),
+            })
+        });
         let volume = self.domain.volume();
         let means: Vec<f64> = partials.iter().map(|p| volume * p.integral).collect();
         let bounds: Vec<f64> = partials
@@ -570,9 +540,15 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
             .map(|(p, m)| volume * p.rounding + UNIT_ROUNDOFF * m.abs())
             .collect();
         let mut estimate = Estimate::from_bounded_replicates(&means, &bounds, per_replicate)?;
-        estimate.non_finite = non_finite;
+        estimate.non_finite = count;
         estimate.finalize();
-        Ok(estimate)
+        Ok((
+            Some(estimate),
+            StageEnd {
+                stop: None,
+                non_finite,
+            },
+        ))
     }
 
     /// MISER on one region with `budget` evaluations, drawing its batches from slot `slot` on.
@@ -786,15 +762,75 @@ impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StageJob<'_, '_, F> {
     fn run(&self, work: &mut Workspace, r: u64, _: &Limits) -> Result<Option<Partial>> {
         let slot = self.stage.base + r * self.stage.per_replicate;
         let cell = Cell::unit(self.run.settings.dims);
-        // The run's own limits are checked before every region and block (an interrupted
-        // replicate is an error the stage handles).
-        self.run
+        // The run's own limits are checked before every region and block: a replicate they
+        // interrupt is dropped.
+        match self
+            .run
             .region(&self.stage, cell, self.stage.per_replicate, slot, 0, work)
-            .map(Some)
+        {
+            Err(Error::Interrupted { .. }) => Ok(None),
+            other => other.map(Some),
+        }
     }
 
     fn origin(&self, r: u64) -> (u64, u64) {
         (r, 0)
+    }
+}
+
+/// A MISER run as stages for the engine's driver: one stage of replicates for a fixed
+/// budget; with a tolerance, stages that double the evaluations per replicate, each a fresh,
+/// independent run whose estimate replaces the last.
+struct MiserStages<'a, 'b, F> {
+    run: &'a Run<'b, F>,
+    per_replicate: u64,
+    next_slot: u64,
+    /// Whether stages double until a tolerance is met (else there is one stage).
+    doubling: bool,
+    /// Whole stages so far, and the evaluations they spent.
+    stages: u64,
+    spent: u64,
+    /// The last whole stage's estimate.
+    last: Option<Estimate>,
+}
+
+impl<F: Fn(&[f64]) -> f64 + Sync> Stages for MiserStages<'_, '_, F> {
+    fn next(&mut self, _left: u64) -> Result<Next> {
+        if self.stages > 0 {
+            if !self.doubling {
+                return Ok(Next::Done(StopReason::Budget));
+            }
+            self.per_replicate = self.per_replicate.saturating_mul(2);
+        }
+        let replicates = self.run.settings.replicates;
+        Ok(Next::Stage(self.per_replicate.saturating_mul(replicates)))
+    }
+
+    fn run(&mut self, _: &Executor, _: &Limits, progress: &mut dyn FnMut(u64)) -> Result<StageEnd> {
+        let r = self.run.settings.replicates;
+        let (estimate, end) = self
+            .run
+            .stage(self.per_replicate, r, self.next_slot, progress)?;
+        if let Some(estimate) = estimate {
+            let evaluations = self.per_replicate * r;
+            self.spent = self.spent.saturating_add(evaluations);
+            self.next_slot += evaluations;
+            self.stages += 1;
+            self.last = Some(estimate);
+        }
+        Ok(end)
+    }
+
+    fn has_estimate(&self) -> bool {
+        self.last.is_some()
+    }
+
+    fn estimate(&mut self) -> Result<Option<VectorEstimate>> {
+        Ok(self.last.clone().map(|mut estimate| {
+            estimate.evaluations = self.spent;
+            estimate.iterations = self.stages;
+            VectorEstimate::assemble(vec![estimate], None)
+        }))
     }
 }
 

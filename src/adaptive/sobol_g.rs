@@ -4,11 +4,14 @@
 //! sequences"; GAIL's `cubSobol_g`, QMCPy's `CubQMCSobolG`).
 
 use super::walsh::WalshCoefficients;
-use crate::engine::{ChunkJob, Limits, RunConfig, run_settings};
+use crate::engine::{
+    self, ChunkJob, Drive, Executor, Limits, Next, NonFinite, RunConfig, StageEnd, Stages, Targets,
+    run_settings,
+};
 use crate::estimator::{BatchUniformEstimator, Estimator, UniformEstimator};
 use crate::pdf::UniformBox;
 use crate::sampler::{Sampler, Scramble, Sobol};
-use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason, Warning};
+use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason, VectorEstimate, Warning};
 use crate::{Error, Points, Result};
 
 /// Points of the first stage without [`samples`](SobolG::samples) (QMCPy's default).
@@ -187,87 +190,168 @@ impl<E: Estimator> SobolG<E> {
         let sobol = Sobol::new(dims, Scramble::Lms, self.config.seed().unwrap_or(0))?;
         let (executor, _run) = self.config.executor()?;
         let limits = self.config.limits();
-        let planned = if tolerance.is_some() { 0 } else { first };
+        let planned = if tolerance.is_some() {
+            0
+        } else {
+            first * per_point
+        };
+        let mut doublings = Doublings {
+            estimator: &self.estimator,
+            sobol: &sobol,
+            per_point,
+            limit,
+            doubling: tolerance.is_some(),
+            acc: Accumulator::new(),
+            walsh: WalshCoefficients::default(),
+            natural: Vec::new(),
+            best: None,
+            range: (0, first),
+            stages: 0,
+            spent: 0,
+        };
+        let targets = Targets::new(1, tolerance, None, &[])?;
+        let drive = Drive {
+            executor: &executor,
+            limits: &limits,
+            targets: &targets,
+            config: &self.config,
+            spent: 0,
+            planned,
+        };
+        let run = engine::drive(&mut doublings, &drive)?;
+        run.outputs
+            .into_iter()
+            .next()
+            .ok_or_else(|| Error::invalid("outputs", 0, "one output"))
+            .and_then(Estimate::checked)
+    }
+}
 
-        let mut acc = Accumulator::new();
-        let mut walsh = WalshCoefficients::default();
-        let mut natural = Vec::new();
-        let mut best: Option<Estimate> = None;
-        let (mut start, mut end) = (0u64, first);
-        let mut stages = 0u64;
-        loop {
-            // Before the stage's buffer (gigabytes for the largest stages) is cleared.
-            if let Some(reason) = executor.reached(&limits)? {
-                return finish_early(best, reason, start * per_point);
+/// A run as stages for the engine's driver: the first stage, then (to a tolerance) stages
+/// that double the points of the one sequence, each judged by the Walsh bound of all the
+/// values so far.
+struct Doublings<'a, E> {
+    estimator: &'a E,
+    sobol: &'a Sobol,
+    /// Evaluations per point, and the most points the run may take.
+    per_point: u64,
+    limit: u64,
+    doubling: bool,
+    acc: Accumulator,
+    walsh: WalshCoefficients,
+    /// The stage's values in natural order (a buffer).
+    natural: Vec<f64>,
+    /// The estimate of the last stage judged.
+    best: Option<Estimate>,
+    /// The next stage's points `start .. end`.
+    range: (u64, u64),
+    stages: u64,
+    /// Points evaluated, the stage cut short included.
+    spent: u64,
+}
+
+impl<E: Estimator> Stages for Doublings<'_, E> {
+    fn next(&mut self, _left: u64) -> Result<Next> {
+        if self.stages > 0 {
+            if !self.doubling {
+                return Ok(Next::Done(StopReason::Budget));
             }
-            // The stage's values in natural order: Sobol' point i is natural point
-            // i ^ (i >> 1), which maps [start, end) onto itself.
-            natural.clear();
-            natural.resize((end - start) as usize, 0.0);
-            let job = StageJob {
-                estimator: &self.estimator,
-                sobol: &sobol,
-                start,
-                end,
-            };
-            let chunks = (end - start).div_ceil(CHUNK);
-            let mut done = start;
-            let stop = executor.run(&job, 0..chunks, 64, &limits, |chunk, values| {
-                let first_index = start + chunk * CHUNK;
-                if let Some(at) = values.iter().position(|y| !y.is_finite()) {
-                    let index = first_index + at as u64;
-                    return Err(non_finite(&sobol, index, values[at], &values));
-                }
-                for (offset, &y) in values.iter().enumerate() {
-                    let i = first_index + offset as u64;
-                    natural[((i ^ (i >> 1)) - start) as usize] = y;
-                }
-                acc.extend(&values);
-                done += values.len() as u64;
-                self.config.report(done, planned);
-                Ok(())
-            })?;
-            if let Some(reason) = stop {
-                return finish_early(best, reason, done * per_point);
+            let end = self.range.1;
+            if end * 2 > self.limit {
+                return Ok(Next::Done(StopReason::MaxEvaluations));
             }
-            // Judging a stage transforms all its values, seconds of serial work for a large
-            // one: a limit reached meanwhile stops it, and the last stage judged stands.
-            if start == 0 {
-                walsh = WalshCoefficients::new(std::mem::take(&mut natural));
-            } else if !walsh.double(&mut natural, &|| {
-                // Read in agreement over MPI ranks, which all ask as often.
-                executor
-                    .reached(&limits)
-                    .map_or(true, |stop| stop.is_some())
-            }) {
-                let reason = executor.reached(&limits)?.unwrap_or(StopReason::Cancelled);
-                return finish_early(best, reason, done * per_point);
-            }
-            stages += 1;
-            let mut estimate = bounded_estimate(&acc, FUDGE / end as f64 * walsh.lagged_sum());
-            estimate.evaluations = end * per_point;
-            estimate.iterations = stages;
-            let Some(tolerance) = tolerance else {
-                return estimate.checked();
-            };
-            // The bound as reported: never below the rounding error of the mean.
-            let bound = estimate.error_bound.unwrap_or(f64::INFINITY);
-            let met = bound <= tolerance.target(estimate.mean);
-            estimate.converged = Some(met);
-            if met {
-                estimate.stop = StopReason::ToleranceMet;
-                return estimate.checked();
-            }
-            if end * 2 > limit {
-                estimate.stop = StopReason::MaxEvaluations;
-                estimate.warn(Warning::ToleranceNotMet {
-                    stop: StopReason::MaxEvaluations,
-                });
-                return estimate.checked();
-            }
-            best = Some(estimate);
-            (start, end) = (end, 2 * end);
+            self.range = (end, 2 * end);
         }
+        let (start, end) = self.range;
+        Ok(Next::Stage((end - start) * self.per_point))
+    }
+
+    fn run(
+        &mut self,
+        executor: &Executor,
+        limits: &Limits,
+        progress: &mut dyn FnMut(u64),
+    ) -> Result<StageEnd> {
+        let (start, end) = self.range;
+        // The stage's values in natural order: Sobol' point i is natural point i ^ (i >> 1),
+        // which maps [start, end) onto itself.
+        self.natural.clear();
+        self.natural.resize((end - start) as usize, 0.0);
+        let job = StageJob {
+            estimator: self.estimator,
+            sobol: self.sobol,
+            start,
+            end,
+        };
+        let chunks = (end - start).div_ceil(CHUNK);
+        let mut first_bad: Option<NonFinite> = None;
+        let (natural, acc, spent) = (&mut self.natural, &mut self.acc, &mut self.spent);
+        let per_point = self.per_point;
+        let stop = executor.run(&job, 0..chunks, 64, limits, |chunk, values| {
+            let first_index = start + chunk * CHUNK;
+            let bad = values.iter().filter(|y| !y.is_finite()).count() as u64;
+            if let Some(found) = first_bad.as_mut() {
+                found.count += bad;
+            } else if let Some(at) = values.iter().position(|y| !y.is_finite()) {
+                let index = first_index + at as u64;
+                let mut point = vec![0.0; self.sobol.dims()];
+                // The point exists: it was just evaluated.
+                self.sobol.point(index, &mut point)?;
+                first_bad = Some(NonFinite {
+                    count: bad,
+                    replicate: 0,
+                    index,
+                    output: None,
+                    value: values[at],
+                    point,
+                });
+            }
+            for (offset, &y) in values.iter().enumerate() {
+                let i = first_index + offset as u64;
+                natural[((i ^ (i >> 1)) - start) as usize] = y;
+            }
+            acc.extend(&values);
+            *spent += values.len() as u64;
+            progress((*spent - start) * per_point);
+            Ok(())
+        })?;
+        if stop.is_some() || first_bad.is_some() {
+            return Ok(StageEnd {
+                stop,
+                non_finite: first_bad,
+            });
+        }
+        // Judging a stage transforms all its values, seconds of serial work for a large one:
+        // a limit reached meanwhile stops it, and the last stage judged stands.
+        if start == 0 {
+            self.walsh = WalshCoefficients::new(std::mem::take(&mut self.natural));
+        } else if !self.walsh.double(&mut self.natural, &|| {
+            // Read in agreement over MPI ranks, which all ask as often.
+            executor.reached(limits).map_or(true, |stop| stop.is_some())
+        }) {
+            let stop = executor.reached(limits)?.unwrap_or(StopReason::Cancelled);
+            return Ok(StageEnd {
+                stop: Some(stop),
+                non_finite: None,
+            });
+        }
+        self.stages += 1;
+        let mut estimate =
+            bounded_estimate(&self.acc, FUDGE / end as f64 * self.walsh.lagged_sum());
+        estimate.iterations = self.stages;
+        self.best = Some(estimate);
+        Ok(StageEnd::default())
+    }
+
+    fn has_estimate(&self) -> bool {
+        self.best.is_some()
+    }
+
+    fn estimate(&mut self) -> Result<Option<VectorEstimate>> {
+        Ok(self.best.clone().map(|mut estimate| {
+            estimate.evaluations = self.spent * self.per_point;
+            VectorEstimate::assemble(vec![estimate], None)
+        }))
     }
 }
 
@@ -284,38 +368,6 @@ fn bounded_estimate(acc: &Accumulator, bound: f64) -> Estimate {
         .warnings
         .retain(|w| matches!(w, Warning::AllZero { .. }));
     estimate
-}
-
-/// The estimate of the last whole stage when a limit stopped the run during the next one, or
-/// the limit's error when it stopped the first.
-fn finish_early(best: Option<Estimate>, reason: StopReason, evaluations: u64) -> Result<Estimate> {
-    match best {
-        Some(mut estimate) => {
-            estimate.stop = reason;
-            estimate.evaluations = evaluations;
-            estimate.warn(Warning::ToleranceNotMet { stop: reason });
-            estimate.checked()
-        }
-        None => Err(Error::Interrupted {
-            stop: reason,
-            evaluations,
-        }),
-    }
-}
-
-/// The error for the non-finite value `y` at sequence index `index`.
-fn non_finite(sobol: &Sobol, index: u64, y: f64, values: &[f64]) -> Error {
-    let mut point = vec![0.0; sobol.dims()];
-    // The point exists: it was just evaluated.
-    let _ = sobol.point(index, &mut point);
-    Error::NonFiniteContribution {
-        count: values.iter().filter(|v| !v.is_finite()).count() as u64,
-        first_index: index,
-        first_replicate: 0,
-        first_output: None,
-        first_value: y,
-        first_point: point,
-    }
 }
 
 /// One stage's points `start .. end` in chunks of `CHUNK`, each giving its contributions

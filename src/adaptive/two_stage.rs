@@ -21,11 +21,13 @@
 
 use super::batches::{BLOCK, Batches, Workspace};
 use super::cell::Cell;
-use crate::engine::{ChunkJob, Executor, Limits, RunConfig, run_settings};
-use crate::integrate::NonFinitePolicy;
+use crate::engine::{
+    self, ChunkJob, Drive, Executor, Limits, Next, NonFinite, RunConfig, StageEnd, Stages, Targets,
+    run_settings,
+};
 use crate::pdf::{Pdf, UniformBox};
 use crate::stats::rounding::{UNIT_ROUNDOFF, gamma};
-use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason, Warning};
+use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason, VectorEstimate};
 use crate::{Error, Result};
 
 /// Pilot points per stratum without [`TwoStage::pilot`].
@@ -231,79 +233,39 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
                 limit: batches.slots(),
             });
         }
-        let strata = strata as usize;
         let grid = Grid {
             f: &self.f,
             domain: &self.domain,
             batches,
             per_axis: self.strata_per_axis,
-            executor,
-            limits: self.config.limits(),
-            skip_non_finite: self.config.non_finite == NonFinitePolicy::Skip,
         };
-
-        // Stage 1: the pilot, stratum j at slots j * pilot ...
-        let pilot = self.pilot;
-        let main_base = strata as u64 * pilot;
-        let mut pilot_progress = |done: u64| self.config.report(done, total);
-        let pilot_stats = match grid.sample_strata(
-            strata,
-            &|j| (j as u64 * pilot, pilot),
-            main_base,
-            &mut pilot_progress,
-        )? {
-            Sampled::All(stats) => stats,
-            Sampled::Stopped { stop, evaluations } => {
-                return Err(Error::Interrupted { stop, evaluations });
-            }
+        let mut stages = Stratified {
+            grid: &grid,
+            strata: strata as usize,
+            pilot: self.pilot,
+            total,
+            reuse_pilot: self.reuse_pilot,
+            pilot_stats: None,
+            counts: Vec::new(),
+            starts: Vec::new(),
+            main_stats: None,
+            cut: 0,
         };
-        let counts = neyman_allocation(&pilot_stats, total - main_base);
-
-        // Stage 2: fresh samples, stratum j right after stratum j - 1.
-        let mut starts = Vec::with_capacity(strata);
-        let mut next = main_base;
-        for &n in &counts {
-            starts.push(next);
-            next += n;
-        }
-        let mut main_progress = |done: u64| self.config.report(main_base + done, total);
-        let main_stats = match grid.sample_strata(
-            strata,
-            &|j| (starts[j], counts[j]),
-            total - main_base,
-            &mut main_progress,
-        )? {
-            Sampled::All(stats) => stats,
-            // The pilot is a whole stage: an unbiased stratified estimate of its own.
-            Sampled::Stopped { stop, evaluations } => {
-                let volume = self.domain.volume() / strata as f64;
-                let mut estimate =
-                    stratified_estimate(&pilot_stats, volume, main_base + evaluations)?;
-                estimate.iterations = 1;
-                estimate.stop = stop;
-                estimate.warn(Warning::StoppedEarly {
-                    stop,
-                    done: estimate.evaluations,
-                    planned: total,
-                });
-                return Ok(estimate);
-            }
+        let limits = self.config.limits();
+        let targets = Targets::new(1, None, None, &[])?;
+        let drive = Drive {
+            executor: &executor,
+            limits: &limits,
+            targets: &targets,
+            config: &self.config,
+            spent: 0,
+            planned: total,
         };
-
-        let used: Vec<Accumulator> = if self.reuse_pilot {
-            pilot_stats
-                .iter()
-                .zip(&main_stats)
-                .map(|(p, m)| {
-                    let mut all = *p;
-                    all.merge(m);
-                    all
-                })
-                .collect()
-        } else {
-            main_stats
-        };
-        stratified_estimate(&used, self.domain.volume() / strata as f64, total)
+        let run = engine::drive(&mut stages, &drive)?;
+        run.outputs
+            .into_iter()
+            .next()
+            .ok_or_else(|| Error::invalid("outputs", 0, "one output"))
     }
 
     /// Number of strata, checked.
@@ -336,14 +298,10 @@ struct Grid<'a, F> {
     domain: &'a UniformBox,
     batches: Batches<'a>,
     per_axis: usize,
-    executor: Executor,
-    limits: Limits,
-    /// Leave NaN and infinite values out (counted) instead of failing.
-    skip_non_finite: bool,
 }
 
 /// A stratum's first non-finite value: stratum, index within its batch, value, point.
-type NonFinite = (usize, u64, f64, Vec<f64>);
+type FirstBad = (usize, u64, f64, Vec<f64>);
 
 impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
     /// The cell of stratum `j`: digit `i` of `j` in base `per_axis` is its row along axis `i`.
@@ -361,18 +319,19 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
     }
 
     /// Samples every stratum `j` with the batch `batch(j) = (first slot, points)`, whose
-    /// slots follow each other without a gap and hold `evaluations` in all, and returns the
-    /// per-stratum statistics in stratum order (each computed in index order, in pieces of a
-    /// fixed size, so the result does not depend on the thread count); or, when a limit stops
-    /// the stage, the evaluations done. `progress` is told the evaluations folded so far,
-    /// after every chunk.
+    /// slots follow each other without a gap and hold `evaluations` in all, on `executor`
+    /// under `limits`: the per-stratum statistics in stratum order (each computed in index
+    /// order, in pieces of a fixed size, so the result does not depend on the thread count),
+    /// or, when a limit stops the stage, the evaluations done; and the first non-finite value
+    /// met. `progress` is told the evaluations folded so far, after every chunk.
     fn sample_strata(
         &self,
         strata: usize,
         batch: &(dyn Fn(usize) -> (u64, u64) + Sync),
         evaluations: u64,
+        (executor, limits): (&Executor, &Limits),
         progress: &mut dyn FnMut(u64),
-    ) -> Result<Sampled> {
+    ) -> Result<(Sampled, Option<NonFinite>)> {
         let job = StrataJob {
             grid: self,
             stage: Stage {
@@ -387,38 +346,36 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
         let mut all: Vec<Accumulator> = Vec::with_capacity(strata);
         let mut first_bad = None;
         let mut folded = 0;
-        let stopped =
-            self.executor
-                .run(&job, 0..chunks, WINDOW, &self.limits, |_, (pieces, bad)| {
-                    for (j, piece) in pieces {
-                        folded += piece.count() + piece.non_finite();
-                        match all.get_mut(j) {
-                            Some(stratum) => stratum.merge(&piece),
-                            None => all.push(piece),
-                        }
-                    }
-                    first_bad = first_bad.take().or(bad);
-                    progress(folded);
-                    Ok(())
-                })?;
-        if let Some(stop) = stopped {
+        let stopped = executor.run(&job, 0..chunks, WINDOW, limits, |_, (pieces, bad)| {
+            for (j, piece) in pieces {
+                folded += piece.count() + piece.non_finite();
+                match all.get_mut(j) {
+                    Some(stratum) => stratum.merge(&piece),
+                    None => all.push(piece),
+                }
+            }
+            first_bad = first_bad.take().or(bad);
+            progress(folded);
+            Ok(())
+        })?;
+        let count = all.iter().map(|a| a.non_finite()).sum();
+        let non_finite = first_bad.map(|(stratum, index, value, point)| NonFinite {
+            count,
+            replicate: stratum as u64,
+            index,
+            output: None,
+            value,
+            point,
+        });
+        let sampled = match stopped {
             // A stage cut short leaves strata unsampled: it has no estimate of its own.
-            return Ok(Sampled::Stopped {
+            Some(stop) => Sampled::Stopped {
                 stop,
                 evaluations: folded,
-            });
-        }
-        if let Some((stratum, index, value, point)) = first_bad.filter(|_| !self.skip_non_finite) {
-            return Err(Error::NonFiniteContribution {
-                count: all.iter().map(|a| a.non_finite()).sum(),
-                first_index: index,
-                first_replicate: stratum as u64,
-                first_output: None,
-                first_value: value,
-                first_point: point,
-            });
-        }
-        Ok(Sampled::All(all))
+            },
+            None => Sampled::All(all),
+        };
+        Ok((sampled, non_finite))
     }
 
     /// Points `first .. first + n` of stratum `j` from the batch at `slot`.
@@ -428,7 +385,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
         slot: u64,
         (first, n): (u64, u64),
         work: &mut Workspace,
-        bad: &mut Option<NonFinite>,
+        bad: &mut Option<FirstBad>,
     ) -> Result<Accumulator> {
         let cell = self.cell(j);
         let mut acc = Accumulator::new();
@@ -447,6 +404,139 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
             k += len as u64;
         }
         Ok(acc)
+    }
+}
+
+/// Two-stage sampling as stages for the engine's driver: the pilot, then the main stage
+/// that its spreads allocate. A main stage cut short leaves the pilot, a whole stage and an
+/// unbiased stratified estimate of its own.
+struct Stratified<'a, 'b, F> {
+    grid: &'a Grid<'b, F>,
+    strata: usize,
+    pilot: u64,
+    /// Evaluations of the run, pilot included.
+    total: u64,
+    reuse_pilot: bool,
+    pilot_stats: Option<Vec<Accumulator>>,
+    /// The main stage's points per stratum, and its first slot per stratum.
+    counts: Vec<u64>,
+    starts: Vec<u64>,
+    main_stats: Option<Vec<Accumulator>>,
+    /// Evaluations of a stage cut short.
+    cut: u64,
+}
+
+impl<F: Fn(&[f64]) -> f64 + Sync> Stratified<'_, '_, F> {
+    /// Evaluations of the pilot: stratum `j` at slots `j * pilot ..`.
+    fn pilot_evaluations(&self) -> u64 {
+        self.strata as u64 * self.pilot
+    }
+}
+
+impl<F: Fn(&[f64]) -> f64 + Sync> Stages for Stratified<'_, '_, F> {
+    fn next(&mut self, _left: u64) -> Result<Next> {
+        let main_base = self.pilot_evaluations();
+        match (&self.pilot_stats, &self.main_stats) {
+            (None, _) => Ok(Next::Stage(main_base)),
+            (Some(pilot), None) => {
+                // Fresh samples, stratum j right after stratum j - 1.
+                self.counts = neyman_allocation(pilot, self.total - main_base);
+                self.starts = self
+                    .counts
+                    .iter()
+                    .scan(main_base, |next, &n| {
+                        let start = *next;
+                        *next += n;
+                        Some(start)
+                    })
+                    .collect();
+                Ok(Next::Stage(self.total - main_base))
+            }
+            (Some(_), Some(_)) => Ok(Next::Done(StopReason::Budget)),
+        }
+    }
+
+    fn run(
+        &mut self,
+        executor: &Executor,
+        limits: &Limits,
+        progress: &mut dyn FnMut(u64),
+    ) -> Result<StageEnd> {
+        let (sampled, non_finite) = match self.pilot_stats {
+            None => {
+                let pilot = self.pilot;
+                let pilot_batch = move |j: usize| (j as u64 * pilot, pilot);
+                let evaluations = self.pilot_evaluations();
+                self.grid.sample_strata(
+                    self.strata,
+                    &pilot_batch,
+                    evaluations,
+                    (executor, limits),
+                    progress,
+                )?
+            }
+            Some(_) => {
+                let (starts, counts) = (&self.starts, &self.counts);
+                let main_batch = |j: usize| (starts[j], counts[j]);
+                let evaluations = self.total - self.pilot_evaluations();
+                self.grid.sample_strata(
+                    self.strata,
+                    &main_batch,
+                    evaluations,
+                    (executor, limits),
+                    progress,
+                )?
+            }
+        };
+        let stop = match sampled {
+            Sampled::All(stats) if self.pilot_stats.is_none() => {
+                self.pilot_stats = Some(stats);
+                None
+            }
+            Sampled::All(stats) => {
+                self.main_stats = Some(stats);
+                None
+            }
+            Sampled::Stopped { stop, evaluations } => {
+                self.cut = evaluations;
+                Some(stop)
+            }
+        };
+        Ok(StageEnd { stop, non_finite })
+    }
+
+    fn has_estimate(&self) -> bool {
+        self.pilot_stats.is_some()
+    }
+
+    fn estimate(&mut self) -> Result<Option<VectorEstimate>> {
+        let Some(pilot) = &self.pilot_stats else {
+            return Ok(None);
+        };
+        let volume = self.grid.domain.volume() / self.strata as f64;
+        let estimate = match &self.main_stats {
+            // The pilot alone, when the main stage was cut short.
+            None => {
+                let mut estimate =
+                    stratified_estimate(pilot, volume, self.pilot_evaluations() + self.cut)?;
+                estimate.iterations = 1;
+                estimate
+            }
+            Some(main) if self.reuse_pilot => {
+                let all: Vec<Accumulator> = pilot
+                    .iter()
+                    .zip(main)
+                    .map(|(p, m)| {
+                        let mut all = *p;
+                        all.merge(m);
+                        all
+                    })
+                    .collect();
+                stratified_estimate(&all, volume, self.total)?
+            }
+            Some(main) => stratified_estimate(main, volume, self.total)?,
+        };
+        Ok(Some(VectorEstimate::assemble(vec![estimate], None)))
     }
 }
 
@@ -546,7 +636,7 @@ impl Stage<'_> {
 
 impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StrataJob<'_, '_, F> {
     type Scratch = Workspace;
-    type Output = (Vec<(usize, Accumulator)>, Option<NonFinite>);
+    type Output = (Vec<(usize, Accumulator)>, Option<FirstBad>);
 
     fn scratch(&self) -> Result<Workspace> {
         Workspace::new(self.grid.domain.dims())

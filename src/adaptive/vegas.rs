@@ -45,21 +45,21 @@ mod combination;
 mod integrand;
 mod moments;
 mod pass;
+mod stages;
 mod strata;
 
 use super::vegas_grid::{VegasGrid, check_alpha, check_density_floor, check_increments};
-use crate::engine::{RunConfig, Stopping, Targets, require_randomized, run_settings};
+use crate::engine::{self, Drive, RunConfig, Targets, require_randomized, run_settings};
 use crate::estimator::checked_outputs;
-use crate::integrate::NonFinitePolicy;
 use crate::pdf::{Pdf, UniformBox};
 use crate::sampler::{PassKind, Sampler};
-use crate::stats::{Derived, Estimate, StopReason, Tolerance, VectorEstimate, Warning};
+use crate::stats::{Derived, Estimate, Tolerance, VectorEstimate};
 use crate::{Error, Result};
 use combination::VectorCombination;
 pub use integrand::VegasOutputs;
 use integrand::{Integrand, Scalar};
-use pass::Pass;
-use strata::{ALLOCATION_SAFETY, Allocation, Strata, plan_chunks};
+use stages::Iterations;
+use strata::Strata;
 
 /// Evaluations per iteration when the caller gives none.
 const DEFAULT_SAMPLES: u64 = 10_000;
@@ -331,10 +331,6 @@ impl<F> Vegas<F> {
         let settings = self.settings(&*sampler, limit.as_ref())?;
         let (executor, _run) = self.config.executor()?;
         let limits = self.config.limits_with(limit.and_then(|t| t.time()));
-        let stopping = limit
-            .as_ref()
-            .map(|t| Stopping::new(t, limits.clone(), executor));
-        let planned = settings.samples * (self.warmup + self.iterations);
         let strata = Strata::new(
             dims,
             settings.samples,
@@ -343,167 +339,49 @@ impl<F> Vegas<F> {
             settings.increments,
             self.increments,
         );
-        let mut grid = VegasGrid::with_increments(&self.domain, &strata.increments)?;
-        let allocating = strata.allocation_budget.is_some();
-        let per_cube = if allocating { strata.cubes as usize } else { 0 };
-        // Equal sigma_h^beta before anything is known: the first iteration is uniform.
-        let mut sigf = vec![1.0; per_cube];
-        let mut next_sigf = vec![0.0; per_cube];
-        let mut sum_sigf = per_cube as f64;
-        let mut training = vec![0.0; 2 * grid.cells()];
-        let mut combination = VectorCombination::new(m);
-        // Each output's weight in the training data and in sigma_h: 1 for a single output
-        // (the map and allocation do not depend on a common scale); for several, one over the
-        // previous iteration's mean of (J f_k)^2, so that every output shapes the map whatever
-        // its units (all 1 in the first iteration).
-        let mut weights = vec![1.0; m];
-        let mut spent: u64 = 0;
-        let mut measured_evaluations: u64 = 0;
-        let mut non_finite: u64 = 0;
-        let mut stop = StopReason::Budget;
-        // The evaluations spent when the interval first met the tolerance but for iterations
-        // that disagree.
-        let mut held_back_at: Option<u64> = None;
-
-        for k in 0..self.warmup + self.iterations {
-            let measured = k >= self.warmup;
-            let scale = strata
-                .allocation_budget
-                .map(|budget| budget / sum_sigf * ALLOCATION_SAFETY);
-            let allocation = Allocation {
-                min: strata.min_per_cube,
-                scale,
-                sigf: &sigf,
-            };
-            let (chunks, total) = plan_chunks(&strata, &allocation);
-            if measured
-                && combination.count() > 0
-                && let Some(stopping) = &stopping
-                && let Some(reason) = stopping.limit(spent, total)?
-            {
-                stop = reason;
-                break;
-            }
-            if let Some(reason) = executor.reached(&limits)? {
-                stop = reason;
-                break;
-            }
-            let base = match sampler.passes() {
-                PassKind::Extensible { max } => k * max,
-                _ => spent,
-            };
-            training.fill(0.0);
-            let pass = Pass {
-                f,
-                weights: &weights,
-                sampler: &*sampler,
-                grid: &grid,
-                strata: &strata,
-                allocation,
-                chunks: &chunks,
-                total,
-                iteration: k,
-                base,
-                beta: self.beta,
-                allocating,
-            };
-            let mut progress = |done: u64| self.config.report(spent + done, planned);
-            let totals = match pass.run(
-                &executor,
-                &limits,
-                &mut training,
-                &mut next_sigf,
-                &mut progress,
-            )? {
-                Ok(totals) => totals,
-                // An iteration cut short is discarded: its hypercubes are unevenly sampled.
-                Err(reason) => {
-                    stop = reason;
-                    break;
-                }
-            };
-            if totals.non_finite > 0 && self.config.non_finite == NonFinitePolicy::Fail {
-                let (index, value, output) = totals.first_non_finite.unwrap_or((0, f64::NAN, 0));
-                let mut point = vec![0.0; dims];
-                sampler.point(base + index, &mut point)?;
-                return Err(Error::NonFiniteContribution {
-                    count: totals.non_finite,
-                    first_index: index,
-                    first_replicate: k,
-                    first_output: (m > 1).then_some(output),
-                    first_value: value,
-                    first_point: point,
-                });
-            }
-            spent += total;
-            grid.adapt_to(&training, self.alpha, self.density_floor);
-            if allocating {
-                std::mem::swap(&mut sigf, &mut next_sigf);
-                sum_sigf = sigf.iter().sum();
-                if !(sum_sigf > 0.0 && sum_sigf.is_finite()) {
-                    // No variance anywhere (a constant integrand): back to uniform.
-                    sigf.fill(1.0);
-                    sum_sigf = per_cube as f64;
-                }
-            }
-            if m > 1 {
-                weights = output_weights(&totals, total);
-            }
-            if !measured {
-                combination.warm_up(&totals);
-                continue;
-            }
-            combination.add(&totals, total - strata.cubes);
-            measured_evaluations += total;
-            non_finite += totals.non_finite;
-            if stopping.is_some() {
-                let so_far = combination.estimate(measured_evaluations, spent);
-                // Two or more iterations carry their own chi^2 (`Tolerance::is_met` refuses
-                // those that disagree); a first one is checked against the warm-up ones.
-                let checked = combination.count() > 1 || combination.first_agrees();
-                let (mut so_far, met) = targets.judge(so_far);
-                if checked && met {
-                    stop = StopReason::ToleranceMet;
-                    break;
-                }
-                // Narrow enough but for the disagreement: the run doubles its evaluations, so
-                // that a chance disagreement (1% of honest runs) can pass; iterations that
-                // still disagree then have error bars too small for more of them to help.
-                so_far.for_each_output(|_, e| e.q_value = None);
-                if targets.met(&so_far) {
-                    let since = *held_back_at.get_or_insert(spent);
-                    if spent >= 2 * since {
-                        stop = StopReason::IterationsDisagree;
-                        break;
-                    }
-                }
-            }
-        }
-        if combination.count() == 0 {
-            // Stopped during the warm-up or the first iteration: no estimate yet.
-            return Err(Error::Interrupted {
-                stop,
-                evaluations: spent,
-            });
-        }
-        let mut run = combination.estimate(measured_evaluations, spent);
-        run.for_each_output(|_, estimate| {
-            estimate.non_finite = non_finite;
-            estimate.stop = stop;
-        });
-        match &stopping {
-            Some(_) => targets.finish(&mut run, stop, combination.count()),
-            None if stop != StopReason::Budget => run.for_each_output(|_, estimate| {
-                estimate.warn(Warning::StoppedEarly {
-                    stop,
-                    done: spent,
-                    planned,
-                })
-            }),
-            None => {}
-        }
-        run.for_each_output(|_, estimate| estimate.finalize());
-        Ok(run)
+        let grid = VegasGrid::with_increments(&self.domain, &strata.increments)?;
+        let per_cube = if strata.allocation_budget.is_some() {
+            strata.cubes as usize
+        } else {
+            0
+        };
+        let training = vec![0.0; 2 * grid.cells()];
+        let mut iterations = Iterations {
+            vegas: self,
+            f,
+            sampler: &*sampler,
+            strata,
+            grid,
+            // Equal sigma_h^beta before anything is known: the first iteration is uniform.
+            sigf: vec![1.0; per_cube],
+            next_sigf: vec![0.0; per_cube],
+            sum_sigf: per_cube as f64,
+            training,
+            combination: VectorCombination::new(m),
+            // 1 for a single output (the map and allocation do not depend on a common scale);
+            // for several, one over the previous iteration's mean of (J f_k)^2, so that every
+            // output shapes the map whatever its units (all 1 in the first iteration).
+            weights: vec![1.0; m],
+            k: 0,
+            spent: 0,
+            measured_evaluations: 0,
+            non_finite: 0,
+            held_back_at: None,
+            chunks: Vec::new(),
+            total: 0,
+            scale: None,
+            base: 0,
+            to_tolerance: targets.any(),
+        };
+        let drive = Drive {
+            executor: &executor,
+            limits: &limits,
+            targets,
+            config: &self.config,
+            spent: 0,
+            planned: settings.samples * (self.warmup + self.iterations),
+        };
+        engine::drive(&mut iterations, &drive)
     }
 
     fn settings(&self, sampler: &dyn Sampler, limit: Option<&Tolerance>) -> Result<Settings> {

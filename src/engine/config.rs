@@ -42,6 +42,16 @@ pub(crate) struct RunConfig {
 /// A progress callback: `(evaluations done, evaluations planned, or 0 when unknown)`.
 pub(crate) type Progress = Arc<dyn Fn(u64, u64) + Send + Sync>;
 
+/// Replicates of a fixed-budget randomized QMC run, and of MISER's runs, when the caller
+/// gives none.
+pub(crate) const DEFAULT_REPLICATES: u64 = 16;
+
+/// Replicates the Integrator's run to a tolerance starts with when the caller gives none:
+/// fewer, larger replicates reach a tolerance with fewer points (the spread of a scrambled
+/// net's mean falls faster than `1/sqrt(n)`), and the run adds replicates when that is cheaper
+/// than doubling. scipy's `qmc_quad` defaults to 8 as well.
+pub(crate) const TOLERANCE_REPLICATES: u64 = 8;
+
 /// The most evaluations a run may plan without a time limit: beyond it, a run would take
 /// days, and one that does so by mistake should say so up front.
 pub(crate) const MAX_UNTIMED_EVALUATIONS: u64 = 1 << 52;

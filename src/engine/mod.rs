@@ -7,7 +7,8 @@
 //! * [`RunConfig`] and `run_settings!`: the sampler (with its default and reseeding), seed,
 //!   threads, points, replicates, tolerance and non-finite policy that every runner's builder
 //!   holds, with setters written once.
-//! * [`Stopping`]: when a run to a tolerance stops, and with which interval.
+//! * [`drive`]: the one stage loop: limits before each stage, the non-finite policy, the
+//!   judgement of a run to a tolerance by [`Targets`], and how a run ended.
 //! * `Cluster` (the `mpi` feature): the executor deals each window of chunks to MPI ranks
 //!   and gathers their outputs to every rank before the fold, so every rank holds the state
 //!   of a one-process run and takes the same decisions.
@@ -17,20 +18,21 @@ mod cluster;
 mod config;
 #[cfg(feature = "mpi")]
 mod distributed;
+mod drive;
 mod executor;
 mod limits;
 mod settings;
-mod stopping;
 mod targets;
 
 #[cfg(feature = "mpi")]
 pub use cluster::Cluster;
-pub(crate) use config::{RunConfig, RunSampler, require_randomized, require_uniform_points};
+pub(crate) use config::{
+    DEFAULT_REPLICATES, RunConfig, RunSampler, TOLERANCE_REPLICATES, require_randomized,
+    require_uniform_points,
+};
+pub(crate) use drive::{Drive, Next, NonFinite, StageEnd, Stages, Verdict, drive};
 pub(crate) use executor::{ChunkJob, Executor, RunScope, available_threads, guarded};
 pub use limits::CancelToken;
 pub(crate) use limits::Limits;
 pub(crate) use settings::run_settings;
-pub(crate) use stopping::{
-    DEFAULT_REPLICATES, REPLICATE_INFLATION, Stopping, TOLERANCE_REPLICATES,
-};
 pub(crate) use targets::Targets;

@@ -1,12 +1,22 @@
-//! [`Targets`]: what a run to a tolerance must reach: a tolerance per output, on derived
-//! quantities, or both.
+//! [`Targets`]: the one judge of a run to a tolerance: what it must reach (a tolerance per
+//! output, on derived quantities, or both), and whether an estimate reaches it.
+//!
+//! Replicate-based standard errors are inflated by [`REPLICATE_INFLATION`] when judged: the
+//! replicate means of scrambled nets and of small adaptive runs are not normal at small sizes,
+//! and stopping the first time their spread looks small favours runs whose spread is small by
+//! chance (optional stopping); the inflation keeps the intervals of such runs at their nominal
+//! coverage (the measurement is in docs/). QMCPy's `CubQMCCLT` inflates by the same factor by
+//! default. Per-sample errors of independent points (the two-stage rule, VEGAS) are judged as
+//! they are: their `n` is large and their variance estimate stable.
 
 use std::time::Duration;
 
-use super::REPLICATE_INFLATION;
 use crate::estimator::checked_outputs;
 use crate::stats::{Derived, ErrorBasis, Estimate, StopReason, Tolerance, VectorEstimate, Warning};
 use crate::{Error, Result};
+
+/// Inflation of a replicate-based standard error in a run to a tolerance.
+pub(crate) const REPLICATE_INFLATION: f64 = 1.2;
 
 /// The tolerances of one run: `outputs[k]` for output `k` (none where only derived quantities
 /// decide), and a tolerance for each derived quantity. A run meets them when every one is met.
@@ -116,7 +126,7 @@ impl<'a> Targets<'a> {
     }
 
     /// The estimate a stage reports (replicate-based standard errors and covariances inflated,
-    /// see [`Stopping`](crate::engine::Stopping)) and whether it meets every target.
+    /// see the module documentation) and whether it meets every target.
     pub(crate) fn judge(&self, mut run: VectorEstimate) -> (VectorEstimate, bool) {
         if run.outputs[0].basis == ErrorBasis::Replicates {
             run.inflate(REPLICATE_INFLATION);
@@ -127,7 +137,7 @@ impl<'a> Targets<'a> {
 
     /// Records how the run ended on its final estimate: per output, whether its own target
     /// (or, without one, every target) was met, and a warning when it stopped on a limit.
-    pub(crate) fn finish(&self, run: &mut VectorEstimate, stop: StopReason, stages: u64) {
+    pub(crate) fn finish(&self, run: &mut VectorEstimate, stop: StopReason) {
         let all = self.met(run);
         let own: Vec<bool> = self
             .outputs
@@ -138,12 +148,12 @@ impl<'a> Targets<'a> {
         run.for_each_output(|k, output| {
             output.stop = stop;
             output.converged = Some(own[k]);
-            output.iterations = stages;
             if stop != StopReason::ToleranceMet {
                 output.warn(Warning::ToleranceNotMet { stop });
             }
             output.finalize();
         });
         run.converged = Some(all);
+        run.stop = stop;
     }
 }

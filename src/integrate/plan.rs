@@ -2,7 +2,7 @@
 //! uses, cut into fixed chunks that the [`Executor`] evaluates and folds in chunk order.
 
 use super::{CHUNK, DEFAULT_SAMPLES, NonFinitePolicy};
-use crate::engine::{ChunkJob, Executor, Limits};
+use crate::engine::{self, ChunkJob, Executor, Limits};
 use crate::estimator::VectorEstimator;
 use crate::sampler::{PassKind, Sampler};
 use crate::stats::{Accumulator, CovarianceAccumulator, StopReason, VectorEstimate, Warning};
@@ -193,7 +193,7 @@ impl Plan {
 
     /// The estimate of a run that a limit stopped after `done` chunks: the finished part of
     /// independent points, or the complete replicates of dependent ones (an
-    /// [`Error::Interrupted`] when there is none), with the reason and a warning.
+    /// [`Error::Interrupted`] when there is none).
     pub(super) fn estimate_stopped(
         &self,
         sampler: &dyn Sampler,
@@ -219,17 +219,7 @@ impl Plan {
             replicates: complete,
             ..*self
         };
-        let mut estimate = kept.estimate(sampler, &folded, policy)?;
-        let planned = self.samples.saturating_mul(self.replicates);
-        estimate.for_each_output(|_, output| {
-            output.stop = stop;
-            output.warn(Warning::StoppedEarly {
-                stop,
-                done: output.evaluations,
-                planned,
-            });
-        });
-        Ok(estimate)
+        kept.estimate(sampler, &folded, policy)
     }
 
     /// Fails with the first offending point when a contribution was not finite (under
@@ -241,43 +231,53 @@ impl Plan {
         folded: &Folded,
         policy: NonFinitePolicy,
     ) -> Result<()> {
+        match self.non_finite(sampler, folded, policy)? {
+            Some(found) if policy == NonFinitePolicy::Fail => Err(found.into_error()),
+            _ => Ok(()),
+        }
+    }
+
+    /// The first non-finite contribution of `folded`, if any, with its point; an error when,
+    /// under [`NonFinitePolicy::Skip`], a replicate has an output with no finite contribution
+    /// left.
+    pub(super) fn non_finite(
+        &self,
+        sampler: &dyn Sampler,
+        folded: &Folded,
+        policy: NonFinitePolicy,
+    ) -> Result<Option<engine::NonFinite>> {
         let Some(first) = folded.first_non_finite else {
-            return Ok(());
+            return Ok(None);
         };
         let count: u64 = folded.accumulators.iter().map(|r| r.non_finite()).sum();
-        if policy == NonFinitePolicy::Skip {
-            return match folded.accumulators.iter().position(|r| r.count() == 0) {
-                None => Ok(()),
-                Some(at) => {
-                    let (replicate, output) = (
-                        self.first_replicate + (at / folded.outputs) as u64,
-                        at % folded.outputs,
-                    );
-                    let what = if folded.outputs > 1 {
-                        format!(
-                            "non-finite at every point of replicate {replicate} in output {output}"
-                        )
-                    } else {
-                        format!("non-finite at every point of replicate {replicate}")
-                    };
-                    Err(Error::invalid(
-                        "integrand",
-                        what,
-                        "at least one finite contribution per replicate, even when skipping",
-                    ))
-                }
+        if policy == NonFinitePolicy::Skip
+            && let Some(at) = folded.accumulators.iter().position(|r| r.count() == 0)
+        {
+            let (replicate, output) = (
+                self.first_replicate + (at / folded.outputs) as u64,
+                at % folded.outputs,
+            );
+            let what = if folded.outputs > 1 {
+                format!("non-finite at every point of replicate {replicate} in output {output}")
+            } else {
+                format!("non-finite at every point of replicate {replicate}")
             };
+            return Err(Error::invalid(
+                "integrand",
+                what,
+                "at least one finite contribution per replicate, even when skipping",
+            ));
         }
         let mut point = vec![0.0; sampler.dims()];
         sampler.point(first.replicate * self.stride + first.index, &mut point)?;
-        Err(Error::NonFiniteContribution {
+        Ok(Some(engine::NonFinite {
             count,
-            first_index: first.index,
-            first_replicate: first.replicate,
-            first_output: (folded.outputs > 1).then_some(first.output),
-            first_value: first.value,
-            first_point: point,
-        })
+            replicate: first.replicate,
+            index: first.index,
+            output: (folded.outputs > 1).then_some(first.output),
+            value: first.value,
+            point,
+        }))
     }
 
     /// The estimate from the folded chunks of a complete run: the same bits whichever

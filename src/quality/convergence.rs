@@ -42,7 +42,7 @@
 
 use std::fmt;
 
-use crate::engine::{ChunkJob, Limits, RunConfig, run_settings};
+use crate::engine::{ChunkJob, Limits, NonFinite, RunConfig, run_settings};
 use crate::hash::hash_words;
 use crate::sampler::{PassKind, Sampler};
 use crate::testfns::TestFunction;
@@ -532,14 +532,15 @@ fn pass_error(
             block.copy_point(i, &mut x);
             let y = f.eval(&x);
             if !y.is_finite() {
-                return Err(Error::NonFiniteContribution {
+                let found = NonFinite {
                     count: 1,
-                    first_index: start + i as u64,
-                    first_replicate: pass,
-                    first_output: None,
-                    first_value: y,
-                    first_point: x,
-                });
+                    replicate: pass,
+                    index: start + i as u64,
+                    output: None,
+                    value: y,
+                    point: x,
+                };
+                return Err(found.into_error());
             }
             block_sum += y;
         }

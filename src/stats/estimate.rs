@@ -221,11 +221,18 @@ impl Estimate {
             self.warn(Warning::IterationsDisagree { chi2_dof, q_value });
         }
         if self.non_finite > 0 {
-            self.warnings
-                .retain(|w| !matches!(w, Warning::NonFiniteSkipped { .. }));
-            self.warn(Warning::NonFiniteSkipped {
+            // Where it stands, with the count now known: finalizing twice changes nothing.
+            let skipped = Warning::NonFiniteSkipped {
                 count: self.non_finite,
-            });
+            };
+            match self
+                .warnings
+                .iter_mut()
+                .find(|w| matches!(w, Warning::NonFiniteSkipped { .. }))
+            {
+                Some(earlier) => *earlier = skipped,
+                None => self.warnings.push(skipped),
+            }
         }
     }
 
