@@ -73,6 +73,7 @@ mod points;
 pub mod points_f32;
 mod quadrature;
 pub mod quality;
+mod run;
 pub mod sampler;
 mod special;
 pub mod stats;
@@ -96,6 +97,7 @@ pub use mpi;
 pub use pdf::Pdf;
 pub use points::{PointBlock, Points};
 pub use points_f32::PointsF32;
+pub use run::Run;
 pub use sampler::{Sampler, SamplerKind, Scramble};
 pub use stats::{Accumulator, Estimate, StopReason, Tolerance, VectorEstimate};
 

@@ -243,7 +243,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
             .config
             .sampler(self.domain.dims(), "sampler (the dimension of the domain)")?;
         let limits = self.config.limits();
-        let run = Run {
+        let run = Recursion {
             f: &self.f,
             domain: &self.domain,
             batches: Batches::new(&*sampler, "MISER")?,
@@ -380,7 +380,7 @@ struct Settings {
 }
 
 /// Everything a region's computation reads.
-struct Run<'a, F> {
+struct Recursion<'a, F> {
     f: &'a F,
     domain: &'a UniformBox,
     batches: Batches<'a>,
@@ -465,7 +465,7 @@ struct Stage {
     per_replicate: u64,
 }
 
-impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
+impl<F: Fn(&[f64]) -> f64 + Sync> Recursion<'_, F> {
     /// Stops the work of a stage once its time limit has passed or it was cancelled (checked
     /// before every region and every block of points).
     fn check_limits(&self) -> Result<()> {
@@ -747,7 +747,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run<'_, F> {
 
 /// The replicates of one stage, as work for the executor: chunk `r` is replicate `r`.
 struct StageJob<'a, 'b, F> {
-    run: &'a Run<'b, F>,
+    run: &'a Recursion<'b, F>,
     stage: Stage,
 }
 
@@ -782,7 +782,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StageJob<'_, '_, F> {
 /// budget; with a tolerance, stages that double the evaluations per replicate, each a fresh,
 /// independent run whose estimate replaces the last.
 struct MiserStages<'a, 'b, F> {
-    run: &'a Run<'b, F>,
+    run: &'a Recursion<'b, F>,
     per_replicate: u64,
     next_slot: u64,
     /// Whether stages double until a tolerance is met (else there is one stage).
