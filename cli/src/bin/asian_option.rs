@@ -26,19 +26,16 @@
 //! evaluations a run needs to reach `--tol-rel` (default 1e-4), each limited to `--max-evals`
 //! (default 2^24).
 
-#[path = "support/asian.rs"]
-mod asian;
-#[path = "support/mod.rs"]
-mod support;
-
 use asian::Contract;
 use mcint::measure::Construction;
 use mcint::sampler::{SamplerKind, Scramble};
 use mcint::stats::{StopReason, Tolerance};
 use mcint::{Estimate, Integrator};
+use mcint_cli::args as support;
+use mcint_cli::asian;
+use mcint_cli::{note, say};
 use std::time::Instant;
 use support::Args;
-use support::output::{note, say};
 
 /// What `--help` says the program does.
 const ABOUT: &str =

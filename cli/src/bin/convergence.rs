@@ -12,19 +12,16 @@
 //! goes into DIR, with dashed reference slopes; the slope table is printed and written to
 //! `DIR/slopes.md`.
 
-#[path = "support/plot.rs"]
-mod plot;
-#[path = "support/mod.rs"]
-mod support;
-
 use indicatif::{ProgressBar, ProgressStyle};
 use mcint::quality::{Convergence, ConvergenceStudy};
 use mcint::sampler::{Sampler, SamplerKind};
 use mcint::testfns::{Genz, GenzFamily, GraphicsIntegrand, TestFunction};
+use mcint_cli::args as support;
+use mcint_cli::plot;
+use mcint_cli::say;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use support::Args;
-use support::output::say;
 
 /// What `--help` says the program does.
 const ABOUT: &str =

@@ -14,19 +14,16 @@
 //! centered L2 discrepancies (of the drawn set), and low-frequency power; the spectra are
 //! also written as data, `DIR/NAME-radial.csv` and `DIR/NAME-periodogram.csv`.
 
-#[path = "support/plot.rs"]
-mod plot;
-#[path = "support/mod.rs"]
-mod support;
-
 use indicatif::{ProgressBar, ProgressStyle};
 use mcint::Points;
 use mcint::quality::{Discrepancy, Periodogram, mean_periodogram, t_value};
 use mcint::sampler::{Sampler, SamplerKind};
+use mcint_cli::args as support;
+use mcint_cli::plot;
+use mcint_cli::say;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use support::Args;
-use support::output::say;
 
 /// What `--help` says the program does.
 const ABOUT: &str = "Draws every sampler's 2-D points and Fourier spectrum, one image per sampler, with an index page.";

@@ -64,36 +64,22 @@
 //! to stderr, one `warning: ...` line each; `--json` also lists them in its `warnings` array
 //! as `{"kind", "message"}` objects, empty when there are none.
 
-#[path = "support/checkpoint.rs"]
-mod checkpoint;
-#[path = "support/genz_estimators.rs"]
-mod genz_estimators;
-#[path = "support/integrands.rs"]
-mod integrands;
-#[path = "support/methods.rs"]
-mod methods;
-#[path = "support/ranks.rs"]
-mod ranks;
-#[path = "support/mod.rs"]
-mod support;
-#[path = "support/vector_run.rs"]
-mod vector_run;
-
-use genz_estimators::EstimatorKind;
-use integrands::{INTEGRAND_NAMES, Named};
+use mcint::CancelToken;
 use mcint::Method;
 use mcint::estimator::Estimator;
 use mcint::sampler::{Jittered, PassKind, SamplerKind, Scramble};
-use mcint::stats::{StopReason, Tolerance};
+use mcint::stats::Tolerance;
 use mcint::testfns::TestFunction;
-use mcint::{CancelToken, Estimate, Integrator};
-use methods::{AdaptiveRun, METHOD_NAMES, parse_method};
+use mcint_cli::args::{self as support, Args};
+use mcint_cli::estimators::{self as genz_estimators, EstimatorKind};
+use mcint_cli::integrands::{self, INTEGRAND_NAMES, Named};
+use mcint_cli::methods::{self, METHOD_NAMES, Setup, parse_method};
+use mcint_cli::report::Report;
+use mcint_cli::{checkpoint, ranks};
 use std::io::IsTerminal;
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
-use support::output::{note, say};
-use support::{Args, stop_name};
 
 /// Cancelled on SIGINT or SIGTERM: the run stops after its current chunks and reports what it
 /// has (a checkpoint is saved first), and the process exits with status 130.
@@ -252,7 +238,7 @@ fn run() -> Result<(), String> {
     let functions = Named::parse_list(&args, &names, dims)?;
     let ratio = args
         .get::<String>("ratio", "two output indices I,J")?
-        .map(|text| vector_run::parse_ratio(&text, functions.len()))
+        .map(|text| integrands::parse_ratio(&text, functions.len()))
         .transpose()?;
     let vector = functions.len() > 1 || ratio.is_some();
     let f = functions[0].clone();
@@ -328,156 +314,76 @@ fn run() -> Result<(), String> {
             kind.name()
         ));
     }
-    let replicates_flag: Option<u64> = args.get("replicates", "a whole number >= 1")?;
+    let replicates: Option<u64> = args.get("replicates", "a whole number >= 1")?;
     let threads: Option<usize> = args.get("threads", "a whole number of threads >= 1")?;
     let default_replicates = method.default_replicates(&*sampler);
     let checkpoint = checkpoint_settings(&args, tolerance.is_some(), spread, deadline)?;
-    let started = Instant::now();
-    if vector {
-        let label = functions
-            .iter()
-            .map(Named::label)
-            .collect::<Vec<_>>()
-            .join("; ");
-        let scramble_name = scramble.name().to_string();
-        let Some(run) = vector_run::run(vector_run::VectorRunArgs {
-            method,
-            functions: &functions,
-            sampler,
-            samples: (tolerance.is_none() || n_flag.is_some()).then_some(n),
-            replicates: replicates_flag,
-            default_replicates,
-            seed,
-            threads,
-            tolerance,
-            ratio,
-            label,
-            checkpoint,
-            cancel: cancel_token(),
-            deadline,
-            spread,
-        })?
-        else {
-            return Ok(());
-        };
-        if !spread.is_root() {
-            return Ok(());
-        }
-        let report = vector_run::VectorReport {
-            method: method.name(),
-            functions: &functions,
-            sampler: kind.name().to_string(),
-            scramble: scramble_name,
-            run,
-            ratio,
-            ranks: spread.size,
-            seconds: started.elapsed().as_secs_f64(),
-        };
-        for warning in report.warnings() {
-            note!("warning: {warning}");
-        }
-        return if args.has("json") {
-            report.print_json()
-        } else {
-            report.print_text()
-        };
+    if method.is_adaptive() && !vector && estimator_kind != EstimatorKind::Uniform {
+        return Err(format!(
+            "--estimator {} applies to --method plain and rqmc; {} adapts its own density (use \
+             --estimator uniform)",
+            estimator_kind.name(),
+            method.name()
+        ));
     }
-    let estimate = if method.is_adaptive() {
-        if checkpoint.is_some() {
-            return Err(format!(
-                "--checkpoint applies to --method plain and rqmc, not {}",
-                method.name()
-            ));
-        }
-        if estimator_kind != EstimatorKind::Uniform {
-            return Err(format!(
-                "--estimator {} applies to --method plain and rqmc; {} adapts its own \
-                 density (use --estimator uniform)",
-                estimator_kind.name(),
-                method.name()
-            ));
-        }
-        AdaptiveRun {
-            method,
-            f: &f,
-            sampler,
-            n: n_flag,
-            replicates: replicates_flag,
-            tolerance,
-            seed,
-            threads,
-            cancel: cancel_token(),
-            deadline,
-            spread,
-        }
-        .run()?
+    // The integrand's name in checkpoints: another family, parameters or estimator is
+    // refused on resume.
+    let label = if vector {
+        let labels: Vec<String> = functions.iter().map(Named::label).collect();
+        labels.join("; ")
     } else {
-        // The integrand's name in checkpoints: another family, parameters or estimator is
-        // refused on resume.
-        let label = format!("{} estimator {}", f.label(), estimator_kind.name());
-        let mut integrator = Integrator::new(built.estimator)
-            .sampler(sampler)
-            .seed(seed)
-            .label(label)
-            .cancel_token(cancel_token());
-        if spread.is_root()
-            && let Some(bar) = progress_bar()
-        {
-            integrator = integrator.progress(bar);
-        }
-        let mut integrator = ranks::spread!(integrator, spread);
-        // With a tolerance the run picks its own first stage and replicates unless --n and
-        // --replicates say otherwise.
-        if tolerance.is_none() || n_flag.is_some() {
-            integrator = integrator.samples(n);
-        }
-        if tolerance.is_none() || replicates_flag.is_some() {
-            integrator = integrator.replicates(replicates_flag.unwrap_or(default_replicates));
-        }
-        if let Some(t) = threads {
-            integrator = integrator.threads(t);
-        }
-        if let Some(tolerance) = tolerance {
-            integrator = integrator.tolerance(tolerance);
-        }
-        if let Some(deadline) = deadline {
-            integrator = integrator.deadline(deadline);
-        }
-        match checkpoint {
-            None => integrator.run().map_err(|e| e.to_string())?,
-            Some(settings) => match checkpoint::run(&integrator, &settings, &cancel_token())? {
-                Some(estimate) => estimate,
+        format!("{} estimator {}", f.label(), estimator_kind.name())
+    };
+    let progress = progress_bar().filter(|_| spread.is_root() && !vector);
+    let setup = Setup {
+        method,
+        functions: &functions,
+        ratio,
+        estimator: Some(built.estimator),
+        sampler,
+        n: n_flag,
+        default_n: n,
+        replicates,
+        default_replicates,
+        seed,
+        threads,
+        tolerance,
+        label,
+        deadline,
+        cancel: cancel_token(),
+        spread,
+        progress: progress.map(|bar| Box::new(bar) as Box<dyn Fn(u64, u64) + Send + Sync>),
+    };
+    let started = Instant::now();
+    let run = match checkpoint {
+        None => methods::build(setup)?
+            .run_vector()
+            .map_err(|e| e.to_string())?,
+        Some(settings) => {
+            let integrator = methods::build_checkpointed(setup)?;
+            match checkpoint::run(&*integrator, &settings, &cancel_token())? {
+                Some(run) => run,
                 None => return Ok(()),
-            },
+            }
         }
     };
-    let seconds = started.elapsed().as_secs_f64();
     if !spread.is_root() {
         return Ok(());
     }
-    let report = Report {
+    Report {
         method,
-        family: f.name(),
-        dims,
-        kind,
-        scramble,
-        estimator: estimator_kind,
+        functions: &functions,
+        sampler: kind.name(),
+        scramble: scramble.name(),
+        estimator: estimator_kind.name(),
         estimator_description: built.description,
         evaluations_per_contribution: built.evaluations_per_contribution,
-        estimate,
-        exact: f.exact(),
+        ratio,
+        run,
         ranks: spread.size,
-        seconds,
-    };
-    for warning in &report.estimate.warnings {
-        note!("warning: {warning}");
+        seconds: started.elapsed().as_secs_f64(),
     }
-    if args.has("json") {
-        report.print_json()
-    } else {
-        report.print_text()
-    }
-    Ok(())
+    .print(args.has("json"))
 }
 
 /// `--checkpoint FILE [--save-every K] [--stop-after K]`, if given (fixed budgets only).
@@ -542,160 +448,4 @@ fn tolerance_from(args: &Args) -> Result<Option<Tolerance>, String> {
             .map_err(|e| e.to_string())?;
     }
     Ok(Some(tolerance))
-}
-
-struct Report {
-    method: Method,
-    family: String,
-    dims: usize,
-    kind: SamplerKind,
-    scramble: mcint::sampler::Scramble,
-    estimator: EstimatorKind,
-    estimator_description: String,
-    evaluations_per_contribution: u64,
-    estimate: Estimate,
-    exact: f64,
-    /// MPI ranks the run was spread over (1 without `--mpi`).
-    ranks: usize,
-    seconds: f64,
-}
-
-impl Report {
-    /// The variance of the estimate times the number of integrand evaluations it took: the
-    /// variance of a one-evaluation estimate, comparable across estimators at equal work.
-    fn variance_per_evaluation(&self) -> Option<f64> {
-        let e = &self.estimate;
-        e.std_error
-            .map(|se| se * se * (e.n * self.evaluations_per_contribution) as f64)
-    }
-
-    fn print_json(&self) {
-        let e = &self.estimate;
-        let number = |v: Option<f64>| v.filter(|v| v.is_finite());
-        let json = serde_json::json!({
-            "method": self.method.name(),
-            "family": self.family,
-            "dims": self.dims,
-            "sampler": self.kind.name(),
-            "scramble": self.scramble.name(),
-            "estimator": self.estimator.name(),
-            "estimate": number(Some(e.mean)),
-            "std_error": number(e.std_error),
-            "error_bound": number(e.error_bound),
-            "variance_per_evaluation": number(self.variance_per_evaluation()),
-            "exact": number(Some(self.exact)),
-            "n": e.n,
-            "replicates": e.replicates,
-            "evaluations": e.evaluations,
-            "converged": e.converged,
-            "stop": stop_name(e.stop),
-            "iterations": e.iterations,
-            "chi2_dof": number(e.chi2_dof),
-            "rounding_error": number(Some(e.rounding_error)),
-            "warnings": e.warnings.iter().map(|w| serde_json::json!({
-                "kind": w.kind(),
-                "message": w.to_string(),
-            })).collect::<Vec<_>>(),
-            "ranks": self.ranks,
-            "seconds": number(Some(self.seconds)),
-        });
-        say!("{json}");
-    }
-
-    fn print_text(&self) {
-        let e = &self.estimate;
-        let error = (e.mean - self.exact).abs();
-        say!(
-            "integrand   {}{} in {} dimensions",
-            if self.family == "keister" {
-                ""
-            } else {
-                "genz "
-            },
-            self.family,
-            self.dims
-        );
-        say!("method      {}", self.method.name());
-        let layout = if matches!(self.method, Method::Vegas | Method::VegasPlus) {
-            format!("{} iterations combined, {} points", e.iterations, e.n)
-        } else if self.method == Method::SobolG {
-            let plural = if e.iterations == 1 { "" } else { "s" };
-            format!(
-                "one sequence, {} points in {} stage{plural}",
-                e.n, e.iterations
-            )
-        } else {
-            format!(
-                "{} replicates x {} points",
-                e.replicates,
-                e.n / e.replicates
-            )
-        };
-        say!(
-            "sampler     {}, scramble {} ({layout})",
-            self.kind,
-            self.scramble
-        );
-        say!(
-            "estimator   {}: {}",
-            self.estimator.name(),
-            self.estimator_description
-        );
-        say!("estimate    {:.12e}", e.mean);
-        say!("exact       {:.12e}", self.exact);
-        if let Some(bound) = e.error_bound {
-            say!("error bound {bound:.3e} (from the Walsh coefficients; no confidence level)");
-            say!("|error|     {error:.3e}");
-        }
-        match (e.std_error, e.confidence_interval(0.95)) {
-            (Some(se), Ok(Some((lo, hi)))) => {
-                say!("std error   {se:.3e} ({:?})", e.basis);
-                if let Some(v) = self.variance_per_evaluation() {
-                    say!("var/eval    {v:.3e} (variance x integrand evaluations)");
-                }
-                say!("95% CI      [{lo:.12e}, {hi:.12e}]");
-                say!(
-                    "|error|     {error:.3e} = {:.2} standard errors",
-                    error / se
-                );
-            }
-            _ if e.error_bound.is_some() => {}
-            _ => {
-                say!(
-                    "std error   none (a single point, or one replicate of dependent points, has \
-                     no honest error bar)"
-                );
-                say!("|error|     {error:.3e}");
-            }
-        }
-        if e.converged.is_none() && matches!(e.stop, StopReason::TimeLimit | StopReason::Cancelled)
-        {
-            say!(
-                "stopped     early ({}) after {} evaluations",
-                stop_name(e.stop),
-                e.evaluations
-            );
-        }
-        if let Some(converged) = e.converged {
-            say!(
-                "tolerance   {} ({}, {} stage{}, {} evaluations in all)",
-                if converged { "met" } else { "NOT met" },
-                stop_name(e.stop),
-                e.iterations,
-                if e.iterations == 1 { "" } else { "s" },
-                e.evaluations
-            );
-        }
-        if let Some(chi2) = e.chi2_dof {
-            say!(
-                "chi2/dof    {chi2:.2} over {} iterations (Q = {:.2})",
-                e.iterations,
-                e.q_value.unwrap_or(f64::NAN)
-            );
-        }
-        if self.ranks > 1 {
-            say!("ranks       {} MPI processes", self.ranks);
-        }
-        say!("time        {:.3} s", self.seconds);
-    }
 }

@@ -13,16 +13,14 @@
 //!   that costs about `--cost-us` microseconds (default 1), spread over the ranks, each on
 //!   `--threads` threads (default 1): its wall time and evaluations per second.
 
-#[path = "support/mod.rs"]
-mod support;
-
 use mcint::mpi::datatype::PartitionMut;
 use mcint::mpi::traits::{Communicator, CommunicatorCollectives, Root};
 use mcint::{Cluster, Integrator, pdf::UniformBox};
+use mcint_cli::args as support;
+use mcint_cli::say;
 use std::hint::black_box;
 use std::time::Instant;
 use support::Args;
-use support::output::say;
 
 /// What `--help` says the program does.
 const ABOUT: &str = "Strong scaling over MPI ranks and the cost of one exchange between them.";

@@ -28,17 +28,15 @@
 //! `--format svg` or `png` draws the first two dimensions (with `--pairs`, every pairwise
 //! projection) into `--out FILE`, whose name must end in `.svg` or `.png` accordingly.
 
-#[path = "support/plot.rs"]
-mod plot;
-#[path = "support/mod.rs"]
-mod support;
-
 use mcint::Points;
 use mcint::measure::{FACTOR_MAX_DIMS, Factorization, Gaussian, Measure};
 use mcint::sampler::{PassKind, SamplerKind};
+use mcint_cli::args as support;
+use mcint_cli::note;
+use mcint_cli::output;
+use mcint_cli::plot;
 use std::io::{BufWriter, Write};
 use support::Args;
-use support::output::{self, note};
 
 /// What `--help` says the program does.
 const ABOUT: &str =
@@ -285,7 +283,7 @@ fn gaussian(args: &Args, dims: usize) -> Result<Option<Gaussian>, String> {
 
 /// A `dims x dims` matrix from a text file: rows of numbers separated by commas or spaces.
 fn read_matrix(path: &str, dims: usize) -> Result<Vec<f64>, String> {
-    let text = support::input::read_text(path, "cov")?;
+    let text = mcint_cli::input::read_text(path, "cov")?;
     let rows: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
     if rows.len() != dims {
         return Err(format!(

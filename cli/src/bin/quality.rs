@@ -19,13 +19,11 @@
 //! cargo run --release --bin quality -- --input sobol.csv --measure star
 //! ```
 
-#[path = "support/mod.rs"]
-mod support;
-
 use mcint::Points;
 use mcint::quality;
+use mcint_cli::args as support;
+use mcint_cli::say;
 use support::Args;
-use support::output::say;
 
 /// What `--help` says the program does.
 const ABOUT: &str =
@@ -103,7 +101,7 @@ fn t_value(points: &Points) -> Result<String, String> {
 
 /// Reads a CSV file of points (one per line, comma-separated coordinates in `[0, 1]`).
 fn read_points(path: &str) -> Result<Points, String> {
-    let text = support::input::read_text(path, "input")?;
+    let text = mcint_cli::input::read_text(path, "input")?;
     // A final newline (or several) is not an empty point.
     let body = text.trim_end();
     if body.is_empty() {

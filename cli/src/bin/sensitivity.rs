@@ -24,21 +24,17 @@
 //! replicates done by then) and `warnings`, as `integrate --json` has them. Warnings also go
 //! to stderr.
 
-#[path = "support/pick_freeze.rs"]
-mod pick_freeze;
-#[path = "support/sensitivity_models.rs"]
-mod sensitivity_models;
-#[path = "support/mod.rs"]
-mod support;
-
 use mcint::pdf::UniformBox;
 use mcint::sampler::{Scramble, Sobol};
 use mcint::stats::{Derived, StopReason, VectorEstimate, Warning};
 use mcint::{Estimate, Integrator};
+use mcint_cli::args as support;
+use mcint_cli::pick_freeze;
+use mcint_cli::sensitivity_models;
+use mcint_cli::{note, say};
 use pick_freeze::{MAX_INPUTS, PickFreeze};
 use sensitivity_models::Model;
 use support::Args;
-use support::output::{note, say};
 
 const SPEC: support::Spec = &[
     ("function", true, "ishigami or sobol-g"),

@@ -20,9 +20,6 @@
 //!    coefficient 1, with the least-squares coefficient, with two controls, and antithetic
 //!    pairs for comparison.
 
-#[path = "support/mod.rs"]
-mod support;
-
 use mcint::estimator::{
     ControlVariate, Estimator, ImportanceEstimator, MisHeuristic, MultiSampleMis, OneSampleMis,
     ProductImportanceEstimator, UniformEstimator,
@@ -30,8 +27,9 @@ use mcint::estimator::{
 use mcint::pdf::{Exponential, Linear, Mixture, Normal, Pdf, Pdf1d, TruncatedNormal, UniformBox};
 use mcint::sampler::{Antithetic, Independent};
 use mcint::{Estimate, Integrator};
+use mcint_cli::args as support;
+use mcint_cli::{note, say};
 use support::Args;
-use support::output::{note, say};
 
 /// What `--help` says the program does.
 const ABOUT: &str = "Jarosz's variance-reduction scenarios: every technique's estimate, standard error and variance per evaluation.";

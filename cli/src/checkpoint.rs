@@ -12,9 +12,9 @@
 //! refuses a corrupted one (its checksum), an impossible one (its counts) or one of another run
 //! (its fingerprint, which includes the integrand's label).
 
-use crate::support::output::note;
+use crate::note;
 use mcint::estimator::{Estimator, VectorEstimator};
-use mcint::{CancelToken, Estimate, Integrator, PartialRun, VectorEstimate, VectorRun};
+use mcint::{CancelToken, Integrator, PartialRun, VectorEstimate, VectorRun};
 use std::fs::{File, OpenOptions, TryLockError};
 use std::io::{ErrorKind, Read, Write};
 use std::ops::Range;
@@ -40,33 +40,31 @@ pub struct Settings {
     pub spread: crate::ranks::Spread,
 }
 
-/// A run that can be split into parts: the scalar and the vector Integrator.
+/// A run that can be split into parts: the scalar and the vector Integrator, each giving
+/// every output's estimate.
 pub trait Checkpointed {
-    type Output;
     fn run_part(&self, range: Range<u64>) -> mcint::Result<PartialRun>;
     fn resume(&self, part: &mut PartialRun, max_chunks: u64) -> mcint::Result<()>;
-    fn finish(&self, part: &PartialRun) -> mcint::Result<Self::Output>;
+    fn finish(&self, part: &PartialRun) -> mcint::Result<VectorEstimate>;
 }
 
 impl<E: Estimator> Checkpointed for Integrator<E> {
-    type Output = Estimate;
     fn run_part(&self, range: Range<u64>) -> mcint::Result<PartialRun> {
         <Integrator<E>>::run_part(self, range)
     }
     fn resume(&self, part: &mut PartialRun, max_chunks: u64) -> mcint::Result<()> {
         <Integrator<E>>::resume(self, part, max_chunks)
     }
-    fn finish(&self, part: &PartialRun) -> mcint::Result<Estimate> {
-        <Integrator<E>>::finish(self, part)
+    fn finish(&self, part: &PartialRun) -> mcint::Result<VectorEstimate> {
+        <Integrator<E>>::finish(self, part).map(VectorEstimate::from)
     }
 }
 
 /// The vector Integrator, wrapped: a blanket implementation for it next to the scalar one
 /// would overlap in the compiler's eyes.
-pub struct VectorCheckpoint<'a, E>(pub &'a Integrator<VectorRun<E>>);
+pub struct VectorCheckpoint<E>(pub Integrator<VectorRun<E>>);
 
-impl<E: VectorEstimator> Checkpointed for VectorCheckpoint<'_, E> {
-    type Output = VectorEstimate;
+impl<E: VectorEstimator> Checkpointed for VectorCheckpoint<E> {
     fn run_part(&self, range: Range<u64>) -> mcint::Result<PartialRun> {
         self.0.run_part(range)
     }
@@ -81,11 +79,11 @@ impl<E: VectorEstimator> Checkpointed for VectorCheckpoint<'_, E> {
 /// Runs `integrator` from the checkpoint in `settings.path` (or from the start), saving after
 /// every `save_every` chunks. Stops early after `stop_after` chunks, if given, leaving the
 /// checkpoint for the next call: `Ok(None)` then.
-pub fn run<R: Checkpointed>(
-    integrator: &R,
+pub fn run(
+    integrator: &dyn Checkpointed,
     settings: &Settings,
     cancel: &CancelToken,
-) -> Result<Option<R::Output>, String> {
+) -> Result<Option<VectorEstimate>, String> {
     let (path, save_every, stop_after) = (
         settings.path.as_path(),
         settings.save_every,
@@ -250,7 +248,7 @@ fn beside(path: &Path, extension: &str) -> PathBuf {
 /// Refuses a checkpoint `path` that exists and is not a regular file: a directory, a device,
 /// or a pipe such as `/dev/stdout`, whose read would never end.
 fn check_kind(path: &Path) -> Result<(), String> {
-    let what = crate::support::input::irregular(path)
+    let what = crate::input::irregular(path)
         .map_err(|e| format!("cannot read checkpoint '{}': {e}", path.display()))?;
     match what {
         None => Ok(()),

@@ -80,6 +80,7 @@ impl Ranks {
 }
 
 /// `$builder.cluster(..)` when the run is spread over ranks, `$builder` otherwise.
+#[macro_export]
 macro_rules! spread {
     ($builder:expr, $spread:expr) => {{
         #[cfg(feature = "mpi")]
@@ -95,5 +96,3 @@ macro_rules! spread {
         spread
     }};
 }
-
-pub(crate) use spread;

@@ -1,9 +1,7 @@
 //! Command-line plumbing shared by the programs: `--flag value` parsing (clap, with `--help`)
 //! with one-line errors that say what is allowed, and output that never panics.
-#![allow(dead_code)] // each example binary uses a different subset of these helpers
 
-pub mod input;
-pub mod output;
+use crate::output;
 
 use mcint::sampler::{SamplerKind, Scramble};
 use std::collections::HashMap;

@@ -3,7 +3,7 @@
 
 use mcint::testfns::{Genz, GenzFamily, Keister, TestFunction};
 
-use crate::support::Args;
+use crate::args::Args;
 
 /// One integrand of the command line.
 #[derive(Debug, Clone)]
@@ -111,4 +111,23 @@ impl TestFunction for Named {
             Named::Keister(k) => k.name(),
         }
     }
+}
+
+/// Parses `--ratio I,J` against `m` outputs.
+pub fn parse_ratio(text: &str, m: usize) -> Result<(usize, usize), String> {
+    let bad = || {
+        format!(
+            "invalid --ratio '{text}': expected two output indices I,J below {m} (positions in \
+             the --integrand list, from 0), I != J"
+        )
+    };
+    let (i, j) = text.split_once(',').ok_or_else(bad)?;
+    let (i, j): (usize, usize) = (
+        i.trim().parse().map_err(|_| bad())?,
+        j.trim().parse().map_err(|_| bad())?,
+    );
+    if i >= m || j >= m || i == j {
+        return Err(bad());
+    }
+    Ok((i, j))
 }

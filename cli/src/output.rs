@@ -4,29 +4,26 @@
 //! stderr through [`note!`], which drops what it cannot write (there is no other place left
 //! to report it).
 
-// Each program uses a different subset.
-#![allow(unused_macros, unused_imports)]
-
 use std::io::Write;
 
 /// `println!` to stdout, ending the program on a write error (see the module).
+#[macro_export]
 macro_rules! say {
     () => {
-        $crate::support::output::line(format_args!(""))
+        $crate::output::line(format_args!(""))
     };
     ($($arg:tt)*) => {
-        $crate::support::output::line(format_args!($($arg)*))
+        $crate::output::line(format_args!($($arg)*))
     };
 }
 
 /// `eprintln!` that never panics: a message stderr cannot take is dropped.
+#[macro_export]
 macro_rules! note {
     ($($arg:tt)*) => {
-        $crate::support::output::note_line(format_args!($($arg)*))
+        $crate::output::note_line(format_args!($($arg)*))
     };
 }
-
-pub(crate) use {note, say};
 
 /// Writes `args` and a newline to stdout (see [`say!`]).
 pub fn line(args: std::fmt::Arguments) {
@@ -56,5 +53,5 @@ pub fn exit_on_write_error(e: std::io::Error) -> ! {
     if e.kind() == std::io::ErrorKind::BrokenPipe {
         std::process::exit(0);
     }
-    super::fail(format!("cannot write the output: {e}"))
+    crate::args::fail(format!("cannot write the output: {e}"))
 }
