@@ -16,6 +16,10 @@
 //! division) and the node permutations (Fisher-Yates from one hash up to base 13, in byte
 //! lanes; an affine map above) vectorize. The sum is exact in integers whatever the order, and
 //! rounded once as in `owen_coordinate`, so the values are bit-identical.
+//!
+//! It exists for speed alone: `cargo bench --bench samplers -- owen_halton_block_vs_point`
+//! measures it against `owen_coordinate` value by value (`docs/measurements.md` keeps the
+//! figures).
 
 use super::base::{Base, MAX_DEPTH};
 #[cfg(test)]
