@@ -74,6 +74,7 @@ pub mod points_f32;
 mod quadrature;
 pub mod quality;
 pub mod sampler;
+mod simd;
 mod special;
 pub mod stats;
 pub mod testfns;

@@ -3,7 +3,7 @@
 
 use crate::Points;
 use crate::pdf::UniformBox;
-use crate::sampler::simd::{Kernel, dispatch};
+use crate::simd::{Kernel, dispatch};
 use std::cell::Cell;
 
 thread_local! {

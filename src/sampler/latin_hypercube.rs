@@ -7,10 +7,11 @@
 //! the additive (one-dimensional) part of the integrand's variation.
 
 use super::permutation::Permutation;
-use super::simd::{BlockFill, Kernel, dispatch_fill};
+use super::simd::{BlockFill, dispatch_fill};
 use super::{Sampler, check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
+use crate::simd::Kernel;
 
 /// Salts this sampler's hashes, so that other samplers given the same seed (which hash the
 /// same `(pass, index, dim)` words for their jitter) draw unrelated numbers.

@@ -24,10 +24,11 @@
 
 use super::number_theory::integer_root;
 use super::permutation::{Permutation, PermutationCache};
-use super::simd::{BlockFill, Kernel, dispatch_fill};
+use super::simd::{BlockFill, dispatch_fill};
 use super::{check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
+use crate::simd::Kernel;
 use crate::{Error, Points, Result};
 
 /// Most points a pass may hold: `2^53`, beyond which the `1/N` slabs are no longer distinct

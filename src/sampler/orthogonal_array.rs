@@ -35,11 +35,12 @@ use super::number_theory::{
     integer_root, is_prime, max_exponent, next_prime, polynomial_mod, previous_prime, prime_root,
 };
 use super::permutation::{Permutation, PermutationCache};
-use super::simd::{BlockFill, Kernel, dispatch_fill};
+use super::simd::{BlockFill, dispatch_fill};
 use super::{Sampler, check_dims, check_point, pass_runs};
 use crate::error::parse_name;
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
+use crate::simd::Kernel;
 use crate::{Error, Points, Result};
 use std::fmt;
 use std::str::FromStr;

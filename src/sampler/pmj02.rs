@@ -53,9 +53,10 @@
 //! coordinate of one more independent pair: a progressive 1-D stratified sequence, whose every
 //! prefix of `2^m` points has one point in each interval of width `2^-m`.
 
-use super::simd::{BlockFill, Kernel, dispatch_fill};
+use super::simd::{BlockFill, dispatch_fill};
 use super::{PassKind, Sampler, check_dims, check_point, fill_pointwise, pass_runs};
 use crate::hash::{hash_words, mix64};
+use crate::simd::Kernel;
 use crate::{Error, Points, Result};
 
 /// Largest accepted `log2_max`: passes of up to 2^20 points.

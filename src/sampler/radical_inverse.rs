@@ -16,7 +16,7 @@
 //! ([`Base::ratio`]: a multiplication by a per-base reciprocal, with the exact
 //! [`rounding::ratio_to_f64`] near halfway points). The block kernels
 //! ([`permute::fill_permuted`], and `owen_block.rs` for nested scrambling) share work between
-//! the indices of a block and run the keyed permutations in lanes through `super::simd`. Every
+//! the indices of a block and run the keyed permutations in lanes through `crate::simd`. Every
 //! path yields the same integers and the same single rounding, so `fill` and `point` agree bit
 //! for bit.
 

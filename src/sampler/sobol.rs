@@ -43,7 +43,7 @@
 //! Gray-code step is taken per chunk. The Owen column runs its Gray code on bit-reversed
 //! direction words, since the hash works on reversed words, saving one bit reversal per value.
 //! All of it is compiled once per instruction set and selected at run time
-//! (`super::simd`), which turns these loops into 8- or 16-lane vector code.
+//! (`crate::simd`), which turns these loops into 8- or 16-lane vector code.
 //!
 //! Files: `sobol/directions.rs` parses the direction numbers, `sobol/randomizer.rs` holds the
 //! three randomizations, `sobol/unit.rs` the conversions of words to `f64` and `f32`, and

@@ -1,7 +1,7 @@
 //! The block kernel of the Sobol' sampler: for each dimension, the Gray-code words of an
 //! aligned chunk of consecutive indices (one XOR per word, Antonov & Saleev 1979), then the
 //! scramble and the conversion in loops without loop-carried dependencies, compiled per
-//! instruction set by `sampler::simd`. The words and conversions are those of `Sobol::point`,
+//! instruction set by `crate::simd`. The words and conversions are those of `Sobol::point`,
 //! so the values are bit-identical.
 
 use super::directions::Directions;
@@ -11,7 +11,7 @@ use super::{PASS_BITS, Sobol};
 use crate::PointBlock;
 use crate::sampler::owen::OwenScramble;
 use crate::sampler::pass_runs;
-use crate::sampler::simd::{Kernel, dispatch};
+use crate::simd::{Kernel, dispatch};
 use std::ops::BitXorAssign;
 
 /// Block length for the word buffers of the fill kernels (a power of two).
