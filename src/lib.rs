@@ -78,6 +78,7 @@ mod simd;
 mod special;
 pub mod stats;
 pub mod testfns;
+mod uniformity;
 pub mod vector_math;
 
 pub use engine::CancelToken;

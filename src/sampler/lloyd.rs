@@ -3,7 +3,7 @@
 //! `LatinHypercube(optimization="lloyd")`, for any sampler's points).
 
 use super::{Independent, Sampler};
-use crate::quality::check_unit_cube;
+use crate::uniformity::check_unit_cube;
 use crate::{Error, Points, Result};
 
 /// How [`lloyd`] relaxes: scipy's 10 iterations, each cell's centroid estimated from 64 probe

@@ -3,7 +3,7 @@
 //! `LatinHypercube(optimization="random-cd")`).
 
 use super::pass_rng::{below, pass_rng};
-use crate::quality::Discrepancy;
+use crate::uniformity::Discrepancy;
 use crate::{Error, Points, Result};
 
 /// Tags the random stream of the swaps.
