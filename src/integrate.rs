@@ -24,7 +24,6 @@ use crate::{Error, Points, Result};
 
 mod engine;
 mod layout;
-mod non_finite;
 mod partial;
 #[cfg(feature = "serde")]
 mod partial_format;
@@ -33,8 +32,8 @@ mod plan;
 mod staged;
 mod vector;
 
+pub use crate::non_finite::NonFinitePolicy;
 use engine::RunEstimator;
-pub use non_finite::NonFinitePolicy;
 pub use partial::PartialRun;
 use plan::Plan;
 pub use vector::VectorRun;

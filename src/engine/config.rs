@@ -6,7 +6,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::{CancelToken, Executor, Limits, RunScope};
-use crate::integrate::NonFinitePolicy;
+use crate::non_finite::NonFinitePolicy;
 use crate::sampler::{Independent, PassKind, Sampler};
 use crate::stats::Tolerance;
 use crate::{Error, Result};

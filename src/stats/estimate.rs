@@ -2,9 +2,9 @@
 
 use super::accumulator::{Accumulator, scale_for};
 use super::rounding::mean_of_means;
-use super::stop_reason::StopReason;
 use super::warning::{DISAGREEMENT_Q, Warning};
 use crate::special::student_t_quantile;
+use crate::stop_reason::StopReason;
 use crate::{Error, Result};
 
 /// Where a standard error comes from.

@@ -5,7 +5,7 @@ use super::accumulator::{Accumulator, scale_for};
 use super::covariance::CovarianceAccumulator;
 use super::derived::Derived;
 use super::estimate::Estimate;
-use super::stop_reason::StopReason;
+use crate::stop_reason::StopReason;
 use crate::{Error, Result};
 
 /// The result of a run of a vector-valued integrand: per output an [`Estimate`] (mean,
