@@ -69,6 +69,7 @@ mod integrate;
 pub mod measure;
 mod method;
 mod non_finite;
+mod panics;
 pub mod pdf;
 mod points;
 pub mod points_f32;
@@ -80,6 +81,7 @@ mod special;
 pub mod stats;
 mod stop_reason;
 pub mod testfns;
+mod threads;
 mod uniformity;
 pub mod vector_math;
 

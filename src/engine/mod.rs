@@ -23,10 +23,12 @@ mod settings;
 mod stopping;
 mod targets;
 
+/// For the runners that catch panics outside a chunk of the executor.
+pub(crate) use crate::panics::guarded;
 #[cfg(feature = "mpi")]
 pub use cluster::Cluster;
 pub(crate) use config::{RunConfig, RunSampler, require_randomized, require_uniform_points};
-pub(crate) use executor::{ChunkJob, Executor, RunScope, available_threads, guarded};
+pub(crate) use executor::{ChunkJob, Executor, RunScope};
 pub use limits::CancelToken;
 pub(crate) use limits::Limits;
 pub(crate) use settings::run_settings;

@@ -21,8 +21,9 @@
 //! thread with a fixed order of summation, so the result does not depend on the number of
 //! threads, and passes are added in pass order.
 
-use crate::engine::{ChunkJob, Executor, Limits, available_threads};
+use crate::engine::{ChunkJob, Executor, Limits};
 use crate::sampler::{PassKind, Sampler};
+use crate::threads::available_threads;
 use crate::{Error, Points, Result};
 use std::f64::consts::TAU;
 

@@ -86,7 +86,6 @@ pub use pmj02::Pmj02;
 pub use poisson_disk::PoissonDisk;
 #[cfg(test)]
 pub(crate) use radical_inverse::thread_table_slots;
-pub(crate) use radical_inverse::{release_thread_tables, thread_tables_held};
 pub use random_cd::{RandomCd, random_cd};
 pub use scramble::Scramble;
 pub use sobol::Sobol;

@@ -35,7 +35,7 @@ impl Clone for PassCache {
 
 impl PassCache {
     pub(super) fn new() -> Self {
-        let capacity = crate::engine::available_threads().clamp(2, 8);
+        let capacity = crate::threads::available_threads().clamp(2, 8);
         PassCache {
             capacity,
             entries: Mutex::new(Vec::new()),

@@ -37,7 +37,6 @@ pub(crate) use base::{Base, bases};
 use digit_permutation::DigitPermutation;
 #[cfg(test)]
 pub(crate) use node_memo::slots_held as thread_table_slots;
-pub(crate) use node_memo::{any_held as thread_tables_held, release as release_thread_tables};
 use owen::owen_coordinate;
 use permute::{PermuteColumn, fill_permuted};
 use plain::{fill_plain, radical_inverse};

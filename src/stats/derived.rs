@@ -215,7 +215,7 @@ impl Derived {
                 gradient: given,
             } => {
                 // A panic in the user's function is an error, as one in an integrand is.
-                let at = crate::engine::guarded((0, 0), || {
+                let at = crate::panics::guarded((0, 0), || {
                     let at = value(&means);
                     match given {
                         Some(g) => g(&means, &mut gradient),
