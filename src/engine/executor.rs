@@ -25,10 +25,10 @@ use rayon::{ThreadPool, ThreadPoolBuilder};
 use super::Limits;
 #[cfg(feature = "mpi")]
 use super::cluster::Cluster;
+use crate::error::{Error, Result};
 use crate::panics::guarded;
 use crate::stats::StopReason;
 use crate::threads::{available_threads, caches_held, release_caches};
-use crate::{Error, Result};
 
 /// Work cut into numbered chunks, each evaluated with a per-thread scratch space.
 pub(crate) trait ChunkJob: Sync {

@@ -14,7 +14,7 @@
 //! judged as they are: their `n` is large and their variance estimate stable.
 
 use super::{Executor, Limits};
-use crate::Result;
+use crate::error::Result;
 use crate::stats::{ErrorBasis, Estimate, StopReason, Tolerance, Warning};
 
 /// Inflation of a replicate-based standard error in a run to a tolerance.

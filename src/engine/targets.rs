@@ -4,9 +4,9 @@
 use std::time::Duration;
 
 use super::REPLICATE_INFLATION;
+use crate::error::{Error, Result};
 use crate::estimator::checked_outputs;
 use crate::stats::{Derived, ErrorBasis, Estimate, StopReason, Tolerance, VectorEstimate, Warning};
-use crate::{Error, Result};
 
 /// The tolerances of one run: `outputs[k]` for output `k` (none where only derived quantities
 /// decide), and a tolerance for each derived quantity. A run meets them when every one is met.

@@ -2,8 +2,8 @@
 
 use super::Estimator;
 use super::box_block::{is_unit, with_mapped};
-use crate::Points;
 use crate::pdf::{Pdf, UniformBox};
+use crate::points::Points;
 
 /// `<F^N> = V (1/N) sum f(X_i)` with `X_i` uniform in a box of volume `V`: equation A.14,
 /// `(b - a) (1/N) sum_{i=0}^{N-1} f(a + xi_i (b - a))`, in any dimension.

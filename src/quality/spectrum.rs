@@ -22,9 +22,10 @@
 //! threads, and passes are added in pass order.
 
 use crate::engine::{ChunkJob, Executor, Limits};
+use crate::error::{Error, Result};
+use crate::points::Points;
 use crate::sampler::{PassKind, Sampler};
 use crate::threads::available_threads;
-use crate::{Error, Points, Result};
 use std::f64::consts::TAU;
 
 /// The (mean) periodogram `P(k)` of two-dimensional point sets at the integer frequencies

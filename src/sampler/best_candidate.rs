@@ -37,7 +37,7 @@ use super::check_supported_dims;
 use super::pass_cache::{PassCache, sampler_from_cached_passes};
 use super::pass_rng::{pass_rng, uniform};
 use super::torus::{MAX_TORUS_DIMS, random_shift, torus_dist2};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Largest supported dimension.
 const MAX_DIMS: usize = 4;

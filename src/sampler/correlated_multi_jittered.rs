@@ -16,7 +16,7 @@
 //! uncorrelated variant, with which this shares its implementation.
 
 use super::multi_jittered::{MjCore, sampler_from_core};
-use crate::Result;
+use crate::error::Result;
 
 /// Correlated multi-jittered sampling: `N = m * n` points per pass, jittered on the `m x n`
 /// grid and N-rooks in both coordinates of every pair of dimensions, with one sub-column and

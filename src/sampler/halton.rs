@@ -15,7 +15,8 @@ use super::radical_inverse::{
     coordinate, fill_column,
 };
 use super::{PassKind, Sampler, Scramble, check_block, check_point, pass_runs};
-use crate::{Points, Result};
+use crate::error::Result;
+use crate::points::Points;
 
 /// Hash tags that keep the random streams of different purposes apart.
 const TAG_HALTON: u64 = 0x6861_6c74;

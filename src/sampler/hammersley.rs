@@ -11,9 +11,10 @@ use super::radical_inverse::{
     PASS_SIZE, SCRAMBLES, Scratch, bases, check_halton_dims, column_key, coordinate, fill_column,
 };
 use super::{Sampler, Scramble, check_block, check_point, pass_runs};
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_words, mix64, unit_f64};
-use crate::{Error, Points, Result};
+use crate::points::Points;
 
 /// Hash tag of the Hammersley randomizations.
 const TAG_HAMMERSLEY: u64 = 0x6861_6d6d;

@@ -14,7 +14,7 @@ use crate::hash::{hash_words, unit_f64};
 /// Leads every hash of this sampler, so that other samplers given the same seed (which hash
 /// the same `(pass, index, dim)` words) draw unrelated jitters.
 const SALT: u64 = 0x6a69_7474; // "jitt"
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// One uniform point in each of the `k^d` cells of a regular grid, per pass.
 ///

@@ -16,7 +16,8 @@ use crate::simd::Kernel;
 /// Salts this sampler's hashes, so that other samplers given the same seed (which hash the
 /// same `(pass, index, dim)` words for their jitter) draw unrelated numbers.
 const SALT: u64 = 0x006c_6873; // "lhs"
-use crate::{Error, Points, Result};
+use crate::error::{Error, Result};
+use crate::points::Points;
 
 /// `N` points per pass, one in each `1/N` slab of every coordinate.
 ///

@@ -40,9 +40,10 @@
 
 use super::simd::{BlockFill, dispatch_fill};
 use super::{PassKind, Sampler, Scramble, check_point};
+use crate::error::{Error, Result};
 use crate::hash::{hash_words, unit_f64};
+use crate::points::Points;
 use crate::simd::Kernel;
-use crate::{Error, Points, Result};
 use std::borrow::Cow;
 use std::fmt;
 use std::sync::OnceLock;

@@ -90,8 +90,9 @@ pub use random_cd::{RandomCd, random_cd};
 pub use scramble::Scramble;
 pub use sobol::Sobol;
 
+use crate::error::{Error, Result};
+use crate::points::{PointBlock, Points};
 use crate::points_f32::{PointsF32, to_unit_f32};
-use crate::{Error, PointBlock, Points, Result};
 
 /// How a sampler's points relate to each other, which decides how error bars are computed.
 ///

@@ -26,10 +26,11 @@ use super::number_theory::integer_root;
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{BlockFill, dispatch_fill};
 use super::{check_dims, check_point, pass_runs};
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
+use crate::points::Points;
 use crate::simd::Kernel;
-use crate::{Error, Points, Result};
 
 /// Most points a pass may hold: `2^53`, beyond which the `1/N` slabs are no longer distinct
 /// doubles in `[0, 1)` and the N-rooks property could not hold.
@@ -491,11 +492,15 @@ macro_rules! sampler_from_core {
 
             sampler_fields!(fixed.core);
 
-            fn point(&self, index: u64, out: &mut [f64]) -> $crate::Result<()> {
+            fn point(&self, index: u64, out: &mut [f64]) -> $crate::error::Result<()> {
                 self.core.point(index, out)
             }
 
-            fn fill(&self, start: u64, points: &mut $crate::Points) -> $crate::Result<()> {
+            fn fill(
+                &self,
+                start: u64,
+                points: &mut $crate::points::Points,
+            ) -> $crate::error::Result<()> {
                 self.core.fill(start, points)
             }
         }

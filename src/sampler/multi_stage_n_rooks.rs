@@ -33,9 +33,10 @@
 use super::number_theory::integer_root;
 use super::permutation::Permutation;
 use super::{Sampler, check_block, check_dims, check_point, pass_runs};
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
-use crate::{Error, Points, Result};
+use crate::points::Points;
 
 /// Largest pass size: slabs stay exactly representable in a double.
 const MAX_POINTS: u64 = 1 << 53;

@@ -38,10 +38,11 @@ use super::permutation::{Permutation, PermutationCache};
 use super::simd::{BlockFill, dispatch_fill};
 use super::{Sampler, check_dims, check_point, pass_runs};
 use crate::error::parse_name;
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
+use crate::points::Points;
 use crate::simd::Kernel;
-use crate::{Error, Points, Result};
 use std::fmt;
 use std::str::FromStr;
 

@@ -7,7 +7,7 @@
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
 use super::pass_runs;
-use crate::Points;
+use crate::points::Points;
 
 /// A slot that one thread builds and every thread then shares.
 type Slot = Arc<OnceLock<Arc<[f64]>>>;
@@ -153,7 +153,7 @@ macro_rules! sampler_from_cached_passes {
                 self.cache.clear();
             }
 
-            fn point(&self, index: u64, out: &mut [f64]) -> $crate::Result<()> {
+            fn point(&self, index: u64, out: &mut [f64]) -> $crate::error::Result<()> {
                 super::check_point(self.dims, out)?;
                 super::pass_cache::point_from_passes(self.pass_size, index, out, |pass| {
                     self.pass_points(pass)
@@ -161,7 +161,11 @@ macro_rules! sampler_from_cached_passes {
                 Ok(())
             }
 
-            fn fill(&self, start: u64, points: &mut $crate::Points) -> $crate::Result<()> {
+            fn fill(
+                &self,
+                start: u64,
+                points: &mut $crate::points::Points,
+            ) -> $crate::error::Result<()> {
                 super::check_block(self.dims, start, points)?;
                 super::pass_cache::fill_from_passes(
                     self.dims,

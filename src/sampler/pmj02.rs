@@ -55,9 +55,10 @@
 
 use super::simd::{BlockFill, dispatch_fill};
 use super::{PassKind, Sampler, check_dims, check_point, fill_pointwise, pass_runs};
+use crate::error::{Error, Result};
 use crate::hash::{hash_words, mix64};
+use crate::points::Points;
 use crate::simd::Kernel;
-use crate::{Error, Points, Result};
 
 /// Largest accepted `log2_max`: passes of up to 2^20 points.
 const MAX_LOG2: u32 = 20;

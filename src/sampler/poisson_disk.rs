@@ -48,9 +48,9 @@ use super::pass_cache::{PassCache, sampler_from_cached_passes};
 use super::pass_rng::{below, pass_rng, uniform};
 use super::torus::{MAX_TORUS_DIMS, random_shift, torus_dist2, torus_gap, wrap};
 use super::torus_grid::TorusGrid;
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
 use crate::hash::hash_words;
-use crate::{Error, Result};
 
 /// Largest supported dimension, as scipy's `qmc.PoissonDisk` users need it. Making the set
 /// maximal is what limits the maximal sets to four: a gap-filling cell is dropped only once it

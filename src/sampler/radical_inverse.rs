@@ -21,8 +21,8 @@
 //! for bit.
 
 use super::Scramble;
+use crate::error::{Error, Result};
 use crate::hash::hash_words;
-use crate::{Error, Result};
 
 mod base;
 mod digit_permutation;

@@ -10,7 +10,7 @@ pub use crate::simd::{active, force_portable};
 pub(crate) struct BlockFill<'a, S> {
     pub(crate) sampler: &'a S,
     pub(crate) start: u64,
-    pub(crate) points: &'a mut crate::Points,
+    pub(crate) points: &'a mut crate::points::Points,
 }
 
 /// Checks the block against the sampler's `dims` and runs `sampler`'s [`BlockFill`] kernel
@@ -19,8 +19,8 @@ pub(crate) fn dispatch_fill<'a, S>(
     sampler: &'a S,
     dims: usize,
     start: u64,
-    points: &'a mut crate::Points,
-) -> crate::Result<()>
+    points: &'a mut crate::points::Points,
+) -> crate::error::Result<()>
 where
     BlockFill<'a, S>: Kernel<Output = ()>,
 {

@@ -56,9 +56,10 @@ mod unit;
 
 use super::owen::owen_scramble_u32;
 use super::{PassKind, Sampler, Scramble, check_block, check_point, check_shape};
+use crate::error::{Error, Result};
 use crate::hash::hash_words;
+use crate::points::Points;
 use crate::points_f32::PointsF32;
-use crate::{Error, Points, Result};
 use directions::{Directions, MAX_DIMS, table};
 use kernel::{direct, gray};
 use randomizer::Randomizer;

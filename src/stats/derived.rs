@@ -8,7 +8,7 @@ use super::estimate::Estimate;
 use super::rounding::UNIT_ROUNDOFF;
 use super::vector_estimate::VectorEstimate;
 use super::warning::Warning;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 type Value = Arc<dyn Fn(&[f64]) -> f64 + Send + Sync>;
 type Gradient = Arc<dyn Fn(&[f64], &mut [f64]) + Send + Sync>;

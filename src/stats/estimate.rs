@@ -3,9 +3,9 @@
 use super::accumulator::{Accumulator, scale_for};
 use super::rounding::mean_of_means;
 use super::warning::{DISAGREEMENT_Q, Warning};
+use crate::error::{Error, Result};
 use crate::special::student_t_quantile;
 use crate::stop_reason::StopReason;
-use crate::{Error, Result};
 
 /// Where a standard error comes from.
 ///

@@ -27,7 +27,8 @@
 //! The number of shapes grows like `k^(d-1)`: sets with small t in many dimensions are
 //! expensive (`d = 16`, `k = 8`: 490,314 shapes), while sets that fail early are cheap.
 
-use crate::{Error, Points, Result};
+use crate::error::{Error, Result};
+use crate::points::Points;
 use std::fmt;
 
 /// The most points a net check accepts: counters are 32-bit.

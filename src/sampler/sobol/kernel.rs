@@ -8,7 +8,7 @@ use super::directions::Directions;
 use super::randomizer::{Randomizer, WideDirections, linear, owen_parts, widen};
 use super::unit::Unit;
 use super::{PASS_BITS, Sobol};
-use crate::PointBlock;
+use crate::points::PointBlock;
 use crate::sampler::owen::OwenScramble;
 use crate::sampler::pass_runs;
 use crate::simd::{Kernel, dispatch};
