@@ -33,11 +33,12 @@ use std::sync::Arc;
 
 use rand_pcg::Pcg64;
 
-use super::check_supported_dims;
-use super::pass_cache::{PassCache, sampler_from_cached_passes};
+use super::pass_cache::{PassCache, fill_from_passes, point_from_passes};
 use super::pass_rng::{pass_rng, uniform};
 use super::torus::{MAX_TORUS_DIMS, random_shift, torus_dist2};
+use super::{PassKind, Sampler, check_supported_dims};
 use crate::error::{Error, Result};
+use crate::points::Points;
 
 /// Largest supported dimension.
 const MAX_DIMS: usize = 4;
@@ -107,7 +108,43 @@ impl BestCandidate {
     }
 }
 
-sampler_from_cached_passes!(BestCandidate, "best-candidate");
+impl Sampler for BestCandidate {
+    fn name(&self) -> &'static str {
+        "best-candidate"
+    }
+
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.pass_size,
+        }
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// A new seed makes new passes: the cached ones go.
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+        self.cache.clear();
+    }
+
+    fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
+        point_from_passes(self.dims, self.pass_size, index, out, |pass| {
+            self.pass_points(pass)
+        })
+    }
+
+    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
+        fill_from_passes(self.dims, self.pass_size, start, points, |pass| {
+            self.pass_points(pass)
+        })
+    }
+}
 
 /// A uniform grid on the torus; each cell stores the coordinates of its points inline (up to
 /// `capacity` of them), so a search reads contiguous memory.

@@ -8,7 +8,7 @@
 
 use super::permutation::Permutation;
 use super::simd::{BlockFill, dispatch_fill};
-use super::{Sampler, check_dims, check_point, pass_runs};
+use super::{PassKind, Sampler, check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
 use crate::simd::Kernel;
@@ -79,7 +79,23 @@ impl LatinHypercube {
 }
 
 impl Sampler for LatinHypercube {
-    sampler_fields!(fixed);
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.pass_size,
+        }
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
 
     fn name(&self) -> &'static str {
         "latin"

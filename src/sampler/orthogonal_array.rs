@@ -36,7 +36,7 @@ use super::number_theory::{
 };
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{BlockFill, dispatch_fill};
-use super::{Sampler, check_dims, check_point, pass_runs};
+use super::{PassKind, Sampler, check_dims, check_point, pass_runs};
 use crate::error::parse_name;
 use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
@@ -534,7 +534,23 @@ impl OrthogonalArray {
 }
 
 impl Sampler for OrthogonalArray {
-    sampler_fields!(fixed);
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.pass_size,
+        }
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
 
     fn name(&self) -> &'static str {
         match self.construction {

@@ -284,7 +284,17 @@ fn scramble_index(index: u32, bits: u32, key: u64) -> u32 {
 }
 
 impl Sampler for Pmj02 {
-    sampler_fields!();
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
 
     fn unbalanced_by(&self, n: u64) -> Option<u64> {
         (!n.is_power_of_two()).then_some(2)

@@ -43,14 +43,15 @@ use std::sync::Arc;
 
 use rand_pcg::Pcg64;
 
-use super::check_supported_dims;
-use super::pass_cache::{PassCache, sampler_from_cached_passes};
+use super::pass_cache::{PassCache, fill_from_passes, point_from_passes};
 use super::pass_rng::{below, pass_rng, uniform};
 use super::torus::{MAX_TORUS_DIMS, random_shift, torus_dist2, torus_gap, wrap};
 use super::torus_grid::TorusGrid;
+use super::{PassKind, Sampler, check_supported_dims};
 use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
 use crate::hash::hash_words;
+use crate::points::Points;
 
 /// Largest supported dimension, as scipy's `qmc.PoissonDisk` users need it. Making the set
 /// maximal is what limits the maximal sets to four: a gap-filling cell is dropped only once it
@@ -293,7 +294,43 @@ impl PoissonDisk {
     }
 }
 
-sampler_from_cached_passes!(PoissonDisk, "poisson");
+impl Sampler for PoissonDisk {
+    fn name(&self) -> &'static str {
+        "poisson"
+    }
+
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.pass_size,
+        }
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// A new seed makes new passes: the cached ones go.
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+        self.cache.clear();
+    }
+
+    fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
+        point_from_passes(self.dims, self.pass_size, index, out, |pass| {
+            self.pass_points(pass)
+        })
+    }
+
+    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
+        fill_from_passes(self.dims, self.pass_size, start, points, |pass| {
+            self.pass_points(pass)
+        })
+    }
+}
 
 /// Points per unit volume times `V_d(r / 2)` in our sets.
 fn density(dims: usize) -> f64 {

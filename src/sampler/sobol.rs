@@ -234,7 +234,17 @@ impl PartialEq for Sobol {
 impl Eq for Sobol {}
 
 impl Sampler for Sobol {
-    sampler_fields!();
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
 
     fn unbalanced_by(&self, n: u64) -> Option<u64> {
         (!n.is_power_of_two()).then_some(2)
