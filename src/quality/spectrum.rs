@@ -110,8 +110,7 @@ impl Periodogram {
     pub const MAX_POINTS: usize = 1 << 24;
 
     /// The most terms one call may sum, `2^38`: points times passes times the `(K + 1)(2K + 1)`
-    /// frequencies computed (about 4 minutes on one core of a 2 GHz machine, at 1.1e9 terms a
-    /// second).
+    /// frequencies computed, minutes of work on one core, so that no call runs for hours.
     ///
     /// ```
     /// use mcint::{quality::{mean_periodogram, Periodogram}, sampler::Independent};

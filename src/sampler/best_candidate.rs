@@ -26,8 +26,7 @@
 //! radius. A candidate is dropped as soon as one placed point is closer than the best
 //! candidate so far, so most candidates cost a few distance evaluations. The search is
 //! exact, so the grid changes only the speed, never the points. Building `N` points still
-//! takes `k N^2 / 2` candidates (about 0.9 s for 4096 points in 2-D on a slow 2-core
-//! machine), so passes are limited to 2^14 points.
+//! takes `k N^2 / 2` candidates, so passes are limited to 2^14 points.
 
 use std::sync::Arc;
 
@@ -52,8 +51,7 @@ const TAG_BEST_CANDIDATE: u64 = 0x6263_616e;
 
 /// Mitchell's best-candidate points on the unit torus: `N` per pass, in insertion order.
 ///
-/// Each pass is built once on first use (`N^2 / 2` candidate tests, under a second for 4096
-/// points in 2-D) and cached; [`point`](super::Sampler::point) and
+/// Each pass is built once on first use (`N^2 / 2` candidate tests) and cached; [`point`](super::Sampler::point) and
 /// [`fill`](super::Sampler::fill) then copy from the cache. Every point of a pass is uniform on
 /// `[0,1)^d` (the pass is randomly translated on the torus), so pass means are unbiased, and
 /// every prefix of a pass is well spread.

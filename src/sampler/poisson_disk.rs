@@ -56,9 +56,8 @@ use crate::points::Points;
 /// Largest supported dimension, as scipy's `qmc.PoissonDisk` users need it. Making the set
 /// maximal is what limits the maximal sets to four: a gap-filling cell is dropped only once it
 /// lies inside a single ball, and the cells covered by the union of balls but by no single one
-/// multiply by up to `2^d` per halving (measured on one core: 4096 points take 0.07 s in 2-D,
-/// 0.36 s in 3-D and 4.9 s in 4-D, while in 5-D even 256 points took 9 s). In 5 to 8
-/// dimensions a pass is Bridson's set alone, as scipy's is: every two points are still at
+/// multiply by up to `2^d` per halving, so the time to fill the gaps grows steeply with the
+/// dimension (`docs/measurements.md` has the times). In 5 to 8 dimensions a pass is Bridson's set alone, as scipy's is: every two points are still at
 /// least `r` apart, but room for more points is left (see [`BRIDSON_DENSITY`]).
 const MAX_DIMS: usize = 8;
 /// The most dimensions in which the sets are made maximal (gap filling); above, a pass is
@@ -66,10 +65,9 @@ const MAX_DIMS: usize = 8;
 const MAX_MAXIMAL_DIMS: usize = 4;
 /// Largest number of points per pass.
 const MAX_POINTS: u64 = 1 << 20;
-/// Largest expected size of a set in 1 to 8 dimensions: about ten seconds of building per pass
-/// on one core (measured: 14, 82 and 900 microseconds a point in 2, 3 and 4 dimensions; 150,
-/// 600, 1200 and 1300 in 5 to 8 at these sizes), so that no size or radius asks for a pass that
-/// does not finish.
+/// Largest expected size of a set in 1 to 8 dimensions: some seconds of building per pass on
+/// one core (the cost of a point per dimension is in `docs/measurements.md`), so that no size
+/// or radius asks for a pass that does not finish.
 const MAX_SET_POINTS: [f64; MAX_DIMS] = [
     (1u64 << 21) as f64,
     (1u64 << 19) as f64,
@@ -193,8 +191,7 @@ impl PoissonDisk {
     }
 
     /// The most points per pass [`new`](Self::new) accepts in `dims` dimensions: 2^20 in
-    /// 1-D, fewer above, so that building a pass takes at most some ten seconds on one core
-    /// (measured: 14, 82 and 900 microseconds a point in 2, 3 and 4 dimensions).
+    /// 1-D, fewer above, so that building a pass takes at most some seconds on one core.
     ///
     /// ```
     /// use mcint::sampler::PoissonDisk;

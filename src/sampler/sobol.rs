@@ -12,8 +12,7 @@
 //! van der Corput sequence (`v_k = 2^(31 - k)`); dimensions 2 to 21201 come from Joe & Kuo's
 //! `new-joe-kuo-6.21201` table (criterion D(6), chosen for good two-dimensional projections;
 //! `data/sobol/README.md`), embedded with `include_str!` and parsed on first use, only as far
-//! as needed: the first 64 dimensions (30 µs), 256 (0.1 ms), 1024 (0.5 ms) or all 21201 (12 ms;
-//! release build, 2 GHz Xeon).
+//! as needed, so that a sampler in a few dimensions does not pay for parsing all 21201.
 //!
 //! Every aligned block of `2^m` points of a pass (in particular every power-of-two prefix) is a
 //! `(t, m, s)`-net in base 2: the first two dimensions form a `(0, m, 2)`-net and every single

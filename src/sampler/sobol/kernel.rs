@@ -51,13 +51,13 @@ pub(super) fn gray(i: u32) -> u32 {
 }
 
 /// Scratch for [`owen_chunk`]: the scrambled words and their tails. Made once per fill, not
-/// per chunk, whose zeroing of 2 KiB cost a tenth of the fill.
+/// per chunk, whose zeroing of 2 KiB would cost a noticeable part of the fill.
 type OwenParts = [[u32; CHUNK]; 2];
 
 /// Owen-scrambles a chunk of bit-reversed words, each `base ^ reversed[j]`, and converts them:
-/// the 32-bit hashing first
-/// (a loop of independent integer operations), then the conversion. (One loop doing both is
-/// vectorized at the width of the `f64` results, and measured 40% slower.)
+/// the 32-bit hashing first (a loop of independent integer operations), then the conversion,
+/// because one loop doing both is vectorized at the width of the `f64` results, half as many
+/// lanes.
 #[inline(always)]
 fn owen_chunk<T: Unit>(
     scramble: &OwenScramble,
