@@ -14,6 +14,10 @@
 //! - `owen_halton_vs_sobol`: Owen-scrambled Halton against Owen-scrambled Sobol', per value,
 //!   in blocks of 4096 points at d = 10 and d = 30: the first 2^16 points of one pass after
 //!   another, as replicates of an RQMC run use them.
+//! - `owen_halton_block_vs_point`: what Owen-scrambled Halton's block kernel
+//!   (`radical_inverse/owen_block.rs`, behind `fill`) buys over the one-coordinate path
+//!   (`radical_inverse/owen.rs`, behind `point`), per value, on the first 2^16 points of a fresh
+//!   pass at d = 4 and d = 32: one `fill` of all of them against `point` for each of them.
 //!
 //! The 2^20-point groups fill the first 2^20 points of a fresh pass per iteration (so samplers
 //! that build tables per pass pay for them), of a pass size of at least 2^20: 2^20 itself where
@@ -245,6 +249,43 @@ fn owen_halton_vs_sobol(c: &mut Criterion) {
     group.finish();
 }
 
+/// Owen-scrambled Halton: the block kernel (`fill`) against the one-coordinate path (`point`,
+/// which recomputes every node of every index), both writing the first 2^16 points of a fresh
+/// pass into one block, so that the kernel pays for its tables every iteration.
+fn owen_halton_block_vs_point(c: &mut Criterion) {
+    const N: usize = 1 << 16;
+    let mut group = c.benchmark_group("owen_halton_block_vs_point");
+    group.sampling_mode(SamplingMode::Flat);
+    for dims in [4usize, 32] {
+        let halton = Halton::new(dims, Scramble::Owen, 1).unwrap();
+        let mut block = Points::new(dims, N).unwrap();
+        group.throughput(Throughput::Elements((dims * N) as u64));
+        let mut pass = 0u64;
+        group.bench_function(format!("block_{dims}d_2^16"), |b| {
+            b.iter(|| {
+                halton.fill(pass * Halton::PASS_SIZE, &mut block).unwrap();
+                pass += 1;
+                black_box(block.get(0, 0))
+            })
+        });
+        let mut point = vec![0.0; dims];
+        group.bench_function(format!("point_{dims}d_2^16"), |b| {
+            b.iter(|| {
+                let first = pass * Halton::PASS_SIZE;
+                for i in 0..N {
+                    halton.point(first + i as u64, &mut point).unwrap();
+                    for (column, &x) in block.columns_mut().zip(&point) {
+                        column[i] = x;
+                    }
+                }
+                pass += 1;
+                black_box(block.get(0, 0))
+            })
+        });
+    }
+    group.finish();
+}
+
 /// Short runs: 10 samples, 2 s of measurement after 1 s of warm-up per bench.
 fn short() -> Criterion {
     Criterion::default()
@@ -256,6 +297,7 @@ fn short() -> Criterion {
 criterion_group! {
     name = benches;
     config = short();
-    targets = fill_benches, large_fill_benches, integrate_benches, owen_halton_vs_sobol
+    targets = fill_benches, large_fill_benches, integrate_benches, owen_halton_vs_sobol,
+        owen_halton_block_vs_point
 }
 criterion_main!(benches);

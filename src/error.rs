@@ -73,7 +73,7 @@ pub enum Error {
     /// estimate to return.
     Interrupted {
         /// Why it stopped.
-        stop: crate::stats::StopReason,
+        stop: crate::stop_reason::StopReason,
         /// Integrand evaluations spent before it stopped.
         evaluations: u64,
     },

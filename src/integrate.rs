@@ -12,18 +12,18 @@
 //! checkpoints.
 
 use crate::engine::{Drive, RunConfig, run_settings};
+use crate::error::{Error, Result};
 use crate::estimator::{
     BatchUniformEstimator, Estimator, ExpectationEstimator, ImportanceEstimator, UniformEstimator,
     WarpImportanceEstimator,
 };
 use crate::measure::Measure;
 use crate::pdf::{GeometricWarp, Pdf, UniformBox, WarpPoint};
+use crate::points::Points;
 use crate::stats::{Estimate, VectorEstimate};
-use crate::{Error, Points, Result};
 
 mod engine;
 mod layout;
-mod non_finite;
 mod partial;
 #[cfg(feature = "serde")]
 mod partial_format;
@@ -32,8 +32,8 @@ mod plan;
 mod stages;
 mod vector;
 
+pub use crate::non_finite::NonFinitePolicy;
 use engine::RunEstimator;
-pub use non_finite::NonFinitePolicy;
 pub use partial::PartialRun;
 use plan::Plan;
 pub use vector::VectorRun;

@@ -68,6 +68,8 @@ mod hash;
 mod integrate;
 pub mod measure;
 mod method;
+mod non_finite;
+mod panics;
 pub mod pdf;
 mod points;
 pub mod points_f32;
@@ -75,9 +77,13 @@ mod quadrature;
 pub mod quality;
 mod run;
 pub mod sampler;
+mod simd;
 mod special;
 pub mod stats;
+mod stop_reason;
 pub mod testfns;
+mod threads;
+mod uniformity;
 pub mod vector_math;
 
 pub use engine::CancelToken;
@@ -88,12 +94,13 @@ pub use estimator::Estimator;
 /// The vector types of the geometric warps and integrands (`DVec2`, `DVec3`, ...), at the
 /// version mcint uses.
 pub use glam;
-pub use integrate::{Integrator, NonFinitePolicy, PartialRun, VectorRun};
+pub use integrate::{Integrator, PartialRun, VectorRun};
 pub use method::Method;
 /// The MPI bindings (rsmpi) the `mpi` feature is built on, for `mpi::initialize` and anything
 /// else a distributed program needs, at the version mcint uses.
 #[cfg(feature = "mpi")]
 pub use mpi;
+pub use non_finite::NonFinitePolicy;
 pub use pdf::Pdf;
 pub use points::{PointBlock, Points};
 pub use points_f32::PointsF32;

@@ -1,8 +1,8 @@
 //! [`Method`]: the integration methods by the names users pick them (`integrate --method`),
 //! with the sampler and replicate defaults each starts from.
 
+use crate::error::{Error, Result};
 use crate::sampler::{PassKind, Sampler, SamplerKind};
-use crate::{Error, Result};
 
 /// An integration method: the [`Integrator`](crate::Integrator) with plain or randomized
 /// quasi-Monte Carlo points, or one of the adaptive runners of [`adaptive`](crate::adaptive).

@@ -8,7 +8,7 @@
 //! Both precisions share one generic type; they are type aliases of it, not a generic type
 //! with a default parameter, so that `Points::new(dims, len)` needs no type annotation.
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// A block of `len` points in `dims` dimensions with coordinates of type `T`, one contiguous
 /// column per dimension: [`Points`] for `f64`, [`PointsF32`](crate::points_f32::PointsF32) for

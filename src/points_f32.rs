@@ -6,7 +6,7 @@
 //!
 //! [`Sampler::fill_f32`]: crate::Sampler::fill_f32
 
-use crate::PointBlock;
+use crate::points::PointBlock;
 
 /// The largest `f32` below one, `1 - 2^-24`: where [`to_unit_f32`] sends the values that
 /// would round to 1.0.

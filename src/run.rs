@@ -1,7 +1,7 @@
 //! [`Run`]: what every runner is to a program that chooses its method at run time.
 
-use crate::Result;
 use crate::adaptive::{Miser, SobolG, TwoStage, Vegas, VegasOutputs};
+use crate::error::Result;
 use crate::estimator::{Estimator, VectorEstimator};
 use crate::integrate::{Integrator, VectorRun};
 use crate::stats::{Estimate, VectorEstimate};

@@ -20,7 +20,7 @@
 //! assert!((y[1] - std::f64::consts::E).abs() <= f64::EPSILON * y[1]);
 //! ```
 
-use crate::sampler::simd::{Kernel, dispatch};
+use crate::simd::{Kernel, dispatch};
 
 /// `1.5 * 2^52`: adding it rounds an `f64` below `2^51` in magnitude to the nearest integer,
 /// which then sits, in two's complement, in the low bits of the sum.

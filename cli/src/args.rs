@@ -2,6 +2,7 @@
 //! with one-line errors that say what is allowed, and output that never panics.
 
 use crate::output;
+pub use crate::output::{fail, launched_rank};
 
 use mcint::sampler::{SamplerKind, Scramble};
 use std::collections::HashMap;
@@ -299,14 +300,6 @@ pub fn stop_name(stop: mcint::stats::StopReason) -> &'static str {
     }
 }
 
-/// This process's rank in the job `mpirun` launched it in (from the launcher's environment:
-/// Open MPI, PMIx, MPICH), known before MPI is initialized, if any.
-pub fn launched_rank() -> Option<u64> {
-    ["OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"]
-        .iter()
-        .find_map(|name| std::env::var(name).ok()?.parse().ok())
-}
-
 /// Ends a program with the result of its work: stdout flushed (a failed write is one line and
 /// status 2), then for an error one `error:` line and status 2.
 pub fn finish(result: Result<(), String>) {
@@ -314,13 +307,4 @@ pub fn finish(result: Result<(), String>) {
     if let Err(message) = result {
         fail(message);
     }
-}
-
-/// Prints `error: message` on one line and exits with status 2. Under `mpirun` only rank 0
-/// prints: every rank runs the same command line, so would print the same error.
-pub fn fail(message: impl std::fmt::Display) -> ! {
-    if launched_rank().is_none_or(|rank| rank == 0) {
-        output::note_line(format_args!("error: {message}"));
-    }
-    std::process::exit(2)
 }

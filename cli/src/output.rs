@@ -53,5 +53,22 @@ pub fn exit_on_write_error(e: std::io::Error) -> ! {
     if e.kind() == std::io::ErrorKind::BrokenPipe {
         std::process::exit(0);
     }
-    crate::args::fail(format!("cannot write the output: {e}"))
+    fail(format!("cannot write the output: {e}"))
+}
+
+/// Prints `error: message` on one line and exits with status 2. Under `mpirun` only rank 0
+/// prints: every rank runs the same command line, so would print the same error.
+pub fn fail(message: impl std::fmt::Display) -> ! {
+    if launched_rank().is_none_or(|rank| rank == 0) {
+        note_line(format_args!("error: {message}"));
+    }
+    std::process::exit(2)
+}
+
+/// This process's rank in the job `mpirun` launched it in (from the launcher's environment:
+/// Open MPI, PMIx, MPICH), known before MPI is initialized, if any.
+pub fn launched_rank() -> Option<u64> {
+    ["OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"]
+        .iter()
+        .find_map(|name| std::env::var(name).ok()?.parse().ok())
 }

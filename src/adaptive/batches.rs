@@ -19,8 +19,9 @@
 //! construction.
 
 use crate::engine::{require_randomized, require_uniform_points};
+use crate::error::{Error, Result};
+use crate::points::Points;
 use crate::sampler::{PassKind, Sampler};
-use crate::{Error, Points, Result};
 
 /// Points generated and evaluated together.
 pub(in crate::adaptive) const BLOCK: usize = 256;

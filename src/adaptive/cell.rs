@@ -1,7 +1,7 @@
 //! [`Cell`]: an axis-aligned sub-box of the unit cube, the region an adaptive method works on.
 
-use crate::Points;
 use crate::pdf::{Pdf, UniformBox};
+use crate::points::Points;
 
 /// An axis-aligned sub-box of the unit cube: the region an adaptive method is working on, in
 /// coordinates relative to the domain.

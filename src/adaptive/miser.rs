@@ -31,11 +31,11 @@ use crate::engine::{
     self, ChunkJob, DEFAULT_REPLICATES, Drive, Executor, Limits, Next, NonFinite, RunConfig,
     StageEnd, Stages, Targets, run_settings,
 };
+use crate::error::{Error, Result};
 use crate::hash::hash_words;
 use crate::pdf::{Pdf, UniformBox};
 use crate::stats::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
 use crate::stats::{Estimate, StopReason, VectorEstimate};
-use crate::{Error, Result};
 
 /// Points per replicate of a run without [`Miser::samples`].
 const DEFAULT_SAMPLES: u64 = 1 << 14;

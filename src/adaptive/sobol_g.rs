@@ -8,11 +8,12 @@ use crate::engine::{
     self, ChunkJob, Drive, Executor, Limits, Next, NonFinite, RunConfig, StageEnd, Stages, Targets,
     run_settings,
 };
+use crate::error::{Error, Result};
 use crate::estimator::{BatchUniformEstimator, Estimator, UniformEstimator};
 use crate::pdf::UniformBox;
+use crate::points::Points;
 use crate::sampler::{Sampler, Scramble, Sobol};
 use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason, VectorEstimate, Warning};
-use crate::{Error, Points, Result};
 
 /// Points of the first stage without [`samples`](SobolG::samples) (QMCPy's default).
 const DEFAULT_FIRST: u64 = 1 << 10;

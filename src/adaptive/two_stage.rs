@@ -25,10 +25,10 @@ use crate::engine::{
     self, ChunkJob, Drive, Executor, Limits, Next, NonFinite, RunConfig, StageEnd, Stages, Targets,
     run_settings,
 };
+use crate::error::{Error, Result};
 use crate::pdf::{Pdf, UniformBox};
 use crate::stats::rounding::{UNIT_ROUNDOFF, gamma};
 use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason, VectorEstimate};
-use crate::{Error, Result};
 
 /// Pilot points per stratum without [`TwoStage::pilot`].
 const DEFAULT_PILOT: u64 = 8;

@@ -50,11 +50,11 @@ mod strata;
 
 use super::vegas_grid::{VegasGrid, check_alpha, check_density_floor, check_increments};
 use crate::engine::{self, Drive, RunConfig, Targets, require_randomized, run_settings};
+use crate::error::{Error, Result};
 use crate::estimator::checked_outputs;
 use crate::pdf::{Pdf, UniformBox};
 use crate::sampler::{PassKind, Sampler};
 use crate::stats::{Derived, Estimate, Tolerance, VectorEstimate};
-use crate::{Error, Result};
 use combination::VectorCombination;
 pub use integrand::VegasOutputs;
 use integrand::{Integrand, Scalar};

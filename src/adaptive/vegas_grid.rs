@@ -12,8 +12,8 @@
 //! damped to `((1 - r_i) / ln(1 / r_i))^alpha`, which compresses their range so that the grid
 //! moves cautiously; the new nodes then split the damped weights into `N` equal shares.
 
+use crate::error::{Error, Result};
 use crate::pdf::UniformBox;
-use crate::{Error, Result};
 
 /// Added to every normalized projection so that increments that saw no weight shrink a lot
 /// but keep a positive width (the `TINY` of the Python `vegas` package).

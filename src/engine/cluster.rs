@@ -13,7 +13,7 @@ use mpi::topology::SimpleCommunicator;
 use mpi::traits::Communicator;
 use mpi::traits::CommunicatorCollectives;
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// The MPI ranks of `MPI_COMM_WORLD`, over which a run spreads its work (the `mpi` feature).
 ///

@@ -6,10 +6,10 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::{CancelToken, Executor, Limits, RunScope};
-use crate::integrate::NonFinitePolicy;
+use crate::error::{Error, Result};
+use crate::non_finite::NonFinitePolicy;
 use crate::sampler::{Independent, PassKind, Sampler};
 use crate::stats::Tolerance;
-use crate::{Error, Result};
 
 /// What every runner is told the same way: where points come from (and with which seed),
 /// on how many threads, how many points, until when, and what to do with non-finite values.

@@ -13,8 +13,8 @@ use serde::{Deserialize, Serialize};
 use super::Limits;
 use super::cluster::Cluster;
 use super::executor::{ChunkJob, Executor, WindowOutputs};
+use crate::error::{Error, Result};
 use crate::stats::StopReason;
-use crate::{Error, Result};
 
 /// One rank's message for a window.
 #[derive(Serialize, Deserialize)]

@@ -18,9 +18,9 @@
 //! [`Error::Interrupted`].
 
 use super::{Executor, Limits, RunConfig, Targets};
-use crate::integrate::NonFinitePolicy;
+use crate::error::{Error, Result};
+use crate::non_finite::NonFinitePolicy;
 use crate::stats::{StopReason, VectorEstimate, Warning};
-use crate::{Error, Result};
 
 /// A run as the driver sees it: a sequence of stages.
 pub(crate) trait Stages {

@@ -15,10 +15,8 @@
 //! outputs of every rank are gathered to all before the fold (see `distributed`), so every
 //! rank folds the same outputs in the same order as one process would.
 
-use std::any::Any;
 use std::cell::Cell;
 use std::ops::Range;
-use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use rayon::prelude::*;
@@ -27,9 +25,10 @@ use rayon::{ThreadPool, ThreadPoolBuilder};
 use super::Limits;
 #[cfg(feature = "mpi")]
 use super::cluster::Cluster;
-use crate::sampler::{release_thread_tables, thread_tables_held};
+use crate::error::{Error, Result};
+use crate::panics::guarded;
 use crate::stats::StopReason;
-use crate::{Error, Result};
+use crate::threads::{available_threads, caches_held, release_caches};
 
 /// Work cut into numbered chunks, each evaluated with a per-thread scratch space.
 pub(crate) trait ChunkJob: Sync {
@@ -247,10 +246,9 @@ pub(crate) struct RunScope {
 
 impl RunScope {
     /// Marks a run on this thread until the returned scope is dropped. When the outermost run
-    /// of a thread outside the pools ends, the tables that samplers keep on each thread between
-    /// fills (Owen-scrambled Halton's, up to 8 MiB a thread) are released on this thread and on
-    /// every worker of every pool: the pools live for the process, and an idle worker should
-    /// not hold them.
+    /// of a thread outside the pools ends, the caches that threads keep between fills (those
+    /// registered in `crate::threads`) are released on this thread and on every worker of
+    /// every pool: the pools live for the process, and an idle worker should not hold them.
     pub(crate) fn enter() -> RunScope {
         RUNS.with(|runs| runs.set(runs.get() + 1));
         RunScope { _private: () }
@@ -268,20 +266,15 @@ impl Drop for RunScope {
             runs.set(runs.get() - 1);
             runs.get() == 0
         });
-        if !outermost || rayon::current_thread_index().is_some() || !thread_tables_held() {
+        if !outermost || rayon::current_thread_index().is_some() || !caches_held() {
             return;
         }
-        release_thread_tables();
+        release_caches();
         let pools: Vec<Arc<ThreadPool>> = pools().iter().map(|(_, p)| Arc::clone(p)).collect();
         for pool in pools {
-            pool.broadcast(|_| release_thread_tables());
+            pool.broadcast(|_| release_caches());
         }
     }
-}
-
-/// The number of threads the machine offers (1 if it cannot tell).
-pub(crate) fn available_threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 /// The pool of `threads` workers, built on first use and kept for the process (one per
@@ -305,27 +298,6 @@ fn pool(threads: usize) -> Option<Arc<ThreadPool>> {
 fn pools() -> MutexGuard<'static, Vec<(usize, Arc<ThreadPool>)>> {
     static POOLS: Mutex<Vec<(usize, Arc<ThreadPool>)>> = Mutex::new(Vec::new());
     POOLS.lock().unwrap_or_else(PoisonError::into_inner)
-}
-
-/// Runs `work`, turning a panic into the error of a panic at `origin`.
-pub(crate) fn guarded<T>(origin: (u64, u64), work: impl FnOnce() -> Result<T>) -> Result<T> {
-    catch_unwind(AssertUnwindSafe(work)).unwrap_or_else(|payload| Err(panicked(origin, payload)))
-}
-
-/// The error for a panic caught in the chunk that starts at `origin`.
-fn panicked((replicate, first_index): (u64, u64), payload: Box<dyn Any + Send>) -> Error {
-    let message = if let Some(s) = payload.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = payload.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "(a panic without a message)".to_string()
-    };
-    Error::IntegrandPanicked {
-        message,
-        replicate,
-        first_index,
-    }
 }
 
 #[cfg(test)]

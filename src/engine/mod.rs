@@ -24,6 +24,8 @@ mod limits;
 mod settings;
 mod targets;
 
+/// For the runners that catch panics outside a chunk of the executor.
+pub(crate) use crate::panics::guarded;
 #[cfg(feature = "mpi")]
 pub use cluster::Cluster;
 pub(crate) use config::{
@@ -31,7 +33,7 @@ pub(crate) use config::{
     require_uniform_points,
 };
 pub(crate) use drive::{Drive, Next, NonFinite, StageEnd, Stages, Verdict, drive};
-pub(crate) use executor::{ChunkJob, Executor, RunScope, available_threads, guarded};
+pub(crate) use executor::{ChunkJob, Executor, RunScope};
 pub use limits::CancelToken;
 pub(crate) use limits::Limits;
 pub(crate) use settings::run_settings;

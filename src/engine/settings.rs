@@ -104,7 +104,7 @@ macro_rules! run_settings {
             "assert_eq!(e.non_finite, 0); // this integrand is finite everywhere\n",
             "```"
         )]
-        pub fn non_finite(mut self, policy: $crate::NonFinitePolicy) -> Self {
+        pub fn non_finite(mut self, policy: $crate::non_finite::NonFinitePolicy) -> Self {
             self.config.non_finite = policy;
             self
         }
@@ -159,7 +159,7 @@ macro_rules! run_settings {
             "assert!(runner().cancel_token(token).run().is_err());\n",
             "```"
         )]
-        pub fn cancel_token(mut self, token: $crate::CancelToken) -> Self {
+        pub fn cancel_token(mut self, token: $crate::engine::CancelToken) -> Self {
             self.config.cancel = Some(token);
             self
         }
@@ -198,7 +198,7 @@ macro_rules! run_settings {
             "```"
         )]
         #[cfg(feature = "mpi")]
-        pub fn cluster(mut self, cluster: $crate::Cluster) -> Self {
+        pub fn cluster(mut self, cluster: $crate::engine::Cluster) -> Self {
             self.config.cluster = Some(cluster);
             self
         }

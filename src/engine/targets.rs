@@ -11,9 +11,9 @@
 
 use std::time::Duration;
 
+use crate::error::{Error, Result};
 use crate::estimator::checked_outputs;
 use crate::stats::{Derived, ErrorBasis, Estimate, StopReason, Tolerance, VectorEstimate, Warning};
-use crate::{Error, Result};
 
 /// Inflation of a replicate-based standard error in a run to a tolerance.
 pub(crate) const REPLICATE_INFLATION: f64 = 1.2;

@@ -2,8 +2,8 @@
 
 use super::Estimator;
 use super::box_block::{evaluate_scaled, is_unit, with_mapped};
-use crate::Points;
 use crate::pdf::{Pdf, UniformBox};
+use crate::points::Points;
 
 /// `<F^N> = V (1/N) sum f(X_i)` with `X_i` uniform in a box of volume `V` (A.14), for an
 /// integrand that evaluates a whole block of points per call.

@@ -1,9 +1,9 @@
 //! Blocks of canonical points mapped into a box, shared by the uniform estimators' block
 //! paths: the same arithmetic as [`UniformBox`]'s per-point `sample`, column by column.
 
-use crate::Points;
 use crate::pdf::UniformBox;
-use crate::sampler::simd::{Kernel, dispatch};
+use crate::points::Points;
+use crate::simd::{Kernel, dispatch};
 use std::cell::Cell;
 
 thread_local! {

@@ -1,7 +1,9 @@
 //! Jarosz's example of a biased but consistent estimator (A.34, A.35).
 
 use super::Estimator;
-use crate::{Points, Result, sampler::check_block};
+use crate::error::Result;
+use crate::points::Points;
+use crate::sampler::check_block;
 
 /// `(1/(N+1)) sum_{i=0}^{N-1} Y_i`: Jarosz's A.35, kept as a documented teaching example.
 ///

@@ -13,8 +13,8 @@
 //! [`ControlVariates`](super::ControlVariates).
 
 use super::Estimator;
+use crate::error::{Error, Result};
 use crate::pdf::Pdf;
-use crate::{Error, Result};
 
 /// The control-variate contribution `f(X)/pdf(X) - beta g(X)/pdf(X) + beta G` with `X` drawn
 /// from `pdf` (A.27 for `beta = 1`, the default; A.29 with a coefficient).

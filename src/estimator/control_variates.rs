@@ -18,9 +18,9 @@
 //! evaluations and an excess variance of order `k / pilot` over `(1 - R^2) Var(Y)`.
 
 use super::{Estimator, PilotFit};
+use crate::error::{Error, Result};
 use crate::pdf::Pdf;
 use crate::stats::CovarianceAccumulator;
-use crate::{Error, Result};
 
 /// Pilot points when the caller gives none.
 const DEFAULT_PILOT: u64 = 4096;

@@ -24,7 +24,7 @@
 //! `alpha = 1`.
 
 use super::MisWeighting;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// A weighting heuristic of multiple importance sampling.
 ///

@@ -12,7 +12,7 @@
 //! affected contributions and the first offending canonical point, instead of averaging a
 //! biased estimate.
 
-use crate::Result;
+use crate::error::Result;
 
 /// How far the weights at a point may sum from one before the contribution is rejected.
 pub(crate) const WEIGHT_SUM_TOLERANCE: f64 = 1e-9;

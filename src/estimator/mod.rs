@@ -66,7 +66,7 @@ pub use vector_importance::VectorImportanceEstimator;
 pub use vector_uniform::VectorUniformEstimator;
 pub use warp_importance::WarpImportanceEstimator;
 
-use crate::Points;
+use crate::points::Points;
 
 /// Turns canonical points into contributions `Y_i` whose mean estimates an integral.
 ///

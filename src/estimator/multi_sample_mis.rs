@@ -16,8 +16,8 @@
 
 use super::mis_weighting::{weighted_term, with_densities};
 use super::{Estimator, MisHeuristic, MisWeighting};
+use crate::error::{Error, Result};
 use crate::pdf::Pdf;
-use crate::{Error, Result};
 
 /// One sample technique: a pdf and its sample count `n_i`.
 struct Technique {

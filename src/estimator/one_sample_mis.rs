@@ -16,8 +16,8 @@
 
 use super::mis_weighting::{weighted_term, with_densities};
 use super::{Estimator, MisHeuristic, MisWeighting};
+use crate::error::{Error, Result};
 use crate::pdf::{Mixture, Pdf};
-use crate::{Error, Result};
 
 /// How far the selection probabilities may sum from one.
 const PROBABILITY_SUM_TOLERANCE: f64 = 1e-12;

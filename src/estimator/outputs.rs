@@ -1,7 +1,7 @@
 //! The number of outputs of a vector-valued integrand, checked once for every vector
 //! estimator.
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// The most outputs of one integrand: a run keeps, per replicate of independent points, the
 /// co-moments of every pair of outputs (`m (m + 1) / 2` of them) and evaluates each block of

@@ -1,7 +1,7 @@
 //! [`PilotFit`]: an estimator that fits itself to a pilot stage before the main run.
 
 use super::Estimator;
-use crate::Result;
+use crate::error::Result;
 use crate::stats::CovarianceAccumulator;
 
 /// What an estimator learns from a pilot stage, and the estimator it then becomes.

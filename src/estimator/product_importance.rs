@@ -12,8 +12,8 @@
 //! `(integral g)^2`, small when `h` is smoother than `g h`.
 
 use super::Estimator;
+use crate::error::{Error, Result};
 use crate::pdf::Pdf;
-use crate::{Error, Result};
 
 /// The estimator `Y = h(X) / c = G h(X)` of A.25, with `X` drawn from `pdf_g = g / G`, where
 /// `G = integral g = 1/c`.

@@ -2,7 +2,7 @@
 //! several outputs integrated over the same points.
 
 use super::Estimator;
-use crate::Points;
+use crate::points::Points;
 
 /// Turns canonical points into `m` contributions each, one per output of a vector-valued
 /// integrand, whose means estimate `m` integrals over the same points.

@@ -3,8 +3,8 @@
 
 use super::VectorEstimator;
 use super::box_block::{evaluate_scaled, is_unit, with_mapped};
-use crate::Points;
 use crate::pdf::{Pdf, UniformBox};
+use crate::points::Points;
 
 /// The uniform estimator for a batch integrand `f(points, out)` with `m` outputs: `points` is
 /// a block of up to 1024 domain points (one column per coordinate) and `f` writes output `k`

@@ -3,8 +3,8 @@
 
 use super::VectorEstimator;
 use super::box_block::{is_unit, with_mapped};
-use crate::Points;
 use crate::pdf::{Pdf, UniformBox};
+use crate::points::Points;
 
 /// `volume * f(x)` for each output of `f(x, out)`, with `x` uniform in a box: output `k` gets
 /// exactly the bits [`UniformEstimator`](super::UniformEstimator) gives for the scalar

@@ -4,8 +4,8 @@
 use super::layout::Layout;
 use super::plan::Plan;
 use super::{VectorRun, pilot};
-use crate::Result;
 use crate::engine::{Executor, Limits, RunConfig, Targets};
+use crate::error::Result;
 use crate::estimator::{Estimator, SingleOutput, VectorEstimator};
 use crate::sampler::Sampler;
 

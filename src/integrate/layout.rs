@@ -17,9 +17,9 @@ use std::fmt::Display;
 use super::plan::Plan;
 use super::{CHUNK, NonFinitePolicy};
 use crate::engine::{RunConfig, guarded};
+use crate::error::{Error, Result};
 use crate::estimator::{PilotFit, VectorEstimator};
 use crate::sampler::Sampler;
-use crate::{Error, Result};
 
 /// The version of the layout and of the saved form of a partial run; a part of another
 /// version is refused.

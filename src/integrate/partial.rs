@@ -9,10 +9,10 @@ use super::layout::Layout;
 use super::plan::{CHUNKS_IN_MEMORY, ChunkResult, Chunks, Folded, Plan, keeps_covariance};
 use super::{Integrator, VectorRun};
 use crate::engine::Executor;
+use crate::error::{Error, Result};
 use crate::estimator::{Estimator, VectorEstimator};
 use crate::sampler::Sampler;
 use crate::stats::{Estimate, VectorEstimate};
-use crate::{Error, Result};
 
 /// The results of some chunks of a fixed-budget [`Integrator`] run.
 ///

@@ -3,12 +3,13 @@
 
 use super::{Integrator, NonFinitePolicy};
 use crate::engine::{ChunkJob, Executor, Limits, RunConfig};
+use crate::error::{Error, Result};
 use crate::estimator::{ControlFit, ControlVariates, Estimator, PilotFit};
 use crate::hash::hash_words;
 use crate::pdf::Pdf;
+use crate::points::Points;
 use crate::sampler::{Independent, Sampler};
 use crate::stats::CovarianceAccumulator;
-use crate::{Error, Points, Result};
 
 /// Points per chunk of the pilot.
 const CHUNK: u64 = 4096;

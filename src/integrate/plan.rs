@@ -3,10 +3,11 @@
 
 use super::{CHUNK, DEFAULT_SAMPLES, NonFinitePolicy};
 use crate::engine::{self, ChunkJob, Executor, Limits};
+use crate::error::{Error, Result};
 use crate::estimator::VectorEstimator;
+use crate::points::Points;
 use crate::sampler::{PassKind, Sampler};
 use crate::stats::{Accumulator, CovarianceAccumulator, StopReason, VectorEstimate, Warning};
-use crate::{Error, Points, Result};
 
 /// Points generated and evaluated together: small enough to stay in L1/L2 cache.
 const BLOCK: u64 = 1024;

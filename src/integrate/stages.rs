@@ -8,11 +8,11 @@ use super::plan::{Folded, MAX_REPLICATES, balance_warning};
 use crate::engine::{
     Executor, Limits, Next, RunConfig, StageEnd, Stages, TOLERANCE_REPLICATES, Targets, Verdict,
 };
+use crate::error::{Error, Result};
 use crate::estimator::VectorEstimator;
 use crate::sampler::{PassKind, Sampler};
 use crate::special::{normal_quantile, student_t_quantile};
 use crate::stats::{StopReason, VectorEstimate};
-use crate::{Error, Result};
 
 /// Pilot size of the two-stage rule when the caller gives none.
 const DEFAULT_PILOT: u64 = 4096;

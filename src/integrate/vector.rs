@@ -3,14 +3,15 @@
 
 use super::Integrator;
 use crate::engine::RunConfig;
+use crate::error::Result;
 use crate::estimator::{
     BatchVectorUniformEstimator, VectorEstimator, VectorExpectationEstimator,
     VectorImportanceEstimator, VectorUniformEstimator,
 };
 use crate::measure::Measure;
 use crate::pdf::{Pdf, UniformBox};
+use crate::points::Points;
 use crate::stats::{Derived, Tolerance, VectorEstimate};
-use crate::{Points, Result};
 
 /// A [`VectorEstimator`] with the tolerances of its run: what
 /// [`Integrator::over_box_vector`] and the other vector constructors integrate.

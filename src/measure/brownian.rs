@@ -7,7 +7,7 @@ use nalgebra::{DMatrix, SymmetricEigen};
 
 use super::normal_map::{check_finite, largest_normal, standard_normal};
 use super::{Measure, check_factor_dims};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// The most a path may reach in magnitude, half of `f64::MAX`, so that rounding in the sums
 /// that build it cannot overflow.

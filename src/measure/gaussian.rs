@@ -7,7 +7,7 @@ use nalgebra::{DMatrix, SymmetricEigen};
 
 use super::normal_map::{check_finite, standard_normal};
 use super::{Measure, check_factor_dims};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// How a covariance `C` is factored as `C = L L'` to map independent normals `z` to `L z`.
 ///

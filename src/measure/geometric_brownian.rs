@@ -3,7 +3,7 @@
 use super::Measure;
 use super::brownian::{BrownianMotion, Construction};
 use super::normal_map::largest_normal;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// The largest log-price a path may reach: below `ln(f64::MAX / 2) = 709.08`, so that prices
 /// stay finite with room for rounding.

@@ -3,7 +3,7 @@
 
 use super::Measure;
 use super::normal_map::standard_normal;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// How an infinite side of a [`Lebesgue`] box is reached from `[0, 1)`.
 ///

@@ -48,9 +48,14 @@ pub const FACTOR_MAX_DIMS: usize = 1024;
 
 /// Ok when `d` dimensions (`what`: the parameter that sets them, counted in `unit`) can be
 /// factored; `hint` ends the message.
-fn check_factor_dims(what: &'static str, d: usize, unit: &str, hint: &str) -> crate::Result<()> {
+fn check_factor_dims(
+    what: &'static str,
+    d: usize,
+    unit: &str,
+    hint: &str,
+) -> crate::error::Result<()> {
     if d > FACTOR_MAX_DIMS {
-        return Err(crate::Error::invalid(
+        return Err(crate::error::Error::invalid(
             what,
             format!("{d} {unit}"),
             format!(

@@ -20,10 +20,10 @@ pub(super) fn largest_normal() -> f64 {
 }
 
 /// Checks that every value is finite, naming `what` otherwise.
-pub(super) fn check_finite(what: &'static str, values: &[f64]) -> crate::Result<()> {
+pub(super) fn check_finite(what: &'static str, values: &[f64]) -> crate::error::Result<()> {
     match values.iter().position(|v| !v.is_finite()) {
         None => Ok(()),
-        Some(i) => Err(crate::Error::invalid(
+        Some(i) => Err(crate::error::Error::invalid(
             what,
             format!("{} at index {i}", values[i]),
             "finite values",

@@ -13,7 +13,7 @@
 
 use super::piecewise_constant::{check_weights, into_canonical};
 use super::{Pdf, debug_assert_len};
-use crate::Result;
+use crate::error::Result;
 use crate::float::ONE_BELOW;
 
 /// One of the `n` equal bins: the bin's own outcome below `threshold`, `alias` above it.

@@ -1,7 +1,7 @@
 //! The (truncated) exponential density, sampled by its exact inverse cdf.
 
 use super::{Pdf1d, check_interval};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Density proportional to `exp(-rate (x - a))` on `[a, b)`.
 ///

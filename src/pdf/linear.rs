@@ -1,7 +1,7 @@
 //! The linear density on an interval, sampled by its exact inverse cdf.
 
 use super::{Pdf1d, check_interval};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Density proportional to the line through `(a, v0)` and `(b, v1)` on `[a, b)`, with
 /// `v0, v1 >= 0` not both zero.

@@ -9,8 +9,8 @@
 //! the weights `f/p` stay bounded even where the proposal misses the integrand.
 
 use super::{Pdf, UniformBox, debug_assert_len};
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
-use crate::{Error, Result};
 
 /// Canonical dimensions whose remapped point fits on the stack when sampling.
 const STACK_DIMS: usize = 16;

@@ -98,7 +98,7 @@ pub use uniform_sphere::UniformSphere;
 pub use uniform_triangle::UniformTriangle;
 pub use warp3::{Frame, Oriented, Warp3};
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// A probability density on a domain, with a way to sample it from canonical points.
 ///

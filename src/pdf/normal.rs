@@ -7,8 +7,8 @@
 //! methods and examples*, 2013, ch. 4, gives for preferring inversion with QMC).
 
 use super::Pdf1d;
+use crate::error::{Error, Result};
 use crate::special::{normal_cdf, normal_quantile};
-use crate::{Error, Result};
 
 /// The normal density with `mean` and standard deviation `sd`,
 /// `exp(-((x - mean)/sd)^2 / 2) / (sd sqrt(2 pi))`, sampled by `mean + sd Phi^-1(u)`.

@@ -9,8 +9,8 @@
 //! implementation.
 
 use super::{Pdf1d, check_interval};
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
-use crate::{Error, Result};
 
 /// `u` moved into `[0, 1)` (NaN to 0), so that a table lookup cannot leave the table or land
 /// on a cell of zero weight even for input outside the documented range.

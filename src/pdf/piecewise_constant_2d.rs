@@ -11,7 +11,7 @@
 //! Mitsuba 3; the implementation is our own, built on [`PiecewiseConstant1d`].
 
 use super::{Pdf, Pdf1d, PiecewiseConstant1d, debug_assert_len};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Density proportional to a `width x height` table of non-negative values (row-major: row
 /// `j` is `values[j * width .. (j + 1) * width]`, covering `y` in the `j`-th of `height` equal

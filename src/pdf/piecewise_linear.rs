@@ -11,7 +11,7 @@
 
 use super::Pdf1d;
 use super::piecewise_constant::CellCdf;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Density proportional to the function that interpolates `values[i]` at `xs[i]` linearly,
 /// on `[xs[0], xs[n-1])`.

@@ -1,7 +1,7 @@
 //! Products of independent one-dimensional densities: a density on a box.
 
 use super::{Pdf, Pdf1d, debug_assert_len};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// The density `p_1(x_1) p_2(x_2) ... p_d(x_d)` of independent coordinates, each sampled by
 /// its own [`Pdf1d`] from one canonical coordinate.

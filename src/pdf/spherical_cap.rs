@@ -18,7 +18,7 @@
 //! Orthonormal Basis, Revisited" (Journal of Computer Graphics Techniques 6(1), 2017).
 
 use super::uniform_sphere::{cap_canonical, cap_direction};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use core::f64::consts::{PI, TAU};
 use glam::{DVec2, DVec3};
 

@@ -7,7 +7,7 @@
 //! Random Variate Generation* (1986), ch. II.
 
 use super::{Pdf1d, check_interval};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// The triangular density on `[a, b]` with its mode at `c`: rising linearly from zero at `a`
 /// to its peak `2 / (b - a)` at `c`, then falling linearly to zero at `b` (either side may be

@@ -1,9 +1,9 @@
 //! The normal density truncated to an interval, sampled by its exact inverse cdf.
 
 use super::Pdf1d;
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
 use crate::special::{normal_cdf, normal_quantile, normal_sf};
-use crate::{Error, Result};
 use std::f64::consts::PI;
 
 /// The smallest positive double (subnormal): upper-tail probabilities go down to 1e-300 times

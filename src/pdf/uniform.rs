@@ -1,7 +1,7 @@
 //! The uniform density on an interval: the warp of Jarosz's equation A.13.
 
 use super::{Pdf1d, check_interval};
-use crate::Result;
+use crate::error::Result;
 
 /// Uniform density `1/(b-a)` on `[a, b)`, sampled by `x = a + u (b - a)` (A.13).
 ///

@@ -1,7 +1,7 @@
 //! The uniform density on an axis-aligned box: A.13 in every coordinate.
 
 use super::{Pdf, debug_assert_len};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Uniform density `1/volume` on the box `[lo_1, hi_1) x ... x [lo_d, hi_d)`.
 ///

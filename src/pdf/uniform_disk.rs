@@ -15,7 +15,7 @@
 //! everywhere: there is no seam.
 
 use super::{Pdf, debug_assert_len};
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use core::f64::consts::{FRAC_PI_4, PI};
 use glam::DVec2;
 

@@ -11,7 +11,7 @@
 //! and its inverse is piecewise linear too, exact, with no seam (it is continuous across the
 //! diagonal).
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use glam::{DVec2, DVec3};
 
 /// Uniform density on the triangle `(a, b, c)` in 3-D space, with respect to area.

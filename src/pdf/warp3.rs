@@ -5,7 +5,7 @@
 use glam::{DVec2, DVec3};
 
 use super::Pdf;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// A [`Pdf`] from the unit square to points of 3-D space, with glam's vectors in and out:
 /// what integrands over directions (or a triangle) are handed by

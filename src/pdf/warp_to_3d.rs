@@ -31,12 +31,12 @@ macro_rules! warp_to_3d {
                 self.pdf_point(glam::DVec3::new(x[0], x[1], x[2]))
             }
 
-            fn invert(&self, x: &[f64], u: &mut [f64]) -> $crate::Result<()> {
+            fn invert(&self, x: &[f64], u: &mut [f64]) -> $crate::error::Result<()> {
                 $crate::pdf::debug_assert_len!(self, invert, x, dims);
                 $crate::pdf::debug_assert_len!(self, invert, u, canonical_dims);
                 let x = glam::DVec3::new(x[0], x[1], x[2]);
                 if !x.is_finite() {
-                    return Err($crate::Error::invalid("x", x, $point));
+                    return Err($crate::error::Error::invalid("x", x, $point));
                 }
                 self.invert_point(x).write_to_slice(&mut u[..2]);
                 Ok(())

@@ -43,10 +43,11 @@
 use std::fmt;
 
 use crate::engine::{ChunkJob, Limits, NonFinite, RunConfig, run_settings};
+use crate::error::{Error, Result};
 use crate::hash::hash_words;
+use crate::points::Points;
 use crate::sampler::{PassKind, Sampler};
 use crate::testfns::TestFunction;
-use crate::{Error, Points, Result};
 
 /// Passes per point count when none is given.
 const DEFAULT_PASSES: u64 = 32;

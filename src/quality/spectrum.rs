@@ -21,9 +21,11 @@
 //! thread with a fixed order of summation, so the result does not depend on the number of
 //! threads, and passes are added in pass order.
 
-use crate::engine::{ChunkJob, Executor, Limits, available_threads};
+use crate::engine::{ChunkJob, Executor, Limits};
+use crate::error::{Error, Result};
+use crate::points::Points;
 use crate::sampler::{PassKind, Sampler};
-use crate::{Error, Points, Result};
+use crate::threads::available_threads;
 use std::f64::consts::TAU;
 
 /// The (mean) periodogram `P(k)` of two-dimensional point sets at the integer frequencies
@@ -108,8 +110,7 @@ impl Periodogram {
     pub const MAX_POINTS: usize = 1 << 24;
 
     /// The most terms one call may sum, `2^38`: points times passes times the `(K + 1)(2K + 1)`
-    /// frequencies computed (about 4 minutes on one core of a 2 GHz machine, at 1.1e9 terms a
-    /// second).
+    /// frequencies computed, minutes of work on one core, so that no call runs for hours.
     ///
     /// ```
     /// use mcint::{quality::{mean_periodogram, Periodogram}, sampler::Independent};

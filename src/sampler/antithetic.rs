@@ -11,8 +11,9 @@
 //! section 8.2).
 
 use super::{PassKind, Sampler, check_block, check_point};
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
-use crate::{Error, Points, Result};
+use crate::points::Points;
 
 /// The reflection `u -> (1 - 2^-53) - u` used by [`Antithetic`].
 ///

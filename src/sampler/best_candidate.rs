@@ -26,18 +26,18 @@
 //! radius. A candidate is dropped as soon as one placed point is closer than the best
 //! candidate so far, so most candidates cost a few distance evaluations. The search is
 //! exact, so the grid changes only the speed, never the points. Building `N` points still
-//! takes `k N^2 / 2` candidates (about 0.9 s for 4096 points in 2-D on a slow 2-core
-//! machine), so passes are limited to 2^14 points.
+//! takes `k N^2 / 2` candidates, so passes are limited to 2^14 points.
 
 use std::sync::Arc;
 
 use rand_pcg::Pcg64;
 
-use super::check_supported_dims;
-use super::pass_cache::{PassCache, sampler_from_cached_passes};
+use super::pass_cache::{PassCache, fill_from_passes, point_from_passes};
 use super::pass_rng::{pass_rng, uniform};
 use super::torus::{MAX_TORUS_DIMS, random_shift, torus_dist2};
-use crate::{Error, Result};
+use super::{PassKind, Sampler, check_supported_dims};
+use crate::error::{Error, Result};
+use crate::points::Points;
 
 /// Largest supported dimension.
 const MAX_DIMS: usize = 4;
@@ -51,8 +51,7 @@ const TAG_BEST_CANDIDATE: u64 = 0x6263_616e;
 
 /// Mitchell's best-candidate points on the unit torus: `N` per pass, in insertion order.
 ///
-/// Each pass is built once on first use (`N^2 / 2` candidate tests, under a second for 4096
-/// points in 2-D) and cached; [`point`](super::Sampler::point) and
+/// Each pass is built once on first use (`N^2 / 2` candidate tests) and cached; [`point`](super::Sampler::point) and
 /// [`fill`](super::Sampler::fill) then copy from the cache. Every point of a pass is uniform on
 /// `[0,1)^d` (the pass is randomly translated on the torus), so pass means are unbiased, and
 /// every prefix of a pass is well spread.
@@ -107,7 +106,43 @@ impl BestCandidate {
     }
 }
 
-sampler_from_cached_passes!(BestCandidate, "best-candidate");
+impl Sampler for BestCandidate {
+    fn name(&self) -> &'static str {
+        "best-candidate"
+    }
+
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.pass_size,
+        }
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// A new seed makes new passes: the cached ones go.
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+        self.cache.clear();
+    }
+
+    fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
+        point_from_passes(self.dims, self.pass_size, index, out, |pass| {
+            self.pass_points(pass)
+        })
+    }
+
+    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
+        fill_from_passes(self.dims, self.pass_size, start, points, |pass| {
+            self.pass_points(pass)
+        })
+    }
+}
 
 /// A uniform grid on the torus; each cell stores the coordinates of its points inline (up to
 /// `capacity` of them), so a search reads contiguous memory.

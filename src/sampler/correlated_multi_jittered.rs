@@ -15,8 +15,10 @@
 //! N-rooks (Latin) stratification. See [`MultiJittered`](super::MultiJittered) for the
 //! uncorrelated variant, with which this shares its implementation.
 
-use super::multi_jittered::{MjCore, sampler_from_core};
-use crate::Result;
+use super::multi_jittered::MjCore;
+use super::{PassKind, Sampler};
+use crate::error::Result;
+use crate::points::Points;
 
 /// Correlated multi-jittered sampling: `N = m * n` points per pass, jittered on the `m x n`
 /// grid and N-rooks in both coordinates of every pair of dimensions, with one sub-column and
@@ -96,4 +98,34 @@ impl CorrelatedMultiJittered {
     }
 }
 
-sampler_from_core!(CorrelatedMultiJittered, "cmj");
+impl Sampler for CorrelatedMultiJittered {
+    fn name(&self) -> &'static str {
+        "cmj"
+    }
+
+    fn dims(&self) -> usize {
+        self.core.dims
+    }
+
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.core.pass_size,
+        }
+    }
+
+    fn seed(&self) -> u64 {
+        self.core.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.core.seed = seed;
+    }
+
+    fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
+        self.core.point(index, out)
+    }
+
+    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
+        self.core.fill(start, points)
+    }
+}

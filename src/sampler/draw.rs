@@ -2,7 +2,8 @@
 //! `integers(l, u, n)` of a [`Sampler`], always from the first point of pass 0.
 
 use super::{PassKind, Sampler};
-use crate::{Error, PointBlock, Points, Result};
+use crate::error::{Error, Result};
+use crate::points::{PointBlock, Points};
 
 /// Points `0..n` of pass 0 of `sampler`.
 pub(super) fn random(sampler: &(impl Sampler + ?Sized), n: usize) -> Result<Points> {

@@ -15,7 +15,8 @@ use super::radical_inverse::{
     coordinate, fill_column,
 };
 use super::{PassKind, Sampler, Scramble, check_block, check_point, pass_runs};
-use crate::{Points, Result};
+use crate::error::Result;
+use crate::points::Points;
 
 /// Hash tags that keep the random streams of different purposes apart.
 const TAG_HALTON: u64 = 0x6861_6c74;
@@ -95,20 +96,20 @@ const TAG_HALTON: u64 = 0x6861_6c74;
 /// larger bases with `Permute`; an `Owen` node in a larger base reads the slope `alpha` of its
 /// affine map from one hash, so that `rho(a - 1) = (alpha a mod b) - 1`.
 ///
-/// **Cost.** Measured on blocks of 4096 points (one x86-64 core with AVX-512, the first 10^6
-/// points): unscrambled blocks cost about 2 ns per value (an odometer over the digits, no
-/// division). `Permute` blocks find the images of the digits each position meets once per block,
-/// sixteen at a time, and round each value by one multiplication: about 5 ns per value at d = 4 or
-/// 32 (and 40 ns at d = 10,000, where bases above the block length give every index a lowest digit
-/// of its own to permute). `Owen` blocks keep the nodes of a pass in tables of the filling thread
-/// (the nodes of every digit position with at most 2^16 prefixes and the digit images of those with
-/// at most 2^16 residues; up to 8 MiB per thread, past which further columns get tables of their
-/// block only; the crate's runners release them on every thread when a run ends), so each node is
-/// computed once per pass whatever the block size; what remains per value is the tail of digits
-/// below the index's own (two hashes) and one correct rounding: about 17 ns per value at d = 10 and
-/// 30 on an AVX2 core (AMD EPYC, 2026-12-03; Owen-scrambled Sobol' takes 1.2 ns there).
-/// [`point`](Sampler::point) recomputes everything per call: use [`fill`](Sampler::fill) for
-/// throughput.
+/// **Cost.** [`fill`](Sampler::fill) shares work between the indices of a block, so use it for
+/// throughput; [`point`](Sampler::point) recomputes everything per call. Unscrambled blocks
+/// run an odometer over the digits, with no division. `Permute` blocks find the images of the
+/// digits each position meets once per block, sixteen at a time, and round each value by one
+/// multiplication (in thousands of dimensions, bases above the block length give every index
+/// a lowest digit of its own to permute, which costs more). `Owen` blocks keep the nodes of a
+/// pass in tables of the filling thread (the nodes of every digit position with at most 2^16
+/// prefixes and the digit images of those with at most 2^16 residues; up to 8 MiB per thread,
+/// past which further columns get tables of their block only; the crate's runners release
+/// them on every thread when a run ends), so each node is computed once per pass whatever the
+/// block size; what remains per value is the tail of digits below the index's own (two
+/// hashes) and one correct rounding. That is still many times what Owen-scrambled Sobol'
+/// costs per value: `cargo bench --bench samplers -- owen_halton_vs_sobol` compares them,
+/// and `docs/measurements.md` keeps the figures.
 ///
 /// # Passes
 ///
@@ -188,7 +189,17 @@ impl Halton {
 }
 
 impl Sampler for Halton {
-    sampler_fields!();
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
 
     fn name(&self) -> &'static str {
         "halton"

@@ -10,10 +10,11 @@
 use super::radical_inverse::{
     PASS_SIZE, SCRAMBLES, Scratch, bases, check_halton_dims, column_key, coordinate, fill_column,
 };
-use super::{Sampler, Scramble, check_block, check_point, pass_runs};
+use super::{PassKind, Sampler, Scramble, check_block, check_point, pass_runs};
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_words, mix64, unit_f64};
-use crate::{Error, Points, Result};
+use crate::points::Points;
 
 /// Hash tag of the Hammersley randomizations.
 const TAG_HAMMERSLEY: u64 = 0x6861_6d6d;
@@ -153,7 +154,23 @@ impl Hammersley {
 }
 
 impl Sampler for Hammersley {
-    sampler_fields!(fixed);
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.pass_size,
+        }
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
 
     /// Each pass is one Hammersley set, a net when its size is a power of two.
     fn unbalanced_by(&self, _n: u64) -> Option<u64> {

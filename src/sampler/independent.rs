@@ -1,8 +1,9 @@
 //! Independent uniform points from a PCG stream: plain Monte Carlo (Jarosz's A.14).
 
 use super::{PassKind, Sampler, check_block, check_dims, check_point};
+use crate::error::Result;
 use crate::hash::{hash_words, unit_f64};
-use crate::{Points, Result};
+use crate::points::Points;
 use rand_core::Rng;
 use rand_pcg::Pcg64;
 

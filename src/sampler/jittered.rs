@@ -7,14 +7,14 @@
 //! (in 2D: `N^-1` and `N^-0.75`), not the "`sigma ∝ 1/N`" the seed states in general.
 
 use super::number_theory::integer_root;
-use super::{Sampler, check_dims, check_point};
+use super::{PassKind, Sampler, check_dims, check_point};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_words, unit_f64};
 
 /// Leads every hash of this sampler, so that other samplers given the same seed (which hash
 /// the same `(pass, index, dim)` words) draw unrelated jitters.
 const SALT: u64 = 0x6a69_7474; // "jitt"
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// One uniform point in each of the `k^d` cells of a regular grid, per pass.
 ///
@@ -138,7 +138,23 @@ impl Jittered {
 }
 
 impl Sampler for Jittered {
-    sampler_fields!(fixed);
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.pass_size,
+        }
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
 
     fn name(&self) -> &'static str {
         "jittered"

@@ -7,15 +7,17 @@
 //! the additive (one-dimensional) part of the integrand's variation.
 
 use super::permutation::Permutation;
-use super::simd::{BlockFill, Kernel, dispatch_fill};
-use super::{Sampler, check_dims, check_point, pass_runs};
+use super::simd::{BlockFill, dispatch_fill};
+use super::{PassKind, Sampler, check_dims, check_point, pass_runs};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
+use crate::simd::Kernel;
 
 /// Salts this sampler's hashes, so that other samplers given the same seed (which hash the
 /// same `(pass, index, dim)` words for their jitter) draw unrelated numbers.
 const SALT: u64 = 0x006c_6873; // "lhs"
-use crate::{Error, Points, Result};
+use crate::error::{Error, Result};
+use crate::points::Points;
 
 /// `N` points per pass, one in each `1/N` slab of every coordinate.
 ///
@@ -77,7 +79,23 @@ impl LatinHypercube {
 }
 
 impl Sampler for LatinHypercube {
-    sampler_fields!(fixed);
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.pass_size,
+        }
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
 
     fn name(&self) -> &'static str {
         "latin"

@@ -38,10 +38,12 @@
 //! - R. Cools, F. Y. Kuo & D. Nuyens, "Constructing embedded lattice rules for multivariate
 //!   integration", SIAM J. Sci. Comput. 28 (2006), 2162-2188.
 
-use super::simd::{BlockFill, Kernel, dispatch_fill};
+use super::simd::{BlockFill, dispatch_fill};
 use super::{PassKind, Sampler, Scramble, check_point};
+use crate::error::{Error, Result};
 use crate::hash::{hash_words, unit_f64};
-use crate::{Error, Points, Result};
+use crate::points::Points;
+use crate::simd::Kernel;
 use std::borrow::Cow;
 use std::fmt;
 use std::sync::OnceLock;

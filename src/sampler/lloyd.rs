@@ -3,8 +3,9 @@
 //! `LatinHypercube(optimization="lloyd")`, for any sampler's points).
 
 use super::{Independent, Sampler};
-use crate::quality::check_unit_cube;
-use crate::{Error, Points, Result};
+use crate::error::{Error, Result};
+use crate::points::Points;
+use crate::uniformity::check_unit_cube;
 
 /// How [`lloyd`] relaxes: scipy's 10 iterations, each cell's centroid estimated from 64 probe
 /// points per point of the set on average.

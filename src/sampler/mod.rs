@@ -11,32 +11,6 @@
 //! Beckman & Conover 1979). [`Antithetic`] wraps any sampler to pair every point with its
 //! reflection (Hammersley & Morton 1956), a variance-reduction companion of A.3's techniques.
 
-/// The [`Sampler`] methods that only read fields: `dims`, `seed` and `reseed` from the fields
-/// `dims` and `seed`, and with `fixed`, `passes` as fixed passes of `pass_size` points. A path
-/// (`sampler_fields!(fixed .core)`) reads the fields of a member instead.
-macro_rules! sampler_fields {
-    (fixed $(. $member:ident)*) => {
-        sampler_fields!($(. $member)*);
-
-        fn passes(&self) -> $crate::sampler::PassKind {
-            $crate::sampler::PassKind::Fixed { size: self $(. $member)* .pass_size }
-        }
-    };
-    ($(. $member:ident)*) => {
-        fn dims(&self) -> usize {
-            self $(. $member)* .dims
-        }
-
-        fn seed(&self) -> u64 {
-            self $(. $member)* .seed
-        }
-
-        fn reseed(&mut self, seed: u64) {
-            self $(. $member)* .seed = seed;
-        }
-    };
-}
-
 mod antithetic;
 mod best_candidate;
 mod correlated_multi_jittered;
@@ -86,13 +60,13 @@ pub use pmj02::Pmj02;
 pub use poisson_disk::PoissonDisk;
 #[cfg(test)]
 pub(crate) use radical_inverse::thread_table_slots;
-pub(crate) use radical_inverse::{release_thread_tables, thread_tables_held};
 pub use random_cd::{RandomCd, random_cd};
 pub use scramble::Scramble;
 pub use sobol::Sobol;
 
+use crate::error::{Error, Result};
+use crate::points::{PointBlock, Points};
 use crate::points_f32::{PointsF32, to_unit_f32};
-use crate::{Error, PointBlock, Points, Result};
 
 /// How a sampler's points relate to each other, which decides how error bars are computed.
 ///

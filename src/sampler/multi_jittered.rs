@@ -24,11 +24,13 @@
 
 use super::number_theory::integer_root;
 use super::permutation::{Permutation, PermutationCache};
-use super::simd::{BlockFill, Kernel, dispatch_fill};
-use super::{check_dims, check_point, pass_runs};
+use super::simd::{BlockFill, dispatch_fill};
+use super::{PassKind, Sampler, check_dims, check_point, pass_runs};
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
-use crate::{Error, Points, Result};
+use crate::points::Points;
+use crate::simd::Kernel;
 
 /// Most points a pass may hold: `2^53`, beyond which the `1/N` slabs are no longer distinct
 /// doubles in `[0, 1)` and the N-rooks property could not hold.
@@ -477,31 +479,37 @@ impl MultiJittered {
     }
 }
 
-sampler_from_core!(MultiJittered, "multijitter");
+impl Sampler for MultiJittered {
+    fn name(&self) -> &'static str {
+        "multijitter"
+    }
 
-/// The [`Sampler`] implementation of a multi-jittered variant: every method is its `core`'s
-/// (an [`MjCore`]), under the name `$name`.
-macro_rules! sampler_from_core {
-    ($sampler:ty, $name:literal) => {
-        impl super::Sampler for $sampler {
-            fn name(&self) -> &'static str {
-                $name
-            }
+    fn dims(&self) -> usize {
+        self.core.dims
+    }
 
-            sampler_fields!(fixed.core);
-
-            fn point(&self, index: u64, out: &mut [f64]) -> $crate::Result<()> {
-                self.core.point(index, out)
-            }
-
-            fn fill(&self, start: u64, points: &mut $crate::Points) -> $crate::Result<()> {
-                self.core.fill(start, points)
-            }
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.core.pass_size,
         }
-    };
-}
+    }
 
-pub(super) use sampler_from_core;
+    fn seed(&self) -> u64 {
+        self.core.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.core.seed = seed;
+    }
+
+    fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
+        self.core.point(index, out)
+    }
+
+    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
+        self.core.fill(start, points)
+    }
+}
 
 #[cfg(test)]
 mod tests {

@@ -32,10 +32,11 @@
 
 use super::number_theory::integer_root;
 use super::permutation::Permutation;
-use super::{Sampler, check_block, check_dims, check_point, pass_runs};
+use super::{PassKind, Sampler, check_block, check_dims, check_point, pass_runs};
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
-use crate::{Error, Points, Result};
+use crate::points::Points;
 
 /// Largest pass size: slabs stay exactly representable in a double.
 const MAX_POINTS: u64 = 1 << 53;
@@ -310,7 +311,23 @@ fn nearest_powers(points: u64) -> (Option<u64>, Option<u64>) {
 }
 
 impl Sampler for MultiStageNRooks {
-    sampler_fields!(fixed);
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.pass_size,
+        }
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
 
     fn name(&self) -> &'static str {
         "nrooks-multistage"

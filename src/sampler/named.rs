@@ -7,7 +7,7 @@ use super::{
     PoissonDisk, Sampler, Scramble, Sobol,
 };
 use crate::error::parse_name;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use std::fmt;
 use std::str::FromStr;
 

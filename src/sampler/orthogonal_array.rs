@@ -35,12 +35,14 @@ use super::number_theory::{
     integer_root, is_prime, max_exponent, next_prime, polynomial_mod, previous_prime, prime_root,
 };
 use super::permutation::{Permutation, PermutationCache};
-use super::simd::{BlockFill, Kernel, dispatch_fill};
-use super::{Sampler, check_dims, check_point, pass_runs};
+use super::simd::{BlockFill, dispatch_fill};
+use super::{PassKind, Sampler, check_dims, check_point, pass_runs};
 use crate::error::parse_name;
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
 use crate::hash::{hash_absorb, hash_words, unit_f64};
-use crate::{Error, Points, Result};
+use crate::points::Points;
+use crate::simd::Kernel;
 use std::fmt;
 use std::str::FromStr;
 
@@ -532,7 +534,23 @@ impl OrthogonalArray {
 }
 
 impl Sampler for OrthogonalArray {
-    sampler_fields!(fixed);
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.pass_size,
+        }
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
 
     fn name(&self) -> &'static str {
         match self.construction {

@@ -6,8 +6,9 @@
 
 use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
-use super::pass_runs;
-use crate::Points;
+use super::{check_block, check_point, pass_runs};
+use crate::error::Result;
+use crate::points::Points;
 
 /// A slot that one thread builds and every thread then shares.
 type Slot = Arc<OnceLock<Arc<[f64]>>>;
@@ -35,7 +36,7 @@ impl Clone for PassCache {
 
 impl PassCache {
     pub(super) fn new() -> Self {
-        let capacity = crate::engine::available_threads().clamp(2, 8);
+        let capacity = crate::threads::available_threads().clamp(2, 8);
         PassCache {
             capacity,
             entries: Mutex::new(Vec::new()),
@@ -88,29 +89,32 @@ impl std::fmt::Debug for PassCache {
     }
 }
 
-/// Copies point `index` (of pass `index / pass_size`) from its cached pass into `out`
-/// (`out.len()` is the dimension).
+/// Copies point `index` (of pass `index / pass_size`) from its cached pass into `out`, which
+/// must hold `dims` values.
 pub(super) fn point_from_passes(
+    dims: usize,
     pass_size: u64,
     index: u64,
     out: &mut [f64],
     pass_points: impl FnOnce(u64) -> Arc<[f64]>,
-) {
-    let dims = out.len();
+) -> Result<()> {
+    check_point(dims, out)?;
     let (pass, i) = (index / pass_size, (index % pass_size) as usize);
     let data = pass_points(pass);
     out.copy_from_slice(&data[i * dims..(i + 1) * dims]);
+    Ok(())
 }
 
-/// Copies points `start ..` from cached passes (point-major) into a column-major block,
-/// fetching each pass once per run of indices that share it.
+/// Copies points `start ..` from cached passes (point-major) into a column-major block of
+/// `dims` dimensions, fetching each pass once per run of indices that share it.
 pub(super) fn fill_from_passes(
     dims: usize,
     pass_size: u64,
     start: u64,
     points: &mut Points,
     mut pass_points: impl FnMut(u64) -> Arc<[f64]>,
-) {
+) -> Result<()> {
+    check_block(dims, start, points)?;
     let len = points.len();
     let mut columns: Vec<&mut [f64]> = points.columns_mut().collect();
     for (i, pass, offset, run) in pass_runs(start, len, pass_size) {
@@ -122,61 +126,8 @@ pub(super) fn fill_from_passes(
             }
         }
     }
+    Ok(())
 }
-
-/// The [`Sampler`](super::Sampler) implementation of a sampler whose passes are built whole
-/// and cached: a type with fields `dims`, `pass_size`, `seed` and `cache` (a [`PassCache`])
-/// and a method `pass_points(pass)`, named `$name`. Reseeding empties the cache.
-macro_rules! sampler_from_cached_passes {
-    ($sampler:ty, $name:literal) => {
-        impl super::Sampler for $sampler {
-            fn name(&self) -> &'static str {
-                $name
-            }
-
-            fn dims(&self) -> usize {
-                self.dims
-            }
-
-            fn passes(&self) -> super::PassKind {
-                super::PassKind::Fixed {
-                    size: self.pass_size,
-                }
-            }
-
-            fn seed(&self) -> u64 {
-                self.seed
-            }
-
-            fn reseed(&mut self, seed: u64) {
-                self.seed = seed;
-                self.cache.clear();
-            }
-
-            fn point(&self, index: u64, out: &mut [f64]) -> $crate::Result<()> {
-                super::check_point(self.dims, out)?;
-                super::pass_cache::point_from_passes(self.pass_size, index, out, |pass| {
-                    self.pass_points(pass)
-                });
-                Ok(())
-            }
-
-            fn fill(&self, start: u64, points: &mut $crate::Points) -> $crate::Result<()> {
-                super::check_block(self.dims, start, points)?;
-                super::pass_cache::fill_from_passes(
-                    self.dims,
-                    self.pass_size,
-                    start,
-                    points,
-                    |pass| self.pass_points(pass),
-                );
-                Ok(())
-            }
-        }
-    };
-}
-
-pub(super) use sampler_from_cached_passes;
 
 #[cfg(test)]
 mod tests {

@@ -120,7 +120,7 @@ pub(crate) const LANES: usize = 16;
 impl Permutation {
     /// The images of 16 indices at once, each below `n`, equal to [`apply`](Self::apply) lane
     /// by lane. The rounds run outermost and the lanes innermost, so each round is a few
-    /// vector instructions when compiled for a wide instruction set (see `super::simd`).
+    /// vector instructions when compiled for a wide instruction set (see `crate::simd`).
     /// Feistel's cycle walk re-applies the network to the lanes not yet below `n`, keeping
     /// the others, until every lane has landed: the same walk as `apply`, lane by lane.
     #[inline(always)]

@@ -53,10 +53,12 @@
 //! coordinate of one more independent pair: a progressive 1-D stratified sequence, whose every
 //! prefix of `2^m` points has one point in each interval of width `2^-m`.
 
-use super::simd::{BlockFill, Kernel, dispatch_fill};
+use super::simd::{BlockFill, dispatch_fill};
 use super::{PassKind, Sampler, check_dims, check_point, fill_pointwise, pass_runs};
+use crate::error::{Error, Result};
 use crate::hash::{hash_words, mix64};
-use crate::{Error, Points, Result};
+use crate::points::Points;
+use crate::simd::Kernel;
 
 /// Largest accepted `log2_max`: passes of up to 2^20 points.
 const MAX_LOG2: u32 = 20;
@@ -282,7 +284,17 @@ fn scramble_index(index: u32, bits: u32, key: u64) -> u32 {
 }
 
 impl Sampler for Pmj02 {
-    sampler_fields!();
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
 
     fn unbalanced_by(&self, n: u64) -> Option<u64> {
         (!n.is_power_of_two()).then_some(2)

@@ -43,21 +43,21 @@ use std::sync::Arc;
 
 use rand_pcg::Pcg64;
 
-use super::check_supported_dims;
-use super::pass_cache::{PassCache, sampler_from_cached_passes};
+use super::pass_cache::{PassCache, fill_from_passes, point_from_passes};
 use super::pass_rng::{below, pass_rng, uniform};
 use super::torus::{MAX_TORUS_DIMS, random_shift, torus_dist2, torus_gap, wrap};
 use super::torus_grid::TorusGrid;
+use super::{PassKind, Sampler, check_supported_dims};
+use crate::error::{Error, Result};
 use crate::float::ONE_BELOW;
 use crate::hash::hash_words;
-use crate::{Error, Result};
+use crate::points::Points;
 
 /// Largest supported dimension, as scipy's `qmc.PoissonDisk` users need it. Making the set
 /// maximal is what limits the maximal sets to four: a gap-filling cell is dropped only once it
 /// lies inside a single ball, and the cells covered by the union of balls but by no single one
-/// multiply by up to `2^d` per halving (measured on one core: 4096 points take 0.07 s in 2-D,
-/// 0.36 s in 3-D and 4.9 s in 4-D, while in 5-D even 256 points took 9 s). In 5 to 8
-/// dimensions a pass is Bridson's set alone, as scipy's is: every two points are still at
+/// multiply by up to `2^d` per halving, so the time to fill the gaps grows steeply with the
+/// dimension (`docs/measurements.md` has the times). In 5 to 8 dimensions a pass is Bridson's set alone, as scipy's is: every two points are still at
 /// least `r` apart, but room for more points is left (see [`BRIDSON_DENSITY`]).
 const MAX_DIMS: usize = 8;
 /// The most dimensions in which the sets are made maximal (gap filling); above, a pass is
@@ -65,10 +65,9 @@ const MAX_DIMS: usize = 8;
 const MAX_MAXIMAL_DIMS: usize = 4;
 /// Largest number of points per pass.
 const MAX_POINTS: u64 = 1 << 20;
-/// Largest expected size of a set in 1 to 8 dimensions: about ten seconds of building per pass
-/// on one core (measured: 14, 82 and 900 microseconds a point in 2, 3 and 4 dimensions; 150,
-/// 600, 1200 and 1300 in 5 to 8 at these sizes), so that no size or radius asks for a pass that
-/// does not finish.
+/// Largest expected size of a set in 1 to 8 dimensions: some seconds of building per pass on
+/// one core (the cost of a point per dimension is in `docs/measurements.md`), so that no size
+/// or radius asks for a pass that does not finish.
 const MAX_SET_POINTS: [f64; MAX_DIMS] = [
     (1u64 << 21) as f64,
     (1u64 << 19) as f64,
@@ -192,8 +191,7 @@ impl PoissonDisk {
     }
 
     /// The most points per pass [`new`](Self::new) accepts in `dims` dimensions: 2^20 in
-    /// 1-D, fewer above, so that building a pass takes at most some ten seconds on one core
-    /// (measured: 14, 82 and 900 microseconds a point in 2, 3 and 4 dimensions).
+    /// 1-D, fewer above, so that building a pass takes at most some seconds on one core.
     ///
     /// ```
     /// use mcint::sampler::PoissonDisk;
@@ -293,7 +291,43 @@ impl PoissonDisk {
     }
 }
 
-sampler_from_cached_passes!(PoissonDisk, "poisson");
+impl Sampler for PoissonDisk {
+    fn name(&self) -> &'static str {
+        "poisson"
+    }
+
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn passes(&self) -> PassKind {
+        PassKind::Fixed {
+            size: self.pass_size,
+        }
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// A new seed makes new passes: the cached ones go.
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+        self.cache.clear();
+    }
+
+    fn point(&self, index: u64, out: &mut [f64]) -> Result<()> {
+        point_from_passes(self.dims, self.pass_size, index, out, |pass| {
+            self.pass_points(pass)
+        })
+    }
+
+    fn fill(&self, start: u64, points: &mut Points) -> Result<()> {
+        fill_from_passes(self.dims, self.pass_size, start, points, |pass| {
+            self.pass_points(pass)
+        })
+    }
+}
 
 /// Points per unit volume times `V_d(r / 2)` in our sets.
 fn density(dims: usize) -> f64 {

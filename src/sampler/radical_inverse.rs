@@ -16,13 +16,13 @@
 //! ([`Base::ratio`]: a multiplication by a per-base reciprocal, with the exact
 //! [`rounding::ratio_to_f64`] near halfway points). The block kernels
 //! ([`permute::fill_permuted`], and `owen_block.rs` for nested scrambling) share work between
-//! the indices of a block and run the keyed permutations in lanes through `super::simd`. Every
+//! the indices of a block and run the keyed permutations in lanes through `crate::simd`. Every
 //! path yields the same integers and the same single rounding, so `fill` and `point` agree bit
 //! for bit.
 
 use super::Scramble;
+use crate::error::{Error, Result};
 use crate::hash::hash_words;
-use crate::{Error, Result};
 
 mod base;
 mod digit_permutation;
@@ -37,7 +37,6 @@ pub(crate) use base::{Base, bases};
 use digit_permutation::DigitPermutation;
 #[cfg(test)]
 pub(crate) use node_memo::slots_held as thread_table_slots;
-pub(crate) use node_memo::{any_held as thread_tables_held, release as release_thread_tables};
 use owen::owen_coordinate;
 use permute::{PermuteColumn, fill_permuted};
 use plain::{fill_plain, radical_inverse};

@@ -3,8 +3,9 @@
 //! `LatinHypercube(optimization="random-cd")`).
 
 use super::pass_rng::{below, pass_rng};
-use crate::quality::Discrepancy;
-use crate::{Error, Points, Result};
+use crate::error::{Error, Result};
+use crate::points::Points;
+use crate::uniformity::Discrepancy;
 
 /// Tags the random stream of the swaps.
 const TAG: u64 = 0x7261_6e64_6f6d_6364; // "randomcd"

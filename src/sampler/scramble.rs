@@ -6,7 +6,7 @@
 //! generator: each constructor says which it accepts.
 
 use crate::error::parse_name;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use std::fmt;
 use std::str::FromStr;
 

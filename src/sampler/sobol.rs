@@ -12,8 +12,7 @@
 //! van der Corput sequence (`v_k = 2^(31 - k)`); dimensions 2 to 21201 come from Joe & Kuo's
 //! `new-joe-kuo-6.21201` table (criterion D(6), chosen for good two-dimensional projections;
 //! `data/sobol/README.md`), embedded with `include_str!` and parsed on first use, only as far
-//! as needed: the first 64 dimensions (30 µs), 256 (0.1 ms), 1024 (0.5 ms) or all 21201 (12 ms;
-//! release build, 2 GHz Xeon).
+//! as needed, so that a sampler in a few dimensions does not pay for parsing all 21201.
 //!
 //! Every aligned block of `2^m` points of a pass (in particular every power-of-two prefix) is a
 //! `(t, m, s)`-net in base 2: the first two dimensions form a `(0, m, 2)`-net and every single
@@ -43,7 +42,7 @@
 //! Gray-code step is taken per chunk. The Owen column runs its Gray code on bit-reversed
 //! direction words, since the hash works on reversed words, saving one bit reversal per value.
 //! All of it is compiled once per instruction set and selected at run time
-//! (`super::simd`), which turns these loops into 8- or 16-lane vector code.
+//! (`crate::simd`), which turns these loops into 8- or 16-lane vector code.
 //!
 //! Files: `sobol/directions.rs` parses the direction numbers, `sobol/randomizer.rs` holds the
 //! three randomizations, `sobol/unit.rs` the conversions of words to `f64` and `f32`, and
@@ -56,9 +55,10 @@ mod unit;
 
 use super::owen::owen_scramble_u32;
 use super::{PassKind, Sampler, Scramble, check_block, check_point, check_shape};
+use crate::error::{Error, Result};
 use crate::hash::hash_words;
+use crate::points::Points;
 use crate::points_f32::PointsF32;
-use crate::{Error, Points, Result};
 use directions::{Directions, MAX_DIMS, table};
 use kernel::{direct, gray};
 use randomizer::Randomizer;
@@ -233,7 +233,17 @@ impl PartialEq for Sobol {
 impl Eq for Sobol {}
 
 impl Sampler for Sobol {
-    sampler_fields!();
+    fn dims(&self) -> usize {
+        self.dims
+    }
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    fn reseed(&mut self, seed: u64) {
+        self.seed = seed;
+    }
 
     fn unbalanced_by(&self, n: u64) -> Option<u64> {
         (!n.is_power_of_two()).then_some(2)

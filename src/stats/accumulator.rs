@@ -3,9 +3,9 @@
 
 use super::estimate::{ErrorBasis, Estimate};
 use super::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
-use super::stop_reason::StopReason;
 use super::warning::Warning;
-use crate::sampler::simd::{Kernel, dispatch};
+use crate::simd::{Kernel, dispatch};
+use crate::stop_reason::StopReason;
 
 /// Interleaved partial sums of [`Accumulator::extend`]: enough independent chains to fill
 /// 8 vector lanes of `f64` or hide an addition's latency; fixed, so results do not depend on

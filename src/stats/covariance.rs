@@ -7,7 +7,7 @@
 //! A.29) needs the means of `(f, g_1, ..., g_k)` and their covariance matrix from one pass over
 //! the samples, split over threads; this accumulator gives both.
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Count, means and co-moment matrix `C_ij = sum (x_i - mean_i)(x_j - mean_j)` of a stream of
 /// vectors of a fixed length, plus a count of vectors with a non-finite entry (which are kept

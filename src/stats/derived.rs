@@ -8,7 +8,7 @@ use super::estimate::Estimate;
 use super::rounding::UNIT_ROUNDOFF;
 use super::vector_estimate::VectorEstimate;
 use super::warning::Warning;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 type Value = Arc<dyn Fn(&[f64]) -> f64 + Send + Sync>;
 type Gradient = Arc<dyn Fn(&[f64], &mut [f64]) + Send + Sync>;
@@ -215,7 +215,7 @@ impl Derived {
                 gradient: given,
             } => {
                 // A panic in the user's function is an error, as one in an integrand is.
-                let at = crate::engine::guarded((0, 0), || {
+                let at = crate::panics::guarded((0, 0), || {
                     let at = value(&means);
                     match given {
                         Some(g) => g(&means, &mut gradient),

@@ -2,10 +2,10 @@
 
 use super::accumulator::{Accumulator, scale_for};
 use super::rounding::mean_of_means;
-use super::stop_reason::StopReason;
 use super::warning::{DISAGREEMENT_Q, Warning};
+use crate::error::{Error, Result};
 use crate::special::student_t_quantile;
-use crate::{Error, Result};
+use crate::stop_reason::StopReason;
 
 /// Where a standard error comes from.
 ///

@@ -6,8 +6,8 @@
 //! chi-square approximation holds (Cochran's rule of thumb: at least 5 expected per cell). The
 //! p-value is the chi-square upper tail of the private `special` module.
 
+use crate::error::{Error, Result};
 use crate::special::chi_square_sf;
-use crate::{Error, Result};
 
 /// The outcome of [`chi_square_goodness_of_fit`].
 #[derive(Debug, Clone, Copy, PartialEq)]

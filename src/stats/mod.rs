@@ -10,17 +10,16 @@ mod derived;
 mod estimate;
 mod goodness_of_fit;
 pub(crate) mod rounding;
-mod stop_reason;
 mod tolerance;
 mod vector_estimate;
 mod warning;
 
+pub use crate::stop_reason::StopReason;
 pub use accumulator::Accumulator;
 pub use covariance::CovarianceAccumulator;
 pub use derived::Derived;
 pub use estimate::{ErrorBasis, Estimate};
 pub use goodness_of_fit::{GoodnessOfFit, chi_square_goodness_of_fit};
-pub use stop_reason::StopReason;
 pub use tolerance::Tolerance;
 pub use vector_estimate::VectorEstimate;
 pub use warning::{DISAGREEMENT_Q, Warning};

@@ -4,7 +4,7 @@ use std::time::Duration;
 
 use super::estimate::Estimate;
 use super::warning::DISAGREEMENT_Q;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// The accuracy a run should reach and the limits on what it may spend.
 ///

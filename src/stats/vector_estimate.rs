@@ -5,8 +5,8 @@ use super::accumulator::{Accumulator, scale_for};
 use super::covariance::CovarianceAccumulator;
 use super::derived::Derived;
 use super::estimate::Estimate;
-use super::stop_reason::StopReason;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
+use crate::stop_reason::StopReason;
 
 /// The result of a run of a vector-valued integrand: per output an [`Estimate`] (mean,
 /// standard error, interval, warnings), and the covariance matrix of the `m` mean estimates.

@@ -2,7 +2,7 @@
 
 use std::fmt;
 
-use super::stop_reason::StopReason;
+use crate::stop_reason::StopReason;
 
 /// A condition worth knowing about an [`Estimate`](super::Estimate): the run succeeded, but
 /// its answer is weaker than it looks, or was obtained differently than asked. Runs list

@@ -29,10 +29,10 @@ use std::str::FromStr;
 
 use super::TestFunction;
 use super::genz_batch::Parameters;
-use crate::Points;
 use crate::error::parse_name;
+use crate::error::{Error, Result};
+use crate::points::Points;
 use crate::quadrature::gauss_kronrod;
-use crate::{Error, Result};
 
 /// One of the six Genz (1984) integrand families.
 ///

@@ -8,8 +8,8 @@
 use std::f64::consts::PI;
 
 use super::GenzFamily;
-use crate::Points;
-use crate::sampler::simd::{Kernel, dispatch};
+use crate::points::Points;
+use crate::simd::{Kernel, dispatch};
 use crate::vector_math::{cos_in_place, exp_in_place};
 
 /// A Genz integrand's parameters, borrowed for one block.

@@ -34,7 +34,7 @@ use std::str::FromStr;
 
 use super::TestFunction;
 use crate::error::parse_name;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// `r²` of the quarter disk: `2/π`, so that its area `π r² / 4` is one half.
 const DISK_RADIUS_SQUARED: f64 = 2.0 / PI;

@@ -12,8 +12,8 @@
 //! `C_0 = sqrt(pi) e^{-1/4} / 2` and `S_0 = F(1/2)`, Dawson's integral.
 
 use super::TestFunction;
+use crate::error::{Error, Result};
 use crate::special::normal_quantile;
-use crate::{Error, Result};
 
 /// The most dimensions (the recurrence for the exact value was checked against quadrature up
 /// to here).

@@ -21,7 +21,7 @@ pub use polynomial::Polynomial;
 pub use roos_arnold::RoosArnold;
 pub use sobol_g::SobolG;
 
-use crate::Points;
+use crate::points::Points;
 
 /// An integrand on the unit cube with a known integral.
 ///

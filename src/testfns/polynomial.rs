@@ -6,7 +6,7 @@
 //! Carlo estimator's error bars can be checked against.
 
 use super::TestFunction;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// Largest exponent accepted for one variable of one term.
 const MAX_EXPONENT: u32 = 64;

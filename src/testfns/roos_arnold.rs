@@ -7,7 +7,7 @@
 //! and a kink at `x_i = 1/2`, and its variance grows like `(4/3)^d`.
 
 use super::TestFunction;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// `f(x) = Π_i |4 x_i - 2|`, with integral 1 over `[0,1]^d`.
 ///

@@ -9,7 +9,7 @@
 //! (1984) families.
 
 use super::TestFunction;
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// `g(x) = Π_i (|4 x_i - 2| + a_i) / (1 + a_i)`, with integral 1 over `[0,1]^d`.
 ///

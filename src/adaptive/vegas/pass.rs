@@ -12,9 +12,10 @@ use super::moments::{CubeMoments, CubeSums, CubeTotals};
 use super::strata::{Allocation, ChunkStart, Strata};
 use crate::adaptive::VegasGrid;
 use crate::engine::{ChunkJob, Executor, Limits};
+use crate::error::Result;
+use crate::points::Points;
 use crate::sampler::Sampler;
 use crate::stats::StopReason;
-use crate::{Points, Result};
 
 /// Points drawn from the sampler at once, at most.
 const BLOCK: usize = 512;

@@ -7,9 +7,9 @@ use super::integrand::Integrand;
 use super::pass::Pass;
 use super::strata::{ALLOCATION_SAFETY, Allocation, ChunkStart, Strata, plan_chunks};
 use super::{Vegas, output_weights};
-use crate::Result;
 use crate::adaptive::VegasGrid;
 use crate::engine::{Executor, Limits, Next, NonFinite, StageEnd, Stages, Targets, Verdict};
+use crate::error::Result;
 use crate::sampler::{PassKind, Sampler};
 use crate::stats::{StopReason, VectorEstimate};
 

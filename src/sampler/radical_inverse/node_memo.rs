@@ -10,12 +10,15 @@
 //! hold exactly what the kernel would compute, so the values do not depend on what was filled
 //! before; a thread past its budget forgets the other columns' tables.
 //!
-//! The engine's worker threads live for the process, so the engine [`release`]s every thread's
-//! tables when a run ends: an idle worker then holds none.
+//! The engine's worker threads live for the process, so the tables are a cache registered in
+//! `crate::threads`, which the engine releases on every thread when a run ends: an idle worker
+//! then holds none.
 
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
+
+use crate::threads::{ThreadCache, register};
 
 /// Positions with at most this many prefixes (`b^k`) keep their nodes, and those with at most
 /// this many residues (`b^(k+1)`) their digit images.
@@ -95,6 +98,7 @@ impl Memo {
         if !self.holding {
             self.holding = true;
             HOLDERS.fetch_add(1, Ordering::Relaxed);
+            register(&NODE_TABLES);
         }
         self.columns.entry((base, key)).or_insert_with(|| Tables {
             last_use: clock,
@@ -115,13 +119,19 @@ impl Drop for Memo {
 /// Threads whose tables have held a column since their last [`release`].
 static HOLDERS: AtomicUsize = AtomicUsize::new(0);
 
+/// The tables as a cache of the threads that the engine releases when a run ends.
+static NODE_TABLES: ThreadCache = ThreadCache {
+    held: any_held,
+    release,
+};
+
 /// Whether some thread may hold tables.
-pub(crate) fn any_held() -> bool {
+fn any_held() -> bool {
     HOLDERS.load(Ordering::Relaxed) > 0
 }
 
 /// Forgets this thread's tables and frees their memory.
-pub(crate) fn release() {
+fn release() {
     // Nothing to do on a thread that is exiting (no thread-local left) or that is inside a
     // fill (the tables are borrowed): a fill does not end runs.
     let _ = MEMO.try_with(|cell| {

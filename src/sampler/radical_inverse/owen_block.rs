@@ -12,10 +12,14 @@
 //! block meets whole ("shallow") add up to one number per residue mod `b^shallow`. Deeper
 //! positions have a different prefix for every index and are computed per index, and the zero
 //! digits beyond the last digit of each index (the tail) word by word of its stream. The node
-//! work runs in lanes through `sampler::simd`: the hashes, the digits (by a floating-point
+//! work runs in lanes through `crate::simd`: the hashes, the digits (by a floating-point
 //! division) and the node permutations (Fisher-Yates from one hash up to base 13, in byte
 //! lanes; an affine map above) vectorize. The sum is exact in integers whatever the order, and
 //! rounded once as in `owen_coordinate`, so the values are bit-identical.
+//!
+//! It exists for speed alone: `cargo bench --bench samplers -- owen_halton_block_vs_point`
+//! measures it against `owen_coordinate` value by value (`docs/measurements.md` keeps the
+//! figures).
 
 use super::base::{Base, MAX_DEPTH};
 #[cfg(test)]
@@ -25,7 +29,7 @@ use super::node_memo::{ColumnTables, MEMO_RESIDUES, UNSEEN, admit, with_tables};
 use crate::float::ONE_BELOW;
 use crate::hash::{golden_step, hash_absorb, hash_absorb_scaled, hash_start};
 use crate::sampler::permutation::below_narrow;
-use crate::sampler::simd::{Kernel, dispatch};
+use crate::simd::{Kernel, dispatch};
 
 /// Lanes of the node kernel.
 const LANES: usize = 32;

@@ -9,7 +9,7 @@ use super::digit_permutation::{DigitPermutation, TAG_RHO, digit_image, rotate, s
 use crate::float::ONE_BELOW;
 use crate::hash::hash_words;
 use crate::sampler::permutation::{LANES, Permutation};
-use crate::sampler::simd::{Kernel, dispatch};
+use crate::simd::{Kernel, dispatch};
 
 /// The random digit permutations of one (pass, dimension). Position `k` (0-based, the most
 /// significant output digit first) has `pi_k(0) = t_k`, digit `k` of one random digit stream

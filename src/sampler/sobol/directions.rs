@@ -2,7 +2,7 @@
 //! `new-joe-kuo-6.21201` table, parsed on first use only as far as a sampler needs, and
 //! extended to 32 direction words per dimension.
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 use std::sync::OnceLock;
 
 /// The Joe-Kuo table, one line per dimension 2..=21201 after a header line.

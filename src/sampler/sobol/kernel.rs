@@ -1,17 +1,17 @@
 //! The block kernel of the Sobol' sampler: for each dimension, the Gray-code words of an
 //! aligned chunk of consecutive indices (one XOR per word, Antonov & Saleev 1979), then the
 //! scramble and the conversion in loops without loop-carried dependencies, compiled per
-//! instruction set by `sampler::simd`. The words and conversions are those of `Sobol::point`,
+//! instruction set by `crate::simd`. The words and conversions are those of `Sobol::point`,
 //! so the values are bit-identical.
 
 use super::directions::Directions;
 use super::randomizer::{Randomizer, WideDirections, linear, owen_parts, widen};
 use super::unit::Unit;
 use super::{PASS_BITS, Sobol};
-use crate::PointBlock;
+use crate::points::PointBlock;
 use crate::sampler::owen::OwenScramble;
 use crate::sampler::pass_runs;
-use crate::sampler::simd::{Kernel, dispatch};
+use crate::simd::{Kernel, dispatch};
 use std::ops::BitXorAssign;
 
 /// Block length for the word buffers of the fill kernels (a power of two).
@@ -51,13 +51,13 @@ pub(super) fn gray(i: u32) -> u32 {
 }
 
 /// Scratch for [`owen_chunk`]: the scrambled words and their tails. Made once per fill, not
-/// per chunk, whose zeroing of 2 KiB cost a tenth of the fill.
+/// per chunk, whose zeroing of 2 KiB would cost a noticeable part of the fill.
 type OwenParts = [[u32; CHUNK]; 2];
 
 /// Owen-scrambles a chunk of bit-reversed words, each `base ^ reversed[j]`, and converts them:
-/// the 32-bit hashing first
-/// (a loop of independent integer operations), then the conversion. (One loop doing both is
-/// vectorized at the width of the `f64` results, and measured 40% slower.)
+/// the 32-bit hashing first (a loop of independent integer operations), then the conversion,
+/// because one loop doing both is vectorized at the width of the `f64` results, half as many
+/// lanes.
 #[inline(always)]
 fn owen_chunk<T: Unit>(
     scramble: &OwenScramble,

@@ -2,7 +2,8 @@
 //! `O(N d)` instead of the `O(N^2 d)` of a fresh computation.
 
 use super::discrepancy::check_unit_cube;
-use crate::{Error, Points, Result};
+use crate::error::{Error, Result};
+use crate::points::Points;
 
 /// The squared centered discrepancy `CD^2` of `points` with `x_new` added, given `initial`,
 /// the `CD^2` of `points` (from [`Discrepancy::Centered`](super::Discrepancy::Centered)

@@ -1,4 +1,8 @@
 //! [`StopReason`]: why a run stopped.
+//!
+//! It sits below every other module because the error of an interrupted run
+//! ([`Error::Interrupted`](crate::Error::Interrupted)) names it; users reach it as
+//! `mcint::StopReason` and `mcint::stats::StopReason`.
 
 /// Why a run stopped.
 ///
@@ -25,8 +29,8 @@ pub enum StopReason {
     /// most points per replicate an extensible sequence has).
     SamplerExhausted,
     /// The interval met the tolerance, but the iterations it combines disagree
-    /// ([`Warning::IterationsDisagree`](super::Warning::IterationsDisagree)), and still did after
-    /// twice the evaluations: their error bars are too small, and more iterations would not
-    /// make the interval honest (VEGAS).
+    /// ([`Warning::IterationsDisagree`](crate::stats::Warning::IterationsDisagree)), and still
+    /// did after twice the evaluations: their error bars are too small, and more iterations
+    /// would not make the interval honest (VEGAS).
     IterationsDisagree,
 }

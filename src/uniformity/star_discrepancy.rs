@@ -21,7 +21,8 @@
 //! does not try.
 
 use super::discrepancy::check_unit_cube;
-use crate::{Error, Points, Result};
+use crate::error::{Error, Result};
+use crate::points::Points;
 
 /// The most points [`star_discrepancy`] accepts in two dimensions, `2^14 = 16384`: its sweep
 /// costs about `N^2` steps, about a second at this size.

@@ -1,4 +1,7 @@
 //! [`NonFinitePolicy`]: what a run does with NaN or infinite contributions.
+//!
+//! The engine's run configuration holds it and every runner above reads it, so it sits below
+//! both; users reach it as `mcint::NonFinitePolicy`.
 
 /// What the [`Integrator`](crate::Integrator) does when a contribution `Y_i` is NaN or
 /// infinite (the integrand returned one, or a pdf was zero where the integrand was not).

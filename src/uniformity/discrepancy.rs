@@ -100,7 +100,8 @@ macro_rules! cost_accuracy_errors {
 
 mod double_double;
 
-use crate::{Error, Points, Result};
+use crate::error::{Error, Result};
+use crate::points::Points;
 use double_double::DoubleDouble;
 
 /// Checks that `points` holds at least one point and that every coordinate is in `[0, 1]`.

@@ -22,12 +22,13 @@
 //! `N` operations per shape, and there are `C(k + d - 1, d - 1)` shapes at level `k`.
 //! [`t_value`] checks the levels `k = 1, 2, ...` until one fails (at most `m` levels, and
 //! `m - t + 1` of them), stopping at the first unbalanced cell. `2^16` points in two
-//! dimensions are about 150 shapes of 65,536 points (0.02 s on a 2 GHz core); the first `2^10`
-//! Sobol' points in eight dimensions (`t = 5`) about 3,000 shapes of 1,024 points (1 ms).
+//! dimensions are about 150 shapes of 65,536 points; the first `2^10` Sobol' points in eight
+//! dimensions (`t = 5`) about 3,000 shapes of 1,024 points.
 //! The number of shapes grows like `k^(d-1)`: sets with small t in many dimensions are
 //! expensive (`d = 16`, `k = 8`: 490,314 shapes), while sets that fail early are cheap.
 
-use crate::{Error, Points, Result};
+use crate::error::{Error, Result};
+use crate::points::Points;
 use std::fmt;
 
 /// The most points a net check accepts: counters are 32-bit.

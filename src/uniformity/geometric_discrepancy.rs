@@ -3,7 +3,8 @@
 //! `qmc.geometric_discrepancy`). Higher is better, unlike the L2 discrepancies.
 
 use super::discrepancy::check_unit_cube;
-use crate::{Error, Points, Result};
+use crate::error::{Error, Result};
+use crate::points::Points;
 
 /// What [`geometric_discrepancy`] measures (scipy's `method`).
 ///
