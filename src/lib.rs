@@ -29,8 +29,12 @@
 //! chunks, evaluates them on a rayon pool and folds their results in chunk order (so results
 //! are bit-identical for any thread count, and a panic becomes
 //! [`Error::IntegrandPanicked`]); one run configuration whose setters (`sampler`, `seed`,
-//! `threads`, `tolerance`, `non_finite`) every builder shares; and one stopping rule that
-//! every run to a [`Tolerance`] asks when to stop and with which interval.
+//! `threads`, `tolerance`, `time_limit`, `non_finite`, ...) every builder shares; and one
+//! stage driver: a runner describes its stages (what the next costs, how to run it, its
+//! estimate), and the driver reads the limits before each stage, applies the non-finite
+//! policy, judges a run to a [`Tolerance`] with one judge, and records how the run ended, the
+//! same way for every method. Every runner implements the public [`Run`] trait, so a program
+//! can hold a `Box<dyn Run>` and choose its method at run time.
 //! With the `mpi` feature, a `Cluster` spreads any runner's chunks over MPI ranks: every rank
 //! gathers every chunk's result and folds them in the same order, so every rank gets the
 //! one-process result, bit for bit.

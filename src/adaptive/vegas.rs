@@ -63,17 +63,12 @@ use strata::Strata;
 
 /// Evaluations per iteration when the caller gives none.
 const DEFAULT_SAMPLES: u64 = 10_000;
-/// The fewest evaluations per iteration: measured over 200 seeds on 5-D Genz integrals, 50
-/// per iteration still gave honest intervals (184-189 of 200 covered).
+/// The fewest evaluations per iteration: fewer make the iterations' variances, which weight
+/// their combination, too noisy for honest intervals (docs/measurements.md).
 const MIN_SAMPLES: u64 = 50;
-/// The lowest density, as a fraction of the uniform one, that the grid keeps on any axis.
-/// Measured over 50 seeds of the customary Genz discontinuous family in 5-D, 8-D and 10-D
-/// (`--tol-rel 1e-3`, at most 2e7 evaluations): without it VEGAS and VEGAS+ claimed the
-/// tolerance in 29 to 48 runs, of which 0 to 8 covered the exact value (`vegas` 6.4.1: 10 of
-/// 10 in 10-D, none covering); with it they claim it in 44 to 50, of which 29 to 44 cover,
-/// in 1.2 to 28 times fewer evaluations. Where no axis's density falls below it (every other
-/// 5-D and 10-D Genz family but the 10-D Gaussian, which takes about 20% more evaluations
-/// at `--tol-rel 1e-4`), runs are unchanged to the bit.
+/// The lowest density, as a fraction of the uniform one, that the grid keeps on any axis:
+/// without it, runs on discontinuous integrands claimed tolerances their intervals missed
+/// (docs/measurements.md); grids that never get that thin are unchanged to the bit.
 const DEFAULT_DENSITY_FLOOR: f64 = 0.005;
 /// Grid increments are capped at one per this many evaluations (as `vegas` does), so that
 /// every increment sees some points in each iteration.

@@ -318,10 +318,8 @@ pub(crate) fn check_increments(increments: usize) -> Result<()> {
 
 /// Validates the damping exponent.
 pub(crate) fn check_alpha(alpha: f64) -> Result<()> {
-    // Larger exponents over-react to the noise of one iteration's projections: measured over
-    // 200 seeds on 5-D Genz integrals, alpha = 5 gave runs 1e7 standard errors off and
-    // alpha 7 to 200 estimates 6-25 standard errors off with a normal-looking chi^2; from
-    // about 500 the weights overflow. Up to 2 the intervals held.
+    // Larger exponents over-react to the noise of one iteration's projections, with runs
+    // many standard errors off (docs/measurements.md); up to 2 the intervals held.
     if !(0.0..=MAX_ALPHA).contains(&alpha) {
         return Err(Error::invalid(
             "alpha",

@@ -6,9 +6,8 @@
 //! happen to hold large values raise both), so weights of their own variance pull the
 //! combination towards the iterations that undershot, or overshot, by about the skewness times
 //! `sqrt(m / n)` standard errors for `m` iterations of `n` points: negligible over ten
-//! iterations, not over the thousands a tight tolerance takes. With such weights, 1000
-//! iterations of 1000 points of the 3-D Genz product peak (VEGAS+) sat 1.0 standard errors low
-//! on average and covered 77 of 100 seeds. A weight fixed before an iteration's points are drawn
+//! iterations, not over the thousands a tight tolerance takes (docs/measurements.md has the
+//! measurement). A weight fixed before an iteration's points are drawn
 //! leaves each term unbiased; the variance of the combination, `sum w_i^2 var_i / (sum w_i)^2`,
 //! takes the iterations' own variances.
 
