@@ -12,7 +12,7 @@
 //! checkpoints.
 
 use crate::engine::{Drive, RunConfig, run_settings};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::estimator::{
     BatchUniformEstimator, Estimator, ExpectationEstimator, ImportanceEstimator, UniformEstimator,
     WarpImportanceEstimator,
@@ -20,7 +20,7 @@ use crate::estimator::{
 use crate::measure::Measure;
 use crate::pdf::{GeometricWarp, Pdf, UniformBox, WarpPoint};
 use crate::points::Points;
-use crate::stats::{Estimate, VectorEstimate};
+use crate::stats::VectorEstimate;
 
 mod engine;
 mod layout;
@@ -33,6 +33,7 @@ mod stages;
 mod vector;
 
 pub use crate::non_finite::NonFinitePolicy;
+pub use engine::Integration;
 use engine::RunEstimator;
 pub use partial::PartialRun;
 use plan::Plan;
@@ -254,29 +255,33 @@ impl<E> Integrator<E> {
     }
 }
 
-impl<E: Estimator> Integrator<E> {
-    /// Runs the integration.
+impl<E: Integration> Integrator<E> {
+    /// Runs the integration: an [`Estimate`](crate::Estimate) for a scalar estimator, a [`VectorEstimate`] of
+    /// every output over the same points for a vector one.
     ///
     /// Errors when a setting is out of range, when the sampler's dimension differs from the
     /// estimator's, when the integrand panics (with the panic message), and when any
-    /// contribution is NaN or infinite (the error gives their count and the first offending
-    /// point): such a mean would be silently wrong. With [`NonFinitePolicy::Skip`] they are
-    /// left out and counted instead, but a replicate with no finite contribution at all is
-    /// still an error.
+    /// contribution is NaN or infinite (the error gives their count, the first offending
+    /// point, and its output in a vector run): such a mean would be silently wrong. With
+    /// [`NonFinitePolicy::Skip`] they are left out and counted instead, but a replicate with
+    /// no finite contribution at all is still an error. A vector run also errs when the number
+    /// of outputs is 0 or above [`MAX_OUTPUTS`](crate::estimator::MAX_OUTPUTS), when the
+    /// per-output tolerances are not one per output, or when a derived quantity names an output
+    /// that does not exist.
     ///
     /// ```
-    /// use mcint::{Integrator, pdf::UniformBox};
+    /// use mcint::{Error, Integrator, pdf::UniformBox};
     /// let bad = Integrator::over_box(|x: &[f64]| 1.0 / (x[0] - x[0]), UniformBox::unit(1).unwrap())
     ///     .samples(10)
     ///     .run();
     /// assert!(bad.unwrap_err().to_string().contains("10 non-finite"));
+    /// let f = |x: &[f64], out: &mut [f64]| { out[0] = 1.0; out[1] = if x[0] < 0.5 { f64::NAN } else { 1.0 }; };
+    /// let err = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(100).run().unwrap_err();
+    /// assert!(matches!(err, Error::NonFiniteContribution { first_output: Some(1), .. }));
+    /// assert!(err.to_string().contains("in output 1"), "{err}");
     /// ```
-    pub fn run(&self) -> Result<Estimate> {
-        let run = self.run_engine()?;
-        let single = run.outputs.into_iter().next();
-        single
-            .ok_or_else(|| Error::invalid("outputs", 0, "one output"))
-            .and_then(Estimate::checked)
+    pub fn run(&self) -> Result<E::Output> {
+        E::output(self.run_engine()?)
     }
 }
 

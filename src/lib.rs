@@ -98,7 +98,7 @@ pub use estimator::Estimator;
 /// The vector types of the geometric warps and integrands (`DVec2`, `DVec3`, ...), at the
 /// version mcint uses.
 pub use glam;
-pub use integrate::{Integrator, PartialRun, VectorRun};
+pub use integrate::{Integration, Integrator, PartialRun, VectorRun};
 pub use method::Method;
 /// The MPI bindings (rsmpi) the `mpi` feature is built on, for `mpi::initialize` and anything
 /// else a distributed program needs, at the version mcint uses.

@@ -2,8 +2,8 @@
 
 use crate::adaptive::{Miser, SobolG, TwoStage, Vegas, VegasOutputs};
 use crate::error::Result;
-use crate::estimator::{Estimator, VectorEstimator};
-use crate::integrate::{Integrator, VectorRun};
+use crate::estimator::Estimator;
+use crate::integrate::{Integration, Integrator};
 use crate::stats::{Estimate, VectorEstimate};
 
 /// A configured run of any method: the [`Integrator`] (scalar or vector), [`Vegas`] (scalar
@@ -57,15 +57,9 @@ impl From<Estimate> for VectorEstimate {
     }
 }
 
-impl<E: Estimator> Run for Integrator<E> {
+impl<E: Integration> Run for Integrator<E> {
     fn run_vector(&self) -> Result<VectorEstimate> {
-        self.run().map(VectorEstimate::from)
-    }
-}
-
-impl<E: VectorEstimator> Run for Integrator<VectorRun<E>> {
-    fn run_vector(&self) -> Result<VectorEstimate> {
-        self.run()
+        self.run().map(Into::into)
     }
 }
 

@@ -1,7 +1,7 @@
-//! Writing reports: to stdout through [`say!`], so that a reader that closes the pipe
+//! Writing reports: to stdout through [`say!`](crate::say), so that a reader that closes the pipe
 //! (`| head -1`) ends the program quietly with success, and any other write error (a full
 //! disk, `> /dev/full`) is one line on stderr and exit status 2, never a panic; warnings go to
-//! stderr through [`note!`], which drops what it cannot write (there is no other place left
+//! stderr through [`note!`](crate::note), which drops what it cannot write (there is no other place left
 //! to report it).
 
 use std::io::Write;
@@ -25,7 +25,7 @@ macro_rules! note {
     };
 }
 
-/// Writes `args` and a newline to stdout (see [`say!`]).
+/// Writes `args` and a newline to stdout (see [`say!`](crate::say)).
 pub fn line(args: std::fmt::Arguments) {
     let mut out = std::io::stdout().lock();
     if let Err(e) = out.write_fmt(args).and_then(|()| out.write_all(b"\n")) {

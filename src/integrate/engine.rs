@@ -1,16 +1,23 @@
 //! [`RunEstimator`]: what the Integrator's engine needs from a scalar or a vector estimator,
 //! so that one engine (plan, stages, checkpoints) serves both.
 
+// `RunEstimator` names crate-private types on purpose: that is what seals `Integration`.
+#![allow(private_interfaces)]
+
 use super::layout::Layout;
 use super::plan::Plan;
 use super::{VectorRun, pilot};
 use crate::engine::{Executor, Limits, RunConfig, Targets};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::estimator::{Estimator, SingleOutput, VectorEstimator};
 use crate::sampler::Sampler;
+use crate::stats::{Estimate, VectorEstimate};
 
-/// A scalar [`Estimator`] (one output, maybe with a pilot stage) or a [`VectorRun`] of outputs.
-pub(super) trait RunEstimator {
+/// A scalar [`Estimator`] (one output, maybe with a pilot stage) or a [`VectorRun`] of outputs:
+/// what the engine needs of them. Public in a private module, as the supertrait of
+/// [`Integration`]: its methods name crate-private types, so no other crate can implement it,
+/// which seals `Integration` to the two implementations here.
+pub trait RunEstimator {
     /// Number of canonical coordinates per point.
     fn canonical_dims(&self) -> usize;
 
@@ -89,5 +96,44 @@ impl<E: VectorEstimator> RunEstimator for VectorRun<E> {
 
     fn layout(&self, plan: &Plan, sampler: &dyn Sampler, config: &RunConfig) -> Result<Layout> {
         Layout::of(plan, sampler, &self.estimator, None, config)
+    }
+}
+
+/// What an [`Integrator`](super::Integrator) integrates: a scalar [`Estimator`], whose runs
+/// give an [`Estimate`], or a [`VectorRun`] of outputs, whose runs give a [`VectorEstimate`].
+/// Implemented for those two only.
+///
+/// ```
+/// use mcint::{Estimate, Integrator, VectorEstimate, pdf::UniformBox};
+/// let scalar: Estimate = Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).run().unwrap();
+/// let f = |x: &[f64], out: &mut [f64]| out.fill(x[0]);
+/// let vector: VectorEstimate = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).run().unwrap();
+/// assert_eq!((scalar.mean, vector.len()), (vector.outputs[0].mean, 2));
+/// ```
+pub trait Integration: RunEstimator {
+    /// What a run gives: an [`Estimate`] or a [`VectorEstimate`].
+    type Output: Into<VectorEstimate>;
+
+    /// The result of a run of every output, checked for overflow.
+    #[doc(hidden)]
+    fn output(run: VectorEstimate) -> Result<Self::Output>;
+}
+
+impl<E: Estimator> Integration for E {
+    type Output = Estimate;
+
+    fn output(run: VectorEstimate) -> Result<Estimate> {
+        let single = run.outputs.into_iter().next();
+        single
+            .ok_or_else(|| Error::invalid("outputs", 0, "one output"))
+            .and_then(Estimate::checked)
+    }
+}
+
+impl<E: VectorEstimator> Integration for VectorRun<E> {
+    type Output = VectorEstimate;
+
+    fn output(run: VectorEstimate) -> Result<VectorEstimate> {
+        run.checked()
     }
 }

@@ -4,15 +4,15 @@
 use std::collections::BTreeMap;
 use std::ops::Range;
 
+use super::Integrator;
+use super::engine::Integration;
 use super::engine::RunEstimator;
 use super::layout::Layout;
 use super::plan::{CHUNKS_IN_MEMORY, ChunkResult, Chunks, Folded, Plan, keeps_covariance};
-use super::{Integrator, VectorRun};
 use crate::engine::Executor;
 use crate::error::{Error, Result};
-use crate::estimator::{Estimator, VectorEstimator};
 use crate::sampler::Sampler;
-use crate::stats::{Estimate, VectorEstimate};
+use crate::stats::VectorEstimate;
 
 /// The results of some chunks of a fixed-budget [`Integrator`] run.
 ///
@@ -182,16 +182,19 @@ impl PartialRun {
     }
 }
 
-impl<E: Estimator> Integrator<E> {
+impl<E: Integration> Integrator<E> {
     /// Number of chunks of this run (fixed budget only), the unit of [`run_part`](Self::run_part).
     ///
     /// ```
     /// use mcint::{Integrator, pdf::UniformBox};
     /// let i = Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).samples(40_000).replicates(2);
     /// assert_eq!(i.total_chunks().unwrap(), 2 * 3);
+    /// let f = |x: &[f64], out: &mut [f64]| out.fill(x[0]);
+    /// let v = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(40_000);
+    /// assert_eq!(v.total_chunks().unwrap(), 3);
     /// ```
     pub fn total_chunks(&self) -> Result<u64> {
-        self.total_chunks_engine()
+        self.with_plan(|plan, _, _| plan.total_chunks())
     }
 
     /// Evaluates chunks `range` of this run (see [`PartialRun`]). A time limit or a
@@ -201,6 +204,11 @@ impl<E: Estimator> Integrator<E> {
     /// use mcint::{Integrator, pdf::UniformBox};
     /// let i = Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).samples(50_000);
     /// assert!(i.run_part(3..5).is_err()); // only 4 chunks
+    /// let f = |x: &[f64], out: &mut [f64]| { out[0] = x[0]; out[1] = x[0].sin(); };
+    /// let v = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(50_000);
+    /// let mut part = v.run_part(0..2).unwrap();
+    /// part.merge(v.run_part(2..4).unwrap()).unwrap();
+    /// assert_eq!(v.finish(&part).unwrap(), v.run().unwrap());
     /// ```
     pub fn run_part(&self, range: Range<u64>) -> Result<PartialRun> {
         self.run_part_engine(range)
@@ -224,82 +232,21 @@ impl<E: Estimator> Integrator<E> {
     }
 
     /// The estimate of a complete [`PartialRun`] of this run: the same bits as
-    /// [`run`](Self::run).
+    /// [`run`](Self::run). A part of another run (another number of outputs among others) is
+    /// refused.
     ///
     /// ```
     /// use mcint::{Integrator, pdf::UniformBox};
     /// let i = Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).samples(50_000);
     /// let part = i.run_part(0..2).unwrap();
     /// assert!(i.finish(&part).unwrap_err().to_string().contains("chunk 2"));
-    /// ```
-    pub fn finish(&self, partial: &PartialRun) -> Result<Estimate> {
-        let run = self.finish_engine(partial)?;
-        let single = run.outputs.into_iter().next();
-        single
-            .ok_or_else(|| Error::invalid("outputs", 0, "one output"))
-            .and_then(Estimate::checked)
-    }
-}
-
-impl<E: VectorEstimator> Integrator<VectorRun<E>> {
-    /// Number of chunks of this run (fixed budget only), the unit of
-    /// [`run_part`](Self::run_part); see [`Integrator::total_chunks`].
-    ///
-    /// ```
-    /// use mcint::{Integrator, pdf::UniformBox};
     /// let f = |x: &[f64], out: &mut [f64]| out.fill(x[0]);
-    /// let i = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(40_000);
-    /// assert_eq!(i.total_chunks().unwrap(), 3);
-    /// ```
-    pub fn total_chunks(&self) -> Result<u64> {
-        self.total_chunks_engine()
-    }
-
-    /// Evaluates chunks `range` of this vector run (see [`PartialRun`] and
-    /// [`Integrator::run_part`]).
-    ///
-    /// ```
-    /// use mcint::{Integrator, pdf::UniformBox};
-    /// let f = |x: &[f64], out: &mut [f64]| { out[0] = x[0]; out[1] = x[0].sin(); };
-    /// let i = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(50_000);
-    /// let mut part = i.run_part(0..2).unwrap();
-    /// part.merge(i.run_part(2..4).unwrap()).unwrap();
-    /// assert_eq!(i.finish(&part).unwrap(), i.run().unwrap());
-    /// ```
-    pub fn run_part(&self, range: Range<u64>) -> Result<PartialRun> {
-        self.run_part_engine(range)
-    }
-
-    /// Evaluates up to `max_chunks` more chunks of `partial` (see [`Integrator::resume`]).
-    ///
-    /// ```
-    /// use mcint::{Integrator, pdf::UniformBox};
-    /// let f = |x: &[f64], out: &mut [f64]| { out[0] = x[0]; out[1] = x[0].sin(); };
-    /// let i = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(100_000);
-    /// let mut part = i.run_part(0..1).unwrap();
-    /// while !part.is_complete() {
-    ///     i.resume(&mut part, 3).unwrap();
-    /// }
-    /// assert_eq!(i.finish(&part).unwrap(), i.run().unwrap());
-    /// ```
-    pub fn resume(&self, partial: &mut PartialRun, max_chunks: u64) -> Result<()> {
-        self.resume_engine(partial, max_chunks)
-    }
-
-    /// The estimate of a complete [`PartialRun`] of this vector run: the same bits as
-    /// [`run`](Self::run).
-    ///
-    /// ```
-    /// use mcint::{Integrator, pdf::UniformBox};
-    /// let f = |x: &[f64], out: &mut [f64]| out.fill(x[0]);
-    /// let i = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(50_000);
-    /// let scalar = Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).samples(50_000);
-    /// // A part of a scalar run is refused: its number of outputs differs.
-    /// let err = i.finish(&scalar.run_part(0..4).unwrap()).unwrap_err();
+    /// let v = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(50_000);
+    /// let err = v.finish(&i.run_part(0..4).unwrap()).unwrap_err();
     /// assert!(err.to_string().contains("outputs"), "{err}");
     /// ```
-    pub fn finish(&self, partial: &PartialRun) -> Result<VectorEstimate> {
-        self.finish_engine(partial)?.checked()
+    pub fn finish(&self, partial: &PartialRun) -> Result<E::Output> {
+        E::output(self.finish_engine(partial)?)
     }
 }
 
@@ -326,13 +273,6 @@ impl<E> Integrator<E> {
 
 /// The checkpoint machinery, shared by scalar and vector runs.
 impl<E> Integrator<E> {
-    fn total_chunks_engine(&self) -> Result<u64>
-    where
-        E: RunEstimator,
-    {
-        self.with_plan(|plan, _, _| plan.total_chunks())
-    }
-
     fn run_part_engine(&self, range: Range<u64>) -> Result<PartialRun>
     where
         E: RunEstimator,

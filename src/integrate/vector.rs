@@ -3,7 +3,6 @@
 
 use super::Integrator;
 use crate::engine::RunConfig;
-use crate::error::Result;
 use crate::estimator::{
     BatchVectorUniformEstimator, VectorEstimator, VectorExpectationEstimator,
     VectorImportanceEstimator, VectorUniformEstimator,
@@ -11,7 +10,7 @@ use crate::estimator::{
 use crate::measure::Measure;
 use crate::pdf::{Pdf, UniformBox};
 use crate::points::Points;
-use crate::stats::{Derived, Tolerance, VectorEstimate};
+use crate::stats::{Derived, Tolerance};
 
 /// A [`VectorEstimator`] with the tolerances of its run: what
 /// [`Integrator::over_box_vector`] and the other vector constructors integrate.
@@ -202,23 +201,5 @@ impl<E: VectorEstimator> Integrator<VectorRun<E>> {
             .derived_tolerances
             .push((quantity, tolerance));
         self
-    }
-
-    /// Runs the integration of every output over the same points.
-    ///
-    /// Errors as [`Integrator::run`] does, and when the number of outputs is 0 or above
-    /// [`MAX_OUTPUTS`](crate::estimator::MAX_OUTPUTS), when the per-output tolerances are not
-    /// one per output, or when a derived quantity names an output that does not exist. A
-    /// non-finite value is reported with its output and point.
-    ///
-    /// ```
-    /// use mcint::{Error, Integrator, pdf::UniformBox};
-    /// let f = |x: &[f64], out: &mut [f64]| { out[0] = 1.0; out[1] = if x[0] < 0.5 { f64::NAN } else { 1.0 }; };
-    /// let err = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap()).samples(100).run().unwrap_err();
-    /// assert!(matches!(err, Error::NonFiniteContribution { first_output: Some(1), .. }));
-    /// assert!(err.to_string().contains("in output 1"), "{err}");
-    /// ```
-    pub fn run(&self) -> Result<VectorEstimate> {
-        self.run_engine()?.checked()
     }
 }
