@@ -272,7 +272,8 @@ fn portable_kernels_equal_the_dispatched_ones() {
     }
 }
 
-/// Small enough for Miri (`cargo +nightly miri test --test simd_kernels small`), which checks
+/// Small enough for Miri (`cargo +nightly miri test --test samplers -- simd_kernels::small`),
+/// which checks
 /// the dispatch's unsafe call: a few ragged fills of every scramble equal `point()`.
 #[test]
 fn small_fills_equal_point() {

@@ -53,7 +53,7 @@ fn matches_qmcpy_reference_points() {
     // tests/data/lattice_qmcpy_reference.txt: QMCPy 2.4, which ships the same Kuo vector,
     // Lattice(..., randomize=False, order='RADICAL INVERSE'); commands in the file's header.
     // Values k / 2^20 are exact doubles, so the comparison is bit for bit.
-    let text = include_str!("data/lattice_qmcpy_reference.txt");
+    let text = include_str!("../data/lattice_qmcpy_reference.txt");
     let rows: Vec<(u64, usize, f64)> = text
         .lines()
         .filter(|l| !l.starts_with('#') && !l.trim().is_empty())

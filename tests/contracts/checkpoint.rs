@@ -320,7 +320,7 @@ fn a_saved_part_does_not_grow_with_the_chunks_done() {
 
 /// A checkpoint written by this version (format 2), checked in: the next version must still
 /// read it and finish it to the same bits. Written by
-/// `MCINT_WRITE_FIXTURE=1 cargo test --release --test checkpoint fixture`.
+/// `MCINT_WRITE_FIXTURE=1 cargo test --release --test contracts -- checkpoint::a_checked_in`.
 #[test]
 fn a_checked_in_checkpoint_of_this_format_finishes_to_its_pinned_bits() {
     let integrator = sobol_replicates(1).label("checkpoint fixture: wavy over [0,1)^3");

@@ -8,7 +8,7 @@
 //! Coverage: 186 of 200 (93%), as in `tests/integrator_tolerance.rs` (binomial mean 190,
 //! standard deviation 3.1 at a true 95%).
 
-#[path = "../cli/src/bin/support/asian.rs"]
+#[path = "../../cli/src/bin/support/asian.rs"]
 mod asian;
 
 use asian::Contract;
