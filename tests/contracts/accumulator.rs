@@ -2,18 +2,9 @@
 //! sequential result for any split of a stream, and stay accurate where the naive `E[Y^2] - E[Y]^2`
 //! cancels.
 
+use crate::common::config;
 use mcint::stats::Accumulator;
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
-
-fn config() -> ProptestConfig {
-    ProptestConfig {
-        cases: 256,
-        rng_seed: RngSeed::Fixed(0xacc),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
 
 fn sequential(values: &[f64]) -> Accumulator {
     let mut acc = Accumulator::new();
@@ -34,7 +25,7 @@ fn agree(a: f64, b: f64, scale: f64) -> bool {
 }
 
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(config(256, 0xacc))]
 
     #[test]
     fn any_split_merges_to_the_sequential_result(

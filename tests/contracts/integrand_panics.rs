@@ -2,18 +2,14 @@
 //! message and where the chunk of work that panicked starts, on any number of threads and in
 //! every method; nothing unwinds into the caller.
 
+use crate::common::unit;
 use mcint::adaptive::{Miser, TwoStage, Vegas};
-use mcint::pdf::UniformBox;
 use mcint::{Error, Integrator};
 
 /// Panics at the points whose first coordinate is above 0.75 (with its value in the message).
 fn fragile(x: &[f64]) -> f64 {
     assert!(x[0] <= 0.75, "integrand broke at x0 = {:.3}", x[0]);
     x[0]
-}
-
-fn unit() -> UniformBox {
-    UniformBox::unit(2).unwrap()
 }
 
 fn assert_panicked(result: mcint::Result<mcint::Estimate>, method: &str) {

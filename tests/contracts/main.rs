@@ -18,6 +18,9 @@
 //!
 //! Run one module with a filter: `cargo test --release --test contracts -- run_limits::`.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod accumulator;
 // The tests see the library with serde through the dev-dependency on itself; without the
 // feature the checkpoint tests are left out (they were a `required-features` test crate).

@@ -16,21 +16,9 @@
 //! are accepted legitimately but are expensive (a Poisson-disk pass of a million points) are
 //! only constructed, not generated.
 
+use crate::common::{ONE_BELOW, config};
 use mcint::Error;
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
-
-/// The largest canonical coordinate, `1 - 2^-53`.
-const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
-
-fn config(cases: u32, seed: u64) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        rng_seed: RngSeed::Fixed(seed),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
 
 /// Asserts that an error says something, and that an invalid parameter is one of `params`
 /// (matched loosely: the error's name contains one of them, as in `"m * n"` for `"m"`).

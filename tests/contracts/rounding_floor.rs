@@ -10,6 +10,7 @@
 //!   variate equal to the integrand), every method reports a standard error at the floor and
 //!   its 99% interval contains the exact value.
 
+use crate::common::config;
 use mcint::adaptive::{Miser, TwoStage, Vegas};
 use mcint::estimator::ControlVariate;
 use mcint::pdf::{Pdf1d, ProductPdf, TruncatedNormal, UniformBox};
@@ -18,7 +19,6 @@ use mcint::stats::{Accumulator, Tolerance, Warning};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
 use mcint::{Estimate, Integrator};
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
 
 /// `a + b` as an unevaluated sum `(s, e)` with `s + e == a + b` exactly (Knuth's TwoSum).
 fn two_sum(a: f64, b: f64) -> (f64, f64) {
@@ -65,17 +65,8 @@ fn values() -> impl Strategy<Value = Vec<f64>> {
         })
 }
 
-fn config() -> ProptestConfig {
-    ProptestConfig {
-        cases: 300,
-        rng_seed: RngSeed::Fixed(0x0f10_0a7e),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(config(300, 0x0f10_0a7e))]
 
     /// The bound holds whichever way the values arrive: pushed, in slices, or in merged parts.
     #[test]

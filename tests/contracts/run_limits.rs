@@ -3,6 +3,7 @@
 //! in seconds), with what it has and the reason it stopped; budgets beyond 2^52 evaluations
 //! need a time limit; a run that reaches the end of its sampler's pass says so.
 
+use crate::common::unit;
 use mcint::adaptive::{Miser, TwoStage, Vegas};
 use mcint::pdf::UniformBox;
 use mcint::sampler::{Pmj02, Scramble, Sobol};
@@ -27,10 +28,6 @@ fn cancelling(
         x[0] * x[1]
     };
     (f, calls)
-}
-
-fn unit() -> UniformBox {
-    UniformBox::unit(2).unwrap()
 }
 
 fn stopped(e: &Estimate) -> bool {

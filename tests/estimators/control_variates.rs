@@ -15,33 +15,14 @@
 //! (`int x^k e^x = e - k int x^(k-1) e^x`); fourth moments, needed only for tolerances, from
 //! composite Simpson quadrature, accurate to about 1e-15 for these smooth integrands.
 
+use crate::common::{config, integrate01};
 use mcint::estimator::{ControlVariate, ControlVariates, Estimator};
 use mcint::pdf::{Linear, UniformBox};
 use mcint::sampler::{Independent, Jittered, Scramble, Sobol};
 use mcint::stats::{Accumulator, CovarianceAccumulator, ErrorBasis};
 use mcint::{Error, Integrator, Points};
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
 use std::f64::consts::E;
-
-fn config(cases: u32, seed: u64) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        rng_seed: RngSeed::Fixed(seed),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
-/// Composite Simpson rule on [0, 1] with 4096 intervals.
-fn integrate01(f: impl Fn(f64) -> f64) -> f64 {
-    let n = 4096;
-    let h = 1.0 / n as f64;
-    let inner: f64 = (1..n)
-        .map(|i| f(i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 })
-        .sum();
-    (f(0.0) + f(1.0) + inner) * h / 3.0
-}
 
 /// `int_0^1 x^k e^x dx` by the recurrence `I_k = e - k I_{k-1}`, `I_0 = e - 1`.
 fn moment_exp(k: u32) -> f64 {

@@ -5,13 +5,13 @@
 //! Tolerances are 4.5 to 5 standard errors of the tested quantity (false-alarm probability
 //! below 1e-5 per check); all randomness comes from fixed seeds.
 
+use crate::common::config;
 use mcint::Points;
 use mcint::estimator::{ConsistentBiased, Estimator, ImportanceEstimator, UniformEstimator};
 use mcint::pdf::{Exponential, Linear, Pdf1d, TruncatedNormal, UniformBox};
 use mcint::sampler::{Independent, Sampler};
 use mcint::stats::Accumulator;
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
 
 /// A polynomial `sum c_k x^k` on an interval, with exact moments.
 #[derive(Debug, Clone)]
@@ -70,15 +70,6 @@ fn summary(values: &[f64]) -> Accumulator {
 
 fn polynomial() -> impl Strategy<Value = Poly> {
     prop::collection::vec(-2.0..2.0f64, 1..6).prop_map(|c| Poly { c })
-}
-
-fn config(cases: u32, seed: u64) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        rng_seed: RngSeed::Fixed(seed),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
 }
 
 proptest! {

@@ -10,6 +10,9 @@
 //!
 //! Run one module with a filter: `cargo test --release --test estimators -- mis::`.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod control_variates;
 mod estimators;
 mod mis;

@@ -15,6 +15,7 @@
 //!
 //! All randomness comes from fixed seeds.
 
+use crate::common::{ONE_BELOW, config, integrate};
 use mcint::estimator::{
     Estimator, ImportanceEstimator, MisHeuristic, MisWeighting, MultiSampleMis, OneSampleMis,
     ProductImportanceEstimator,
@@ -27,20 +28,6 @@ use mcint::sampler::{Independent, Sampler};
 use mcint::stats::{Accumulator, chi_square_goodness_of_fit};
 use mcint::{Error, Integrator, Points};
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
-use std::sync::OnceLock;
-
-/// The largest canonical coordinate a sampler produces, `1 - 2^-53`.
-const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
-
-fn config(cases: u32, seed: u64) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        rng_seed: RngSeed::Fixed(seed),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
 
 /// The heuristics under test, with Veach's power exponent and two others.
 fn heuristics() -> Vec<MisHeuristic> {
@@ -56,57 +43,6 @@ fn heuristics() -> Vec<MisHeuristic> {
 // ---------------------------------------------------------------------------------------------
 // Quadrature (Gauss-Legendre, written here so that the reference does not share code with the
 // library)
-
-/// Gauss-Legendre points per panel: exact for polynomials of degree 23.
-const GL_POINTS: usize = 12;
-
-/// Nodes and weights of the Gauss-Legendre rule on `[-1, 1]`, by Newton's method on `P_n`.
-fn gauss_legendre() -> &'static [(f64, f64)] {
-    static RULE: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
-    RULE.get_or_init(|| {
-        let legendre = |x: f64| {
-            let (mut p0, mut p1) = (1.0, x);
-            for k in 2..=GL_POINTS {
-                let k = k as f64;
-                let p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            (p1, GL_POINTS as f64 * (x * p1 - p0) / (x * x - 1.0))
-        };
-        (0..GL_POINTS)
-            .map(|i| {
-                let mut x =
-                    (std::f64::consts::PI * (i as f64 + 0.75) / (GL_POINTS as f64 + 0.5)).cos();
-                for _ in 0..100 {
-                    let (p, dp) = legendre(x);
-                    x -= p / dp;
-                    if (p / dp).abs() < 1e-16 {
-                        break;
-                    }
-                }
-                let (_, dp) = legendre(x);
-                (x, 2.0 / ((1.0 - x * x) * dp * dp))
-            })
-            .collect()
-    })
-}
-
-/// Composite Gauss-Legendre integral of `f` over `[lo, hi]` with `panels` equal panels.
-fn integrate(f: impl Fn(f64) -> f64, lo: f64, hi: f64, panels: usize) -> f64 {
-    let width = (hi - lo) / panels as f64;
-    (0..panels)
-        .map(|p| {
-            let mid = lo + (p as f64 + 0.5) * width;
-            gauss_legendre()
-                .iter()
-                .map(|&(x, w)| w * f(mid + 0.5 * width * x))
-                .sum::<f64>()
-                * 0.5
-                * width
-        })
-        .sum()
-}
 
 /// Tensor-product Gauss-Legendre over a rectangle, `panels` per axis.
 fn integrate_2d(f: impl Fn(&[f64]) -> f64, lo: [f64; 2], hi: [f64; 2], panels: usize) -> f64 {

@@ -2,8 +2,8 @@
 //! random discrete distributions. These are the facts the estimators' proofs (A.15, A.20,
 //! A.21) rest on.
 
+use crate::common::config;
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
 
 /// A discrete distribution: values with probabilities summing to one.
 #[derive(Debug, Clone)]
@@ -78,17 +78,8 @@ fn close(a: f64, b: f64, scale: f64) -> bool {
     (a - b).abs() <= 1e-12 * scale.max(1.0)
 }
 
-fn config() -> ProptestConfig {
-    ProptestConfig {
-        cases: 256,
-        rng_seed: RngSeed::Fixed(0x0a06),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
 proptest! {
-    #![proptest_config(config())]
+    #![proptest_config(config(256, 0x0a06))]
 
     /// A.6 and A.7: E[aY] = a E[Y], sigma^2[aY] = a^2 sigma^2[Y].
     #[test]

@@ -14,6 +14,9 @@
 //!
 //! Run one module with a filter: `cargo test --release --test pdfs -- pdfs_warps::`.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod measures;
 mod pdfs;
 mod pdfs_oriented;

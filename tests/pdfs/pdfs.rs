@@ -7,85 +7,15 @@
 //! Statistical thresholds are chi-square 1e-5 quantiles with fixed seeds, so a correct pdf
 //! fails none of them in practice and a run is reproducible bit for bit.
 
+use crate::common::{ONE_BELOW, canonical, canonical_u, config, gauss_legendre, integrate, named};
 use mcint::pdf::{
     Exponential, Linear, Pdf, Pdf1d, ProductPdf, TruncatedNormal, UniformBox, UniformInterval,
 };
-use mcint::sampler::{Independent, Sampler};
-use mcint::{Error, Points};
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
-use std::sync::OnceLock;
 
 const INF: f64 = f64::INFINITY;
-/// The largest canonical coordinate a sampler produces, `1 - 2^-53`.
-const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
-
-fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        rng_seed: RngSeed::Fixed(12345),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
 // ---------------------------------------------------------------------------------------------
 // Quadrature
-
-/// Gauss-Legendre points per panel: exact for polynomials of degree 23.
-const GL_POINTS: usize = 12;
-
-/// `(P_n(x), P_n'(x))` by the three-term recurrence.
-fn legendre(n: usize, x: f64) -> (f64, f64) {
-    let (mut p0, mut p1) = (1.0, x);
-    for k in 2..=n {
-        let k = k as f64;
-        let p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-    }
-    (p1, n as f64 * (x * p1 - p0) / (x * x - 1.0))
-}
-
-/// Nodes and weights of the Gauss-Legendre rule on `[-1, 1]`, by Newton's method on `P_n`
-/// from the usual cosine starting guesses.
-fn gauss_legendre() -> &'static [(f64, f64)] {
-    static RULE: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
-    RULE.get_or_init(|| {
-        let n = GL_POINTS;
-        (0..n)
-            .map(|i| {
-                let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-                for _ in 0..100 {
-                    let (p, dp) = legendre(n, x);
-                    let dx = p / dp;
-                    x -= dx;
-                    if dx.abs() < 1e-16 {
-                        break;
-                    }
-                }
-                let (_, dp) = legendre(n, x);
-                (x, 2.0 / ((1.0 - x * x) * dp * dp))
-            })
-            .collect()
-    })
-}
-
-/// Composite Gauss-Legendre integral of `f` over finite `[lo, hi]` with `panels` panels.
-fn integrate(f: impl Fn(f64) -> f64, lo: f64, hi: f64, panels: usize) -> f64 {
-    let rule = gauss_legendre();
-    let width = (hi - lo) / panels as f64;
-    (0..panels)
-        .map(|p| {
-            let mid = lo + (p as f64 + 0.5) * width;
-            let half = 0.5 * width;
-            rule.iter()
-                .map(|&(x, w)| w * f(mid + half * x))
-                .sum::<f64>()
-                * half
-        })
-        .sum()
-}
 
 /// Tensor-product composite Gauss-Legendre over a box, `(lo, hi, panels)` per dimension.
 fn integrate_nd(f: &dyn Fn(&[f64]) -> f64, axes: &[(f64, f64, usize)]) -> f64 {
@@ -453,16 +383,6 @@ fn assert_chi2_passes(name: &str, observed: &[f64], expected: &[f64]) {
     );
 }
 
-/// Canonical points from the independent sampler.
-fn canonical(dims: usize, count: usize, seed: u64) -> Points {
-    let mut points = Points::new(dims, count).unwrap();
-    Independent::new(dims, seed)
-        .unwrap()
-        .fill(0, &mut points)
-        .unwrap();
-    points
-}
-
 /// Samples per 1-D goodness-of-fit test. Against a smooth error in the density the statistic
 /// grows by about `samples * sum (p_i - q_i)^2 / q_i`, so power comes from many samples and
 /// few enough cells that the 1e-5 threshold sits close to the mean: with 200,000 samples
@@ -637,17 +557,6 @@ fn product_and_box_samples_follow_the_density() {
 // ---------------------------------------------------------------------------------------------
 // invert and monotonicity
 
-/// Canonical coordinates: anywhere, very near 0, very near 1, and the two extremes.
-fn canonical_u() -> impl Strategy<Value = f64> {
-    prop_oneof![
-        0.0..1.0f64,
-        0.0..1e-9f64,
-        (1.0 - 1e-9)..1.0f64,
-        Just(0.0),
-        Just(ONE_BELOW),
-    ]
-}
-
 /// Round-trip tolerance for `invert(sample(u)) = u`. The sample x is a float, so it carries
 /// up to a few ulps of rounding (a clamp to the half-open support moves it by one ulp), and
 /// that moves u by `pdf(x)` per unit of x: 4 pdf(x) ulp(x). The cdf arithmetic itself adds a
@@ -664,7 +573,7 @@ fn round_trip_tolerance(density: f64, x: f64) -> f64 {
 }
 
 proptest! {
-    #![proptest_config(config(512))]
+    #![proptest_config(config(512, 12345))]
 
     #[test]
     fn invert_undoes_sample(case in 0usize..29, u in canonical_u()) {
@@ -1155,15 +1064,6 @@ fn pdfs_vanish_outside_their_supports() {
         [0.5, f64::NAN],
     ] {
         assert_eq!(p.pdf(&x), 0.0, "product pdf({x:?})");
-    }
-}
-
-/// The parameter an `InvalidParameter` error names, or the `what` of a dimension mismatch.
-fn named(err: Error) -> &'static str {
-    match err {
-        Error::InvalidParameter { name, .. } => name,
-        Error::DimensionMismatch { what, .. } => what,
-        other => panic!("unexpected error {other:?}"),
     }
 }
 

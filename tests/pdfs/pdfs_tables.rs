@@ -9,90 +9,21 @@
 //! Every statistical test uses a fixed seed and rejects at p < 1e-5, so a correct pdf fails
 //! none of them in practice and every run is reproducible bit for bit.
 
+use crate::common::{
+    ONE_BELOW, P_REJECT, canonical, canonical_u, config, gauss_legendre, integrate, named,
+};
+use mcint::Error;
 use mcint::pdf::{
     AliasTable, Normal, Pdf, Pdf1d, PiecewiseConstant1d, PiecewiseConstant2d, PiecewiseLinear1d,
     Tent, TruncatedNormal,
 };
-use mcint::sampler::{Independent, Sampler};
 use mcint::stats::chi_square_goodness_of_fit;
-use mcint::{Error, Points};
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
-use std::sync::OnceLock;
 
 const INF: f64 = f64::INFINITY;
 const NAN: f64 = f64::NAN;
-/// The largest canonical coordinate a sampler produces, `1 - 2^-53`.
-const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
-/// Reject a goodness-of-fit test below this p-value.
-const P_REJECT: f64 = 1e-5;
-
-fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        rng_seed: RngSeed::Fixed(20240605),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
 // ---------------------------------------------------------------------------------------------
 // Quadrature
-
-/// Gauss-Legendre points per panel: exact for polynomials of degree 23, so exact (to rounding)
-/// on every piece of the tent and table densities.
-const GL_POINTS: usize = 12;
-
-/// `(P_n(x), P_n'(x))` by the three-term recurrence.
-fn legendre(n: usize, x: f64) -> (f64, f64) {
-    let (mut p0, mut p1) = (1.0, x);
-    for k in 2..=n {
-        let k = k as f64;
-        let p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-    }
-    (p1, n as f64 * (x * p1 - p0) / (x * x - 1.0))
-}
-
-/// Nodes and weights of the Gauss-Legendre rule on `[-1, 1]`, by Newton's method on `P_n`.
-fn gauss_legendre() -> &'static [(f64, f64)] {
-    static RULE: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
-    RULE.get_or_init(|| {
-        let n = GL_POINTS;
-        (0..n)
-            .map(|i| {
-                let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-                for _ in 0..100 {
-                    let (p, dp) = legendre(n, x);
-                    let dx = p / dp;
-                    x -= dx;
-                    if dx.abs() < 1e-16 {
-                        break;
-                    }
-                }
-                let (_, dp) = legendre(n, x);
-                (x, 2.0 / ((1.0 - x * x) * dp * dp))
-            })
-            .collect()
-    })
-}
-
-/// Composite Gauss-Legendre integral of `f` over finite `[lo, hi]` with `panels` panels.
-fn integrate(f: &dyn Fn(f64) -> f64, lo: f64, hi: f64, panels: usize) -> f64 {
-    let rule = gauss_legendre();
-    let width = (hi - lo) / panels as f64;
-    (0..panels)
-        .map(|p| {
-            let mid = lo + (p as f64 + 0.5) * width;
-            let half = 0.5 * width;
-            rule.iter()
-                .map(|&(x, w)| w * f(mid + half * x))
-                .sum::<f64>()
-                * half
-        })
-        .sum()
-}
 
 /// The integral of `f` over `[lo, hi]`, split at the `breaks` inside it (where `f` has a kink
 /// or a jump) and into panels no wider than `max_panel` (`INF` for polynomial pieces).
@@ -121,7 +52,7 @@ fn integrate_pieces(
 fn quadrature_is_exact_where_theory_says() {
     let rule = gauss_legendre();
     assert!((rule.iter().map(|&(_, w)| w).sum::<f64>() - 2.0).abs() < 1e-14);
-    assert!((integrate(&|x| x.powi(23), 0.0, 1.0, 1) - 1.0 / 24.0).abs() < 1e-15);
+    assert!((integrate(|x: f64| x.powi(23), 0.0, 1.0, 1) - 1.0 / 24.0).abs() < 1e-15);
     // A step at 0.3 is integrated exactly once the break is given.
     let step = |x: f64| if x < 0.3 { 1.0 } else { 3.0 };
     let exact = 0.3 + 3.0 * 0.7;
@@ -144,7 +75,7 @@ fn reference_normal_cdf(z: f64) -> f64 {
         return NAN;
     }
     let t = z.abs().min(40.0);
-    let half = integrate(&phi, 0.0, t, ((t / 0.25).ceil() as usize).max(1));
+    let half = integrate(phi, 0.0, t, ((t / 0.25).ceil() as usize).max(1));
     if z < 0.0 { 0.5 - half } else { 0.5 + half }
 }
 
@@ -581,16 +512,6 @@ fn table_probabilities_sum_to_one_exactly() {
 // ---------------------------------------------------------------------------------------------
 // Samples follow the density
 
-/// Canonical points from the independent sampler.
-fn canonical(dims: usize, count: usize, seed: u64) -> Points {
-    let mut points = Points::new(dims, count).unwrap();
-    Independent::new(dims, seed)
-        .unwrap()
-        .fill(0, &mut points)
-        .unwrap();
-    points
-}
-
 fn assert_fits(name: &str, observed: &[u64], expected: &[f64]) {
     let fit = chi_square_goodness_of_fit(observed, expected, 5.0).unwrap();
     assert!(
@@ -699,17 +620,6 @@ fn round_trip_tolerance(density: f64, x: f64) -> f64 {
     1e-12 + 4.0 * density * (x.abs().next_up() - x.abs())
 }
 
-/// Canonical coordinates: anywhere, very near 0, very near 1, and the two extremes.
-fn canonical_u() -> impl Strategy<Value = f64> {
-    prop_oneof![
-        0.0..1.0f64,
-        0.0..1e-9f64,
-        (1.0 - 1e-9)..1.0f64,
-        Just(0.0),
-        Just(ONE_BELOW),
-    ]
-}
-
 fn check_round_trip(name: &str, pdf: &dyn Pdf1d, u: f64) -> Result<(), TestCaseError> {
     let x = pdf.sample_1d(u);
     prop_assert!(x.is_finite(), "{}: sample({}) = {}", name, u, x);
@@ -754,7 +664,7 @@ fn interval() -> impl Strategy<Value = (f64, f64)> {
 }
 
 proptest! {
-    #![proptest_config(config(400))]
+    #![proptest_config(config(400, 20240605))]
 
     #[test]
     fn listed_cases_invert_their_samples(case in 0usize..34, u in canonical_u()) {
@@ -1210,7 +1120,7 @@ fn the_2d_table_samples_follow_the_density() {
 }
 
 proptest! {
-    #![proptest_config(config(400))]
+    #![proptest_config(config(400, 20240605))]
 
     #[test]
     fn the_2d_table_inverts_its_samples(
@@ -1512,15 +1422,6 @@ fn alias_handles_out_of_range_u() {
 // ---------------------------------------------------------------------------------------------
 // Parameters
 
-/// The parameter an error names.
-fn named(err: Error) -> &'static str {
-    match err {
-        Error::InvalidParameter { name, .. } => name,
-        Error::DimensionMismatch { what, .. } => what,
-        other => panic!("unexpected error {other:?}"),
-    }
-}
-
 #[test]
 fn constructors_reject_bad_parameters_by_name() {
     let normal = |m, s| named(Normal::new(m, s).unwrap_err());
@@ -1688,7 +1589,7 @@ fn check_usable(pdf: &dyn Pdf1d) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(config(2000))]
+    #![proptest_config(config(2000, 20240605))]
 
     #[test]
     fn constructors_never_panic_on_absurd_input(

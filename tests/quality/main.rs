@@ -16,6 +16,9 @@
 //!
 //! Run one module with a filter: `cargo test --release --test quality -- quality_nets::`.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod genz_batch;
 mod qmc_rates;
 mod quality_convergence;

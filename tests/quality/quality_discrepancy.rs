@@ -7,6 +7,7 @@
 //! sums its `N^2` pair terms naively, and its own rounding error reaches `1e-6` relative on
 //! low-discrepancy sets; the exact values are the primary reference.
 
+use crate::common::SplitMix64;
 use mcint::quality::{Discrepancy, STAR_DISCREPANCY_MAX_POINTS, star_discrepancy};
 use mcint::sampler::{Sampler, Scramble, Sobol};
 use mcint::{Points, Result};
@@ -61,17 +62,9 @@ fn from_rows(rows: &[Vec<f64>]) -> Points {
 }
 
 fn splitmix(seed: u64, n: usize, dims: usize) -> Vec<Vec<f64>> {
-    let mut state = seed;
-    let mut next = || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 * 2f64.powi(-53)
-    };
+    let mut rng = SplitMix64(seed);
     (0..n)
-        .map(|_| (0..dims).map(|_| next()).collect())
+        .map(|_| (0..dims).map(|_| rng.uniform()).collect())
         .collect()
 }
 

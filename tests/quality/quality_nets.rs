@@ -1,18 +1,10 @@
 //! Net quality: `(t, m, d)`-net checks and t-values in base 2, against a brute-force count
 //! and the known net properties of the crate's samplers.
 
+use crate::common::block;
 use mcint::Points;
 use mcint::quality::{elementary_intervals_balanced, shape_balanced, t_value};
-use mcint::sampler::{
-    Hammersley, Independent, Jittered, LatinHypercube, Pmj02, Sampler, Scramble, Sobol,
-};
-
-/// Points `start .. start + n` of a sampler.
-fn block(sampler: &dyn Sampler, start: u64, n: usize) -> Points {
-    let mut points = Points::new(sampler.dims(), n).unwrap();
-    sampler.fill(start, &mut points).unwrap();
-    points
-}
+use mcint::sampler::{Hammersley, Independent, Jittered, LatinHypercube, Pmj02, Scramble, Sobol};
 
 /// The first `dims` columns of a block.
 fn project(points: &Points, dims: usize) -> Points {

@@ -1,21 +1,14 @@
 //! Periodograms and radial power spectra of 2-D point sets, against direct evaluation and the
 //! expected spectra of white noise and jittered sampling.
 
+use crate::common::block;
 use mcint::Points;
 use mcint::quality::{
     Periodogram, RadialSpectrum, mean_periodogram, mean_periodogram_with_threads, periodogram,
     periodogram_with_threads,
 };
-use mcint::sampler::{
-    BestCandidate, Independent, Jittered, Pmj02, PoissonDisk, Sampler, Scramble, Sobol,
-};
+use mcint::sampler::{BestCandidate, Independent, Jittered, Pmj02, PoissonDisk, Scramble, Sobol};
 use std::f64::consts::{PI, TAU};
-
-fn block(sampler: &dyn Sampler, start: u64, n: usize) -> Points {
-    let mut points = Points::new(sampler.dims(), n).unwrap();
-    sampler.fill(start, &mut points).unwrap();
-    points
-}
 
 /// The frequencies of the half plane `ky > 0 or (ky = 0 and kx > 0)`: one of each pair
 /// `{k, -k}`, whose periodogram values are equal.

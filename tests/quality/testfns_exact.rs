@@ -15,6 +15,7 @@
 //! is also checked at d = 8, 20 and up to 1000 against exact evaluations that do not share
 //! that method (see `corner_peak_high_dimension_*`).
 
+use crate::common::SplitMix64;
 use mcint::testfns::{Genz, GenzFamily, Polynomial, RoosArnold, SobolG, TestFunction};
 
 /// Nodes and weights of the n-point Gauss-Legendre rule on [-1, 1].
@@ -454,26 +455,9 @@ fn corner_peak_high_dimension_matches_equal_a_product() {
     }
 }
 
-/// splitmix64, so the random polynomials are the same on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 #[test]
 fn polynomials_match_cubature() {
-    let mut rng = Rng(2024);
+    let mut rng = SplitMix64(2024);
     for trial in 0..60 {
         let d = 1 + trial % 3;
         let n_terms = 1 + (rng.next_u64() % 6) as usize;

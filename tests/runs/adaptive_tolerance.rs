@@ -16,14 +16,13 @@
 //! (190 before). Corner peak and discontinuous use `a` rescaled to sum 2.5, as in the
 //! Integrator's test, for the same reason (heavy tails with the customary `a`).
 
+use crate::common::{REQUIRED, SEEDS};
 use mcint::adaptive::{Miser, Vegas};
 use mcint::pdf::UniformBox;
 use mcint::stats::{StopReason, Tolerance};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
 use mcint::{Estimate, Integrator};
 
-const SEEDS: u64 = 200;
-const REQUIRED: u64 = 186;
 const DIMS: usize = 5;
 /// Independent points a plain run would need to meet the tolerance (see [`tolerance_for`]).
 const PLAIN_POINTS: f64 = 8192.0;

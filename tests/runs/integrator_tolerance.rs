@@ -11,14 +11,12 @@
 //! are designed to be a little conservative (the RQMC error bar is inflated by 1.2, the
 //! plain pilot's deviation by 1.1). The seeds are fixed, so the outcome is reproducible.
 
+use crate::common::{REQUIRED, SEEDS};
 use mcint::Integrator;
 use mcint::pdf::UniformBox;
 use mcint::sampler::{Scramble, Sobol};
 use mcint::stats::{StopReason, Tolerance};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
-
-const SEEDS: u64 = 200;
-const REQUIRED: u64 = 186;
 
 /// Independent points a plain run needs to meet the tolerance: enough for the CLT, few
 /// enough that 200 runs of each family in 10-D take well under a second.

@@ -18,6 +18,9 @@
 //!
 //! Run one module with a filter: `cargo test --release --test runs -- adaptive_vegas::`.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod adaptive_miser;
 mod adaptive_tolerance;
 mod adaptive_two_stage;

@@ -13,14 +13,13 @@
 //! value in only 18 of 40 seeds; the discontinuous family's coefficients decay so slowly that
 //! 2^26 points do not reach the tolerance (its bound then covers in 40 of 40).
 
+use crate::common::{REQUIRED, SEEDS};
 use mcint::adaptive::SobolG;
 use mcint::pdf::UniformBox;
 use mcint::stats::{ErrorBasis, StopReason, Tolerance};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
 use mcint::{CancelToken, Error};
 
-const SEEDS: u64 = 200;
-const REQUIRED: u64 = 186;
 const DIMS: usize = 5;
 
 /// Runs `f` to an absolute tolerance `tol` on one thread with `seed`.

@@ -31,14 +31,13 @@
 //! standard deviation would fail. The `O(1/n)` bias of these ratios is at most 1% of a
 //! standard deviation (product peak over Gaussian, plain, 5-D): 10^5 seeds would not see it.
 
+use crate::common::{REQUIRED, SEEDS};
 use mcint::Integrator;
 use mcint::pdf::UniformBox;
 use mcint::sampler::{Scramble, Sobol};
 use mcint::stats::{Derived, ErrorBasis, Estimate, StopReason, Tolerance, VectorEstimate};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
 
-const SEEDS: u64 = 200;
-const REQUIRED: u64 = 186;
 const OUTPUTS: usize = 4;
 
 /// Independent points of a fixed-budget plain run, and about what a plain run to a tolerance

@@ -14,13 +14,11 @@
 //! Coverage: with a true coverage of 95% the count of covering runs out of 200 is binomial
 //! with mean 190 and standard deviation 3.1; 186 (93%), as in `tests/integrator_tolerance.rs`.
 
+use crate::common::{REQUIRED, SEEDS};
 use mcint::Error;
 use mcint::adaptive::Vegas;
 use mcint::pdf::UniformBox;
 use mcint::stats::{Derived, Tolerance};
-
-const SEEDS: u64 = 200;
-const REQUIRED: u64 = 186;
 
 /// A Gaussian peak off the centre in 3-D and its first moment in x0: a posterior-mean-like
 /// pair whose ratio is near the peak's centre, 0.4. The peak's standard deviation is 0.1, so

@@ -11,36 +11,14 @@
 //!   4.5 standard errors of the sample variance, `sqrt((mu_4 - sigma^4) / M)`, with fourth
 //!   moments by composite Simpson quadrature.
 
+use crate::common::{ONE_BELOW, config, integrate01};
 use mcint::pdf::UniformBox;
 use mcint::sampler::{
     Antithetic, Independent, Jittered, LatinHypercube, PassKind, Sampler, Scramble, Sobol, reflect,
 };
 use mcint::{Error, Integrator, Points};
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
 use std::f64::consts::E;
-
-/// The largest canonical coordinate, `1 - 2^-53`.
-const ONE_BELOW: f64 = 1.0 - f64::EPSILON / 2.0;
-
-fn config(cases: u32, seed: u64) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        rng_seed: RngSeed::Fixed(seed),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
-/// Composite Simpson rule on [0, 1] with 4096 intervals.
-fn integrate01(f: impl Fn(f64) -> f64) -> f64 {
-    let n = 4096;
-    let h = 1.0 / n as f64;
-    let inner: f64 = (1..n)
-        .map(|i| f(i as f64 * h) * if i % 2 == 1 { 4.0 } else { 2.0 })
-        .sum();
-    (f(0.0) + f(1.0) + inner) * h / 3.0
-}
 
 /// A sampler of awkward coordinates (zero, the largest value below one, subnormals, values off
 /// the 2^-53 grid), cycling with the index, with a configurable pass kind.

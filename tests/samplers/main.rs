@@ -19,6 +19,9 @@
 //!
 //! Run one module with a filter: `cargo test --release --test samplers -- qmc_sobol::`.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod antithetic;
 mod design_optimization;
 mod fill_f32;

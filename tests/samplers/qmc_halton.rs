@@ -19,6 +19,7 @@
 //! with fixed seeds, so a correct sampler fails none of them in practice and a run is
 //! reproducible bit for bit.
 
+use crate::common::SplitMix64;
 use mcint::sampler::{Halton, Hammersley, PassKind, Sampler, Scramble};
 use mcint::{Error, Points};
 
@@ -41,23 +42,6 @@ fn primes(n: usize) -> Vec<u64> {
         candidate += 1;
     }
     found
-}
-
-/// SplitMix64, for reproducible test parameters.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -276,13 +260,13 @@ fn samplers(dims: usize, seed: u64) -> Vec<(String, Box<dyn Sampler>)> {
 }
 
 /// Start indices that cross pass boundaries and reach the end of the index space.
-fn interesting_start(rng: &mut Rng, pass: u64, len: u64) -> u64 {
+fn interesting_start(rng: &mut SplitMix64, pass: u64, len: u64) -> u64 {
     match rng.below(5) {
         0 => rng.below(5000),
         1 => (1 + rng.below(5)) * pass - rng.below(len + 1).min(pass),
         2 => u64::MAX - len + 1 - rng.below(3).min(u64::MAX - len + 1),
         3 => (1 + rng.below(1000)) * PASS - rng.below(len + 1),
-        _ => rng.next() >> rng.below(64),
+        _ => rng.next_u64() >> rng.below(64),
     }
 }
 
@@ -312,9 +296,9 @@ fn check_fill_matches_point(sampler: &dyn Sampler, name: &str, start: u64, len: 
 
 #[test]
 fn fill_equals_point_bit_for_bit() {
-    let mut rng = Rng(2024);
+    let mut rng = SplitMix64(2024);
     for dims in [1usize, 2, 7, 40] {
-        for (name, sampler) in samplers(dims, rng.next()) {
+        for (name, sampler) in samplers(dims, rng.next_u64()) {
             let pass = match sampler.passes() {
                 PassKind::Fixed { size } => size,
                 PassKind::Extensible { max } => max,

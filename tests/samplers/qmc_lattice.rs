@@ -2,29 +2,13 @@
 //! structure of every power-of-two prefix, exact integration of trigonometric polynomials, and
 //! the variance of the randomly shifted rule against its closed form.
 
+use crate::common::SplitMix64;
 use mcint::Points;
 use mcint::sampler::{Lattice, PassKind, Sampler, Scramble};
 use std::f64::consts::PI;
 
 /// Points per pass of Kuo's vector.
 const KUO_MAX: u64 = 1 << 20;
-
-/// SplitMix64, for reproducible random test cases without depending on rand's API.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-}
 
 /// `x * n` as an integer, asserting that it is one (the coordinate lies on the `1/n` grid).
 fn numerator(x: f64, n: u64) -> u64 {
@@ -104,7 +88,7 @@ fn fill_matches_point_bit_for_bit_across_pass_boundaries() {
         Lattice::with_generator(vec![1, 77, 201], 8, Scramble::Shift, 5).unwrap(),
         Lattice::with_generator(vec![1, (1 << 52) - 3, 12345], 52, Scramble::Shift, 4).unwrap(),
     ];
-    let mut rng = SplitMix(2024);
+    let mut rng = SplitMix64(2024);
     for s in &samplers {
         let PassKind::Extensible { max } = s.passes() else {
             panic!("a lattice is extensible");
@@ -231,7 +215,7 @@ fn coordinates_lie_in_unit_interval() {
         Lattice::with_generator(vec![near_one, 1, near_one - 2], 52, Scramble::Shift, 2).unwrap(),
         Lattice::with_generator(vec![near_one, 1, near_one - 2], 52, Scramble::None, 2).unwrap(),
     ];
-    let mut rng = SplitMix(9);
+    let mut rng = SplitMix64(9);
     for s in &samplers {
         for seed in 0..8 {
             let mut s = s.clone();

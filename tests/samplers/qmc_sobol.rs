@@ -35,6 +35,7 @@
 //! Chi-square thresholds: `scipy.stats.chi2.isf(1e-5, 63) = 122.727...` (8 x 8 cells, free
 //! margins) and `chi2.isf(1e-5, 49) = 103.116...` (8 x 8 cells, both margins fixed).
 
+use crate::common::SplitMix64;
 use mcint::Points;
 use mcint::sampler::{PassKind, Sampler, Scramble, Sobol};
 
@@ -68,23 +69,6 @@ fn word(x: f64) -> u64 {
         "{x}"
     );
     scaled as u64
-}
-
-/// A small SplitMix64 stream for test inputs.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
 }
 
 /// The samplers every property test runs on: each scramble, plus Owen with index shuffle.
@@ -184,11 +168,11 @@ fn last_points_of_a_pass_equal_scipy_and_unscrambled_passes_repeat() {
 
 #[test]
 fn fill_equals_point_bit_for_bit() {
-    let mut rng = Rng(11);
+    let mut rng = SplitMix64(11);
     for dims in [1, 3, 7] {
         for (name, sobol) in variants(dims, 99) {
             let mut starts = vec![0, 1, PASS - 300, PASS - 1, 2 * PASS - 7, u64::MAX - 600];
-            starts.extend((0..6).map(|_| rng.next()));
+            starts.extend((0..6).map(|_| rng.next_u64()));
             starts.extend((0..6).map(|_| rng.below(1 << 20)));
             let mut p = vec![0.0; dims];
             for start in starts {
@@ -268,7 +252,7 @@ fn randomized_coordinates_have_53_random_bits() {
 #[test]
 fn fill_splits_anywhere_with_identical_bits() {
     // A block filled at once equals the same block filled in arbitrary pieces.
-    let mut rng = Rng(12);
+    let mut rng = SplitMix64(12);
     for (name, sobol) in variants(4, 3) {
         let start = PASS - 1000;
         let whole = block(&sobol, start, 3000);

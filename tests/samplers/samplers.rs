@@ -7,21 +7,12 @@
 //! with fixed seeds, so a correct sampler fails none of them in practice and a run is
 //! reproducible bit for bit.
 
+use crate::common::{bits, block, config};
 use mcint::sampler::{
     Independent, Jittered, LatinHypercube, PassKind, Sampler, SamplerKind, build_sampler,
 };
 use mcint::{Error, Points};
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
-
-fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        rng_seed: RngSeed::Fixed(12345),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
 
 /// Which sampler to build, with its pass parameter.
 #[derive(Debug, Clone, Copy)]
@@ -92,19 +83,6 @@ fn any_start() -> impl Strategy<Value = u64> {
     ]
 }
 
-fn block(sampler: &dyn Sampler, start: u64, len: usize) -> Points {
-    let mut points = Points::new(sampler.dims(), len).unwrap();
-    sampler.fill(start, &mut points).unwrap();
-    points
-}
-
-/// Every coordinate of a block as raw bits, column by column.
-fn bits(points: &Points) -> Vec<u64> {
-    (0..points.dims())
-        .flat_map(|d| points.column(d).iter().map(|x| x.to_bits()))
-        .collect()
-}
-
 fn point(sampler: &dyn Sampler, index: u64) -> Vec<f64> {
     let mut p = vec![0.0; sampler.dims()];
     sampler.point(index, &mut p).unwrap();
@@ -127,7 +105,7 @@ fn invalid_name(err: &Error) -> &'static str {
 }
 
 proptest! {
-    #![proptest_config(config(256))]
+    #![proptest_config(config(256, 12345))]
 
     #[test]
     fn coordinates_lie_in_the_half_open_unit_interval(

@@ -8,6 +8,7 @@
 //! `simd::force_portable` switches the whole process, so the tests that rely on the dispatched
 //! path hold a shared lock and the one that switches holds it exclusively.
 
+use crate::common::SplitMix64;
 use mcint::Points;
 use mcint::sampler::{
     CorrelatedMultiJittered, Halton, Independent, LatinHypercube, Lattice, MultiJittered,
@@ -23,18 +24,9 @@ const LENGTHS: [usize; 16] = [
     0, 1, 7, 8, 9, 15, 16, 17, 31, 33, 255, 256, 257, 511, 1000, 1500,
 ];
 
-/// SplitMix64, for drawing random starts.
-fn splitmix(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
-
 /// Starts for a block of `len` points: aligned, misaligned, random, straddling or ending at
 /// pass boundaries, and ending at the last index `u64::MAX`.
-fn starts(len: usize, rng: &mut u64) -> Vec<u64> {
+fn starts(len: usize, rng: &mut SplitMix64) -> Vec<u64> {
     let len = len as u64;
     let mut starts = vec![0, 1, 13, 16, 255, 4096 + 5];
     // Straddling the end of pass 0 (the index counter wraps at 2^32 inside the kernels).
@@ -46,9 +38,9 @@ fn starts(len: usize, rng: &mut u64) -> Vec<u64> {
     starts.push(u64::MAX - len.saturating_sub(1));
     starts.push(u64::MAX - len.saturating_sub(1) - 9);
     for _ in 0..3 {
-        starts.push(splitmix(rng) >> 1);
+        starts.push(rng.next_u64() >> 1);
         // A random in-pass index in a random pass.
-        starts.push((splitmix(rng) & !(PASS - 1)) | (splitmix(rng) >> 32));
+        starts.push((rng.next_u64() & !(PASS - 1)) | (rng.next_u64() >> 32));
     }
     starts
 }
@@ -58,14 +50,14 @@ const SHORT_LENGTHS: [usize; 12] = [0, 1, 7, 8, 9, 15, 16, 17, 255, 256, 257, 10
 
 /// Starts for a sampler whose passes hold `pass` points: aligned and misaligned small ones,
 /// straddling and ending at pass boundaries, the last indices of the range, and random ones.
-fn starts_for_pass(len: usize, pass: u64, rng: &mut u64) -> Vec<u64> {
+fn starts_for_pass(len: usize, pass: u64, rng: &mut SplitMix64) -> Vec<u64> {
     let len = len as u64;
     let mut starts = vec![0, 1, 13, 4096 + 5];
     starts.push((3 * pass).saturating_sub(len / 2 + 3));
     starts.push((7 * pass).saturating_sub(len));
     starts.push(u64::MAX - len.saturating_sub(1));
     for _ in 0..2 {
-        starts.push(splitmix(rng) >> 1);
+        starts.push(rng.next_u64() >> 1);
     }
     starts
 }
@@ -110,7 +102,7 @@ fn sobols(dims: usize, seed: u64) -> Vec<Sobol> {
 #[test]
 fn sobol_fill_equals_point_for_every_scramble_start_length_and_dimension() {
     let _shared = PATH.read().unwrap();
-    let mut rng = 1;
+    let mut rng = SplitMix64(1);
     for dims in DIMS {
         for sobol in sobols(dims, dims as u64 * 31 + 5) {
             for len in LENGTHS {
@@ -134,7 +126,7 @@ fn sobol_long_fill_over_a_pass_boundary_equals_point() {
 #[test]
 fn independent_fill_equals_point_for_every_start_length_and_dimension() {
     let _shared = PATH.read().unwrap();
-    let mut rng = 2;
+    let mut rng = SplitMix64(2);
     for dims in DIMS {
         let sampler = Independent::new(dims, dims as u64 + 11).unwrap();
         for len in LENGTHS {
@@ -208,7 +200,7 @@ fn other_samplers(dims: usize, seed: u64) -> Vec<(Box<dyn Sampler>, u64)> {
 #[test]
 fn halton_lattice_stratified_and_orthogonal_array_fill_equals_point() {
     let _shared = PATH.read().unwrap();
-    let mut rng = 4;
+    let mut rng = SplitMix64(4);
     for dims in [1, 2, 3, 7, 32] {
         for (sampler, pass) in other_samplers(dims, dims as u64 * 17 + 1) {
             // Owen-scrambled Halton points cost microseconds each in 32 bases.
@@ -241,7 +233,7 @@ fn portable_kernels_equal_the_dispatched_ones() {
         samplers.push(Box::new(Independent::new(dims, 3).unwrap()));
         samplers.extend(other_samplers(dims, 3).into_iter().map(|(s, _)| s));
     }
-    let mut rng = 3;
+    let mut rng = SplitMix64(3);
     for sampler in &samplers {
         for len in [1, 17, 256, 1000, 3000] {
             for start in starts(len, &mut rng) {

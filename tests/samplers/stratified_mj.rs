@@ -9,19 +9,10 @@
 //! quantiles, with fixed seeds, so a correct sampler fails none of them in practice and every
 //! run is reproducible bit for bit.
 
+use crate::common::{bits, block, config};
 use mcint::sampler::{CorrelatedMultiJittered, MultiJittered, PassKind, Sampler};
 use mcint::{Error, Points};
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
-
-fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        rng_seed: RngSeed::Fixed(20130101),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
 
 /// Builds the uncorrelated (`correlated = false`) or correlated sampler.
 fn build(correlated: bool, dims: usize, m: u64, n: u64, seed: u64) -> Box<dyn Sampler> {
@@ -37,18 +28,6 @@ fn pass_size(sampler: &dyn Sampler) -> u64 {
         PassKind::Fixed { size } => size,
         other => panic!("expected fixed passes, got {other:?}"),
     }
-}
-
-fn block(sampler: &dyn Sampler, start: u64, len: usize) -> Points {
-    let mut points = Points::new(sampler.dims(), len).unwrap();
-    sampler.fill(start, &mut points).unwrap();
-    points
-}
-
-fn bits(points: &Points) -> Vec<u64> {
-    (0..points.dims())
-        .flat_map(|d| points.column(d).iter().map(|x| x.to_bits()))
-        .collect()
 }
 
 /// Stratum of `x` among `k` equal slabs of `[0, 1)`.
@@ -119,7 +98,7 @@ fn any_spec() -> impl Strategy<Value = (bool, usize, u64, u64, u64)> {
 }
 
 proptest! {
-    #![proptest_config(config(192))]
+    #![proptest_config(config(192, 20130101))]
 
     #[test]
     fn every_pass_is_jittered_and_n_rooks(

@@ -5,19 +5,10 @@
 //! Statistical tolerances are 4.5 standard errors or a 1 - 1e-5 chi-square quantile, so each
 //! check has a false-alarm probability below about 1e-5; every seed is fixed.
 
+use crate::common::config;
 use mcint::Points;
 use mcint::sampler::{OaOffset, OrthogonalArray, PassKind, Sampler};
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
-
-fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        rng_seed: RngSeed::Fixed(0x0a5a_3971),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
 
 fn pass_size(s: &impl Sampler) -> u64 {
     match s.passes() {
@@ -96,7 +87,7 @@ fn cell(x: f64, cells: u64) -> u64 {
 }
 
 proptest! {
-    #![proptest_config(config(48))]
+    #![proptest_config(config(48, 0x0a5a_3971))]
 
     /// The defining property: in every t-dimensional projection of a pass each of the p^t
     /// cells holds exactly one point.

@@ -7,25 +7,10 @@
 //! Statistical checks use 4.5 standard errors (two-sided p about 7e-6) with fixed seeds, so a
 //! correct sampler fails none of them in practice and runs are reproducible.
 
+use crate::common::{bits, block, config};
 use mcint::sampler::{MultiStageNRooks, PassKind, Pmj02, Sampler};
 use mcint::{Error, Points};
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
-
-fn config(cases: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases,
-        rng_seed: RngSeed::Fixed(0x706d_6a30),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
-fn block(sampler: &dyn Sampler, start: u64, len: usize) -> Points {
-    let mut points = Points::new(sampler.dims(), len).unwrap();
-    sampler.fill(start, &mut points).unwrap();
-    points
-}
 
 /// Whether `x, y` (of equal length 2^m) form a (0, m, 2)-net in base 2: for every shape
 /// `2^-k x 2^-(m-k)` each elementary interval holds exactly one point.
@@ -49,12 +34,6 @@ fn one_per_slab(values: &[f64], slabs: u64) -> bool {
             let s = (v * slabs as f64) as usize;
             s < seen.len() && !std::mem::replace(&mut seen[s], true)
         })
-}
-
-fn bits(points: &Points) -> Vec<u64> {
-    (0..points.dims())
-        .flat_map(|d| points.column(d).iter().map(|x| x.to_bits()))
-        .collect()
 }
 
 /// `prod_j exp(x_j)`, whose integral over `[0, 1)^d` is `(e - 1)^d`.
@@ -108,7 +87,7 @@ fn exp_product_sd(d: i32) -> f64 {
 }
 
 proptest! {
-    #![proptest_config(config(6))]
+    #![proptest_config(config(6, 0x706d_6a30))]
 
     #[test]
     fn pmj02_power_of_two_prefixes_are_0_m_2_nets(seed in any::<u64>()) {
