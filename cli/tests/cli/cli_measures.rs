@@ -2,9 +2,7 @@
 //! control variate, bad input), `points --measure gaussian` (moments of the written points,
 //! bad covariance files) and `integrate --integrand keister`.
 
-mod common;
-
-use common::{assert_one_line_error, run, stdout};
+use crate::common::{self, assert_one_line_error, run, stdout};
 use serde_json::Value;
 
 fn json(name: &str, args: &[&str]) -> Value {

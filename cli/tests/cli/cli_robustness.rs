@@ -2,9 +2,7 @@
 //! (`| head -1`) ends it quietly, an argument that is not UTF-8 is a one-line error, sizes
 //! beyond memory are refused before anything is allocated, and a full disk is reported.
 
-mod common;
-
-use common::{assert_one_line_error, example, run, stderr};
+use crate::common::{self, assert_one_line_error, example, run, stderr};
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 
@@ -233,7 +231,7 @@ fn sizes_beyond_memory_are_refused_before_anything_is_allocated() {
 #[cfg(target_os = "linux")]
 #[test]
 fn input_files_must_be_regular_and_bounded() {
-    use common::output_or_hang;
+    use crate::common::output_or_hang;
     let dir = common::scratch_dir("inputs");
     let big = dir.join("big.csv");
     std::fs::File::create(&big)

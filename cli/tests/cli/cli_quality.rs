@@ -8,9 +8,7 @@ use mcint::quality::Discrepancy;
 use std::path::PathBuf;
 use std::process::Output;
 
-mod common;
-
-use common::{assert_one_line_error, run, stderr, stdout};
+use crate::common::{assert_one_line_error, run, stderr, stdout};
 
 /// A fresh directory under the system temp dir, unique to this process and `tag`.
 fn temp_dir(tag: &str) -> PathBuf {

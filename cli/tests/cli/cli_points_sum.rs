@@ -2,11 +2,9 @@
 //! points, equal to the sums of the CSV output and of the library's points; bad input is a
 //! one-line error. `cargo test` builds the examples before running this file.
 
+use crate::common::{assert_one_line_error, run, stderr, stdout};
 use mcint::Points;
 use mcint::sampler::SamplerKind;
-mod common;
-
-use common::{assert_one_line_error, run, stderr, stdout};
 
 /// Runs `points` with `args` plus `--format format` and returns its standard output.
 fn points(args: &[&str], format: &str) -> String {

@@ -1,9 +1,7 @@
 //! The example binaries, run as a user would: output formats, and one-line errors with a
 //! non-zero exit on bad input. `cargo test` builds the examples before running this file.
 
-mod common;
-
-use common::{assert_one_line_error, run, stderr, stdout};
+use crate::common::{assert_one_line_error, run, stderr, stdout};
 use mcint::sampler::SamplerKind;
 
 #[test]

@@ -3,9 +3,7 @@
 //! warns about counts that break a net, and the run of the issue that asked for the floor
 //! now reports an error bar its error fits in.
 
-mod common;
-
-use common::{run, stderr, stdout};
+use crate::common::{run, stderr, stdout};
 use serde_json::Value;
 
 fn integrate_json(args: &[&str]) -> (Value, String) {

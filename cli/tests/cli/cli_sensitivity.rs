@@ -2,9 +2,7 @@
 //! run agree with the analytic values within their standard errors, the table shows the
 //! same numbers as the JSON, and bad input is a one-line error with exit code 2.
 
-mod common;
-
-use common::{assert_one_line_error, run, stderr, stdout};
+use crate::common::{assert_one_line_error, run, stderr, stdout};
 use serde_json::Value;
 
 /// Within this many standard errors of the exact value. The numerators are unbiased and the

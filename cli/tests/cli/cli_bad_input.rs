@@ -10,9 +10,7 @@
 //! in a scratch directory, so that a relative path among the values writes nothing elsewhere.
 #![cfg(target_os = "linux")]
 
-mod common;
-
-use common::example;
+use crate::common::{self, example};
 use std::io::Read;
 use std::path::Path;
 use std::process::{Command, Stdio};

@@ -4,9 +4,7 @@
 //! errors of its exact value; checkpoints resuming to the same numbers; bad input refused with
 //! what is allowed.
 
-mod common;
-
-use common::{assert_one_line_error, run, stdout};
+use crate::common::{self, assert_one_line_error, run, stdout};
 use mcint::pdf::UniformBox;
 use mcint::sampler::{Scramble, Sobol};
 use mcint::testfns::{Genz, GenzFamily, TestFunction};

@@ -4,9 +4,7 @@
 //! `--time-limit` stops every program that integrates the same way, with status 0.
 #![cfg(target_os = "linux")]
 
-mod common;
-
-use common::{example, output_or_hang, run, stderr, stdout};
+use crate::common::{self, example, output_or_hang, run, stderr, stdout};
 use mcint::PartialRun;
 use serde_json::Value;
 use std::process::{Child, Command, Stdio};

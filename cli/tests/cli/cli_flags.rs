@@ -2,9 +2,7 @@
 //! malformed number, stray argument) with one line on stderr and a non-zero exit, before
 //! doing any work.
 
-mod common;
-
-use common::run;
+use crate::common::run;
 
 fn assert_one_line_error(name: &str, args: &[&str], needle: &str) {
     let out = run(name, args);

@@ -5,9 +5,9 @@
 //! process, and refused when it is no regular file.
 #![cfg(unix)]
 
-mod common;
-
-use common::{assert_one_line_error, example, output_or_hang, run, scratch_dir, stderr, stdout};
+use crate::common::{
+    assert_one_line_error, example, output_or_hang, run, scratch_dir, stderr, stdout,
+};
 use mcint::PartialRun;
 use serde_json::Value;
 use std::process::{Command, Stdio};
