@@ -27,8 +27,8 @@
 //! and `p = 1e-100`, fails for `p <= 1e-30` at dof 1e3 and above, and is off by 1e-8 to 3e-4
 //! at ordinary `p` (0.9, 0.025) for dof 1e4 to 1e6. It would also bring eight crates (approx,
 //! num-traits, thiserror and its proc-macro stack), and any change to these functions would
-//! change the bits of normal warps and confidence intervals that `tests/value_stability.rs`
-//! pins.
+//! change the bits of normal warps and confidence intervals that
+//! `tests/contracts/value_stability.rs` pins.
 
 mod chi_square;
 mod normal;

@@ -2,9 +2,9 @@
 //!
 //! `u.len()` must equal `canonical_dims()` and `x.len()` must equal `dims()`. Builds with debug
 //! assertions panic on any mismatch, naming the slice; every build panics on a slice that is
-//! too short. Run this module both ways: `cargo test --test contracts -- pdf_slice_lengths::`
-//! (debug, checks the assertions) and `cargo test --release --test contracts --
-//! pdf_slice_lengths::`.
+//! too short. Run this module both ways (CI does):
+//! `cargo test --test contracts -- pdf_slice_lengths::` (debug, checks the assertions) and
+//! `cargo test --release --test contracts -- pdf_slice_lengths::`.
 
 use glam::{DVec2, DVec3};
 use mcint::pdf::{

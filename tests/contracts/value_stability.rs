@@ -10,8 +10,9 @@
 //! convergence study and a mean periodogram.
 //!
 //! A change that alters any of them must say so in its commit message and update the table on
-//! purpose: run `MCINT_PRINT_PINS=1 cargo test --release --test contracts -- value_stability::
-//! --nocapture` and paste the printed table over [`PINS`] (a failing run prints it too).
+//! purpose: run
+//! `MCINT_PRINT_PINS=1 cargo test --release --test contracts -- value_stability:: --nocapture`
+//! and paste the printed table over [`PINS`] (a failing run prints it too).
 
 use mcint::adaptive::{Miser, SobolG, TwoStage, Vegas};
 use mcint::measure::{Construction, GeometricBrownianMotion};

@@ -5,7 +5,7 @@
 //! reach a tolerance on the 64-date Asian option in fewer evaluations than the standard
 //! construction; bad input is refused with what is allowed.
 //!
-//! Coverage: 186 of 200 (93%), as in `tests/integrator_tolerance.rs` (binomial mean 190,
+//! Coverage: 186 of 200 (93%), as in `tests/runs/integrator_tolerance.rs` (binomial mean 190,
 //! standard deviation 3.1 at a true 95%).
 
 #[path = "../../cli/src/bin/support/asian.rs"]

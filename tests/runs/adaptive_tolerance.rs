@@ -1,6 +1,6 @@
 //! MISER and VEGAS runs to a tolerance: their reported 95% intervals cover the exact value in
 //! at least 93% of 200 seeds on the 5-D Genz families they serve, as the Integrator's do
-//! (`tests/integrator_tolerance.rs`, which explains the 93%: 186 of 200 is 1.3 binomial
+//! (`tests/runs/integrator_tolerance.rs`, which explains the 93%: 186 of 200 is 1.3 binomial
 //! deviations below the 190 of an exact 95% interval).
 //!
 //! Both stop through the engine's one stopping rule. MISER's error bar comes from 16

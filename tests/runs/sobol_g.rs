@@ -1,6 +1,6 @@
 //! `SobolG`, the cone-based rule on one LMS-scrambled Sobol' sequence: its bound covers the
 //! exact value of the 5-D Genz families it serves in at least 93% of 200 seeds (binomial
-//! reasoning as in `tests/integrator_tolerance.rs`: a rule that covered only 90% would pass
+//! reasoning as in `tests/runs/integrator_tolerance.rs`: a rule that covered only 90% would pass
 //! with probability below 1%), the tolerance is met whenever reported met, the result does
 //! not depend on the thread count, and bad settings and values are errors.
 //!

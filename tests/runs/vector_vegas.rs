@@ -12,7 +12,7 @@
 //! variances.)
 //!
 //! Coverage: with a true coverage of 95% the count of covering runs out of 200 is binomial
-//! with mean 190 and standard deviation 3.1; 186 (93%), as in `tests/integrator_tolerance.rs`.
+//! with mean 190 and standard deviation 3.1; 186 (93%), as in `tests/runs/integrator_tolerance.rs`.
 
 use crate::common::{REQUIRED, SEEDS};
 use mcint::Error;

@@ -415,7 +415,7 @@ proptest! {
         let result = PoissonDisk::new(dims, n, seed);
         if dims > 4 {
             // Building 5-8-D passes takes seconds in debug builds: the constructor's
-            // answer is checked here, the passes by tests/stratified_blue_noise.rs.
+            // answer is checked here, the passes by tests/samplers/stratified_blue_noise.rs.
             prop_assert_eq!(result.is_ok(), valid);
             return Ok(());
         }
