@@ -3,7 +3,7 @@
 //!
 //! | source | tests |
 //! | --- | --- |
-//! | `estimator/uniform.rs`, `importance.rs`, `consistent_biased.rs`, `expectation.rs` | `estimators` |
+//! | `estimator/uniform.rs`, `importance.rs`, `consistent_biased.rs` | `estimators` |
 //! | `estimator/control_variate.rs`, `control_variates.rs` | `control_variates` |
 //! | `estimator/*mis*.rs`, `product_importance.rs`, `pdf/mixture.rs` | `mis` |
 //! | Jarosz's A.6-A.10 (no source: the identities the estimators' proofs use) | `probability` |
