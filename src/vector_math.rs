@@ -8,7 +8,7 @@
 //! multiplications, comparisons and bit operations are used, which the compiler neither
 //! reassociates nor contracts: every path gives the same bits on every x86-64 machine.
 //!
-//! Accuracy (measured in `tests/vector_math.rs` against the standard library, itself within
+//! Accuracy (measured in `tests/quality/vector_math.rs` against the standard library, itself within
 //! an ulp of the truth): `exp` within 1 ulp, subnormal results included; `cos` within 1 ulp
 //! for `|x| <= 100` and 2 ulps up to `1e6` (the reduced argument carries one more rounding),
 //! or `1e-25` absolute next to the zeros of `cos`.

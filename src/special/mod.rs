@@ -8,8 +8,8 @@
 //! These are our own implementations rather than `statrs`: against 50-digit mpmath references
 //! over the ranges this crate uses they are more accurate (statrs' Student t quantile fails
 //! outright in the far tails), they bring no dependencies, and their bits, which normal warps
-//! and confidence intervals inherit and `tests/value_stability.rs` pins, change only when we
-//! change them. `docs/measurements.md` keeps the comparison.
+//! and confidence intervals inherit and `tests/contracts/value_stability.rs` pins, change only
+//! when we change them. `docs/measurements.md` keeps the comparison.
 
 mod chi_square;
 mod normal;

@@ -44,8 +44,8 @@
 //! Sum2) along each row and in double-double across rows. What is left is the rounding inside
 //! each factor and product, a small fraction of `eps * C^d` in absolute terms: against exact
 //! rational arithmetic the relative error on the test sets is at most `6e-13` (1024 Sobol'
-//! points in 5 dimensions, `MD^2 = 1e-4`). See `tests/quality_discrepancy.rs` and its reference
-//! script `tests/data/discrepancy_scipy.py`.
+//! points in 5 dimensions, `MD^2 = 1e-4`). See `tests/quality/quality_discrepancy.rs` and its
+//! reference script `tests/data/discrepancy_scipy.py`.
 //!
 //! # High dimension
 //!

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Exact high-dimension reference values for tests/quality_discrepancy.rs (high_dimension_*).
+"""Exact high-dimension reference values for tests/quality/quality_discrepancy.rs (high_dimension_*).
 
 Made with (Python standard library only, about a minute):
     python3 tests/data/discrepancy_high_dim.py

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Reference values for tests/quality_discrepancy.rs: scipy's discrepancies and exact ones.
+"""Reference values for tests/quality/quality_discrepancy.rs: scipy's discrepancies and exact ones.
 
 Made with:
     python3 tests/data/discrepancy_scipy.py > tests/data/discrepancy_scipy.txt

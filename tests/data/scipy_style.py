@@ -1,4 +1,4 @@
-# Reference values of tests/scipy_style.rs: /tmp/venv/bin/python this file (scipy 1.17.1).
+# Reference values of tests/samplers/scipy_style.rs: /tmp/venv/bin/python this file (scipy 1.17.1).
 import numpy as np
 from scipy.stats import qmc
 bits = lambda a: np.asarray(a, dtype=np.float64).view(np.uint64).tolist()

@@ -1,4 +1,5 @@
-//! Helpers shared by the test files that run the example binaries.
+//! Helpers shared by the test crates that run the programs (`cli/tests/cli/` and
+//! `cli/tests/mpi.rs`).
 #![allow(dead_code)] // each test file uses a different subset
 
 use std::path::PathBuf;

@@ -1,0 +1,60 @@
+//! Extreme sizes and counts: refused with an error that says how much was asked for, or run
+//! within bounds; never a panic, an abort or a hang.
+
+use super::*;
+use mcint::adaptive::TwoStage;
+use mcint::pdf::UniformBox;
+use mcint::stats::{CovarianceAccumulator, Warning};
+use mcint::testfns::{Genz, GenzFamily, TestFunction};
+use mcint::{Integrator, Points};
+
+#[test]
+fn buffers_beyond_eight_gib_are_refused() {
+    assert!(Points::new(1, 1 << 40).is_err());
+    let e = Genz::with_defaults(GenzFamily::Gaussian, 1 << 40).unwrap_err();
+    assert!(e.to_string().contains("bytes were asked for"), "{e}");
+    let e = CovarianceAccumulator::new(1 << 20).unwrap_err();
+    assert!(e.to_string().contains("bytes were asked for"), "{e}");
+}
+
+#[test]
+fn huge_counts_are_refused_and_huge_thread_counts_capped() {
+    let f = |x: &[f64]| x[0];
+    let e = Integrator::over_box(f, UniformBox::unit(1).unwrap())
+        .samples(1)
+        .replicates(u64::MAX)
+        .run()
+        .unwrap_err();
+    assert_clear(&e, &["replicates"]);
+    let e = TwoStage::new(f, UniformBox::unit(1).unwrap(), 4)
+        .pilot(u64::MAX)
+        .run()
+        .unwrap_err();
+    assert_clear(&e, &["pilot"]);
+    let e = Integrator::over_box(f, UniformBox::unit(1).unwrap())
+        .samples(100_000)
+        .threads(100_000)
+        .run()
+        .unwrap();
+    assert!((e.mean - 0.5).abs() < 5.0 * e.std_error.unwrap());
+}
+
+/// A 100-D Gaussian peak so narrow that the integrand underflows to zero at every sampled
+/// point, while its integral (about 1e-123) does not: the estimate is 0, but it says that
+/// every contribution was zero, and its error bar is not zero.
+#[test]
+fn an_integrand_that_underflows_everywhere_is_flagged() {
+    let g = Genz::new(GenzFamily::Gaussian, vec![30.0; 100], vec![0.5; 100]).unwrap();
+    assert!(g.exact() > 0.0);
+    let e = Integrator::over_box(|x: &[f64]| g.eval(x), UniformBox::unit(100).unwrap())
+        .samples(10_000)
+        .run()
+        .unwrap();
+    assert_eq!(e.mean, 0.0);
+    assert!(e.std_error.unwrap() > 0.0);
+    assert!(
+        e.warnings.contains(&Warning::AllZero { count: 10_000 }),
+        "{:?}",
+        e.warnings
+    );
+}
