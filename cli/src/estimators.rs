@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use mcint::Points;
 use mcint::estimator::{
-    BatchUniformEstimator, ControlVariate, Estimator, ImportanceEstimator, MisHeuristic,
+    BatchUniformEstimator, Estimator, FixedControlVariate, ImportanceEstimator, MisHeuristic,
     MultiSampleMis,
 };
 use mcint::pdf::{Pdf, Pdf1d, PiecewiseLinear1d, ProductPdf, TruncatedNormal, UniformBox};
@@ -118,7 +118,8 @@ pub fn build(kind: EstimatorKind, f: &Genz, seed: u64) -> Result<Built, String> 
         }
         EstimatorKind::Control => {
             let control = linear_control(&f, seed)?;
-            let cv = ControlVariate::new(eval, control, 0.0, cube).map_err(|e| e.to_string())?;
+            let cv =
+                FixedControlVariate::new(eval, control, 0.0, cube).map_err(|e| e.to_string())?;
             Built {
                 estimator: Box::new(cv),
                 evaluations_per_contribution: 1,

@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use mcint::adaptive::{Miser, SobolG, TwoStage, Vegas};
+use mcint::adaptive::{Miser, SobolG, TwoStage, Vegas, strata_per_axis_for};
 use mcint::estimator::Estimator;
 use mcint::pdf::UniformBox;
 use mcint::sampler::Sampler;
@@ -188,7 +188,7 @@ fn vegas<'a>(setup: Setup<'a>, vector: bool) -> Result<Box<dyn Run + 'a>, String
     let (n, tolerance, ratio) = (setup.n, setup.tolerance, setup.ratio);
     if vector {
         let integrand = move |x: &[f64], out: &mut [f64]| evaluate_all(functions, x, out);
-        let vegas = Vegas::vector(functions.len(), integrand, cube).stratified(stratified);
+        let vegas = Vegas::new_vector(functions.len(), integrand, cube).stratified(stratified);
         let mut vegas = common!(vegas, setup);
         if let Some(n) = n {
             vegas = vegas.samples(n);
@@ -244,7 +244,7 @@ fn adaptive<'a>(setup: Setup<'a>) -> Result<Box<dyn Run + 'a>, String> {
                 );
             }
             let n = n.unwrap_or(DEFAULT_TWO_STAGE_EVALUATIONS);
-            let strata = TwoStage::<fn(&[f64]) -> f64>::strata_per_axis_for(f.dims(), n);
+            let strata = strata_per_axis_for(f.dims(), n);
             let two_stage = TwoStage::new(integrand, domain, strata).samples(n);
             Ok(Box::new(common!(two_stage, setup)))
         }

@@ -5,7 +5,7 @@
 //! its own input box, so that the integration itself always runs over the unit cube (over a
 //! larger box every contribution would carry the box's volume).
 
-use mcint::testfns::{SobolG, TestFunction};
+use mcint::testfns::{SobolGFunction, TestFunction};
 use std::f64::consts::PI;
 
 /// A model `Y = f(X)` with independent uniform inputs and known variance decomposition.
@@ -14,7 +14,7 @@ pub enum Model {
     /// `sin x1 + a sin^2 x2 + b x3^4 sin x1` on `[-pi, pi]^3` (Ishigami & Homma 1990).
     Ishigami { a: f64, b: f64 },
     /// `prod (|4 x_i - 2| + a_i) / (1 + a_i)` on `[0, 1]^d` (Saltelli & Sobol' 1995).
-    SobolG(SobolG),
+    SobolG(SobolGFunction),
 }
 
 /// The exact variance of `Y` and its first-order and total Sobol' indices, one per input.
@@ -41,7 +41,9 @@ impl Model {
         let a = (0..d)
             .map(|i| SALTELLI_2010_A.get(i).copied().unwrap_or(99.0))
             .collect();
-        SobolG::new(a).map(Model::SobolG).map_err(|e| e.to_string())
+        SobolGFunction::new(a)
+            .map(Model::SobolG)
+            .map_err(|e| e.to_string())
     }
 
     pub fn name(&self) -> &'static str {
@@ -115,7 +117,7 @@ fn ishigami_indices(a: f64, b: f64) -> Indices {
 /// variance `V_i = 1/(3 (1 + a_i)^2)`, and a product of independent factors has
 /// `V = prod (1 + V_i) - 1`; the terms that contain `i` add up to
 /// `V_i prod_{j != i} (1 + V_j)`.
-fn sobol_g_indices(g: &SobolG) -> Indices {
+fn sobol_g_indices(g: &SobolGFunction) -> Indices {
     let partial: Vec<f64> = g
         .a()
         .iter()

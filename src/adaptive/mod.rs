@@ -21,6 +21,6 @@ mod walsh;
 
 pub use miser::Miser;
 pub use sobol_g::SobolG;
-pub use two_stage::TwoStage;
+pub use two_stage::{TwoStage, strata_per_axis_for};
 pub use vegas::{Vegas, VegasOutputs};
 pub use vegas_grid::VegasGrid;

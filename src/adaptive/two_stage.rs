@@ -103,24 +103,6 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
         }
     }
 
-    /// The most strata per axis a run of `evaluations` in `dims` dimensions affords with the
-    /// default pilot (8 points per stratum, a total of 4 pilots): the largest `k >= 1` with
-    /// `32 k^dims <= evaluations`, and at most `2^20` strata in all (each stratum's statistics
-    /// are kept in memory, and beyond that more strata gain little).
-    ///
-    /// ```
-    /// use mcint::{adaptive::TwoStage, pdf::UniformBox};
-    /// assert_eq!(TwoStage::<fn(&[f64]) -> f64>::strata_per_axis_for(2, 65536), 45);
-    /// assert_eq!(TwoStage::<fn(&[f64]) -> f64>::strata_per_axis_for(1, u64::MAX), 1 << 20);
-    /// let k = TwoStage::<fn(&[f64]) -> f64>::strata_per_axis_for(3, 100_000);
-    /// let e = TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(3).unwrap(), k).samples(100_000).run();
-    /// assert!(e.is_ok());
-    /// ```
-    pub fn strata_per_axis_for(dims: usize, evaluations: u64) -> usize {
-        let strata = (evaluations / (4 * DEFAULT_PILOT)).min(MAX_PLANNED_STRATA);
-        usize::try_from(integer_root(strata, dims)).unwrap_or(usize::MAX)
-    }
-
     run_settings! {
         setup: "use mcint::{adaptive::TwoStage, pdf::UniformBox};\n\
                 const DIMS: usize = 2;\n\
@@ -290,6 +272,24 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
         }
         Ok(strata)
     }
+}
+
+/// The most strata per axis a [`TwoStage`] run of `evaluations` in `dims` dimensions affords
+/// with the default pilot (8 points per stratum, a total of 4 pilots): the largest `k >= 1` with
+/// `32 k^dims <= evaluations`, and at most `2^20` strata in all (each stratum's statistics
+/// are kept in memory, and beyond that more strata gain little).
+///
+/// ```
+/// use mcint::{adaptive::{TwoStage, strata_per_axis_for}, pdf::UniformBox};
+/// assert_eq!(strata_per_axis_for(2, 65536), 45);
+/// assert_eq!(strata_per_axis_for(1, u64::MAX), 1 << 20);
+/// let k = strata_per_axis_for(3, 100_000);
+/// let e = TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(3).unwrap(), k).samples(100_000).run();
+/// assert!(e.is_ok());
+/// ```
+pub fn strata_per_axis_for(dims: usize, evaluations: u64) -> usize {
+    let strata = (evaluations / (4 * DEFAULT_PILOT)).min(MAX_PLANNED_STRATA);
+    usize::try_from(integer_root(strata, dims)).unwrap_or(usize::MAX)
 }
 
 /// The grid of strata and what sampling one stratum needs.

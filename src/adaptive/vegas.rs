@@ -544,12 +544,12 @@ impl<G: Fn(&[f64], &mut [f64]) + Sync> Vegas<VegasOutputs<G>> {
     ///     out[0] = (-r2 / 0.01).exp();
     ///     out[1] = x[0] * out[0];
     /// };
-    /// let run = Vegas::vector(2, f, UniformBox::unit(3).unwrap()).seed(1).run().unwrap();
+    /// let run = Vegas::new_vector(2, f, UniformBox::unit(3).unwrap()).seed(1).run().unwrap();
     /// let mean = run.derived(&Derived::ratio(1, 0)).unwrap();
     /// assert!((mean.mean - 0.5).abs() < 5.0 * mean.std_error.unwrap());
     /// assert_eq!(run.evaluations, run.outputs[1].evaluations);
     /// ```
-    pub fn vector(outputs: usize, f: G, domain: UniformBox) -> Self {
+    pub fn new_vector(outputs: usize, f: G, domain: UniformBox) -> Self {
         let f = VegasOutputs {
             outputs,
             f,
@@ -566,7 +566,7 @@ impl<G: Fn(&[f64], &mut [f64]) + Sync> Vegas<VegasOutputs<G>> {
     /// use mcint::{adaptive::Vegas, pdf::UniformBox, stats::Tolerance};
     /// let f = |x: &[f64], out: &mut [f64]| { out[0] = x[0]; out[1] = (x[0] * x[1]).exp(); };
     /// let t = |rel| Tolerance::relative(rel).unwrap();
-    /// let run = Vegas::vector(2, f, UniformBox::unit(2).unwrap())
+    /// let run = Vegas::new_vector(2, f, UniformBox::unit(2).unwrap())
     ///     .output_tolerances(vec![t(1e-3), t(1e-4)])
     ///     .iterations(1000)
     ///     .run()
@@ -584,7 +584,7 @@ impl<G: Fn(&[f64], &mut [f64]) + Sync> Vegas<VegasOutputs<G>> {
     /// ```
     /// use mcint::{adaptive::Vegas, pdf::UniformBox, stats::{Derived, Tolerance}};
     /// let f = |x: &[f64], out: &mut [f64]| { out[0] = x[0].powi(4); out[1] = x[0].powi(3); };
-    /// let run = Vegas::vector(2, f, UniformBox::unit(1).unwrap())
+    /// let run = Vegas::new_vector(2, f, UniformBox::unit(1).unwrap())
     ///     .derived_tolerance(Derived::ratio(0, 1), Tolerance::relative(1e-3).unwrap())
     ///     .iterations(1000)
     ///     .run()
@@ -606,7 +606,7 @@ impl<G: Fn(&[f64], &mut [f64]) + Sync> Vegas<VegasOutputs<G>> {
     /// ```
     /// use mcint::{adaptive::Vegas, pdf::UniformBox};
     /// let f = |x: &[f64], out: &mut [f64]| out[0] = x[0]; // out[1] never written
-    /// let err = Vegas::vector(2, f, UniformBox::unit(1).unwrap()).run().unwrap_err();
+    /// let err = Vegas::new_vector(2, f, UniformBox::unit(1).unwrap()).run().unwrap_err();
     /// assert!(err.to_string().contains("in output 1"), "{err}");
     /// ```
     pub fn run(&self) -> Result<VectorEstimate> {

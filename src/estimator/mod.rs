@@ -18,17 +18,17 @@
 //! [`VectorEstimator`]: [`VectorUniformEstimator`] (per point), [`BatchVectorUniformEstimator`]
 //! (per block) and [`VectorImportanceEstimator`].
 //!
-//! Control variates (A.26-A.29) come with a known coefficient ([`ControlVariate`]) and with
+//! Control variates (A.26-A.29) come with a known coefficient ([`FixedControlVariate`]) and with
 //! least-squares coefficients fitted on a pilot stage that the
-//! [`Integrator`](crate::Integrator) runs before the main one ([`ControlVariates`], through
+//! [`Integrator`](crate::Integrator) runs before the main one ([`FittedControlVariates`], through
 //! [`PilotFit`]).
 
 mod batch_uniform;
 mod box_block;
 mod consistent_biased;
-mod control_variate;
-mod control_variates;
 mod expectation;
+mod fitted_control_variates;
+mod fixed_control_variate;
 mod importance;
 mod mis_heuristic;
 mod mis_weighting;
@@ -46,9 +46,9 @@ mod warp_importance;
 
 pub use batch_uniform::BatchUniformEstimator;
 pub use consistent_biased::ConsistentBiased;
-pub use control_variate::ControlVariate;
-pub use control_variates::{ControlFit, ControlVariates};
 pub use expectation::{ExpectationEstimator, VectorExpectationEstimator};
+pub use fitted_control_variates::{ControlFit, FittedControlVariates};
+pub use fixed_control_variate::FixedControlVariate;
 pub use importance::ImportanceEstimator;
 pub use mis_heuristic::MisHeuristic;
 pub use mis_weighting::MisWeighting;
@@ -123,11 +123,11 @@ pub trait Estimator: Send + Sync {
     /// fitted estimator it returns.
     ///
     /// ```
-    /// use mcint::estimator::{ControlVariates, Estimator, UniformEstimator};
+    /// use mcint::estimator::{FittedControlVariates, Estimator, UniformEstimator};
     /// use mcint::pdf::UniformBox;
     /// let plain = UniformEstimator::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap());
     /// assert!(plain.pilot().is_none());
-    /// let cv = ControlVariates::new(|x: &[f64]| x[0].exp(), UniformBox::unit(1).unwrap())
+    /// let cv = FittedControlVariates::new(|x: &[f64]| x[0].exp(), UniformBox::unit(1).unwrap())
     ///     .control(|x: &[f64]| x[0], 0.5);
     /// assert!(cv.pilot().is_some());
     /// ```

@@ -13,9 +13,9 @@ use crate::stats::CovarianceAccumulator;
 /// estimate and error bar are those of a fixed estimator: unbiased, with an honest interval.
 ///
 /// ```
-/// use mcint::estimator::{ControlVariates, Estimator, PilotFit};
+/// use mcint::estimator::{FittedControlVariates, Estimator, PilotFit};
 /// use mcint::pdf::UniformBox;
-/// let cv = ControlVariates::new(|x: &[f64]| x[0].exp(), UniformBox::unit(1).unwrap())
+/// let cv = FittedControlVariates::new(|x: &[f64]| x[0].exp(), UniformBox::unit(1).unwrap())
 ///     .control(|x: &[f64]| x[0], 0.5);
 /// let pilot = cv.pilot().unwrap();
 /// assert_eq!(pilot.values(), 2); // f/pdf and one control
@@ -24,9 +24,9 @@ pub trait PilotFit: Send + Sync {
     /// Points of the pilot stage.
     ///
     /// ```
-    /// use mcint::estimator::{ControlVariates, Estimator};
+    /// use mcint::estimator::{FittedControlVariates, Estimator};
     /// use mcint::pdf::UniformBox;
-    /// let cv = ControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).pilot_points(500);
+    /// let cv = FittedControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).pilot_points(500);
     /// assert_eq!(cv.pilot().unwrap().points(), 500);
     /// ```
     fn points(&self) -> u64;
@@ -34,9 +34,9 @@ pub trait PilotFit: Send + Sync {
     /// Values recorded per pilot point.
     ///
     /// ```
-    /// use mcint::estimator::{ControlVariates, Estimator};
+    /// use mcint::estimator::{FittedControlVariates, Estimator};
     /// use mcint::pdf::UniformBox;
-    /// let cv = ControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap());
+    /// let cv = FittedControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap());
     /// assert_eq!(cv.pilot().unwrap().values(), 1);
     /// ```
     fn values(&self) -> usize;
@@ -45,9 +45,9 @@ pub trait PilotFit: Send + Sync {
     /// estimator's [`domain_dims`](Estimator::domain_dims)).
     ///
     /// ```
-    /// use mcint::estimator::{ControlVariates, Estimator};
+    /// use mcint::estimator::{FittedControlVariates, Estimator};
     /// use mcint::pdf::UniformBox;
-    /// let cv = ControlVariates::new(|x: &[f64]| 2.0 * x[0], UniformBox::unit(1).unwrap())
+    /// let cv = FittedControlVariates::new(|x: &[f64]| 2.0 * x[0], UniformBox::unit(1).unwrap())
     ///     .control(|x: &[f64]| x[0], 0.5);
     /// let mut row = [0.0; 2];
     /// cv.pilot().unwrap().row(&[0.25], &mut [0.0], &mut row);
@@ -58,10 +58,10 @@ pub trait PilotFit: Send + Sync {
     /// The estimator of the main run, fitted to the pilot rows' count, means and co-moments.
     ///
     /// ```
-    /// use mcint::estimator::{ControlVariates, Estimator};
+    /// use mcint::estimator::{FittedControlVariates, Estimator};
     /// use mcint::pdf::UniformBox;
     /// use mcint::stats::CovarianceAccumulator;
-    /// let cv = ControlVariates::new(|x: &[f64]| 3.0 + 2.0 * x[0], UniformBox::unit(1).unwrap())
+    /// let cv = FittedControlVariates::new(|x: &[f64]| 3.0 + 2.0 * x[0], UniformBox::unit(1).unwrap())
     ///     .control(|x: &[f64]| x[0], 0.5);
     /// let pilot = cv.pilot().unwrap();
     /// let mut summary = CovarianceAccumulator::new(2)?;

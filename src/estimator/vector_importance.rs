@@ -43,7 +43,7 @@ impl<F: Fn(&[f64], &mut [f64]) + Send + Sync, P: Pdf> VectorImportanceEstimator<
     /// let f = |_: &[f64], out: &mut [f64]| out.fill(1.0);
     /// use mcint::{Integrator, estimator::VectorEstimator};
     /// let e = VectorImportanceEstimator::new(usize::MAX, f, UniformBox::unit(1).unwrap());
-    /// assert!(Integrator::vector(e).run().unwrap_err().to_string().contains("outputs"));
+    /// assert!(Integrator::new_vector(e).run().unwrap_err().to_string().contains("outputs"));
     /// ```
     pub fn new(outputs: usize, f: F, pdf: P) -> Self {
         VectorImportanceEstimator { outputs, f, pdf }

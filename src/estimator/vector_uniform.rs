@@ -46,7 +46,7 @@ impl<F: Fn(&[f64], &mut [f64]) + Send + Sync> VectorUniformEstimator<F> {
     /// let f = |_: &[f64], out: &mut [f64]| out.fill(1.0);
     /// use mcint::Integrator;
     /// let none = VectorUniformEstimator::new(0, f, UniformBox::unit(1).unwrap());
-    /// assert!(Integrator::vector(none).run().unwrap_err().to_string().contains("1 to 256 outputs"));
+    /// assert!(Integrator::new_vector(none).run().unwrap_err().to_string().contains("1 to 256 outputs"));
     /// ```
     pub fn new(outputs: usize, f: F, domain: UniformBox) -> Self {
         let unit = is_unit(&domain);

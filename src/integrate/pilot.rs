@@ -4,7 +4,7 @@
 use super::{Integrator, NonFinitePolicy};
 use crate::engine::{ChunkJob, Executor, Limits, RunConfig};
 use crate::error::{Error, Result};
-use crate::estimator::{ControlFit, ControlVariates, Estimator, PilotFit};
+use crate::estimator::{ControlFit, Estimator, FittedControlVariates, PilotFit};
 use crate::hash::hash_words;
 use crate::pdf::Pdf;
 use crate::points::Points;
@@ -113,7 +113,7 @@ impl ChunkJob for PilotChunks<'_> {
     }
 }
 
-impl<'a, F, P> Integrator<ControlVariates<'a, F, P>>
+impl<'a, F, P> Integrator<FittedControlVariates<'a, F, P>>
 where
     F: Fn(&[f64]) -> f64 + Send + Sync,
     P: Pdf,
@@ -122,7 +122,7 @@ where
     /// added by [`control`](Self::control): a pilot of independent points fits their
     /// coefficients by least squares, and the main run (any sampler, replicates, tolerance)
     /// integrates `(f - beta^T g)/pdf + beta^T G` with them fixed, so its estimate is unbiased
-    /// and its error bar the usual one (see [`ControlVariates`]). [`Estimate::evaluations`]
+    /// and its error bar the usual one (see [`FittedControlVariates`]). [`Estimate::evaluations`]
     /// includes the pilot's.
     ///
     /// [`Estimate::evaluations`]: crate::Estimate::evaluations
@@ -141,7 +141,7 @@ where
     /// assert_eq!(e.evaluations, 8 * 1024 + 4096);
     /// ```
     pub fn with_controls(f: F, pdf: P) -> Self {
-        Integrator::new(ControlVariates::new(f, pdf))
+        Integrator::new(FittedControlVariates::new(f, pdf))
     }
 
     /// Adds a control `g` whose exact integral over the pdf's domain is `integral`.

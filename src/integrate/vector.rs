@@ -65,7 +65,7 @@ impl<F: Fn(&[f64], &mut [f64]) + Send + Sync> Integrator<VectorRun<VectorUniform
     /// assert!(none.unwrap_err().to_string().contains("outputs"));
     /// ```
     pub fn over_box_vector(outputs: usize, f: F, domain: UniformBox) -> Self {
-        Integrator::vector(VectorUniformEstimator::new(outputs, f, domain))
+        Integrator::new_vector(VectorUniformEstimator::new(outputs, f, domain))
     }
 }
 
@@ -91,7 +91,7 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync>
     /// assert_eq!(batch, single);
     /// ```
     pub fn over_box_vector_batch(outputs: usize, f: F, domain: UniformBox) -> Self {
-        Integrator::vector(BatchVectorUniformEstimator::new(outputs, f, domain))
+        Integrator::new_vector(BatchVectorUniformEstimator::new(outputs, f, domain))
     }
 }
 
@@ -109,7 +109,7 @@ impl<F: Fn(&[f64], &mut [f64]) + Send + Sync, P: Pdf>
     /// assert!((run.outputs[0].mean - 1.0).abs() < 1e-12); // f/pdf is exactly 1
     /// ```
     pub fn with_pdf_vector(outputs: usize, f: F, pdf: P) -> Self {
-        Integrator::vector(VectorImportanceEstimator::new(outputs, f, pdf))
+        Integrator::new_vector(VectorImportanceEstimator::new(outputs, f, pdf))
     }
 }
 
@@ -133,7 +133,7 @@ impl<F: Fn(&[f64], &mut [f64]) + Send + Sync, M: Measure>
     /// assert!((conditional.mean - exact).abs() < 5.0 * conditional.std_error.unwrap());
     /// ```
     pub fn expectation_vector(outputs: usize, f: F, measure: M) -> Self {
-        Integrator::vector(VectorExpectationEstimator::new(outputs, f, measure))
+        Integrator::new_vector(VectorExpectationEstimator::new(outputs, f, measure))
     }
 }
 
@@ -144,9 +144,9 @@ impl<E: VectorEstimator> Integrator<VectorRun<E>> {
     /// use mcint::{Integrator, estimator::VectorUniformEstimator, pdf::UniformBox};
     /// let f = |_: &[f64], out: &mut [f64]| { out[0] = 1.0; out[1] = 2.0; };
     /// let e = VectorUniformEstimator::new(2, f, UniformBox::unit(1).unwrap());
-    /// assert_eq!(Integrator::vector(e).run().unwrap().means(), vec![1.0, 2.0]);
+    /// assert_eq!(Integrator::new_vector(e).run().unwrap().means(), vec![1.0, 2.0]);
     /// ```
-    pub fn vector(estimator: E) -> Self {
+    pub fn new_vector(estimator: E) -> Self {
         Integrator {
             estimator: VectorRun {
                 estimator,

@@ -19,7 +19,7 @@ pub use graphics::GraphicsIntegrand;
 pub use keister::{KEISTER_MAX_DIMS, Keister};
 pub use polynomial::Polynomial;
 pub use roos_arnold::RoosArnold;
-pub use sobol_g::SobolG;
+pub use sobol_g::SobolGFunction;
 
 use crate::points::Points;
 

@@ -14,19 +14,19 @@ use crate::error::{Error, Result};
 /// `g(x) = Π_i (|4 x_i - 2| + a_i) / (1 + a_i)`, with integral 1 over `[0,1]^d`.
 ///
 /// ```
-/// use mcint::testfns::{SobolG, TestFunction};
-/// let g = SobolG::new(vec![0.0, 1.0]).unwrap();
+/// use mcint::testfns::{SobolGFunction, TestFunction};
+/// let g = SobolGFunction::new(vec![0.0, 1.0]).unwrap();
 /// assert_eq!(g.eval(&[0.0, 0.5]), 2.0 * 0.5);
 /// assert_eq!(g.exact(), 1.0);
 /// ```
 #[derive(Debug, Clone, PartialEq)]
-pub struct SobolG {
+pub struct SobolGFunction {
     a: Vec<f64>,
     /// `1/(1 + a_i)`, so that `eval` multiplies instead of dividing.
     scale: Vec<f64>,
 }
 
-impl SobolG {
+impl SobolGFunction {
     /// The g-function with weights `a` (one per dimension, each finite and `>= 0`).
     ///
     /// # Errors
@@ -35,10 +35,10 @@ impl SobolG {
     /// finite.
     ///
     /// ```
-    /// use mcint::testfns::{SobolG, TestFunction};
-    /// assert_eq!(SobolG::new(vec![0.0, 9.0, 99.0]).unwrap().dims(), 3);
-    /// assert!(SobolG::new(vec![-0.5]).is_err());
-    /// assert!(SobolG::new(vec![]).is_err());
+    /// use mcint::testfns::{SobolGFunction, TestFunction};
+    /// assert_eq!(SobolGFunction::new(vec![0.0, 9.0, 99.0]).unwrap().dims(), 3);
+    /// assert!(SobolGFunction::new(vec![-0.5]).is_err());
+    /// assert!(SobolGFunction::new(vec![]).is_err());
     /// ```
     pub fn new(a: Vec<f64>) -> Result<Self> {
         if a.is_empty() {
@@ -60,7 +60,7 @@ impl SobolG {
             ));
         }
         let scale = a.iter().map(|ai| (1.0 + ai).recip()).collect();
-        Ok(SobolG { a, scale })
+        Ok(SobolGFunction { a, scale })
     }
 
     /// Saltelli's common choice `a_i = (i - 2)/2` for `i = 1..=d`, clipped below at 0 because
@@ -72,24 +72,24 @@ impl SobolG {
     /// [`Error::InvalidParameter`] naming `d` when `d == 0` or too large to store.
     ///
     /// ```
-    /// use mcint::testfns::SobolG;
-    /// assert_eq!(SobolG::with_defaults(4).unwrap().a(), &[0.0, 0.0, 0.5, 1.0]);
-    /// assert!(SobolG::with_defaults(0).is_err());
-    /// assert!(SobolG::with_defaults(usize::MAX).is_err());
+    /// use mcint::testfns::SobolGFunction;
+    /// assert_eq!(SobolGFunction::with_defaults(4).unwrap().a(), &[0.0, 0.0, 0.5, 1.0]);
+    /// assert!(SobolGFunction::with_defaults(0).is_err());
+    /// assert!(SobolGFunction::with_defaults(usize::MAX).is_err());
     /// ```
     pub fn with_defaults(d: usize) -> Result<Self> {
         if d == 0 {
             return Err(Error::invalid("d", d, "at least 1"));
         }
         crate::error::check_vec_len::<f64>("d", d)?;
-        SobolG::new((1..=d).map(|i| (0.5 * (i as f64 - 2.0)).max(0.0)).collect())
+        SobolGFunction::new((1..=d).map(|i| (0.5 * (i as f64 - 2.0)).max(0.0)).collect())
     }
 
     /// The weights `a_i`.
     ///
     /// ```
-    /// use mcint::testfns::SobolG;
-    /// assert_eq!(SobolG::new(vec![2.0]).unwrap().a(), &[2.0]);
+    /// use mcint::testfns::SobolGFunction;
+    /// assert_eq!(SobolGFunction::new(vec![2.0]).unwrap().a(), &[2.0]);
     /// ```
     pub fn a(&self) -> &[f64] {
         &self.a
@@ -99,8 +99,8 @@ impl SobolG {
     /// is this minus 1.
     ///
     /// ```
-    /// use mcint::testfns::SobolG;
-    /// let g = SobolG::new(vec![0.0]).unwrap();
+    /// use mcint::testfns::SobolGFunction;
+    /// let g = SobolGFunction::new(vec![0.0]).unwrap();
     /// assert!((g.integral_of_square() - 4.0 / 3.0).abs() < 1e-15);
     /// ```
     pub fn integral_of_square(&self) -> f64 {
@@ -109,7 +109,7 @@ impl SobolG {
     }
 }
 
-impl TestFunction for SobolG {
+impl TestFunction for SobolGFunction {
     fn dims(&self) -> usize {
         self.a.len()
     }

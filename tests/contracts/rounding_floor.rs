@@ -12,7 +12,7 @@
 
 use crate::common::config;
 use mcint::adaptive::{Miser, TwoStage, Vegas};
-use mcint::estimator::ControlVariate;
+use mcint::estimator::FixedControlVariate;
 use mcint::pdf::{Pdf1d, ProductPdf, TruncatedNormal, UniformBox};
 use mcint::sampler::{Jittered, Scramble, Sobol};
 use mcint::stats::{Accumulator, Tolerance, Warning};
@@ -254,7 +254,7 @@ fn a_constant_integrand_gets_an_honest_floor_from_every_method() {
 fn a_control_variate_equal_to_the_integrand_gets_an_honest_floor() {
     let exact = std::f64::consts::E - 1.0;
     let f = |x: &[f64]| x[0].exp();
-    let fixed = ControlVariate::new(f, f, exact, unit(1)).unwrap();
+    let fixed = FixedControlVariate::new(f, f, exact, unit(1)).unwrap();
     let e = Integrator::new(fixed).samples(10_000).run().unwrap();
     assert_honest("fixed coefficient", &e, exact);
     assert!(at_floor(&e));

@@ -385,14 +385,14 @@ fn a_stopped_two_stage_run_keeps_its_pilot_and_stops_within_a_chunk() {
 /// strata than the run may keep); now it plans the most strata the helper allows.
 #[test]
 fn strata_per_axis_for_any_budget_is_immediate() {
-    type T = TwoStage<fn(&[f64]) -> f64>;
-    assert_eq!(T::strata_per_axis_for(1, 100_000_000_000_000), 1 << 20);
-    assert_eq!(T::strata_per_axis_for(1, u64::MAX), 1 << 20);
-    assert_eq!(T::strata_per_axis_for(2, u64::MAX), 1 << 10);
-    assert_eq!(T::strata_per_axis_for(5, 32 * 3u64.pow(5)), 3);
-    assert_eq!(T::strata_per_axis_for(5, 32 * 3u64.pow(5) - 1), 2);
-    assert_eq!(T::strata_per_axis_for(10_000, u64::MAX), 1);
-    assert_eq!(T::strata_per_axis_for(3, 0), 1);
+    use mcint::adaptive::strata_per_axis_for;
+    assert_eq!(strata_per_axis_for(1, 100_000_000_000_000), 1 << 20);
+    assert_eq!(strata_per_axis_for(1, u64::MAX), 1 << 20);
+    assert_eq!(strata_per_axis_for(2, u64::MAX), 1 << 10);
+    assert_eq!(strata_per_axis_for(5, 32 * 3u64.pow(5)), 3);
+    assert_eq!(strata_per_axis_for(5, 32 * 3u64.pow(5) - 1), 2);
+    assert_eq!(strata_per_axis_for(10_000, u64::MAX), 1);
+    assert_eq!(strata_per_axis_for(3, 0), 1);
 }
 
 /// A time limit past the last instant the clock can represent is no limit (it panicked on

@@ -210,7 +210,7 @@ fn method_observations() -> Result<Vec<Observation>> {
         .replicates(8)
         .seed(14);
     pin_vector("vector rqmc", &rqmc_vector.run()?)?;
-    let vegas_vector = Vegas::vector(2, two, unit()?).samples(4000).seed(15);
+    let vegas_vector = Vegas::new_vector(2, two, unit()?).samples(4000).seed(15);
     pin_vector("vector vegas+", &vegas_vector.run()?)?;
 
     // An expectation under a measure: an Asian payoff over Brownian-bridge paths, by RQMC.

@@ -16,7 +16,7 @@
 //! composite Simpson quadrature, accurate to about 1e-15 for these smooth integrands.
 
 use crate::common::{config, integrate01};
-use mcint::estimator::{ControlVariate, ControlVariates, Estimator};
+use mcint::estimator::{Estimator, FittedControlVariates, FixedControlVariate};
 use mcint::pdf::{Linear, UniformBox};
 use mcint::sampler::{Independent, Jittered, Scramble, Sobol};
 use mcint::stats::{Accumulator, CovarianceAccumulator, ErrorBasis};
@@ -87,7 +87,7 @@ fn optimal_two(m: &ExpMoments) -> [f64; 2] {
 
 /// The known-`G` estimator with `f = e^x`, `g = 1 + x` (`G = 3/2`) on [0, 1].
 fn exp_with_linear_control(beta: f64) -> impl Estimator {
-    ControlVariate::new(
+    FixedControlVariate::new(
         |x: &[f64]| x[0].exp(),
         |x: &[f64]| 1.0 + x[0],
         1.5,
@@ -146,7 +146,7 @@ fn known_g_estimator_is_unbiased_with_the_closed_form_variance() {
 #[test]
 fn known_g_estimator_with_a_pdf() {
     let pdf = Linear::new(0.0, 1.0, 0.0, 2.0).unwrap();
-    let cv = ControlVariate::new(|x: &[f64]| x[0] * x[0], |x: &[f64]| x[0], 0.5, pdf).unwrap();
+    let cv = FixedControlVariate::new(|x: &[f64]| x[0] * x[0], |x: &[f64]| x[0], 0.5, pdf).unwrap();
     let mut x = [0.0];
     for u in [0.04f64, 0.25, 0.81] {
         let sample = u.sqrt(); // inverse cdf of 2x
@@ -179,7 +179,7 @@ fn known_g_estimator_works_with_replicates() {
 #[test]
 fn known_g_estimator_rejects_bad_input() {
     let make = |g: f64| {
-        ControlVariate::new(
+        FixedControlVariate::new(
             |x: &[f64]| x[0],
             |x: &[f64]| x[0],
             g,
@@ -200,7 +200,7 @@ fn known_g_estimator_rejects_bad_input() {
     assert!(err.to_string().contains("coefficient"), "{err}");
     // A pdf that is zero where f - beta g is not: the integrator reports it, no silent bias.
     let pdf = Linear::new(0.0, 1.0, 0.0, 2.0).unwrap(); // density 0 at x = 0
-    let cv = ControlVariate::new(|_: &[f64]| 1.0, |x: &[f64]| x[0], 0.5, pdf).unwrap();
+    let cv = FixedControlVariate::new(|_: &[f64]| 1.0, |x: &[f64]| x[0], 0.5, pdf).unwrap();
     let mut x = [0.0];
     assert!(!cv.contribution(&[0.0], &mut x).is_finite());
 }
@@ -225,7 +225,7 @@ fn reduction_sd(
 }
 
 fn exp_with_controls()
--> Integrator<ControlVariates<'static, impl Fn(&[f64]) -> f64 + Send + Sync, UniformBox>> {
+-> Integrator<FittedControlVariates<'static, impl Fn(&[f64]) -> f64 + Send + Sync, UniformBox>> {
     Integrator::with_controls(|x: &[f64]| x[0].exp(), UniformBox::unit(1).unwrap())
 }
 

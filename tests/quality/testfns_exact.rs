@@ -16,7 +16,7 @@
 //! that method (see `corner_peak_high_dimension_*`).
 
 use crate::common::SplitMix64;
-use mcint::testfns::{Genz, GenzFamily, Polynomial, RoosArnold, SobolG, TestFunction};
+use mcint::testfns::{Genz, GenzFamily, Polynomial, RoosArnold, SobolGFunction, TestFunction};
 
 /// Nodes and weights of the n-point Gauss-Legendre rule on [-1, 1].
 fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
@@ -521,8 +521,8 @@ fn roos_arnold_and_sobol_g_match_cubature() {
             cubature(&|x| ra.eval(x).powi(2), &rules),
             1e-13,
         );
-        let custom = SobolG::new([0.0, 1.0, 4.5][..d].to_vec()).unwrap();
-        for g in [SobolG::with_defaults(d).unwrap(), custom] {
+        let custom = SobolGFunction::new([0.0, 1.0, 4.5][..d].to_vec()).unwrap();
+        for g in [SobolGFunction::with_defaults(d).unwrap(), custom] {
             let what = format!("sobol-g d={d} a={:?}", g.a());
             assert_close(&what, g.exact(), cubature(&|x| g.eval(x), &rules), 1e-13);
             assert_close(
@@ -534,7 +534,7 @@ fn roos_arnold_and_sobol_g_match_cubature() {
         }
     }
     assert_eq!(
-        SobolG::with_defaults(5).unwrap().a(),
+        SobolGFunction::with_defaults(5).unwrap().a(),
         &[0.0, 0.0, 0.5, 1.0, 1.5]
     );
 }
@@ -584,10 +584,10 @@ fn bad_parameters_are_rejected_with_named_errors() {
     assert_rejects(Polynomial::from_coefficients(&[1.0; 66]), "coefficients");
 
     assert_rejects(RoosArnold::new(0), "d");
-    assert_rejects(SobolG::new(vec![0.0, -0.5]), "a");
-    assert_rejects(SobolG::new(vec![f64::NAN]), "a");
-    assert_rejects(SobolG::new(vec![]), "a");
-    assert_rejects(SobolG::with_defaults(0), "d");
+    assert_rejects(SobolGFunction::new(vec![0.0, -0.5]), "a");
+    assert_rejects(SobolGFunction::new(vec![f64::NAN]), "a");
+    assert_rejects(SobolGFunction::new(vec![]), "a");
+    assert_rejects(SobolGFunction::with_defaults(0), "d");
 }
 
 #[test]

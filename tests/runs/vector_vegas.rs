@@ -67,7 +67,7 @@ fn the_exact_values_agree_with_the_error_function() {
 type PeakRun = Vegas<mcint::adaptive::VegasOutputs<fn(&[f64], &mut [f64])>>;
 
 fn vegas(stratified: bool, seed: u64) -> PeakRun {
-    Vegas::vector(
+    Vegas::new_vector(
         2,
         peak as fn(&[f64], &mut [f64]),
         UniformBox::unit(3).unwrap(),
@@ -90,7 +90,7 @@ fn one_output_is_the_scalar_run_and_threads_do_not_change_bits() {
             .seed(4)
             .run()
             .unwrap();
-        let b = Vegas::vector(1, single, UniformBox::unit(3).unwrap())
+        let b = Vegas::new_vector(1, single, UniformBox::unit(3).unwrap())
             .stratified(stratified)
             .seed(4)
             .run()
@@ -168,12 +168,12 @@ fn tolerances_per_output_and_on_a_ratio_are_met() {
 #[test]
 fn bad_input_is_refused_with_what_is_allowed() {
     let f = |x: &[f64], out: &mut [f64]| out.fill(x[0]);
-    let err = Vegas::vector(0, f, UniformBox::unit(1).unwrap())
+    let err = Vegas::new_vector(0, f, UniformBox::unit(1).unwrap())
         .run()
         .unwrap_err();
     assert!(err.to_string().contains("1 to 256 outputs"), "{err}");
     let t = Tolerance::absolute(0.1).unwrap();
-    let err = Vegas::vector(2, f, UniformBox::unit(1).unwrap())
+    let err = Vegas::new_vector(2, f, UniformBox::unit(1).unwrap())
         .output_tolerances(vec![t])
         .run()
         .unwrap_err();
@@ -181,7 +181,7 @@ fn bad_input_is_refused_with_what_is_allowed() {
         err.to_string().contains("one tolerance per output (2)"),
         "{err}"
     );
-    let err = Vegas::vector(2, f, UniformBox::unit(1).unwrap())
+    let err = Vegas::new_vector(2, f, UniformBox::unit(1).unwrap())
         .derived_tolerance(Derived::ratio(2, 0), t)
         .run()
         .unwrap_err();
@@ -190,7 +190,7 @@ fn bad_input_is_refused_with_what_is_allowed() {
         out[0] = 1.0;
         out[1] = if x[0] < 0.5 { f64::NAN } else { 1.0 };
     };
-    let err = Vegas::vector(2, nan, UniformBox::unit(1).unwrap())
+    let err = Vegas::new_vector(2, nan, UniformBox::unit(1).unwrap())
         .run()
         .unwrap_err();
     assert!(

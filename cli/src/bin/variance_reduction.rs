@@ -21,8 +21,8 @@
 //!    pairs for comparison.
 
 use mcint::estimator::{
-    ControlVariate, Estimator, ImportanceEstimator, MisHeuristic, MultiSampleMis, OneSampleMis,
-    ProductImportanceEstimator, UniformEstimator,
+    Estimator, FixedControlVariate, ImportanceEstimator, MisHeuristic, MultiSampleMis,
+    OneSampleMis, ProductImportanceEstimator, UniformEstimator,
 };
 use mcint::pdf::{Exponential, Linear, Mixture, Normal, Pdf, Pdf1d, TruncatedNormal, UniformBox};
 use mcint::sampler::{Antithetic, Independent};
@@ -271,7 +271,7 @@ fn control_variates(t: &Table) -> mcint::Result<()> {
     );
     t.row(
         "control 1 + x, coefficient 1 (A.27)",
-        t.run(ControlVariate::new(f, g, 1.5, unit()?)?, 1)?,
+        t.run(FixedControlVariate::new(f, g, 1.5, unit()?)?, 1)?,
         &mut first,
     );
     for (name, controls) in [

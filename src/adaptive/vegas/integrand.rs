@@ -25,7 +25,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Integrand for Scalar<'_, F> {
 }
 
 /// The integrand of a vector VEGAS run, with what the run must reach: see
-/// [`Vegas::vector`](super::super::Vegas::vector), which builds it.
+/// [`Vegas::new_vector`](super::super::Vegas::new_vector), which builds it.
 ///
 /// ```
 /// use mcint::adaptive::{Vegas, VegasOutputs};
@@ -35,7 +35,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Integrand for Scalar<'_, F> {
 ///     out[1] = x[0] * x[0];
 /// }
 /// let run: Vegas<VegasOutputs<fn(&[f64], &mut [f64])>> =
-///     Vegas::vector(2, both as fn(&[f64], &mut [f64]), UniformBox::unit(1).unwrap());
+///     Vegas::new_vector(2, both as fn(&[f64], &mut [f64]), UniformBox::unit(1).unwrap());
 /// assert_eq!(run.run().unwrap().len(), 2);
 /// ```
 pub struct VegasOutputs<F> {

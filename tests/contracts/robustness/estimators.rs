@@ -1,7 +1,7 @@
 use super::*;
 use mcint::estimator::{
-    ConsistentBiased, ControlVariate, Estimator, ImportanceEstimator, MisHeuristic, MultiSampleMis,
-    OneSampleMis, ProductImportanceEstimator, UniformEstimator,
+    ConsistentBiased, Estimator, FixedControlVariate, ImportanceEstimator, MisHeuristic,
+    MultiSampleMis, OneSampleMis, ProductImportanceEstimator, UniformEstimator,
 };
 use mcint::pdf::{Exponential, Pdf, UniformBox, UniformInterval};
 use mcint::sampler::{Independent, LatinHypercube};
@@ -81,7 +81,7 @@ proptest! {
     #[test]
     fn control_variate(integral in real(), beta in real()) {
         let f = |x: &[f64]| x[0];
-        let result = ControlVariate::new(f, f, integral, UniformInterval::new(0.0, 1.0).unwrap());
+        let result = FixedControlVariate::new(f, f, integral, UniformInterval::new(0.0, 1.0).unwrap());
         prop_assert_eq!(result.is_ok(), integral.is_finite());
         let moderate = |v: f64| v.abs() <= 1e300;
         check(result, &["control_integral"], |cv| {

@@ -1,6 +1,6 @@
 use super::*;
 use mcint::stats::{Estimate, Tolerance};
-use mcint::testfns::{Genz, GenzFamily, Polynomial, RoosArnold, SobolG, TestFunction};
+use mcint::testfns::{Genz, GenzFamily, Polynomial, RoosArnold, SobolGFunction, TestFunction};
 use std::time::Duration;
 
 fn family() -> impl Strategy<Value = GenzFamily> {
@@ -83,10 +83,10 @@ proptest! {
     #[test]
     fn other_test_functions(a in prop::collection::vec(real(), 0..5), d in length(), c in prop::collection::vec(real(), 0..4)) {
         let valid = !a.is_empty() && a.iter().all(|v| v.is_finite() && *v >= 0.0);
-        let result = SobolG::new(a);
+        let result = SobolGFunction::new(a);
         prop_assert_eq!(result.is_ok(), valid);
         check(result, &["a"], |f| assert!(f.exact().is_finite()));
-        let result = SobolG::with_defaults(d);
+        let result = SobolGFunction::with_defaults(d);
         prop_assert_eq!(result.is_ok(), (1..=1000).contains(&d));
         check(result, &["d"], |f| assert_eq!(f.dims(), d));
         check(RoosArnold::new(d), &["d"], |f| assert_eq!(f.dims(), d));

@@ -10,7 +10,7 @@
 //! `beta* = Cov[f/pdf, g/pdf] / Var[g/pdf]`, where it is `(1 - rho^2) Var[f/pdf]` (Lavenberg &
 //! Welch 1981; Glasserman 2004, section 4.1; Owen, *Monte Carlo theory, methods and examples*,
 //! section 8.9). Estimating `beta*` on a pilot, for one or several controls, is
-//! [`ControlVariates`](super::ControlVariates).
+//! [`FittedControlVariates`](super::FittedControlVariates).
 
 use super::Estimator;
 use crate::error::{Error, Result};
@@ -27,7 +27,7 @@ use crate::pdf::Pdf;
 /// with any sampler; it works with [`Integrator`](crate::Integrator) as is, including
 /// stratified and quasi-Monte Carlo samplers with replicates. A coefficient estimated from a
 /// separate pilot run keeps that property (which is how
-/// [`ControlVariates`](super::ControlVariates) fits its coefficients); one estimated from the
+/// [`FittedControlVariates`](super::FittedControlVariates) fits its coefficients); one estimated from the
 /// same samples does not.
 ///
 /// Where `f - beta g` is zero the contribution is `beta G` whatever the pdf (no `0/0`); where
@@ -37,9 +37,9 @@ use crate::pdf::Pdf;
 /// [`UniformBox`]: crate::pdf::UniformBox
 ///
 /// ```
-/// use mcint::{Integrator, estimator::ControlVariate, pdf::UniformBox};
+/// use mcint::{Integrator, estimator::FixedControlVariate, pdf::UniformBox};
 /// // int_0^1 e^x dx = e - 1 with the control g = 1 + x, G = 3/2 (A.27).
-/// let cv = ControlVariate::new(|x: &[f64]| x[0].exp(), |x: &[f64]| 1.0 + x[0], 1.5, UniformBox::unit(1)?)?;
+/// let cv = FixedControlVariate::new(|x: &[f64]| x[0].exp(), |x: &[f64]| 1.0 + x[0], 1.5, UniformBox::unit(1)?)?;
 /// let e = Integrator::new(cv).samples(10_000).seed(1).run()?;
 /// let exact = std::f64::consts::E - 1.0;
 /// assert!((e.mean - exact).abs() < 4.5 * e.std_error.unwrap());
@@ -48,7 +48,7 @@ use crate::pdf::Pdf;
 /// # Ok::<(), mcint::Error>(())
 /// ```
 #[derive(Debug, Clone)]
-pub struct ControlVariate<F, G, P> {
+pub struct FixedControlVariate<F, G, P> {
     f: F,
     control: G,
     control_integral: f64,
@@ -56,7 +56,7 @@ pub struct ControlVariate<F, G, P> {
     pdf: P,
 }
 
-impl<F, G, P> ControlVariate<F, G, P>
+impl<F, G, P> FixedControlVariate<F, G, P>
 where
     F: Fn(&[f64]) -> f64 + Send + Sync,
     G: Fn(&[f64]) -> f64 + Send + Sync,
@@ -66,9 +66,9 @@ where
     /// whose exact integral over that domain is `control_integral` (finite), coefficient 1.
     ///
     /// ```
-    /// use mcint::estimator::ControlVariate;
+    /// use mcint::estimator::FixedControlVariate;
     /// use mcint::pdf::UniformBox;
-    /// let bad = ControlVariate::new(|_: &[f64]| 1.0, |_: &[f64]| 1.0, f64::NAN, UniformBox::unit(1).unwrap());
+    /// let bad = FixedControlVariate::new(|_: &[f64]| 1.0, |_: &[f64]| 1.0, f64::NAN, UniformBox::unit(1).unwrap());
     /// assert!(bad.err().unwrap().to_string().contains("control_integral"));
     /// ```
     pub fn new(f: F, control: G, control_integral: f64, pdf: P) -> Result<Self> {
@@ -79,7 +79,7 @@ where
                 "the finite, exactly known integral of the control over the domain",
             ));
         }
-        Ok(ControlVariate {
+        Ok(FixedControlVariate {
             f,
             control,
             control_integral,
@@ -91,9 +91,9 @@ where
     /// Sets the fixed coefficient `beta` (finite; 1 gives A.27, 0 plain importance sampling).
     ///
     /// ```
-    /// use mcint::estimator::{ControlVariate, Estimator};
+    /// use mcint::estimator::{FixedControlVariate, Estimator};
     /// use mcint::pdf::UniformBox;
-    /// let cv = ControlVariate::new(|x: &[f64]| 2.0 * x[0], |x: &[f64]| x[0], 0.5, UniformBox::unit(1).unwrap())
+    /// let cv = FixedControlVariate::new(|x: &[f64]| 2.0 * x[0], |x: &[f64]| x[0], 0.5, UniformBox::unit(1).unwrap())
     ///     .unwrap()
     ///     .with_coefficient(2.0)
     ///     .unwrap();
@@ -101,7 +101,7 @@ where
     /// assert_eq!(cv.contribution(&[0.3], &mut x), 1.0); // f - 2 g = 0: zero variance
     /// assert!(cv.with_coefficient(f64::INFINITY).is_err());
     /// // beta times the control's integral, added to every contribution, must be finite.
-    /// let huge = ControlVariate::new(|x: &[f64]| x[0], |x: &[f64]| x[0], f64::MAX, UniformBox::unit(1).unwrap());
+    /// let huge = FixedControlVariate::new(|x: &[f64]| x[0], |x: &[f64]| x[0], f64::MAX, UniformBox::unit(1).unwrap());
     /// assert!(huge.unwrap().with_coefficient(2.0).is_err());
     /// ```
     pub fn with_coefficient(self, coefficient: f64) -> Result<Self> {
@@ -118,7 +118,7 @@ where
                 ),
             ));
         }
-        Ok(ControlVariate {
+        Ok(FixedControlVariate {
             coefficient,
             ..self
         })
@@ -127,8 +127,8 @@ where
     /// The coefficient `beta`.
     ///
     /// ```
-    /// use mcint::estimator::ControlVariate;
-    /// let cv = ControlVariate::new(|_: &[f64]| 1.0, |_: &[f64]| 1.0, 1.0, mcint::pdf::UniformBox::unit(1).unwrap()).unwrap();
+    /// use mcint::estimator::FixedControlVariate;
+    /// let cv = FixedControlVariate::new(|_: &[f64]| 1.0, |_: &[f64]| 1.0, 1.0, mcint::pdf::UniformBox::unit(1).unwrap()).unwrap();
     /// assert_eq!(cv.coefficient(), 1.0);
     /// ```
     pub fn coefficient(&self) -> f64 {
@@ -138,8 +138,8 @@ where
     /// The known integral `G` of the control.
     ///
     /// ```
-    /// use mcint::estimator::ControlVariate;
-    /// let cv = ControlVariate::new(|_: &[f64]| 1.0, |_: &[f64]| 1.0, 2.0, mcint::pdf::UniformBox::new(vec![0.0], vec![2.0]).unwrap()).unwrap();
+    /// use mcint::estimator::FixedControlVariate;
+    /// let cv = FixedControlVariate::new(|_: &[f64]| 1.0, |_: &[f64]| 1.0, 2.0, mcint::pdf::UniformBox::new(vec![0.0], vec![2.0]).unwrap()).unwrap();
     /// assert_eq!(cv.control_integral(), 2.0);
     /// ```
     pub fn control_integral(&self) -> f64 {
@@ -149,8 +149,8 @@ where
     /// The sampling density.
     ///
     /// ```
-    /// use mcint::{Pdf, estimator::ControlVariate};
-    /// let cv = ControlVariate::new(|_: &[f64]| 1.0, |_: &[f64]| 1.0, 1.0, mcint::pdf::UniformBox::unit(3).unwrap()).unwrap();
+    /// use mcint::{Pdf, estimator::FixedControlVariate};
+    /// let cv = FixedControlVariate::new(|_: &[f64]| 1.0, |_: &[f64]| 1.0, 1.0, mcint::pdf::UniformBox::unit(3).unwrap()).unwrap();
     /// assert_eq!(cv.pdf().dims(), 3);
     /// ```
     pub fn pdf(&self) -> &P {
@@ -158,7 +158,7 @@ where
     }
 }
 
-impl<F, G, P> Estimator for ControlVariate<F, G, P>
+impl<F, G, P> Estimator for FixedControlVariate<F, G, P>
 where
     F: Fn(&[f64]) -> f64 + Send + Sync,
     G: Fn(&[f64]) -> f64 + Send + Sync,

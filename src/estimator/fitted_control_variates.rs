@@ -1,4 +1,4 @@
-//! [`ControlVariates`]: several control variates whose coefficients are fitted by least
+//! [`FittedControlVariates`]: several control variates whose coefficients are fitted by least
 //! squares on a pilot stage, then held fixed for the main run.
 //!
 //! With controls `g_1..g_k` of known integrals `G_1..G_k` (Jarosz's A.26-A.29 with several
@@ -58,7 +58,7 @@ type ControlFn<'a> = Box<dyn Fn(&[f64]) -> f64 + Send + Sync + 'a>;
 /// assert!((e.mean - exact).abs() < 5.0 * e.std_error.unwrap());
 /// assert!(e.std_error.unwrap() < 0.2 * (0.242f64 / 20_000.0).sqrt()); // plain: Var = 0.242
 /// ```
-pub struct ControlVariates<'a, F, P> {
+pub struct FittedControlVariates<'a, F, P> {
     f: F,
     pdf: P,
     controls: Vec<(ControlFn<'a>, f64)>,
@@ -90,7 +90,7 @@ pub struct ControlFit {
     pub variance_reduction: f64,
 }
 
-impl<'a, F, P> ControlVariates<'a, F, P>
+impl<'a, F, P> FittedControlVariates<'a, F, P>
 where
     F: Fn(&[f64]) -> f64 + Send + Sync,
     P: Pdf,
@@ -99,12 +99,12 @@ where
     /// Carlo), with no controls yet and a pilot of 4096 points.
     ///
     /// ```
-    /// use mcint::{estimator::ControlVariates, pdf::UniformBox};
-    /// let cv = ControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap());
+    /// use mcint::{estimator::FittedControlVariates, pdf::UniformBox};
+    /// let cv = FittedControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap());
     /// assert_eq!(cv.controls(), 0);
     /// ```
     pub fn new(f: F, pdf: P) -> Self {
-        ControlVariates {
+        FittedControlVariates {
             f,
             pdf,
             controls: Vec::new(),
@@ -116,8 +116,8 @@ where
     /// be finite when the pilot is fitted).
     ///
     /// ```
-    /// use mcint::{estimator::ControlVariates, pdf::UniformBox};
-    /// let cv = ControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap())
+    /// use mcint::{estimator::FittedControlVariates, pdf::UniformBox};
+    /// let cv = FittedControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap())
     ///     .control(|x: &[f64]| x[0], 0.5);
     /// assert_eq!(cv.controls(), 1);
     /// ```
@@ -129,8 +129,8 @@ where
     /// Points of the pilot stage (more than the number of controls plus one; default 4096).
     ///
     /// ```
-    /// use mcint::{estimator::{ControlVariates, Estimator}, pdf::UniformBox};
-    /// let cv = ControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).pilot_points(100);
+    /// use mcint::{estimator::{FittedControlVariates, Estimator}, pdf::UniformBox};
+    /// let cv = FittedControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).pilot_points(100);
     /// assert_eq!(cv.pilot().unwrap().points(), 100);
     /// ```
     pub fn pilot_points(mut self, n: u64) -> Self {
@@ -141,8 +141,8 @@ where
     /// Number of controls.
     ///
     /// ```
-    /// use mcint::{estimator::ControlVariates, pdf::UniformBox};
-    /// assert_eq!(ControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).controls(), 0);
+    /// use mcint::{estimator::FittedControlVariates, pdf::UniformBox};
+    /// assert_eq!(FittedControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap()).controls(), 0);
     /// ```
     pub fn controls(&self) -> usize {
         self.controls.len()
@@ -156,8 +156,8 @@ where
     /// correction `beta^T G` overflows.
     ///
     /// ```
-    /// use mcint::{estimator::ControlVariates, pdf::UniformBox, stats::CovarianceAccumulator};
-    /// let cv = ControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap());
+    /// use mcint::{estimator::FittedControlVariates, pdf::UniformBox, stats::CovarianceAccumulator};
+    /// let cv = FittedControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap());
     /// let err = cv.fit(&CovarianceAccumulator::new(1)?).unwrap_err();
     /// assert!(err.to_string().contains("at least one control"));
     /// # Ok::<(), mcint::Error>(())
@@ -198,7 +198,7 @@ where
     }
 }
 
-impl<F, P> Estimator for ControlVariates<'_, F, P>
+impl<F, P> Estimator for FittedControlVariates<'_, F, P>
 where
     F: Fn(&[f64]) -> f64 + Send + Sync,
     P: Pdf,
@@ -221,7 +221,7 @@ where
     }
 }
 
-impl<F, P> PilotFit for ControlVariates<'_, F, P>
+impl<F, P> PilotFit for FittedControlVariates<'_, F, P>
 where
     F: Fn(&[f64]) -> f64 + Send + Sync,
     P: Pdf,
@@ -280,7 +280,7 @@ fn ratio(value: f64, density: f64) -> f64 {
 
 /// The main run's estimator: `(f - beta^T g)/pdf + beta^T G` with the fitted `beta`.
 struct Fitted<'c, 'a, F, P> {
-    cv: &'c ControlVariates<'a, F, P>,
+    cv: &'c FittedControlVariates<'a, F, P>,
     coefficients: Vec<f64>,
     /// `beta^T G`.
     shift: f64,
