@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use super::Limits;
 use super::cluster::Cluster;
-use super::executor::{ChunkJob, Executor, WindowOutputs};
+use super::executor::{Transfer, WindowOutputs};
 use crate::error::{Error, Result};
 use crate::stats::StopReason;
 
@@ -120,54 +120,51 @@ impl Failure {
     }
 }
 
-impl Executor {
-    /// The outputs of `chunks` of `job` in chunk order, each rank of `cluster` evaluating its
-    /// share, with the limit the first stopped rank reached; the first error in chunk order
-    /// (that of the lowest failed rank) on every rank.
-    pub(super) fn gathered<J: ChunkJob>(
-        &self,
-        cluster: Cluster,
-        job: &J,
-        chunks: Range<u64>,
-        limits: &Limits,
-    ) -> Result<WindowOutputs<J::Output>> {
-        let share = match self.window(job, cluster.share(chunks.clone()), limits) {
-            Ok(outputs) => {
-                let skipped = outputs.iter().any(Option::is_none);
-                let stop = skipped.then(|| limits.reached().unwrap_or(StopReason::Cancelled));
-                Share::Done { outputs, stop }
+/// The outputs of the work units `units` (chunks, or groups of them) in order, each rank of
+/// `cluster` computing its share with `local`, with the limit the first stopped rank
+/// reached; the first error in unit order (that of the lowest failed rank) on every rank.
+pub(super) fn gathered<T: Transfer>(
+    cluster: Cluster,
+    units: Range<u64>,
+    local: impl FnOnce(Range<u64>) -> Result<Vec<Option<T>>>,
+    limits: &Limits,
+) -> Result<WindowOutputs<T>> {
+    let share = match local(cluster.share(units.clone())) {
+        Ok(outputs) => {
+            let skipped = outputs.iter().any(Option::is_none);
+            let stop = skipped.then(|| limits.reached().unwrap_or(StopReason::Cancelled));
+            Share::Done { outputs, stop }
+        }
+        Err(error) => Share::Failed(error.into()),
+    };
+    // Encoding cannot fail for these types; if it did, the rank says so in its message.
+    let message = encode(&share).or_else(|e| {
+        encode(&Share::<T>::Failed(Failure::Other(format!(
+            "its results could not be encoded ({e})"
+        ))))
+    });
+    let message = message.unwrap_or_default();
+    let mut outputs = Vec::with_capacity((units.end - units.start) as usize);
+    let mut stop = None;
+    for (rank, bytes) in cluster.all_gather(&message)?.iter().enumerate() {
+        match ciborium::from_reader::<Share<T>, _>(&bytes[..]) {
+            Ok(Share::Done {
+                outputs: theirs,
+                stop: their_stop,
+            }) => {
+                stop = stop.or(their_stop);
+                outputs.extend(theirs);
             }
-            Err(error) => Share::Failed(error.into()),
-        };
-        // Encoding cannot fail for these types; if it did, the rank says so in its message.
-        let message = encode(&share).or_else(|e| {
-            encode(&Share::<J::Output>::Failed(Failure::Other(format!(
-                "its results could not be encoded ({e})"
-            ))))
-        });
-        let message = message.unwrap_or_default();
-        let mut outputs = Vec::with_capacity((chunks.end - chunks.start) as usize);
-        let mut stop = None;
-        for (rank, bytes) in cluster.all_gather(&message)?.iter().enumerate() {
-            match ciborium::from_reader::<Share<J::Output>, _>(&bytes[..]) {
-                Ok(Share::Done {
-                    outputs: theirs,
-                    stop: their_stop,
-                }) => {
-                    stop = stop.or(their_stop);
-                    outputs.extend(theirs);
-                }
-                Ok(Share::Failed(failure)) => return Err(failure.into_error(rank)),
-                Err(e) => {
-                    return Err(Error::OnRank {
-                        rank,
-                        message: format!("its results could not be read ({e})"),
-                    });
-                }
+            Ok(Share::Failed(failure)) => return Err(failure.into_error(rank)),
+            Err(e) => {
+                return Err(Error::OnRank {
+                    rank,
+                    message: format!("its results could not be read ({e})"),
+                });
             }
         }
-        Ok((outputs, stop))
     }
+    Ok((outputs, stop))
 }
 
 /// `value` in CBOR, exact for every float (NaN and infinities included).

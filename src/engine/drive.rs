@@ -126,8 +126,15 @@ pub(crate) struct Drive<'a> {
     pub(crate) planned: u64,
 }
 
-/// Runs `stages` to its end (see the module documentation).
-pub(crate) fn drive(stages: &mut dyn Stages, drive: &Drive<'_>) -> Result<VectorEstimate> {
+/// Runs `stages` to its end (see the module documentation), on a thread of the executor's
+/// pool: the work between stages then wakes no thread, and each stage's parallel work starts
+/// on the thread already running instead of waiting for a sleeping one.
+pub(crate) fn drive(stages: &mut (dyn Stages + Send), drive: &Drive<'_>) -> Result<VectorEstimate> {
+    drive.executor.on_pool(|| drive_here(stages, drive))
+}
+
+/// [`drive`] on the calling thread.
+fn drive_here(stages: &mut (dyn Stages + Send), drive: &Drive<'_>) -> Result<VectorEstimate> {
     let targets = drive.targets;
     let limit = targets.limits().map_or(u64::MAX, |t| t.evaluation_limit());
     let mut spent = drive.spent;

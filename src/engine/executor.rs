@@ -17,6 +17,7 @@
 
 use std::cell::Cell;
 use std::ops::Range;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use rayon::prelude::*;
@@ -72,6 +73,28 @@ impl<T> Transfer for T {}
 /// The outputs of a window of chunks in chunk order (`None` for the chunks a limit skipped)
 /// and the limit reached, if one was.
 pub(super) type WindowOutputs<T> = (Vec<Option<T>>, Option<StopReason>);
+
+/// The chunks one thread ran in a window, as `(offset in the window, output)`.
+type Claimed<T> = Vec<(usize, Result<Option<T>>)>;
+
+/// How [`Executor::run_grouped`] cuts chunks into groups and groups into windows.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Grouping {
+    /// Chunks per group (at least 1).
+    chunks: u64,
+    /// Groups evaluated at once, at most (at least 1): bounds the outputs held in memory.
+    window: u64,
+}
+
+impl Grouping {
+    /// Groups of `chunks` chunks, `window` groups at a time (each at least 1).
+    pub(crate) fn new(chunks: u64, window: u64) -> Grouping {
+        Grouping {
+            chunks: chunks.max(1),
+            window: window.max(1),
+        }
+    }
+}
 
 /// The most threads started per available core, whatever a run asks for.
 const MAX_THREADS_PER_CORE: usize = 4;
@@ -137,19 +160,53 @@ impl Executor {
         chunks: Range<u64>,
         window: u64,
         limits: &Limits,
+        fold: impl FnMut(u64, J::Output) -> Result<()>,
+    ) -> Result<Option<StopReason>> {
+        let unmerged = |_: &mut J::Output, _: J::Output| {};
+        self.run_grouped(
+            job,
+            chunks,
+            Grouping::new(1, window),
+            limits,
+            unmerged,
+            fold,
+        )
+    }
+
+    /// [`run`](Self::run) with the outputs of each group of `grouping.chunks` consecutive
+    /// chunks (counted from `chunks.start`) merged into one, left to right, before `fold`
+    /// gets it with the group's first chunk. Groups are fixed by chunk numbers alone, so the
+    /// merged outputs have the same bits for any thread or rank count. Over a cluster each
+    /// rank merges its own groups before the exchange, which then carries one output per
+    /// group.
+    pub(crate) fn run_grouped<J: ChunkJob>(
+        &self,
+        job: &J,
+        chunks: Range<u64>,
+        grouping: Grouping,
+        limits: &Limits,
+        merge: impl Fn(&mut J::Output, J::Output),
         mut fold: impl FnMut(u64, J::Output) -> Result<()>,
     ) -> Result<Option<StopReason>> {
-        let window = window.max(1);
-        let mut start = chunks.start;
-        while start < chunks.end {
+        let size = grouping.chunks;
+        let groups = (chunks.end.saturating_sub(chunks.start)).div_ceil(size);
+        let first_chunk = |group: u64| chunks.start + group * size;
+        let chunks_of =
+            |groups: Range<u64>| first_chunk(groups.start)..first_chunk(groups.end).min(chunks.end);
+        let local = |groups: Range<u64>| {
+            let outputs = self.window(job, chunks_of(groups), limits)?;
+            Ok(Executor::merged(outputs, size, &merge))
+        };
+        let mut start = 0;
+        while start < groups {
             if let Some(reason) = self.reached(limits)? {
                 return Ok(Some(reason));
             }
-            let end = start.saturating_add(window).min(chunks.end);
-            let (outputs, stop) = self.outputs(job, start..end, limits)?;
-            for (chunk, output) in (start..end).zip(outputs) {
+            let end = start.saturating_add(grouping.window).min(groups);
+            let (outputs, stop) = self.outputs(start..end, &local, limits)?;
+            for (group, output) in (start..end).zip(outputs) {
                 match output {
-                    Some(output) => fold(chunk, output)?,
+                    Some(output) => fold(first_chunk(group), output)?,
                     None => return Ok(Some(stop.unwrap_or(StopReason::Cancelled))),
                 }
             }
@@ -158,25 +215,67 @@ impl Executor {
         Ok(None)
     }
 
-    /// The outputs of one window, in chunk order (`None` for chunks a limit skipped), and the
-    /// limit reached if one was: computed here, or by the ranks of the cluster and gathered.
-    fn outputs<J: ChunkJob>(
+    /// `outputs` merged by groups of `size` in order; `None` for a group with a chunk a
+    /// limit skipped. Merging is meant to be cheap against the chunks' work (an addition of
+    /// arrays), so it is done here rather than handed to other threads.
+    fn merged<T>(outputs: Vec<Option<T>>, size: u64, merge: &impl Fn(&mut T, T)) -> Vec<Option<T>> {
+        if size == 1 {
+            return outputs;
+        }
+        let mut outputs = outputs.into_iter();
+        let mut groups = Vec::new();
+        loop {
+            let mut group = outputs.by_ref().take(size as usize);
+            let Some(first) = group.next() else {
+                break;
+            };
+            let merged = first.and_then(|first| {
+                group.try_fold(first, |mut merged, output| {
+                    merge(&mut merged, output?);
+                    Some(merged)
+                })
+            });
+            // Drain the rest of a group cut short, so that the next group starts in place.
+            group.for_each(drop);
+            groups.push(merged);
+        }
+        groups
+    }
+
+    /// `f` of each of `items`, in order, computed in parallel where threads allow: for work
+    /// that splits into independent pieces (the axes of a grid), whose results do not depend
+    /// on the thread count.
+    pub(crate) fn map_each<T: Send, R: Send>(
         &self,
-        job: &J,
-        chunks: Range<u64>,
+        items: Vec<T>,
+        f: impl Fn(T) -> R + Sync,
+    ) -> Vec<R> {
+        if self.threads == 1 || items.len() < 2 {
+            return items.into_iter().map(f).collect();
+        }
+        self.install(|| items.into_par_iter().map(&f).collect())
+    }
+
+    /// The outputs of the work units `units` (chunks, or groups of them) in order (`None` for
+    /// those a limit skipped), and the limit reached if one was: computed here by `local`, or
+    /// by the ranks of the cluster, each on its share, and gathered.
+    fn outputs<T: Send + Transfer>(
+        &self,
+        units: Range<u64>,
+        local: &impl Fn(Range<u64>) -> Result<Vec<Option<T>>>,
         limits: &Limits,
-    ) -> Result<WindowOutputs<J::Output>> {
+    ) -> Result<WindowOutputs<T>> {
         #[cfg(feature = "mpi")]
         if let Some(cluster) = self.cluster {
-            return self.gathered(cluster, job, chunks, limits);
+            return super::distributed::gathered(cluster, units, local, limits);
         }
-        let outputs = self.window(job, chunks, limits)?;
+        let outputs = local(units)?;
         Ok((outputs, limits.reached()))
     }
 
     /// The outputs of chunks `chunks`, in order; `None` for the chunks not started because a
     /// limit was reached.
-    pub(super) fn window<J: ChunkJob>(
+    fn window<J: ChunkJob>(
         &self,
         job: &J,
         chunks: Range<u64>,
@@ -197,19 +296,34 @@ impl Executor {
             what: "chunks in one window",
             limit: usize::MAX as u64,
         })?;
-        let outputs: Vec<Result<Option<J::Output>>> = self.install(|| {
-            (0..len)
+        // Each thread claims the next chunk when it is free, so a thread that wakes late takes
+        // less of the window instead of an even share; outputs go back to chunk order after.
+        let next = AtomicUsize::new(0);
+        let claim = |_| -> Result<Claimed<J::Output>> {
+            let mut scratch = job.scratch()?;
+            let mut mine = Vec::new();
+            loop {
+                let offset = next.fetch_add(1, Ordering::Relaxed);
+                if offset >= len {
+                    return Ok(mine);
+                }
+                mine.push((offset, one(&mut scratch, first + offset as u64)));
+            }
+        };
+        let claimed: Vec<_> = self.install(|| {
+            (0..self.threads.min(len))
                 .into_par_iter()
-                .map_init(
-                    || job.scratch(),
-                    |scratch, offset| match scratch {
-                        Ok(scratch) => one(scratch, first + offset as u64),
-                        Err(e) => Err(e.clone()),
-                    },
-                )
+                .map(claim)
                 .collect()
         });
-        outputs.into_iter().collect()
+        let mut outputs: Vec<Option<Result<Option<J::Output>>>> = (0..len).map(|_| None).collect();
+        for thread in claimed {
+            for (offset, output) in thread? {
+                outputs[offset] = Some(output);
+            }
+        }
+        // Every chunk was claimed; one that was not would count as not started.
+        outputs.into_iter().map(|o| o.unwrap_or(Ok(None))).collect()
     }
 
     /// Runs `a` and `b`, in parallel where threads allow, each with panics caught (reported
@@ -224,6 +338,21 @@ impl Executor {
             return (guarded(origin, a), guarded(origin, b));
         }
         self.install(|| rayon::join(|| guarded(origin, a), || guarded(origin, b)))
+    }
+
+    /// Runs `op` on a thread of this executor's pool (or of the pool the caller is already a
+    /// worker of), so that the parallel work it starts needs no handing over between threads;
+    /// on the calling thread with one thread, or over a cluster, whose messages must all leave
+    /// from the thread that initialized MPI.
+    pub(crate) fn on_pool<R: Send>(&self, op: impl FnOnce() -> R + Send) -> R {
+        #[cfg(feature = "mpi")]
+        if self.cluster.is_some() {
+            return op();
+        }
+        if self.threads == 1 {
+            return op();
+        }
+        self.install(op)
     }
 
     /// Runs `op` on this executor's pool, or on the pool the caller is already a worker of.

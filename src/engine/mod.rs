@@ -33,7 +33,7 @@ pub(crate) use config::{
     require_uniform_points,
 };
 pub(crate) use drive::{Drive, Next, NonFinite, StageEnd, Stages, Verdict, drive};
-pub(crate) use executor::{ChunkJob, Executor, RunScope};
+pub(crate) use executor::{ChunkJob, Executor, Grouping, RunScope};
 pub use limits::CancelToken;
 pub(crate) use limits::Limits;
 pub(crate) use settings::run_settings;

@@ -127,7 +127,7 @@ impl Stages for Fixed<'_> {
 pub(super) fn to_tolerance<'a>(
     common: Common<'a>,
     targets: &'a Targets<'a>,
-) -> Result<Box<dyn Stages + 'a>> {
+) -> Result<Box<dyn Stages + Send + 'a>> {
     let sampler = common.sampler;
     if !sampler.is_randomized() {
         return Err(Error::invalid(
