@@ -35,8 +35,11 @@
 //! combination can sit several standard errors from the truth, and a `Q` below 0.01 warns.
 //!
 //! Work is cut into fixed chunks of the iteration's index range, independent of the thread
-//! count, and folded strictly in order by the engine's executor ([`pass`]), so sums, training
-//! data and allocations, and hence the result, are bit-identical for any number of threads.
+//! count; their grid training data are summed in fixed pairs of chunks (on each MPI rank
+//! before the exchange) and then axis by axis in pair order, and their hypercube sums folded
+//! strictly in order ([`pass`]), so sums, training data and allocations, and hence the
+//! result, are bit-identical for any number of threads or ranks. The driver runs on a
+//! thread of the pool, and each axis of the grid adapts on its own thread.
 //!
 //! With several threads, and non-finite values skipped rather than fatal, a hypercube's mean
 //! is over its finite values only (the skipped points are counted in the estimate).
@@ -316,7 +319,10 @@ impl<F> Vegas<F> {
 
     /// The run of the integrand `f` (scalar or vector) to `targets`, before its result is
     /// checked for overflow.
-    fn run_engine<I: Integrand>(&self, f: &I, targets: &Targets<'_>) -> Result<VectorEstimate> {
+    fn run_engine<I: Integrand>(&self, f: &I, targets: &Targets<'_>) -> Result<VectorEstimate>
+    where
+        F: Sync,
+    {
         let m = checked_outputs(f.outputs())?;
         let dims = self.domain.dims();
         let sampler = self
@@ -340,7 +346,6 @@ impl<F> Vegas<F> {
         } else {
             0
         };
-        let training = vec![0.0; 2 * grid.cells()];
         let mut iterations = Iterations {
             vegas: self,
             f,
@@ -351,7 +356,7 @@ impl<F> Vegas<F> {
             sigf: vec![1.0; per_cube],
             next_sigf: vec![0.0; per_cube],
             sum_sigf: per_cube as f64,
-            training,
+            spare: Default::default(),
             combination: VectorCombination::new(m),
             // 1 for a single output (the map and allocation do not depend on a common scale);
             // for several, one over the previous iteration's mean of (J f_k)^2, so that every

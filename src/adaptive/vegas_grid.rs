@@ -226,43 +226,57 @@ impl VegasGrid {
     /// it does not carry the fluctuation of the number of points that fell in the increment,
     /// which with about ten points per increment would otherwise dominate the noise.
     pub(crate) fn adapt_to(&mut self, training: &[f64], alpha: f64, floor: f64) {
-        if alpha == 0.0 {
-            return;
-        }
-        let most = self.counts.iter().copied().max().unwrap_or(0);
-        let mut averages = vec![0.0; most];
-        let mut weights = vec![0.0; most];
-        let mut new_nodes = vec![0.0; most + 1];
         for axis in 0..self.dims() {
-            let n = self.counts[axis];
-            let (nodes_at, cells_at) = (self.layout[axis].node_start, self.layout[axis].cell_start);
-            let raw = &mut averages[..n];
-            for (avg, pair) in raw
-                .iter_mut()
-                .zip(training[2 * cells_at..2 * (cells_at + n)].chunks_exact(2))
-            {
-                *avg = if pair[1] > 0.0 {
-                    pair[0] / pair[1]
-                } else {
-                    0.0
-                };
+            let averages = increment_averages(&[&training[self.training_range(axis)]]);
+            if let Some(nodes) = self.axis_nodes(axis, &averages, alpha, floor) {
+                self.set_axis_nodes(axis, &nodes);
             }
-            let weights = &mut weights[..n];
-            if !damped_weights(raw, alpha, weights) {
-                continue;
-            }
-            let new_nodes = &mut new_nodes[..=n];
-            let nodes = &self.nodes[nodes_at..=nodes_at + n];
-            let widths = &self.widths[cells_at..cells_at + n];
-            floor_density(nodes, widths, weights, floor);
-            regrid(nodes, widths, weights, new_nodes);
-            self.nodes[nodes_at..=nodes_at + n].copy_from_slice(new_nodes);
-            for (width, pair) in self.widths[cells_at..cells_at + n]
-                .iter_mut()
-                .zip(new_nodes.windows(2))
-            {
-                *width = pair[1] - pair[0];
-            }
+        }
+    }
+
+    /// Where axis `axis` lies in the training data: its increments' pairs.
+    pub(crate) fn training_range(&self, axis: usize) -> std::ops::Range<usize> {
+        let at = self.layout[axis].cell_start;
+        2 * at..2 * (at + self.counts[axis])
+    }
+
+    /// The nodes axis `axis` moves to for the weighted `averages` of `(J f)^2` over its
+    /// increments, or `None` when it keeps its nodes (`alpha = 0`, or averages all zero or
+    /// not finite). Axes are independent, so they can be adapted in parallel.
+    pub(crate) fn axis_nodes(
+        &self,
+        axis: usize,
+        averages: &[f64],
+        alpha: f64,
+        floor: f64,
+    ) -> Option<Vec<f64>> {
+        if alpha == 0.0 {
+            return None;
+        }
+        let n = self.counts[axis];
+        let (nodes_at, cells_at) = (self.layout[axis].node_start, self.layout[axis].cell_start);
+        let mut weights = vec![0.0; n];
+        if !damped_weights(averages, alpha, &mut weights) {
+            return None;
+        }
+        let nodes = &self.nodes[nodes_at..=nodes_at + n];
+        let widths = &self.widths[cells_at..cells_at + n];
+        floor_density(nodes, widths, &mut weights, floor);
+        let mut new_nodes = vec![0.0; n + 1];
+        regrid(nodes, widths, &weights, &mut new_nodes);
+        Some(new_nodes)
+    }
+
+    /// Moves the nodes of axis `axis` to `new_nodes` (from [`axis_nodes`](Self::axis_nodes)).
+    pub(crate) fn set_axis_nodes(&mut self, axis: usize, new_nodes: &[f64]) {
+        let (nodes_at, cells_at) = (self.layout[axis].node_start, self.layout[axis].cell_start);
+        let n = self.counts[axis];
+        self.nodes[nodes_at..=nodes_at + n].copy_from_slice(new_nodes);
+        for (width, pair) in self.widths[cells_at..cells_at + n]
+            .iter_mut()
+            .zip(new_nodes.windows(2))
+        {
+            *width = pair[1] - pair[0];
         }
     }
 
@@ -350,6 +364,26 @@ const MAX_ALPHA: f64 = 2.0;
 
 /// Smooths, normalizes and damps one axis's projections into `weights`; false when they
 /// carry no usable information (all zero, or not finite), in which case the axis stays put.
+/// The weighted average of `(J f)^2` over each increment of one axis, from its training
+/// pairs summed over `parts` (in order, element by element).
+pub(crate) fn increment_averages(parts: &[&[f64]]) -> Vec<f64> {
+    let n = parts.first().map_or(0, |p| p.len() / 2);
+    (0..n)
+        .map(|i| {
+            let (mut weighted, mut weights) = (0.0, 0.0);
+            for part in parts {
+                weighted += part[2 * i];
+                weights += part[2 * i + 1];
+            }
+            if weights > 0.0 {
+                weighted / weights
+            } else {
+                0.0
+            }
+        })
+        .collect()
+}
+
 fn damped_weights(raw: &[f64], alpha: f64, weights: &mut [f64]) -> bool {
     let n = raw.len();
     // Neighbour smoothing (1, 6, 1)/8, and (7, 1)/8 at the two ends.

@@ -45,6 +45,14 @@ pub(super) struct Combination {
     /// The iterations' rounding bounds, weighted like their means.
     sum_weighted_rounding: f64,
     dof: f64,
+    /// The iterations' means weighted by the inverse of their own variances: the sum of those
+    /// weights, the weighted mean, and the weighted sum of squared deviations from it (West's
+    /// update), from which `chi^2` follows without a pass over every iteration.
+    own_weights: f64,
+    own_mean: f64,
+    own_squares: f64,
+    /// The largest iteration estimate in magnitude.
+    largest: f64,
 }
 
 impl Combination {
@@ -85,6 +93,12 @@ impl Combination {
         self.sum_weighted_variance += relative * relative * variance;
         self.sum_weighted_rounding += relative * rounding;
         self.dof += dof.max(1) as f64;
+        let own = 1.0 / variance;
+        self.own_weights += own;
+        let deviation = mean - self.own_mean;
+        self.own_mean += own / self.own_weights * deviation;
+        self.own_squares += own * deviation * (mean - self.own_mean);
+        self.largest = self.largest.max(mean.abs());
     }
 
     /// Whether the first iteration agrees with the warm-up iterations (true without a
@@ -112,11 +126,9 @@ impl Combination {
         let mean = self.sum_weighted / self.sum_weights;
         let m = self.count();
         let (chi2_dof, q_value) = if m > 1 {
-            let chi2: f64 = self
-                .results
-                .iter()
-                .map(|r| (r.mean - mean).powi(2) / r.variance)
-                .sum();
+            // sum_i (m_i - mean)^2 / var_i, about the own-weighted mean and shifted to `mean`.
+            let shift = self.own_mean - mean;
+            let chi2 = self.own_squares + self.own_weights * shift * shift;
             let dof = (m - 1) as f64;
             (Some(chi2 / dof), Some(chi_square_sf(chi2, dof)))
         } else {
@@ -124,9 +136,8 @@ impl Combination {
         };
         // The weighted sums of m terms and their ratio: at most 2m + 2 roundings of the
         // largest iteration estimate.
-        let largest = self.results.iter().fold(0.0f64, |l, r| l.max(r.mean.abs()));
-        let rounding =
-            self.sum_weighted_rounding / self.sum_weights + gamma(2.0 * m as f64 + 2.0) * largest;
+        let rounding = self.sum_weighted_rounding / self.sum_weights
+            + gamma(2.0 * m as f64 + 2.0) * self.largest;
         let mut estimate = Estimate {
             mean,
             std_error: Some(self.sum_weighted_variance.sqrt() / self.sum_weights),

@@ -1,7 +1,9 @@
 //! One VEGAS iteration as chunks of work for the engine's executor: each chunk maps its
-//! points through the grid, evaluates them and sums them per hypercube, and the chunks' sums
-//! are folded in chunk order, so sums, training data and allocations (and hence the result)
-//! are bit-identical for any number of threads.
+//! points through the grid, evaluates them and sums them per hypercube. The chunks' grid
+//! training data are summed in fixed groups of [`GROUP`] chunks (in parallel over the groups,
+//! and on each MPI rank before the exchange, which then carries one array per group), and the
+//! groups are folded in order, so sums, training data and allocations (and hence the result)
+//! are bit-identical for any number of threads or ranks.
 //!
 //! An integrand with several outputs gets every output's sums per hypercube, and the sums of
 //! the products of each pair for their covariance; a point with any non-finite output is left
@@ -11,19 +13,22 @@ use super::integrand::Integrand;
 use super::moments::{CubeMoments, CubeSums, CubeTotals};
 use super::strata::{Allocation, ChunkStart, Strata};
 use crate::adaptive::VegasGrid;
-use crate::engine::{ChunkJob, Executor, Limits};
+use crate::engine::{ChunkJob, Executor, Grouping, Limits};
 use crate::error::Result;
 use crate::points::Points;
 use crate::sampler::Sampler;
 use crate::stats::StopReason;
+use std::sync::{Mutex, PoisonError};
 
 /// Points drawn from the sampler at once, at most.
 const BLOCK: usize = 512;
 /// Coordinates drawn at once, at most (about): a block of a high dimension is a few points,
 /// so that limits are checked every few milliseconds whatever the dimension.
 const BLOCK_COORDINATES: usize = 1 << 16;
-/// Chunk outputs (each with a copy of the grid's training data) held in memory at once.
-const WINDOW: u64 = 64;
+/// Chunks whose training data are summed before they are folded (or sent to other ranks).
+const GROUP: u64 = 2;
+/// Groups (each with a copy of the grid's training data) held in memory at once.
+const WINDOW_GROUPS: u64 = 32;
 
 /// Everything one iteration's chunks share.
 pub(super) struct Pass<'a, I> {
@@ -44,6 +49,41 @@ pub(super) struct Pass<'a, I> {
     /// Each output's weight in the grid's training data and in `sigma_h` (`[1.0]` for a
     /// single output, whose arithmetic is then the scalar one).
     pub(super) weights: &'a [f64],
+    /// Zeroed training arrays for the chunks, reused from iteration to iteration.
+    pub(super) spare: &'a SpareTraining,
+}
+
+/// Zeroed arrays of grid training data, kept for reuse: a chunk's array is allocated once
+/// and handed back zeroed when its sums have been added, so that no chunk pays for fresh
+/// memory.
+#[derive(Default)]
+pub(super) struct SpareTraining(Mutex<Vec<Vec<f64>>>);
+
+impl SpareTraining {
+    /// A zeroed array of `len` values.
+    fn take(&self, len: usize) -> Vec<f64> {
+        let spare = self.0.lock().unwrap_or_else(PoisonError::into_inner).pop();
+        match spare {
+            Some(v) if v.len() == len => v,
+            _ => vec![0.0; len],
+        }
+    }
+
+    /// Keeps `v`, which must be all zeros, for a later [`take`](Self::take).
+    pub(super) fn give(&self, v: Vec<f64>) {
+        self.0
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .push(v);
+    }
+}
+
+/// `sum[i] += part[i]` and `part[i] = 0`, in one pass over both.
+fn add_and_clear(sum: &mut [f64], part: &mut [f64]) {
+    for (s, p) in sum.iter_mut().zip(part.iter_mut()) {
+        *s += *p;
+        *p = 0.0;
+    }
 }
 
 /// The iteration's sums, built chunk by chunk in order: per output, and per pair of outputs
@@ -58,6 +98,9 @@ pub(super) struct Totals {
     pub(super) non_finite: u64,
     /// Index within the iteration, value and output of the first non-finite `J f`.
     pub(super) first_non_finite: Option<(u64, f64, usize)>,
+    /// The grid's training data of each group of chunks, in order: summed element by element
+    /// in this order, axis by axis in parallel, when the grid adapts.
+    pub(super) training: Vec<Vec<f64>>,
 }
 
 impl Totals {
@@ -67,6 +110,7 @@ impl Totals {
             open: CubeMoments::empty(m),
             non_finite: 0,
             first_non_finite: None,
+            training: Vec::new(),
         }
     }
 }
@@ -80,19 +124,25 @@ impl<I: Integrand> Pass<'_, I> {
         &self,
         executor: &Executor,
         limits: &Limits,
-        training: &mut [f64],
         next_sigf: &mut [f64],
         progress: &mut dyn FnMut(u64),
     ) -> Result<std::result::Result<Totals, StopReason>> {
         let mut totals = Totals::new(self.f.outputs());
-        let stop = executor.run(
+        let merge = |group: &mut ChunkOutput, mut next: ChunkOutput| {
+            group.pieces.append(&mut next.pieces);
+            add_and_clear(&mut group.training, &mut next.training);
+            self.spare.give(next.training);
+        };
+        let stop = executor.run_grouped(
             self,
             0..self.chunks.len() as u64,
-            WINDOW,
+            Grouping::new(GROUP, WINDOW_GROUPS),
             limits,
-            |chunk, out| {
-                totals.merge(&out, self, training, next_sigf);
-                let next = self.chunks.get(chunk as usize + 1);
+            merge,
+            |first, out| {
+                totals.merge(&out, self, next_sigf);
+                totals.training.push(out.training);
+                let next = self.chunks.get((first + GROUP) as usize);
                 progress(next.map_or(self.total, |c| c.index));
                 Ok(())
             },
@@ -132,9 +182,14 @@ impl<I: Integrand> ChunkJob for Pass<'_, I> {
         chunk: u64,
         limits: &Limits,
     ) -> Result<Option<ChunkOutput>> {
-        let mut out = ChunkOutput::new(self);
-        let finished = scratch.run_chunk(self, chunk as usize, &mut out, limits)?;
-        Ok(finished.then_some(out))
+        let mut piece = Piece::new(self.f.outputs());
+        let mut training = self.spare.take(2 * self.grid.cells());
+        let finished =
+            scratch.run_chunk(self, chunk as usize, &mut piece, &mut training, limits)?;
+        Ok(finished.then(|| ChunkOutput {
+            pieces: vec![piece],
+            training,
+        }))
     }
 
     fn origin(&self, chunk: u64) -> (u64, u64) {
@@ -143,14 +198,15 @@ impl<I: Integrand> ChunkJob for Pass<'_, I> {
 }
 
 impl Totals {
-    /// Adds one chunk's results; chunks arrive in index order.
-    fn merge<I>(
-        &mut self,
-        out: &ChunkOutput,
-        pass: &Pass<I>,
-        training: &mut [f64],
-        next_sigf: &mut [f64],
-    ) {
+    /// Adds the hypercube sums of a group of chunks; groups arrive in index order.
+    fn merge<I>(&mut self, out: &ChunkOutput, pass: &Pass<I>, next_sigf: &mut [f64]) {
+        for piece in &out.pieces {
+            self.merge_piece(piece, pass, next_sigf);
+        }
+    }
+
+    /// Adds the hypercube sums of one chunk; chunks arrive in index order.
+    fn merge_piece<I>(&mut self, out: &Piece, pass: &Pass<I>, next_sigf: &mut [f64]) {
         if let Some(head) = &out.head {
             self.open.merge(head);
             if out.head_ends {
@@ -169,19 +225,24 @@ impl Totals {
         if let Some(tail) = &out.tail {
             self.open.clone_from(tail);
         }
-        for (sum, &part) in training.iter_mut().zip(&out.training) {
-            *sum += part;
-        }
         self.non_finite += out.non_finite;
         self.first_non_finite = self.first_non_finite.or(out.first_non_finite);
     }
 }
 
-/// What one chunk contributes, merged in chunk order.
+/// What a chunk, or a group of chunks, contributes: the hypercube sums of each chunk, in
+/// chunk order, and their grid training data summed.
 #[cfg_attr(feature = "mpi", derive(serde::Serialize, serde::Deserialize))]
 pub(super) struct ChunkOutput {
+    pieces: Vec<Piece>,
     /// Training data of the grid, as [`VegasGrid`] lays it out.
+    #[cfg_attr(feature = "mpi", serde(with = "float_bytes"))]
     training: Vec<f64>,
+}
+
+/// One chunk's hypercube sums, merged in chunk order.
+#[cfg_attr(feature = "mpi", derive(serde::Serialize, serde::Deserialize))]
+pub(super) struct Piece {
     start_cube: u64,
     /// The piece of a hypercube begun in an earlier chunk, and whether it ends here.
     head: Option<CubeMoments>,
@@ -199,11 +260,9 @@ pub(super) struct ChunkOutput {
     first_non_finite: Option<(u64, f64, usize)>,
 }
 
-impl ChunkOutput {
-    fn new<I: Integrand>(pass: &Pass<I>) -> ChunkOutput {
-        let m = pass.f.outputs();
-        ChunkOutput {
-            training: vec![0.0; 2 * pass.grid.cells()],
+impl Piece {
+    fn new(m: usize) -> Piece {
+        Piece {
             start_cube: 0,
             head: None,
             head_ends: false,
@@ -217,8 +276,7 @@ impl ChunkOutput {
         }
     }
 
-    /// Sets the results of a new output (its training data zero) to those of chunk `start`
-    /// before any point.
+    /// Sets the results to those of chunk `start` before any point.
     fn reset(&mut self, start: &ChunkStart) {
         self.start_cube = start.cube;
         self.head = None;
@@ -320,7 +378,8 @@ impl Scratch {
         &mut self,
         pass: &Pass<I>,
         chunk: usize,
-        out: &mut ChunkOutput,
+        out: &mut Piece,
+        training: &mut [f64],
         limits: &Limits,
     ) -> Result<bool> {
         let start = pass.chunks[chunk];
@@ -396,8 +455,8 @@ impl Scratch {
                 sums.push(values);
                 let weighted = weighted * share;
                 for &cell in &self.cells {
-                    out.training[2 * cell] += weighted;
-                    out.training[2 * cell + 1] += share;
+                    training[2 * cell] += weighted;
+                    training[2 * cell + 1] += share;
                 }
             }
             index += len as u64;
@@ -411,5 +470,58 @@ impl Scratch {
             out.tail = Some(sums.moments());
         }
         Ok(true)
+    }
+}
+
+/// Training data travel between ranks as their bytes: exact, and far cheaper to encode than
+/// one CBOR float at a time.
+#[cfg(feature = "mpi")]
+mod float_bytes {
+    use serde::de::{Error, SeqAccess, Visitor};
+    use serde::{Deserializer, Serializer};
+
+    pub(super) fn serialize<S: Serializer>(values: &[f64], s: S) -> Result<S::Ok, S::Error> {
+        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        s.serialize_bytes(&bytes)
+    }
+
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
+        d.deserialize_byte_buf(Floats)
+    }
+
+    struct Floats;
+
+    impl<'de> Visitor<'de> for Floats {
+        type Value = Vec<f64>;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("the bytes of little-endian f64 values")
+        }
+
+        fn visit_bytes<E: Error>(self, bytes: &[u8]) -> Result<Vec<f64>, E> {
+            if !bytes.len().is_multiple_of(8) {
+                return Err(E::invalid_length(bytes.len(), &self));
+            }
+            Ok(bytes
+                .chunks_exact(8)
+                .map(|b| {
+                    let mut value = [0; 8];
+                    value.copy_from_slice(b);
+                    f64::from_le_bytes(value)
+                })
+                .collect())
+        }
+
+        fn visit_byte_buf<E: Error>(self, bytes: Vec<u8>) -> Result<Vec<f64>, E> {
+            self.visit_bytes(&bytes)
+        }
+
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<f64>, A::Error> {
+            let mut bytes = Vec::new();
+            while let Some(b) = seq.next_element::<u8>()? {
+                bytes.push(b);
+            }
+            self.visit_bytes(&bytes)
+        }
     }
 }

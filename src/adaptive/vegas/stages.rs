@@ -4,10 +4,11 @@
 
 use super::combination::VectorCombination;
 use super::integrand::Integrand;
-use super::pass::Pass;
+use super::pass::{Pass, SpareTraining};
 use super::strata::{ALLOCATION_SAFETY, Allocation, ChunkStart, Strata, plan_chunks};
 use super::{Vegas, output_weights};
 use crate::adaptive::VegasGrid;
+use crate::adaptive::vegas_grid::increment_averages;
 use crate::engine::{Executor, Limits, Next, NonFinite, StageEnd, Stages, Targets, Verdict};
 use crate::error::Result;
 use crate::sampler::{PassKind, Sampler};
@@ -25,7 +26,7 @@ pub(super) struct Iterations<'a, F, I> {
     pub(super) sigf: Vec<f64>,
     pub(super) next_sigf: Vec<f64>,
     pub(super) sum_sigf: f64,
-    pub(super) training: Vec<f64>,
+    pub(super) spare: SpareTraining,
     pub(super) combination: VectorCombination,
     /// Each output's weight in the training data and in `sigma_h` (see `output_weights`).
     pub(super) weights: Vec<f64>,
@@ -75,7 +76,6 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
         limits: &Limits,
         progress: &mut dyn FnMut(u64),
     ) -> Result<StageEnd> {
-        self.training.fill(0.0);
         let pass = Pass {
             f: self.f,
             weights: &self.weights,
@@ -93,14 +93,9 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
             base: self.base,
             beta: self.vegas.beta,
             allocating: self.strata.allocation_budget.is_some(),
+            spare: &self.spare,
         };
-        let totals = match pass.run(
-            executor,
-            limits,
-            &mut self.training,
-            &mut self.next_sigf,
-            progress,
-        )? {
+        let mut totals = match pass.run(executor, limits, &mut self.next_sigf, progress)? {
             Ok(totals) => totals,
             // An iteration cut short is discarded: its hypercubes are unevenly sampled.
             Err(reason) => {
@@ -128,9 +123,7 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
         let measured = self.k >= self.vegas.warmup;
         self.k += 1;
         self.spent += self.total;
-        let vegas = self.vegas;
-        self.grid
-            .adapt_to(&self.training, vegas.alpha, vegas.density_floor);
+        self.adapt(std::mem::take(&mut totals.training), executor);
         if self.allocating() {
             std::mem::swap(&mut self.sigf, &mut self.next_sigf);
             self.sum_sigf = self.sigf.iter().sum();
@@ -195,6 +188,41 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
 }
 
 impl<F, I> Iterations<'_, F, I> {
+    /// Moves the grid to the iteration's training data, `groups` (each group's arrays, in
+    /// order), one axis per task: each task sums its axis's part of every group in order,
+    /// adapts the axis, and zeroes its part, so that the arrays go back to the spares.
+    fn adapt(&mut self, mut groups: Vec<Vec<f64>>, executor: &Executor) {
+        let (alpha, floor) = (self.vegas.alpha, self.vegas.density_floor);
+        let grid = &self.grid;
+        let mut axes: Vec<(usize, Vec<&mut [f64]>)> = (0..grid.dims())
+            .map(|axis| (axis, Vec::with_capacity(groups.len())))
+            .collect();
+        for group in &mut groups {
+            let mut rest = &mut group[..];
+            for (axis, parts) in &mut axes {
+                let (part, tail) = rest.split_at_mut(grid.training_range(*axis).len());
+                parts.push(part);
+                rest = tail;
+            }
+        }
+        let new_nodes = executor.map_each(axes, |(axis, mut parts)| {
+            let sums: Vec<&[f64]> = parts.iter().map(|p| &**p).collect();
+            let averages = increment_averages(&sums);
+            for part in &mut parts {
+                part.fill(0.0);
+            }
+            grid.axis_nodes(axis, &averages, alpha, floor)
+        });
+        for (axis, nodes) in new_nodes.into_iter().enumerate() {
+            if let Some(nodes) = nodes {
+                self.grid.set_axis_nodes(axis, &nodes);
+            }
+        }
+        for group in groups {
+            self.spare.give(group);
+        }
+    }
+
     /// Whether the allocation adapts (VEGAS+).
     fn allocating(&self) -> bool {
         self.strata.allocation_budget.is_some()

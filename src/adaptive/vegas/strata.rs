@@ -1,10 +1,14 @@
 //! The hypercubes of VEGAS+'s `y`-space, how many points each gets in an iteration, and the
 //! cut of an iteration's index range into chunks of work.
 
-/// Points per unit of work handed to a thread (and per partial result merged in order), at
-/// least: chunks grow with the budget so that an iteration never has more than
-/// `MAX_CHUNKS` of them.
-const CHUNK: u64 = 1 << 12;
+/// An iteration is cut into equal chunks (units of work handed to a thread) of at least
+/// `MIN_CHUNK` points, at most `CHUNKS` of them while they fit in `MAX_CHUNK` points, and
+/// never more than `MAX_CHUNKS`. Each chunk carries an array of grid training data (two
+/// values per increment), whose cost is small against `MIN_CHUNK` points; four chunks of a
+/// `10^4`-point iteration keep two or four threads equally busy.
+const CHUNKS: u64 = 16;
+const MIN_CHUNK: u64 = 2500;
+const MAX_CHUNK: u64 = 1 << 16;
 const MAX_CHUNKS: u64 = 1 << 16;
 /// Most hypercubes in the stratification: bounds the two per-hypercube arrays (64 MiB).
 const MAX_HYPERCUBES: u64 = 1 << 22;
@@ -107,9 +111,18 @@ impl Strata {
             allocation_budget: (adaptive && cubes > 1)
                 .then_some((evaluations - evaluations / 4) as f64),
             increments,
-            chunk: evaluations.div_ceil(MAX_CHUNKS).max(CHUNK),
+            chunk: chunk_size(evaluations),
         }
     }
+}
+
+/// Points per chunk of an iteration of `evaluations` points (see [`CHUNKS`]).
+fn chunk_size(evaluations: u64) -> u64 {
+    let chunks = (evaluations / MIN_CHUNK).clamp(1, CHUNKS);
+    evaluations
+        .div_ceil(chunks)
+        .min(MAX_CHUNK)
+        .max(evaluations.div_ceil(MAX_CHUNKS))
 }
 
 /// `base^dims`, saturating.
