@@ -11,6 +11,13 @@
 //! Methods that need far longer are measured once from the command line instead (see the
 //! README). The Python peers (scipy's `qmc_quad`, QMCPy's `CubQMCSobolG`, vegas) are timed on
 //! the same work by `benches/peers_python/adaptive_peers.py`.
+//!
+//! `cargo bench --bench adaptive -- two_threads`: VEGAS and VEGAS+ on the cheap 4-D Genz
+//! Gaussian (about 60 ns per evaluation with the grid's mapping) on one and two threads, with
+//! `10^6`, `10^7` (criterion) and `10^8` evaluations in 5 warm-up and 10 measured iterations,
+//! and a run to a tolerance in the default iterations of `10^4` points; then the speedup of
+//! two threads over one, from runs timed in alternating pairs (the median of the pairs'
+//! ratios, so that a machine whose speed drifts still compares like with like).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mcint::adaptive::{Miser, SobolG, Vegas};
@@ -21,6 +28,7 @@ use mcint::stats::Tolerance;
 use mcint::testfns::{Genz, GenzFamily, TestFunction};
 use mcint::{Integrator, Points};
 use std::hint::black_box;
+use std::time::Instant;
 
 const DIMS: usize = 5;
 const TARGET: f64 = 1e-5;
@@ -125,5 +133,87 @@ fn to_tolerance(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, to_tolerance);
+/// Evaluations of the fixed-budget runs of `two_threads`, spent in 5 warm-up and 10
+/// measured iterations of a fifteenth each.
+const BUDGETS: [u64; 3] = [1_000_000, 10_000_000, 100_000_000];
+
+/// The 4-D Genz Gaussian, cheap enough that the work between iterations shows.
+fn cheap() -> Genz {
+    Genz::with_defaults(GenzFamily::Gaussian, 4).unwrap()
+}
+
+/// A VEGAS (`stratified = false`) or VEGAS+ run on `threads` threads: `budget` evaluations
+/// in fixed iterations, or with `budget = None` to a relative 95% half-width of `5e-6` in the
+/// default iterations of `10^4` points. Returns its estimate.
+fn vegas_run(f: &Genz, stratified: bool, budget: Option<u64>, threads: usize) -> f64 {
+    let integrand = |x: &[f64]| f.eval(x);
+    let vegas = Vegas::new(integrand, UniformBox::unit(4).unwrap())
+        .stratified(stratified)
+        .seed(1)
+        .threads(threads);
+    let e = match budget {
+        Some(n) => vegas.samples(n / 15).warmup(5).iterations(10).run(),
+        None => vegas
+            .iterations(1 << 20)
+            .tolerance(Tolerance::relative(5e-6).unwrap())
+            .run(),
+    };
+    black_box(e.unwrap().mean)
+}
+
+fn two_threads(c: &mut Criterion) {
+    let f = cheap();
+    let mut group = c.benchmark_group("two_threads_vegas_gaussian_4d");
+    group.sample_size(10);
+    for (name, stratified) in [("vegas", false), ("vegas_plus", true)] {
+        for budget in &BUDGETS[..2] {
+            for threads in [1, 2] {
+                let id = format!("{name}_{budget:e}_evals_{threads}_threads");
+                group.bench_function(id, |b| {
+                    b.iter(|| vegas_run(&f, stratified, Some(*budget), threads))
+                });
+            }
+        }
+    }
+    group.finish();
+    if asked_for("two_threads_vegas_gaussian_4d") {
+        print_speedups(&f);
+    }
+}
+
+/// Whether this is a `cargo bench` run (not `cargo test --benches`) whose name filter, if it
+/// has one, matches `group`.
+fn asked_for(group: &str) -> bool {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let benching = args.iter().any(|a| a == "--bench");
+    let mut filters = args.iter().filter(|a| !a.starts_with('-'));
+    benching && filters.all(|f| group.contains(f.as_str()))
+}
+
+/// Prints the speedup of two threads over one for each method and work size: the median,
+/// over alternating pairs of runs, of (one-thread time) / (two-thread time).
+fn print_speedups(f: &Genz) {
+    let time = |stratified, budget, threads| {
+        let start = Instant::now();
+        vegas_run(f, stratified, budget, threads);
+        start.elapsed().as_secs_f64()
+    };
+    println!("two threads over one (median of paired runs):");
+    for (name, stratified) in [("VEGAS", false), ("VEGAS+", true)] {
+        let cases = BUDGETS
+            .iter()
+            .map(|&b| (Some(b), format!("{b:.0e} evaluations")))
+            .chain([(None, "to 5e-6 in 10^4-point iterations".to_string())]);
+        for (budget, what) in cases {
+            let pairs = if budget == Some(BUDGETS[2]) { 3 } else { 7 };
+            let mut ratios: Vec<f64> = (0..pairs)
+                .map(|_| time(stratified, budget, 1) / time(stratified, budget, 2))
+                .collect();
+            ratios.sort_by(f64::total_cmp);
+            println!("  {name:7} {what:34} {:.2}x", ratios[pairs / 2]);
+        }
+    }
+}
+
+criterion_group!(benches, to_tolerance, two_threads);
 criterion_main!(benches);

@@ -4,15 +4,20 @@
 //! ```text
 //! cargo build --release -p mcint-cli --features mpi
 //! mpirun -n P target/release/mpi_scaling [--cost-us C] [--points N] [--threads T]
+//!     [--method integrator|vegas|vegas-plus]
 //! ```
 //!
 //! Rank 0 prints two kinds of lines:
 //! * `exchange`: the time of one `MPI_Allgatherv` in which every rank sends `bytes` (the
 //!   collective a spread run makes once per window of chunks), the median of 21;
-//! * `run`: a fixed-budget Integrator run of `--points` points (default 2^22) of an integrand
-//!   that costs about `--cost-us` microseconds (default 1), spread over the ranks, each on
-//!   `--threads` threads (default 1): its wall time and evaluations per second.
+//! * `run`: a fixed-budget run of `--points` evaluations (default 2^22) of an integrand that
+//!   costs about `--cost-us` microseconds (default 1), spread over the ranks, each on
+//!   `--threads` threads (default 1): its wall time and evaluations per second. `--method`
+//!   (default `integrator`) picks the Integrator's independent points over `[0,1]^2`, or VEGAS
+//!   or VEGAS+ over `[0,1]^4` with 5 warm-up and 10 iterations of a fifteenth of the points
+//!   each.
 
+use mcint::adaptive::Vegas;
 use mcint::mpi::datatype::PartitionMut;
 use mcint::mpi::traits::{Communicator, CommunicatorCollectives, Root};
 use mcint::{Cluster, Integrator, pdf::UniformBox};
@@ -32,6 +37,7 @@ const SPEC: support::Spec = &[
         "integrand cost in microseconds (default 1)",
     ),
     ("points", true, "points of the run (default 2^22)"),
+    ("method", true, "integrator (default), vegas or vegas-plus"),
     support::THREADS,
 ];
 
@@ -55,6 +61,19 @@ fn run() -> Result<(), String> {
         .get("points", "a whole number >= 1")?
         .unwrap_or(1 << 22);
     let threads: usize = args.get("threads", "a whole number >= 1")?.unwrap_or(1);
+    let method: String = args
+        .get("method", "integrator, vegas or vegas-plus")?
+        .unwrap_or_else(|| "integrator".to_string());
+    let stratified = match method.as_str() {
+        "integrator" => None,
+        "vegas" => Some(false),
+        "vegas-plus" => Some(true),
+        other => {
+            return Err(format!(
+                "invalid --method {other}: expected integrator, vegas or vegas-plus"
+            ));
+        }
+    };
     if !(cost_us > 0.0 && cost_us.is_finite()) {
         return Err(format!(
             "invalid --cost-us {cost_us}: expected a positive number of microseconds"
@@ -100,22 +119,31 @@ fn run() -> Result<(), String> {
     }
 
     let f = move |x: &[f64]| busy(x, rounds);
-    let domain = UniformBox::unit(2).map_err(|e| e.to_string())?;
     world.barrier();
     let start = Instant::now();
-    let estimate = Integrator::over_box(f, domain)
-        .samples(points)
-        .threads(threads)
-        .cluster(cluster)
-        .run()
-        .map_err(|e| e.to_string())?;
+    let estimate = match stratified {
+        None => Integrator::over_box(f, UniformBox::unit(2).map_err(|e| e.to_string())?)
+            .samples(points)
+            .threads(threads)
+            .cluster(cluster)
+            .run(),
+        Some(stratified) => Vegas::new(f, UniformBox::unit(4).map_err(|e| e.to_string())?)
+            .stratified(stratified)
+            .samples((points / 15).max(50))
+            .warmup(5)
+            .iterations(10)
+            .threads(threads)
+            .cluster(cluster)
+            .run(),
+    }
+    .map_err(|e| e.to_string())?;
     let seconds = start.elapsed().as_secs_f64();
     if cluster.is_root() {
         say!(
-            "run ranks={} threads={threads} points={points} cost_us={cost_us} seconds={seconds:.3} \
-             evaluations_per_second={:.3e} estimate={}",
+            "run method={method} ranks={} threads={threads} points={points} cost_us={cost_us} \
+             seconds={seconds:.3} evaluations_per_second={:.3e} estimate={}",
             cluster.size(),
-            points as f64 / seconds,
+            estimate.evaluations as f64 / seconds,
             estimate.mean
         );
     }
