@@ -218,7 +218,11 @@ impl Estimate {
         if let (Some(chi2_dof), Some(q_value)) = (self.chi2_dof, self.q_value)
             && q_value < DISAGREEMENT_Q
         {
-            self.warn(Warning::IterationsDisagree { chi2_dof, q_value });
+            self.warn(Warning::IterationsDisagree {
+                iterations: self.iterations,
+                chi2_dof,
+                q_value,
+            });
         }
         if self.non_finite > 0 {
             // Where it stands, with the count now known: finalizing twice changes nothing.

@@ -90,11 +90,15 @@ pub enum Warning {
     },
     /// The iterations an adaptive method combined (VEGAS) disagree beyond chance: a `chi^2` of
     /// their agreement this large or larger has probability `q_value`, below
-    /// [`DISAGREEMENT_Q`], if their variances are right. Their variances are then
-    /// underestimated (a discontinuity the grid squeezes into a sliver that most iterations
-    /// miss, as a rule), the combination trusts the iterations that missed it, and the
-    /// combined estimate can sit many standard errors from the truth.
+    /// [`DISAGREEMENT_Q`], if their variances are right. Some iterations' variances are then
+    /// underestimated, or their estimates drift (the grid still moving), and the combined
+    /// estimate can sit many standard errors from the truth. Causes seen: a discontinuity the
+    /// grid squeezes into a sliver most iterations miss; a narrow peak that iterations of too
+    /// few points find only now and then; a grid still adapting when the combined iterations
+    /// began.
     IterationsDisagree {
+        /// The number of iterations combined.
+        iterations: u64,
         /// `chi^2` per degree of freedom.
         chi2_dof: f64,
         /// The probability of a `chi^2` at least as large if the iterations agree.
@@ -205,12 +209,18 @@ impl fmt::Display for Warning {
                 "{count} NaN or infinite contributions were left out: the estimate is the \
                  mean of the finite ones"
             ),
-            Warning::IterationsDisagree { chi2_dof, q_value } => write!(
+            Warning::IterationsDisagree {
+                iterations,
+                chi2_dof,
+                q_value,
+            } => write!(
                 f,
-                "the combined iterations disagree (chi2/dof {chi2_dof:.2}, Q = {q_value:.1e}): \
-                 their variances are underestimated and the error bar is too small (as a rule, \
-                 a discontinuity that the grid squeezes into a sliver most iterations miss); \
-                 MISER or randomized QMC do not depend on a grid"
+                "the {iterations} combined iterations disagree (chi2/dof {chi2_dof:.2}, \
+                 Q = {q_value:.1e}): their variances are too small or their estimates drift, so \
+                 the error bar is too small; possible causes: a discontinuity or a narrow peak \
+                 that most iterations of this size miss (more evaluations per iteration, or \
+                 MISER or randomized QMC, which need no grid), or a grid still adapting (more \
+                 warm-up iterations)"
             ),
             Warning::AtRoundingFloor { statistical, floor } => write!(
                 f,

@@ -351,19 +351,31 @@ fn ninety_five_percent_intervals_cover_the_exact_value_about_95_percent_of_the_t
 /// `StopReason::IterationsDisagree`. With the default samples per iteration too, where the
 /// first iteration agreed with the last warm-up (whose honest variance was large) though not
 /// with the four before it.
+fn disagree_warning(w: &Warning) -> bool {
+    matches!(w, Warning::IterationsDisagree { .. })
+}
+
 #[test]
 fn iterations_that_disagree_warn_and_meet_no_tolerance() {
     let g = Genz::with_defaults(GenzFamily::Discontinuous, 1).unwrap();
-    let disagree = |e: &Estimate| {
-        e.warnings
-            .iter()
-            .any(|w| matches!(w, Warning::IterationsDisagree { .. }))
-    };
+    let disagree = |e: &Estimate| e.warnings.iter().any(disagree_warning);
     for stratified in [false, true] {
         let fixed = genz_run(&g, stratified, 1000, 0);
         assert!(
             fixed.q_value.unwrap() < DISAGREEMENT_Q && disagree(&fixed),
             "{fixed:?}"
+        );
+        // The warning says what the run saw, and offers causes rather than asserting one.
+        let warning = fixed.warnings.iter().find(|w| disagree_warning(w)).unwrap();
+        assert!(
+            matches!(warning, Warning::IterationsDisagree { iterations, .. } if *iterations == fixed.iterations),
+            "{warning:?}"
+        );
+        let text = warning.to_string();
+        let seen = format!("the {} combined iterations disagree", fixed.iterations);
+        assert!(
+            text.contains(&seen) && text.contains("Q = ") && text.contains("possible causes"),
+            "{text}"
         );
         let limit = 1 << 22;
         for samples in [Some(1000), None] {
