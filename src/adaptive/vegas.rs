@@ -50,6 +50,7 @@ mod moments;
 mod pass;
 mod stages;
 mod strata;
+mod training;
 
 use super::vegas_grid::{VegasGrid, check_alpha, check_density_floor, check_increments};
 use crate::engine::{self, Drive, RunConfig, Targets, require_randomized, run_settings};

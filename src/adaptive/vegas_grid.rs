@@ -227,7 +227,7 @@ impl VegasGrid {
     /// which with about ten points per increment would otherwise dominate the noise.
     pub(crate) fn adapt_to(&mut self, training: &[f64], alpha: f64, floor: f64) {
         for axis in 0..self.dims() {
-            let averages = increment_averages(&[&training[self.training_range(axis)]]);
+            let averages = increment_averages(&training[self.training_range(axis)]);
             if let Some(nodes) = self.axis_nodes(axis, &averages, alpha, floor) {
                 self.set_axis_nodes(axis, &nodes);
             }
@@ -365,22 +365,11 @@ const MAX_ALPHA: f64 = 2.0;
 /// Smooths, normalizes and damps one axis's projections into `weights`; false when they
 /// carry no usable information (all zero, or not finite), in which case the axis stays put.
 /// The weighted average of `(J f)^2` over each increment of one axis, from its training
-/// pairs summed over `parts` (in order, element by element).
-pub(crate) fn increment_averages(parts: &[&[f64]]) -> Vec<f64> {
-    let n = parts.first().map_or(0, |p| p.len() / 2);
-    (0..n)
-        .map(|i| {
-            let (mut weighted, mut weights) = (0.0, 0.0);
-            for part in parts {
-                weighted += part[2 * i];
-                weights += part[2 * i + 1];
-            }
-            if weights > 0.0 {
-                weighted / weights
-            } else {
-                0.0
-            }
-        })
+/// pairs (weighted sum, sum of weights).
+pub(crate) fn increment_averages(pairs: &[f64]) -> Vec<f64> {
+    pairs
+        .chunks_exact(2)
+        .map(|p| if p[1] > 0.0 { p[0] / p[1] } else { 0.0 })
         .collect()
 }
 

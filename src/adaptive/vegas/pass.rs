@@ -1,9 +1,9 @@
 //! One VEGAS iteration as chunks of work for the engine's executor: each chunk maps its
 //! points through the grid, evaluates them and sums them per hypercube. The chunks' grid
-//! training data are summed in fixed groups of [`GROUP`] chunks (in parallel over the groups,
-//! and on each MPI rank before the exchange, which then carries one array per group), and the
-//! groups are folded in order, so sums, training data and allocations (and hence the result)
-//! are bit-identical for any number of threads or ranks.
+//! training data are summed in fixed groups of [`GROUP`] chunks and then over the groups in
+//! order (see `training`: on each MPI rank before the exchange, which then carries one array
+//! per group), and the hypercube sums are folded in chunk order, so sums, training data and
+//! allocations (and hence the result) are bit-identical for any number of threads or ranks.
 //!
 //! An integrand with several outputs gets every output's sums per hypercube, and the sums of
 //! the products of each pair for their covariance; a point with any non-finite output is left
@@ -12,13 +12,13 @@
 use super::integrand::Integrand;
 use super::moments::{CubeMoments, CubeSums, CubeTotals};
 use super::strata::{Allocation, ChunkStart, Strata};
+use super::training::{GroupTraining, SpareTraining};
 use crate::adaptive::VegasGrid;
 use crate::engine::{ChunkJob, Executor, Grouping, Limits};
 use crate::error::Result;
 use crate::points::Points;
 use crate::sampler::Sampler;
 use crate::stats::StopReason;
-use std::sync::{Mutex, PoisonError};
 
 /// Points drawn from the sampler at once, at most.
 const BLOCK: usize = 512;
@@ -49,41 +49,8 @@ pub(super) struct Pass<'a, I> {
     /// Each output's weight in the grid's training data and in `sigma_h` (`[1.0]` for a
     /// single output, whose arithmetic is then the scalar one).
     pub(super) weights: &'a [f64],
-    /// Zeroed training arrays for the chunks, reused from iteration to iteration.
+    /// Training arrays for the chunks, reused from iteration to iteration.
     pub(super) spare: &'a SpareTraining,
-}
-
-/// Zeroed arrays of grid training data, kept for reuse: a chunk's array is allocated once
-/// and handed back zeroed when its sums have been added, so that no chunk pays for fresh
-/// memory.
-#[derive(Default)]
-pub(super) struct SpareTraining(Mutex<Vec<Vec<f64>>>);
-
-impl SpareTraining {
-    /// A zeroed array of `len` values.
-    fn take(&self, len: usize) -> Vec<f64> {
-        let spare = self.0.lock().unwrap_or_else(PoisonError::into_inner).pop();
-        match spare {
-            Some(v) if v.len() == len => v,
-            _ => vec![0.0; len],
-        }
-    }
-
-    /// Keeps `v`, which must be all zeros, for a later [`take`](Self::take).
-    pub(super) fn give(&self, v: Vec<f64>) {
-        self.0
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .push(v);
-    }
-}
-
-/// `sum[i] += part[i]` and `part[i] = 0`, in one pass over both.
-fn add_and_clear(sum: &mut [f64], part: &mut [f64]) {
-    for (s, p) in sum.iter_mut().zip(part.iter_mut()) {
-        *s += *p;
-        *p = 0.0;
-    }
 }
 
 /// The iteration's sums, built chunk by chunk in order: per output, and per pair of outputs
@@ -100,7 +67,7 @@ pub(super) struct Totals {
     pub(super) first_non_finite: Option<(u64, f64, usize)>,
     /// The grid's training data of each group of chunks, in order: summed element by element
     /// in this order, axis by axis in parallel, when the grid adapts.
-    pub(super) training: Vec<Vec<f64>>,
+    pub(super) training: Vec<GroupTraining>,
 }
 
 impl Totals {
@@ -130,8 +97,7 @@ impl<I: Integrand> Pass<'_, I> {
         let mut totals = Totals::new(self.f.outputs());
         let merge = |group: &mut ChunkOutput, mut next: ChunkOutput| {
             group.pieces.append(&mut next.pieces);
-            add_and_clear(&mut group.training, &mut next.training);
-            self.spare.give(next.training);
+            group.training.append(&mut next.training);
         };
         let stop = executor.run_grouped(
             self,
@@ -184,11 +150,16 @@ impl<I: Integrand> ChunkJob for Pass<'_, I> {
     ) -> Result<Option<ChunkOutput>> {
         let mut piece = Piece::new(self.f.outputs());
         let mut training = self.spare.take(2 * self.grid.cells());
-        let finished =
-            scratch.run_chunk(self, chunk as usize, &mut piece, &mut training, limits)?;
+        let finished = scratch.run_chunk(
+            self,
+            chunk as usize,
+            &mut piece,
+            &mut training.values,
+            limits,
+        )?;
         Ok(finished.then(|| ChunkOutput {
             pieces: vec![piece],
-            training,
+            training: GroupTraining(vec![training]),
         }))
     }
 
@@ -236,8 +207,7 @@ impl Totals {
 pub(super) struct ChunkOutput {
     pieces: Vec<Piece>,
     /// Training data of the grid, as [`VegasGrid`] lays it out.
-    #[cfg_attr(feature = "mpi", serde(with = "float_bytes"))]
-    training: Vec<f64>,
+    training: GroupTraining,
 }
 
 /// One chunk's hypercube sums, merged in chunk order.
@@ -470,58 +440,5 @@ impl Scratch {
             out.tail = Some(sums.moments());
         }
         Ok(true)
-    }
-}
-
-/// Training data travel between ranks as their bytes: exact, and far cheaper to encode than
-/// one CBOR float at a time.
-#[cfg(feature = "mpi")]
-mod float_bytes {
-    use serde::de::{Error, SeqAccess, Visitor};
-    use serde::{Deserializer, Serializer};
-
-    pub(super) fn serialize<S: Serializer>(values: &[f64], s: S) -> Result<S::Ok, S::Error> {
-        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
-        s.serialize_bytes(&bytes)
-    }
-
-    pub(super) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
-        d.deserialize_byte_buf(Floats)
-    }
-
-    struct Floats;
-
-    impl<'de> Visitor<'de> for Floats {
-        type Value = Vec<f64>;
-
-        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-            f.write_str("the bytes of little-endian f64 values")
-        }
-
-        fn visit_bytes<E: Error>(self, bytes: &[u8]) -> Result<Vec<f64>, E> {
-            if !bytes.len().is_multiple_of(8) {
-                return Err(E::invalid_length(bytes.len(), &self));
-            }
-            Ok(bytes
-                .chunks_exact(8)
-                .map(|b| {
-                    let mut value = [0; 8];
-                    value.copy_from_slice(b);
-                    f64::from_le_bytes(value)
-                })
-                .collect())
-        }
-
-        fn visit_byte_buf<E: Error>(self, bytes: Vec<u8>) -> Result<Vec<f64>, E> {
-            self.visit_bytes(&bytes)
-        }
-
-        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<f64>, A::Error> {
-            let mut bytes = Vec::new();
-            while let Some(b) = seq.next_element::<u8>()? {
-                bytes.push(b);
-            }
-            self.visit_bytes(&bytes)
-        }
     }
 }

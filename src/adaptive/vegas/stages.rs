@@ -4,8 +4,9 @@
 
 use super::combination::VectorCombination;
 use super::integrand::Integrand;
-use super::pass::{Pass, SpareTraining};
+use super::pass::Pass;
 use super::strata::{ALLOCATION_SAFETY, Allocation, ChunkStart, Strata, plan_chunks};
+use super::training::{GroupTraining, SpareTraining, summed};
 use super::{Vegas, output_weights};
 use crate::adaptive::VegasGrid;
 use crate::adaptive::vegas_grid::increment_averages;
@@ -189,38 +190,22 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
 
 impl<F, I> Iterations<'_, F, I> {
     /// Moves the grid to the iteration's training data, `groups` (each group's arrays, in
-    /// order), one axis per task: each task sums its axis's part of every group in order,
-    /// adapts the axis, and zeroes its part, so that the arrays go back to the spares.
-    fn adapt(&mut self, mut groups: Vec<Vec<f64>>, executor: &Executor) {
+    /// order), one axis per task: each task sums its axis's part of every group in order and
+    /// adapts the axis. The arrays then go back to the spares.
+    fn adapt(&mut self, groups: Vec<GroupTraining>, executor: &Executor) {
         let (alpha, floor) = (self.vegas.alpha, self.vegas.density_floor);
         let grid = &self.grid;
-        let mut axes: Vec<(usize, Vec<&mut [f64]>)> = (0..grid.dims())
-            .map(|axis| (axis, Vec::with_capacity(groups.len())))
-            .collect();
-        for group in &mut groups {
-            let mut rest = &mut group[..];
-            for (axis, parts) in &mut axes {
-                let (part, tail) = rest.split_at_mut(grid.training_range(*axis).len());
-                parts.push(part);
-                rest = tail;
-            }
-        }
-        let new_nodes = executor.map_each(axes, |(axis, mut parts)| {
-            let sums: Vec<&[f64]> = parts.iter().map(|p| &**p).collect();
-            let averages = increment_averages(&sums);
-            for part in &mut parts {
-                part.fill(0.0);
-            }
-            grid.axis_nodes(axis, &averages, alpha, floor)
+        let axes: Vec<usize> = (0..grid.dims()).collect();
+        let new_nodes = executor.map_each(axes, |axis| {
+            let pairs = summed(&groups, grid.training_range(axis));
+            grid.axis_nodes(axis, &increment_averages(&pairs), alpha, floor)
         });
         for (axis, nodes) in new_nodes.into_iter().enumerate() {
             if let Some(nodes) = nodes {
                 self.grid.set_axis_nodes(axis, &nodes);
             }
         }
-        for group in groups {
-            self.spare.give(group);
-        }
+        self.spare.give(groups);
     }
 
     /// Whether the allocation adapts (VEGAS+).
