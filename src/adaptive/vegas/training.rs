@@ -29,22 +29,38 @@ impl GroupTraining {
         self.0.append(&mut next.0);
     }
 
-    /// Element `i` of the group's sum: the arrays' elements added in chunk order.
-    #[inline]
-    fn sum_at(&self, i: usize) -> f64 {
+    /// The group's sum over `range` into `sum`: the arrays added in chunk order; `false`
+    /// (and `sum` untouched) for a group without arrays.
+    fn sum_into(&self, range: std::ops::Range<usize>, sum: &mut [f64]) -> bool {
         let mut arrays = self.0.iter();
-        let first = arrays.next().map_or(0.0, |a| a.values[i]);
-        arrays.fold(first, |sum, a| sum + a.values[i])
+        let Some(first) = arrays.next() else {
+            return false;
+        };
+        sum.copy_from_slice(&first.values[range.clone()]);
+        for array in arrays {
+            for (s, v) in sum.iter_mut().zip(&array.values[range.clone()]) {
+                *s += v;
+            }
+        }
+        true
     }
 }
 
 /// Sums `groups` of training data element by element over `range` (one axis): each group's
 /// arrays in chunk order, then the groups' sums in order. The same bits whether a group
-/// arrives as its arrays or as their sum from another rank.
+/// arrives as its arrays or as their sum from another rank. (Whole slices at a time, so the
+/// additions vectorize; each element is still summed in that order.)
 pub(super) fn summed(groups: &[GroupTraining], range: std::ops::Range<usize>) -> Vec<f64> {
-    range
-        .map(|i| groups.iter().fold(0.0, |total, g| total + g.sum_at(i)))
-        .collect()
+    let mut total = vec![0.0; range.len()];
+    let mut group_sum = vec![0.0; range.len()];
+    for group in groups {
+        if group.sum_into(range.clone(), &mut group_sum) {
+            for (t, s) in total.iter_mut().zip(&group_sum) {
+                *t += s;
+            }
+        }
+    }
+    total
 }
 
 /// Training arrays kept for reuse, each by the thread that filled it.
@@ -93,9 +109,9 @@ mod transfer {
     impl Serialize for GroupTraining {
         fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
             let len = self.0.first().map_or(0, |a| a.values.len());
-            let bytes: Vec<u8> = (0..len)
-                .flat_map(|i| self.sum_at(i).to_le_bytes())
-                .collect();
+            let mut sum = vec![0.0; len];
+            self.sum_into(0..len, &mut sum);
+            let bytes: Vec<u8> = sum.iter().flat_map(|v| v.to_le_bytes()).collect();
             s.serialize_bytes(&bytes)
         }
     }
