@@ -362,8 +362,6 @@ pub(crate) fn check_density_floor(floor: f64) -> Result<()> {
 /// The largest grid damping exponent accepted (see [`check_alpha`]).
 const MAX_ALPHA: f64 = 2.0;
 
-/// Smooths, normalizes and damps one axis's projections into `weights`; false when they
-/// carry no usable information (all zero, or not finite), in which case the axis stays put.
 /// The weighted average of `(J f)^2` over each increment of one axis, from its training
 /// pairs (weighted sum, sum of weights).
 pub(crate) fn increment_averages(pairs: &[f64]) -> Vec<f64> {
@@ -373,6 +371,8 @@ pub(crate) fn increment_averages(pairs: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// Smooths, normalizes and damps one axis's projections into `weights`; false when they
+/// carry no usable information (all zero, or not finite), in which case the axis stays put.
 fn damped_weights(raw: &[f64], alpha: f64, weights: &mut [f64]) -> bool {
     let n = raw.len();
     // Neighbour smoothing (1, 6, 1)/8, and (7, 1)/8 at the two ends.
