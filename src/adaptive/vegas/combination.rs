@@ -234,3 +234,38 @@ impl VectorCombination {
         VectorEstimate::assemble(outputs, Some(matrix))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The running chi^2 (West's update, shifted to the combined mean) equals the direct sum
+    /// `sum_i (m_i - mean)^2 / var_i` over the iterations, for means far from zero and
+    /// variances spread over orders of magnitude.
+    #[test]
+    fn running_chi2_matches_the_direct_sum() {
+        let mut c = Combination::default();
+        let iterations: Vec<(f64, f64)> = (0..40)
+            .map(|i| {
+                let i = f64::from(i);
+                (
+                    1e6 + (i * 0.7).sin() * 3.0,
+                    10f64.powf((i * 1.3).cos() * 2.0),
+                )
+            })
+            .collect();
+        for &(mean, variance) in &iterations {
+            c.add(mean, variance, 100, 0.0);
+        }
+        let e = c.estimate(4000, 4000);
+        let direct: f64 = iterations
+            .iter()
+            .map(|(m, v)| (m - e.mean).powi(2) / v)
+            .sum();
+        let running = e.chi2_dof.unwrap() * 39.0;
+        assert!(
+            (running - direct).abs() <= 1e-9 * direct,
+            "{running} vs {direct}"
+        );
+    }
+}

@@ -218,6 +218,25 @@ mod tests {
     }
 
     #[test]
+    fn chunks_are_equal_at_least_min_chunk_and_capped() {
+        // (points, points per chunk, chunks)
+        for (n, chunk, chunks) in [
+            (50, 50, 1),
+            (4_999, 4_999, 1),
+            (10_000, 2_500, 4),
+            (50_001, 3_126, 16),
+            (1 << 20, 1 << 16, 16),
+            (10_000_000, 1 << 16, 153),
+        ] {
+            assert_eq!(chunk_size(n), chunk, "{n}");
+            assert_eq!(n.div_ceil(chunk_size(n)), chunks, "{n}");
+        }
+        // Past 2^32 points the chunks grow so that there are never more than MAX_CHUNKS.
+        let huge = 1u64 << 40;
+        assert_eq!(huge.div_ceil(chunk_size(huge)), MAX_CHUNKS);
+    }
+
+    #[test]
     fn allocation_never_exceeds_the_budget() {
         let s = Strata::new(2, 1001, true, 0.75, 100, 1000);
         assert_eq!((s.cubes, s.min_per_cube), (121, 2));
