@@ -295,7 +295,7 @@ pub fn stop_name(stop: mcint::stats::StopReason) -> &'static str {
         mcint::stats::StopReason::TimeLimit => "time limit",
         mcint::stats::StopReason::Cancelled => "cancelled",
         mcint::stats::StopReason::SamplerExhausted => "sampler exhausted",
-        mcint::stats::StopReason::IterationsDisagree => "iterations disagree",
+        mcint::stats::StopReason::IterationsDisagree => "disagreement",
         _ => "other",
     }
 }

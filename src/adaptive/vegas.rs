@@ -45,6 +45,7 @@
 //! is over its finite values only (the skipped points are counted in the estimate).
 
 mod combination;
+mod growth;
 mod integrand;
 mod moments;
 mod pass;
@@ -60,6 +61,7 @@ use crate::pdf::{Pdf, UniformBox};
 use crate::sampler::{PassKind, Sampler};
 use crate::stats::{Derived, Estimate, Tolerance, VectorEstimate};
 use combination::VectorCombination;
+use growth::Growth;
 pub use integrand::VegasOutputs;
 use integrand::{Integrand, Scalar};
 use stages::Iterations;
@@ -77,6 +79,8 @@ const DEFAULT_DENSITY_FLOOR: f64 = 0.005;
 /// Grid increments are capped at one per this many evaluations (as `vegas` does), so that
 /// every increment sees some points in each iteration.
 const EVALUATIONS_PER_INCREMENT: u64 = 10;
+/// The largest iteration a run to a tolerance grows to.
+const LARGEST_ITERATION: u64 = 1 << 32;
 
 /// VEGAS and VEGAS+ adaptive Monte Carlo integration over a box.
 ///
@@ -114,11 +118,33 @@ const EVALUATIONS_PER_INCREMENT: u64 = 10;
 /// Iterations that disagree (`Q` below [`DISAGREEMENT_Q`](crate::stats::DISAGREEMENT_Q)) have
 /// underestimated variances, and meet no tolerance; the first combined iteration, which has no
 /// `Q` yet, must agree in the same sense with the warm-up iterations, whose estimates are as
-/// unbiased and whose variances are as honest (without a warm-up it is not checked). A run
-/// whose interval is narrow enough but for the disagreement goes on to twice the evaluations
-/// it had spent then, so that a chance disagreement can pass, and stops there on
-/// [`StopReason::IterationsDisagree`](crate::stats::StopReason::IterationsDisagree) if its
-/// iterations still disagree.
+/// unbiased and whose variances are as honest (without a warm-up it is not checked).
+///
+/// A run to a tolerance also chooses its iteration size, starting from
+/// [`samples`](Self::samples): it doubles it when its iterations disagree (setting the earlier
+/// ones aside as warm-up, at most four times), and when its grid has settled but the tolerance
+/// still needs more than 32 iterations of the current size (keeping them). Larger iterations
+/// train the grid on more points per increment and hit a narrow peak in every iteration. A run
+/// whose iterations still disagree after four doublings stops on
+/// [`StopReason::IterationsDisagree`](crate::stats::StopReason::IterationsDisagree) with the
+/// tolerance not met; so does one that cannot grow (its evaluation limit too close) once its
+/// interval is narrow enough but for the disagreement and twice its evaluations have not made
+/// them agree. A fixed budget keeps its size.
+///
+/// ```
+/// use mcint::{adaptive::Vegas, pdf::UniformBox, stats::Tolerance};
+/// // A Gaussian peak about 1/30 wide per axis in 6-D, off-centre.
+/// let f = |x: &[f64]| (-x.iter().map(|v| 900.0 * (v - 0.3) * (v - 0.3)).sum::<f64>()).exp();
+/// let e = Vegas::new(f, UniformBox::unit(6).unwrap())
+///     .tolerance(Tolerance::relative(1e-3).unwrap())
+///     .seed(1)
+///     .run()
+///     .unwrap();
+/// let per_axis = std::f64::consts::PI.sqrt() / 30.0; // the tails outside: below 1e-100
+/// assert!((e.mean - per_axis.powi(6)).abs() < 5.0 * e.std_error.unwrap());
+/// // Iterations grew past the 10^4 points of the first ones.
+/// assert!(e.n > 10_000 * e.iterations);
+/// ```
 pub struct Vegas<F> {
     f: F,
     domain: UniformBox,
@@ -194,7 +220,8 @@ impl<F> Vegas<F> {
 
     /// Evaluations per iteration, `N` (at least 50; default `10_000`). With stratification
     /// an iteration uses at most `N` (the rounding down of the proportional shares usually
-    /// leaves a few unused); without, exactly `N`.
+    /// leaves a few unused); without, exactly `N`. A run to a tolerance starts with `N` and
+    /// may grow it (see [`Vegas`]).
     ///
     /// ```
     /// use mcint::{adaptive::Vegas, pdf::UniformBox};
@@ -368,6 +395,10 @@ impl<F> Vegas<F> {
             measured_evaluations: 0,
             non_finite: 0,
             held_back_at: None,
+            growth: Growth::new(settings.samples, settings.largest_size),
+            set_aside: None,
+            max_increments: settings.increments,
+            left: u64::MAX,
             chunks: Vec::new(),
             total: 0,
             scale: None,
@@ -488,9 +519,17 @@ impl<F> Vegas<F> {
         let increments = (self.increments as u64)
             .min(n / EVALUATIONS_PER_INCREMENT)
             .max(2) as usize;
+        // A run to a tolerance may grow its iterations (see `growth`) up to one pass of an
+        // extensible sampler; a fixed pass stays the size asked for.
+        let largest_size = match sampler.passes() {
+            PassKind::Independent => LARGEST_ITERATION,
+            PassKind::Extensible { max } => max.min(LARGEST_ITERATION),
+            PassKind::Fixed { .. } => n,
+        };
         Ok(Settings {
             samples: n,
             increments,
+            largest_size: largest_size.max(n),
         })
     }
 }
@@ -500,6 +539,8 @@ struct Settings {
     /// Evaluations per iteration.
     samples: u64,
     increments: usize,
+    /// The most evaluations an iteration may grow to.
+    largest_size: u64,
 }
 
 /// Each output's weight in the next iteration's training data and allocation: one over its

@@ -136,14 +136,17 @@ impl<'a> Targets<'a> {
     }
 
     /// Records how the run ended on its final estimate: per output, whether its own target
-    /// (or, without one, every target) was met, and a warning when it stopped on a limit.
+    /// (or, without one, every target) was met, and a warning when it stopped on a limit. A
+    /// run that stopped because its iterations disagree met none: its intervals cannot be
+    /// trusted, however narrow.
     pub(crate) fn finish(&self, run: &mut VectorEstimate, stop: StopReason) {
-        let all = self.met(run);
+        let trusted = stop != StopReason::IterationsDisagree;
+        let all = trusted && self.met(run);
         let own: Vec<bool> = self
             .outputs
             .iter()
             .zip(&run.outputs)
-            .map(|(t, e)| t.map_or(all, |t| t.is_met(e)))
+            .map(|(t, e)| trusted && t.map_or(all, |t| t.is_met(e)))
             .collect();
         run.for_each_output(|k, output| {
             output.stop = stop;

@@ -343,14 +343,12 @@ fn ninety_five_percent_intervals_cover_the_exact_value_about_95_percent_of_the_t
 
 /// A discontinuity that the grid squeezes into a sliver most iterations miss (the 1-D Genz
 /// discontinuous function) gives iterations whose variances are far too small. Their `chi^2`
-/// disagreement warns, and a run to a tolerance does not claim it met: before that check (and
-/// the first iteration's against the warm-up iterations), VEGAS+ claimed an absolute tolerance
-/// of 1e-4 here after one iteration, 640 standard errors from the exact value. Nor does it
-/// spend its evaluation limit (it did, 2^30 evaluations by default): once its interval is
-/// narrow enough but for the disagreement, it stops after twice the evaluations, on
-/// `StopReason::IterationsDisagree`. With the default samples per iteration too, where the
-/// first iteration agreed with the last warm-up (whose honest variance was large) though not
-/// with the four before it.
+/// disagreement warns, and a run to a tolerance does not claim it met on them: before that
+/// check (and the first iteration's against the warm-up iterations), VEGAS+ claimed an
+/// absolute tolerance of 1e-4 here after one iteration, 640 standard errors from the exact
+/// value; and it spent its whole evaluation limit (2^30 evaluations by default). A run to a
+/// tolerance now grows its iterations while they disagree (`vegas/growth.rs`), and stops on
+/// `StopReason::IterationsDisagree` when four doublings did not make them agree.
 fn disagree_warning(w: &Warning) -> bool {
     matches!(w, Warning::IterationsDisagree { .. })
 }
@@ -394,27 +392,34 @@ fn iterations_that_disagree_warn_and_meet_no_tolerance() {
             }
             .run()
             .unwrap();
-            assert_eq!(e.converged, Some(false), "{e:?}");
-            assert!(disagree(&e), "{e:?}");
-            assert!(
-                e.warnings
-                    .iter()
-                    .any(|w| matches!(w, Warning::ToleranceNotMet { stop } if *stop == e.stop)),
-                "{e:?}"
-            );
-            if !stratified || samples.is_some() {
-                // The interval never gets below the tolerance here, and the limit stops the
-                // run: classic VEGAS, whose density floor keeps the region beyond the jump
-                // sampled (half-widths of 1.1e-3 with 1000 points an iteration and 3.1e-4
-                // with 10,000), and VEGAS+ with 1000 (3.8e-3).
-                let half_width = e.half_width(0.95).unwrap().unwrap();
-                assert!(half_width > 1e-4, "{e:?}");
-                assert_eq!(e.stop, StopReason::MaxEvaluations, "{e:?}");
-            } else {
-                // VEGAS+ with 10,000 gets narrow enough, but its iterations disagree: it
-                // stops on that at twice the evaluations it had spent (117,321).
-                assert_eq!(e.stop, StopReason::IterationsDisagree, "{e:?}");
+            // A claimed tolerance is honest (within 4 standard errors); a run that does not
+            // claim it says why.
+            let z = (e.mean - g.exact()).abs() / e.std_error.unwrap();
+            assert!(e.converged == Some(false) || z < 4.0, "{e:?}");
+            if e.converged == Some(false) {
+                assert!(
+                    e.warnings
+                        .iter()
+                        .any(|w| matches!(w, Warning::ToleranceNotMet { stop } if *stop == e.stop)),
+                    "{e:?}"
+                );
+            }
+            if stratified {
+                // VEGAS+ with 1000 points an iteration keeps disagreeing (chi^2/dof in the
+                // millions) as it grows, and stops on that; with 10,000 its iterations agree
+                // once grown to about 145,000 points, and it meets the tolerance (honestly,
+                // as checked above). Both far below the limit.
+                let expected = match samples {
+                    Some(_) => StopReason::IterationsDisagree,
+                    None => StopReason::ToleranceMet,
+                };
+                assert_eq!(e.stop, expected, "{e:?}");
                 assert!(e.evaluations < limit / 4, "{e:?}");
+            } else {
+                // Classic VEGAS, whose density floor keeps the region beyond the jump
+                // sampled, agrees once its iterations grew (to 64,000 and 128,000 points):
+                // it meets the tolerance or reaches the limit with an interval that covers.
+                assert!(e.iterations > 1 && e.n > 16 * e.iterations * 1000, "{e:?}");
             }
         }
     }

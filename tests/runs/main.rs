@@ -13,6 +13,7 @@
 //! | batch integrands (`estimator/batch_uniform.rs`) | `batch_integrand` |
 //! | vector runs (`integrate/vector.rs`, `estimator/vector*.rs`, `stats/covariance.rs`) | `vector_integrands`, `vector_coverage` |
 //! | vector VEGAS | `vector_vegas` |
+//! | VEGAS and VEGAS+ to a tolerance on sharp 8-D peaks | `vegas_peaks` |
 //!
 //! Limits, panics, checkpoints and huge values of runs are in the `contracts` crate.
 //!
@@ -32,3 +33,4 @@ mod sobol_g;
 mod vector_coverage;
 mod vector_integrands;
 mod vector_vegas;
+mod vegas_peaks;

@@ -53,6 +53,12 @@ pub(super) struct Combination {
     own_squares: f64,
     /// The largest iteration estimate in magnitude.
     largest: f64,
+    /// The size of the previous iteration over the next one's, when they differ.
+    size_ratio: Option<f64>,
+    /// The variance of the last iteration set aside by a restart, which weights the next.
+    set_aside: Option<f64>,
+    /// Whether iterations were set aside.
+    restarted: bool,
 }
 
 impl Combination {
@@ -71,9 +77,11 @@ impl Combination {
     pub(super) fn add(&mut self, mean: f64, variance: f64, dof: u64, rounding: f64) {
         let variance = variance.max(TINY_VARIANCE);
         // The variance of the iteration before: the last combined one, or the last warm-up.
-        let previous = self.results.last().map(|r| r.variance);
+        let previous = self.results.last().map(|r| r.variance).or(self.set_aside);
         let last_warmup = self.warmups.last().map(|&(_, v)| v);
-        let weight = 1.0 / previous.or(last_warmup).unwrap_or(variance);
+        // An iteration `1 / ratio` times larger has about `ratio` times the variance.
+        let ratio = self.size_ratio.take().unwrap_or(1.0);
+        let weight = 1.0 / (ratio * previous.or(last_warmup).unwrap_or(variance));
         self.results.push(Iteration {
             mean,
             variance,
@@ -183,6 +191,14 @@ impl VectorCombination {
         self.outputs[0].count()
     }
 
+    /// The variance of the last combined iteration's first output (NaN before one).
+    pub(super) fn last_variance(&self) -> f64 {
+        self.outputs[0]
+            .results
+            .last()
+            .map_or(f64::NAN, |r| r.variance)
+    }
+
     /// Adds an iteration's totals, whose variances have `dof` degrees of freedom.
     pub(super) fn add(&mut self, totals: &Totals, dof: u64) {
         for (k, combination) in self.outputs.iter_mut().enumerate() {
@@ -199,10 +215,42 @@ impl VectorCombination {
         }
     }
 
+    /// Starts the combination again after the iterations grew by `1 / ratio`: the earlier
+    /// ones, which disagreed, are set aside, and the last one's variance (times `ratio`)
+    /// weights the next. The first new iteration is then not checked against the warm-up
+    /// (whose small iterations may be what disagreed): it needs a second (see
+    /// [`VectorCombination::first_agrees`]).
+    pub(super) fn restart(&mut self, ratio: f64) {
+        for combination in &mut self.outputs {
+            let set_aside = combination.results.last().map(|r| r.variance);
+            let warmups = std::mem::take(&mut combination.warmups);
+            *combination = Combination {
+                warmups,
+                set_aside,
+                restarted: true,
+                size_ratio: Some(ratio),
+                ..Combination::default()
+            };
+        }
+        self.covariances.clear();
+    }
+
+    /// Tells the combination that the next iteration is `1 / ratio` times larger than the
+    /// last one, whose variance, times `ratio`, then weights it.
+    pub(super) fn scale_next(&mut self, ratio: f64) {
+        for combination in &mut self.outputs {
+            combination.size_ratio = Some(ratio);
+        }
+    }
+
     /// Whether every output's first iteration agrees with its warm-up iterations (true
-    /// without a warm-up; see [`Combination::first_agrees`]).
-    pub(super) fn first_agrees(&self) -> bool {
-        self.outputs.iter().all(Combination::first_agrees)
+    /// without a warm-up; see [`Combination::first_agrees`]); `None` for the first iteration
+    /// after a restart, which has nothing to be checked against.
+    pub(super) fn first_agrees(&self) -> Option<bool> {
+        if self.outputs[0].restarted {
+            return None;
+        }
+        Some(self.outputs.iter().all(Combination::first_agrees))
     }
 
     /// The combined estimate of every output from `n` measured evaluations, `evaluations`

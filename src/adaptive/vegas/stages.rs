@@ -3,6 +3,7 @@
 //! are combined.
 
 use super::combination::VectorCombination;
+use super::growth::{GROWTH, Growth, Step};
 use super::integrand::Integrand;
 use super::pass::Pass;
 use super::strata::{ALLOCATION_SAFETY, Allocation, ChunkStart, Strata, plan_chunks};
@@ -13,7 +14,7 @@ use crate::adaptive::vegas_grid::increment_averages;
 use crate::engine::{Executor, Limits, Next, NonFinite, StageEnd, Stages, Targets, Verdict};
 use crate::error::Result;
 use crate::sampler::{PassKind, Sampler};
-use crate::stats::{StopReason, VectorEstimate};
+use crate::stats::{DISAGREEMENT_Q, StopReason, VectorEstimate};
 
 /// The state of a VEGAS run between its iterations.
 pub(super) struct Iterations<'a, F, I> {
@@ -40,6 +41,14 @@ pub(super) struct Iterations<'a, F, I> {
     /// The evaluations spent when the interval first met the tolerance but for iterations
     /// that disagree.
     pub(super) held_back_at: Option<u64>,
+    /// The size of the iterations and when it grows (runs to a tolerance).
+    pub(super) growth: Growth,
+    /// The estimate of the iterations the last restart set aside.
+    pub(super) set_aside: Option<VectorEstimate>,
+    /// The grid's most increments per axis, for the strata of a grown iteration.
+    pub(super) max_increments: usize,
+    /// The evaluations left under the limit when the next stage was planned.
+    pub(super) left: u64,
     /// The next iteration's plan: its chunks, evaluations, allocation scale and first index.
     pub(super) chunks: Vec<ChunkStart>,
     pub(super) total: u64,
@@ -51,7 +60,8 @@ pub(super) struct Iterations<'a, F, I> {
 }
 
 impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
-    fn next(&mut self, _left: u64) -> Result<Next> {
+    fn next(&mut self, left: u64) -> Result<Next> {
+        self.left = left;
         if self.k == self.vegas.warmup + self.vegas.iterations {
             return Ok(Next::Done(if self.to_tolerance {
                 StopReason::MaxEvaluations
@@ -152,33 +162,62 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
     }
 
     fn has_estimate(&self) -> bool {
-        self.combination.count() > 0
+        self.combination.count() > 0 || self.set_aside.is_some()
     }
 
     fn estimate(&mut self) -> Result<Option<VectorEstimate>> {
-        if !self.has_estimate() {
-            return Ok(None);
+        if self.combination.count() > 0 {
+            return Ok(Some(self.combined()));
         }
-        let mut run = self
-            .combination
-            .estimate(self.measured_evaluations, self.spent);
-        run.for_each_output(|_, estimate| estimate.non_finite = self.non_finite);
-        Ok(Some(run))
+        // A limit right after a restart: the iterations set aside are all there is.
+        Ok(self.set_aside.clone().map(|mut run| {
+            run.evaluations = self.spent;
+            run.for_each_output(|_, estimate| estimate.evaluations = self.spent);
+            run
+        }))
     }
 
     fn verdict(&mut self, judged: &VectorEstimate, met: bool, targets: &Targets<'_>) -> Verdict {
         // Two or more iterations carry their own chi^2 (`Tolerance::is_met` refuses those
-        // that disagree); a first one is checked against the warm-up ones.
-        let checked = self.combination.count() > 1 || self.combination.first_agrees();
-        if checked && met {
+        // that disagree); a first one is checked against the warm-up ones, except after a
+        // restart, where it waits for a second.
+        let first = match self.combination.count() {
+            1 => self.combination.first_agrees(),
+            _ => Some(true),
+        };
+        if first == Some(true) && met {
             return Verdict::Met;
         }
-        // Narrow enough but for the disagreement: the run doubles its evaluations, so that a
-        // chance disagreement (1% of honest runs) can pass; iterations that still disagree
-        // then have error bars too small for more of them to help.
+        let disagree = first == Some(false)
+            || judged
+                .outputs
+                .iter()
+                .any(|e| e.q_value.is_some_and(|q| q < DISAGREEMENT_Q));
+        let last = self.combination.last_variance();
+        self.growth.record(last * self.total as f64);
+        // Iterations like the last one that the tolerance still needs: the combination's
+        // shortfall squared, times its variance over the last iteration's.
+        let combined = judged.outputs[0].std_error.unwrap_or(f64::NAN);
+        let needed = targets.shortfall(judged).powi(2) * last / (combined * combined);
+        let iterations_left = (self.vegas.warmup + self.vegas.iterations).saturating_sub(self.k);
+        match self
+            .growth
+            .step(disagree, needed, self.left, iterations_left)
+        {
+            Step::Grow { restart } => {
+                self.grow(restart);
+                return Verdict::Continue;
+            }
+            Step::GiveUp => return Verdict::Stop(StopReason::IterationsDisagree),
+            Step::Continue => {}
+        }
+        // Narrow enough but for the disagreement, with no room to grow: the run doubles its
+        // evaluations, so that a chance disagreement (1% of honest runs) can pass;
+        // iterations that still disagree then have error bars too small for more of them
+        // to help.
         let mut without_agreement = judged.clone();
         without_agreement.for_each_output(|_, e| e.q_value = None);
-        if targets.met(&without_agreement) {
+        if disagree && targets.met(&without_agreement) {
             let since = *self.held_back_at.get_or_insert(self.spent);
             if self.spent >= 2 * since {
                 return Verdict::Stop(StopReason::IterationsDisagree);
@@ -189,6 +228,39 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
 }
 
 impl<F, I> Iterations<'_, F, I> {
+    /// Starts iterations of the grown size (see [`growth`](super::growth)): new strata
+    /// on the same grid (whose increments then need not be multiples of the strata), an
+    /// even allocation for the first of them, and the combination either started again or
+    /// told that the next iteration is larger.
+    fn grow(&mut self, restart: bool) {
+        let ratio = 1.0 / GROWTH as f64;
+        let increments = std::mem::take(&mut self.strata.increments);
+        self.strata = Strata::new(
+            self.grid.dims(),
+            self.growth.size,
+            self.vegas.stratified,
+            self.vegas.beta,
+            self.max_increments,
+            self.vegas.increments,
+        );
+        self.strata.increments = increments;
+        if self.allocating() {
+            let cubes = self.strata.cubes as usize;
+            self.sigf = vec![1.0; cubes];
+            self.next_sigf = vec![0.0; cubes];
+            self.sum_sigf = cubes as f64;
+        }
+        if restart {
+            self.set_aside = Some(self.combined());
+            self.combination.restart(ratio);
+            self.measured_evaluations = 0;
+            self.non_finite = 0;
+        } else {
+            self.combination.scale_next(ratio);
+        }
+        self.held_back_at = None;
+    }
+
     /// Moves the grid to the iteration's training data, `groups` (each group's arrays, in
     /// order), one axis per task: each task sums its axis's part of every group in order and
     /// adapts the axis. The arrays then go back to the spares.
@@ -206,6 +278,15 @@ impl<F, I> Iterations<'_, F, I> {
             }
         }
         self.spare.give(groups);
+    }
+
+    /// The combined estimate of the iterations since the last restart.
+    fn combined(&self) -> VectorEstimate {
+        let mut run = self
+            .combination
+            .estimate(self.measured_evaluations, self.spent);
+        run.for_each_output(|_, estimate| estimate.non_finite = self.non_finite);
+        run
     }
 
     /// Whether the allocation adapts (VEGAS+).

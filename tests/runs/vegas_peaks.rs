@@ -1,0 +1,117 @@
+//! VEGAS and VEGAS+ to a tolerance on sharp peaks in 8-D: their intervals cover the exact
+//! value in at least 186 of 200 seeds (1.3 binomial deviations below the 190 of an exact 95%
+//! interval, as in `adaptive_tolerance`), and no run spends more than 50 times the median
+//! evaluations of the case before it stops.
+//!
+//! The peaks are about 1/30 wide per axis (Genz `a_i` from 20 to 40) and off-centre. Before
+//! the iterations grew on disagreement (`vegas/growth.rs`), iterations of `10^4` points
+//! missed most of such a Gaussian and hit it in a few: 143 (VEGAS) and 147 (VEGAS+) of 200
+//! runs to `1e-3` covered, some 16-95 standard errors low.
+//!
+//! A run whose iterations keep disagreeing stops with `StopReason::IterationsDisagree` (and
+//! says the tolerance was not met); each test prints how many did.
+//!
+//! Not here, because it fails: two Gaussians (`a_i = 10`) at `u` and `1 - u`. Classic
+//! VEGAS's separable grid settles on one of them and loses the other: 198 of 200 runs
+//! claimed `1e-3` half the exact value off, with agreeing iterations. VEGAS+, whose
+//! hypercubes all keep points, covered 177 and refused 14 (median 9.7 M evaluations).
+
+use crate::common::{REQUIRED, SEEDS};
+use mcint::adaptive::Vegas;
+use mcint::pdf::UniformBox;
+use mcint::stats::{StopReason, Tolerance};
+use mcint::testfns::{Genz, GenzFamily, TestFunction};
+
+const DIMS: usize = 8;
+const A: [f64; DIMS] = [20.0, 23.0, 26.0, 29.0, 32.0, 35.0, 38.0, 40.0];
+const U: [f64; DIMS] = [0.3, 0.6, 0.7, 0.2, 0.4, 0.7, 0.3, 0.8];
+/// The relative tolerance of the issue that found the failure.
+const RELATIVE: f64 = 1e-3;
+/// No run may spend more than this many times the median evaluations of its case.
+const MOST_OVER_MEDIAN: u64 = 50;
+
+fn genz(family: GenzFamily, a: &[f64], u: &[f64]) -> Genz {
+    Genz::new(family, a.to_vec(), u.to_vec()).unwrap()
+}
+
+/// Runs VEGAS (`stratified` false) or VEGAS+ on `f` with exact integral `exact` for every
+/// seed, and checks coverage, the tolerance of converged runs and the evaluation bound.
+fn check(name: &str, f: &(dyn Fn(&[f64]) -> f64 + Sync), exact: f64, stratified: bool) {
+    let method = if stratified { "VEGAS+" } else { "VEGAS" };
+    let tolerance = Tolerance::relative(RELATIVE).unwrap();
+    let mut covered = 0;
+    let mut claimed_misses = 0;
+    let mut disagreeing = 0;
+    let mut evaluations = Vec::new();
+    for seed in 0..SEEDS {
+        let e = Vegas::new(f, UniformBox::unit(DIMS).unwrap())
+            .stratified(stratified)
+            .iterations(100_000)
+            .tolerance(tolerance)
+            .seed(seed)
+            .threads(1)
+            .run()
+            .unwrap();
+        match e.stop {
+            StopReason::ToleranceMet => {
+                assert!(e.half_width(0.95).unwrap().unwrap() <= tolerance.target(e.mean));
+            }
+            StopReason::IterationsDisagree => {
+                assert_eq!(e.converged, Some(false), "{method} {name} seed {seed}");
+                disagreeing += 1;
+            }
+            other => panic!("{method} {name} seed {seed}: stopped on {other:?}"),
+        }
+        let (lo, hi) = e.confidence_interval(0.95).unwrap().unwrap();
+        let covers = lo <= exact && exact <= hi;
+        covered += u64::from(covers);
+        claimed_misses += u64::from(!covers && e.converged == Some(true));
+        evaluations.push(e.evaluations);
+    }
+    evaluations.sort_unstable();
+    let median = evaluations[evaluations.len() / 2];
+    let most = *evaluations.last().unwrap();
+    eprintln!(
+        "{method} {name}: covered {covered} of {SEEDS}, {disagreeing} stopped on disagreement, \
+         {claimed_misses} claimed the tolerance and missed, evaluations median {median}, most \
+         {most}"
+    );
+    assert!(
+        covered >= REQUIRED,
+        "{method} {name}: covered {covered} of {SEEDS}"
+    );
+    assert!(
+        most <= MOST_OVER_MEDIAN * median,
+        "{method} {name}: {most} evaluations against a median of {median}"
+    );
+}
+
+fn gaussian(stratified: bool) {
+    let g = genz(GenzFamily::Gaussian, &A, &U);
+    check("8-D Gaussian", &|x| g.eval(x), g.exact(), stratified);
+}
+
+fn product_peak(stratified: bool) {
+    let g = genz(GenzFamily::ProductPeak, &A, &U);
+    check("8-D product peak", &|x| g.eval(x), g.exact(), stratified);
+}
+
+#[test]
+fn vegas_covers_a_sharp_gaussian() {
+    gaussian(false);
+}
+
+#[test]
+fn vegas_plus_covers_a_sharp_gaussian() {
+    gaussian(true);
+}
+
+#[test]
+fn vegas_covers_a_sharp_product_peak() {
+    product_peak(false);
+}
+
+#[test]
+fn vegas_plus_covers_a_sharp_product_peak() {
+    product_peak(true);
+}
