@@ -28,9 +28,11 @@ pub enum StopReason {
     /// The sampler ran out of points: a run to a tolerance reached the end of a pass (the
     /// most points per replicate an extensible sequence has).
     SamplerExhausted,
-    /// The interval met the tolerance, but the iterations it combines disagree
-    /// ([`Warning::IterationsDisagree`](crate::stats::Warning::IterationsDisagree)), and still
-    /// did after twice the evaluations: their error bars are too small, and more iterations
-    /// would not make the interval honest (VEGAS).
+    /// The iterations a run to a tolerance combines kept disagreeing
+    /// ([`Warning::IterationsDisagree`](crate::stats::Warning::IterationsDisagree)) after
+    /// their size had doubled four times (or, where it could not grow, after twice the
+    /// evaluations at which the interval would otherwise have met the tolerance): their error
+    /// bars are too small, and more iterations would not make the interval honest (VEGAS). The
+    /// run is not `converged`. The CLI calls it `disagreement`.
     IterationsDisagree,
 }

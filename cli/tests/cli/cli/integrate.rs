@@ -50,6 +50,38 @@ fn integrate_json_reports_honest_error_bars() {
     assert_eq!(json_field(&stdout(&single), "std_error"), "null");
 }
 
+/// VEGAS+ on the 1-D discontinuous family with 1000 points an iteration: its iterations keep
+/// disagreeing as they grow, and the run stops on that, well under its limit, without
+/// claiming the tolerance.
+#[test]
+fn integrate_reports_a_vegas_run_that_keeps_disagreeing() {
+    let out = run(
+        "integrate",
+        &[
+            "--genz",
+            "discontinuous",
+            "--dims",
+            "1",
+            "--method",
+            "vegas-plus",
+            "--n",
+            "1000",
+            "--tol-abs",
+            "1e-4",
+            "--max-evals",
+            "4194304",
+            "--json",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json = stdout(&out);
+    assert_eq!(json_field(&json, "stop"), "disagreement", "{json}");
+    assert_eq!(json_field(&json, "converged"), "false", "{json}");
+    let evaluations: u64 = json_field(&json, "evaluations").parse().unwrap();
+    assert!(evaluations < 1 << 20, "{json}");
+    assert!(json.contains("tolerance-not-met"), "{json}");
+}
+
 #[test]
 fn integrate_rejects_bad_input_with_one_line() {
     assert_one_line_error(
