@@ -79,6 +79,9 @@ const DEFAULT_DENSITY_FLOOR: f64 = 0.005;
 /// Grid increments are capped at one per this many evaluations (as `vegas` does), so that
 /// every increment sees some points in each iteration.
 const EVALUATIONS_PER_INCREMENT: u64 = 10;
+/// Iterations after the warm-up, by default, with a fixed budget and to a tolerance.
+const FIXED_ITERATIONS: u64 = 10;
+const TOLERANCE_ITERATIONS: u64 = 1 << 20;
 /// The largest iteration a run to a tolerance grows to.
 const LARGEST_ITERATION: u64 = 1 << 32;
 
@@ -141,6 +144,7 @@ const LARGEST_ITERATION: u64 = 1 << 32;
 ///     .run()
 ///     .unwrap();
 /// let per_axis = std::f64::consts::PI.sqrt() / 30.0; // the tails outside: below 1e-100
+/// assert_eq!(e.stop, mcint::stats::StopReason::ToleranceMet);
 /// assert!((e.mean - per_axis.powi(6)).abs() < 5.0 * e.std_error.unwrap());
 /// // Iterations grew past the 10^4 points of the first ones.
 /// assert!(e.n > 10_000 * e.iterations);
@@ -149,7 +153,8 @@ pub struct Vegas<F> {
     f: F,
     domain: UniformBox,
     config: RunConfig,
-    iterations: u64,
+    /// The most iterations after the warm-up, when set.
+    iterations: Option<u64>,
     warmup: u64,
     increments: usize,
     alpha: f64,
@@ -200,7 +205,7 @@ impl<F> Vegas<F> {
             f,
             domain,
             config: RunConfig::default(),
-            iterations: 10,
+            iterations: None,
             warmup: 5,
             increments: 1000,
             alpha: 0.5,
@@ -237,7 +242,8 @@ impl<F> Vegas<F> {
     }
 
     /// The most iterations combined into the estimate, after the warm-up (at least 1;
-    /// default 10). A [`tolerance`](Self::tolerance) may stop the run earlier.
+    /// default 10 with a fixed budget, and `2^20` for a run to a [`tolerance`](Self::tolerance),
+    /// whose evaluation limit stops it first). A tolerance may stop the run earlier.
     ///
     /// ```
     /// use mcint::{adaptive::Vegas, pdf::UniformBox};
@@ -245,7 +251,7 @@ impl<F> Vegas<F> {
     /// assert_eq!(e.iterations, 3);
     /// ```
     pub fn iterations(mut self, n: u64) -> Self {
-        self.iterations = n;
+        self.iterations = Some(n);
         self
     }
 
@@ -398,6 +404,7 @@ impl<F> Vegas<F> {
             growth: Growth::new(settings.samples, settings.largest_size),
             set_aside: None,
             max_increments: settings.increments,
+            last_iteration: settings.iterations,
             left: u64::MAX,
             chunks: Vec::new(),
             total: 0,
@@ -411,7 +418,12 @@ impl<F> Vegas<F> {
             targets,
             config: &self.config,
             spent: 0,
-            planned: settings.samples * (self.warmup + self.iterations),
+            // A run to a tolerance cannot know its evaluations.
+            planned: if targets.any() {
+                0
+            } else {
+                settings.samples * settings.iterations
+            },
         };
         engine::drive(&mut iterations, &drive)
     }
@@ -429,7 +441,12 @@ impl<F> Vegas<F> {
                 ),
             ));
         }
-        if self.iterations == 0 {
+        let iterations = self.iterations.unwrap_or(if limit.is_some() {
+            TOLERANCE_ITERATIONS
+        } else {
+            FIXED_ITERATIONS
+        });
+        if iterations == 0 {
             return Err(Error::invalid(
                 "iterations",
                 0,
@@ -449,7 +466,7 @@ impl<F> Vegas<F> {
         require_randomized(sampler, "every iteration needs new points")?;
         let total_iterations =
             self.warmup
-                .checked_add(self.iterations)
+                .checked_add(iterations)
                 .ok_or(Error::IndexOutOfRange {
                     what: "warm-up plus iterations",
                     limit: u64::MAX,
@@ -530,6 +547,7 @@ impl<F> Vegas<F> {
             samples: n,
             increments,
             largest_size: largest_size.max(n),
+            iterations: total_iterations,
         })
     }
 }
@@ -541,6 +559,8 @@ struct Settings {
     increments: usize,
     /// The most evaluations an iteration may grow to.
     largest_size: u64,
+    /// The most iterations, warm-up included.
+    iterations: u64,
 }
 
 /// Each output's weight in the next iteration's training data and allocation: one over its

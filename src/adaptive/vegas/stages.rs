@@ -45,6 +45,8 @@ pub(super) struct Iterations<'a, F, I> {
     pub(super) growth: Growth,
     /// The estimate of the iterations the last restart set aside.
     pub(super) set_aside: Option<VectorEstimate>,
+    /// The number of iterations, warm-up included, at which the run ends.
+    pub(super) last_iteration: u64,
     /// The grid's most increments per axis, for the strata of a grown iteration.
     pub(super) max_increments: usize,
     /// The evaluations left under the limit when the next stage was planned.
@@ -62,7 +64,7 @@ pub(super) struct Iterations<'a, F, I> {
 impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
     fn next(&mut self, left: u64) -> Result<Next> {
         self.left = left;
-        if self.k == self.vegas.warmup + self.vegas.iterations {
+        if self.k == self.last_iteration {
             return Ok(Next::Done(if self.to_tolerance {
                 StopReason::MaxEvaluations
             } else {
@@ -199,7 +201,7 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
         // shortfall squared, times its variance over the last iteration's.
         let combined = judged.outputs[0].std_error.unwrap_or(f64::NAN);
         let needed = targets.shortfall(judged).powi(2) * last / (combined * combined);
-        let iterations_left = (self.vegas.warmup + self.vegas.iterations).saturating_sub(self.k);
+        let iterations_left = self.last_iteration.saturating_sub(self.k);
         match self
             .growth
             .step(disagree, needed, self.left, iterations_left)
