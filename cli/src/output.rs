@@ -58,9 +58,10 @@ pub fn exit_on_write_error(e: std::io::Error) -> ! {
 
 /// Prints `error: message` on one line and exits with status 2. Under `mpirun` only rank 0
 /// prints: every rank runs the same command line, so would print the same error. The other
-/// ranks wait (up to 5 s) before they exit: `mpirun` ends the whole job when
+/// ranks wait (up to 30 s) before they exit: `mpirun` ends the whole job when
 /// the first process fails, and a rank that failed first could take rank 0 down before its
-/// line was out (seen once in CI); rank 0's own exit ends their wait.
+/// line was out (seen in CI with waits of 0 and, on a loaded machine, 5 s); rank 0's own exit
+/// ends their wait, so it lasts only as long as rank 0 takes to fail.
 pub fn fail(message: impl std::fmt::Display) -> ! {
     if launched_rank().is_none_or(|rank| rank == 0) {
         note_line(format_args!("error: {message}"));
@@ -71,7 +72,7 @@ pub fn fail(message: impl std::fmt::Display) -> ! {
 }
 
 /// How long a rank other than 0 waits before it exits on an error (see [`fail`]).
-const QUIET_RANK_WAIT: std::time::Duration = std::time::Duration::from_secs(5);
+const QUIET_RANK_WAIT: std::time::Duration = std::time::Duration::from_secs(30);
 
 /// This process's rank in the job `mpirun` launched it in (from the launcher's environment:
 /// Open MPI, PMIx, MPICH), known before MPI is initialized, if any.
