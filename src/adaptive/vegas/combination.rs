@@ -55,10 +55,9 @@ pub(super) struct Combination {
     largest: f64,
     /// The size of the previous iteration over the next one's, when they differ.
     size_ratio: Option<f64>,
-    /// The variance of the last iteration set aside by a restart, which weights the next.
+    /// The variance of the last iteration set aside by a restart, which weights the next
+    /// (`None` while none was).
     set_aside: Option<f64>,
-    /// Whether iterations were set aside.
-    restarted: bool,
 }
 
 impl Combination {
@@ -227,7 +226,6 @@ impl VectorCombination {
             *combination = Combination {
                 warmups,
                 set_aside,
-                restarted: true,
                 size_ratio: Some(ratio),
                 ..Combination::default()
             };
@@ -245,9 +243,9 @@ impl VectorCombination {
 
     /// Whether every output's first iteration agrees with its warm-up iterations (true
     /// without a warm-up; see [`Combination::first_agrees`]); `None` for the first iteration
-    /// after a restart, which has nothing to be checked against.
+    /// after iterations were set aside, which has nothing to be checked against.
     pub(super) fn first_agrees(&self) -> Option<bool> {
-        if self.outputs[0].restarted {
+        if self.outputs[0].set_aside.is_some() {
             return None;
         }
         Some(self.outputs.iter().all(Combination::first_agrees))

@@ -25,8 +25,10 @@
 pub(super) const GROWTH: u64 = 2;
 /// Growths on disagreement before a run that still disagrees stops.
 pub(super) const DISAGREEMENT_GROWTHS: u32 = 4;
-/// Iterations over which a settled grid's variance per evaluation falls by less than half.
+/// Iterations over which a settled grid's variance per evaluation falls by less than
+/// [`SETTLED_FALL`] of itself.
 const SETTLING: usize = 4;
+const SETTLED_FALL: f64 = 0.5;
 /// A run grows when the tolerance needs more than this many iterations of the current size.
 const ITERATIONS_PER_SIZE: f64 = 32.0;
 /// Iterations of the grown size that must fit under the limits.
@@ -115,7 +117,7 @@ impl Growth {
             return false;
         }
         let low = |i: usize| h[i].min(h[i + 1]);
-        low(n - 2) > 0.5 * low(n - 2 - SETTLING)
+        low(n - 2) > SETTLED_FALL * low(n - 2 - SETTLING)
     }
 }
 
