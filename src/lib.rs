@@ -81,6 +81,7 @@ mod quadrature;
 pub mod quality;
 mod run;
 pub mod sampler;
+pub mod sensitivity;
 mod simd;
 mod special;
 pub mod stats;

@@ -24,11 +24,13 @@ mod gaussian;
 mod geometric_brownian;
 mod lebesgue;
 mod normal_map;
+mod uniform_law;
 
 pub use brownian::{BrownianMotion, Construction};
 pub use gaussian::{Factorization, Gaussian, Lognormal};
 pub use geometric_brownian::GeometricBrownianMotion;
 pub use lebesgue::{Lebesgue, UnboundedTransform};
+pub use uniform_law::Uniform;
 
 /// The most dimensions of a [`Gaussian`] (either [`Factorization`]) and of a
 /// [`BrownianMotion`] built by [`Construction::Pca`]: factoring their covariance keeps

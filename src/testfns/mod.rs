@@ -9,6 +9,7 @@
 mod genz;
 mod genz_batch;
 mod graphics;
+mod ishigami;
 mod keister;
 mod polynomial;
 mod roos_arnold;
@@ -16,6 +17,7 @@ mod sobol_g;
 
 pub use genz::{Genz, GenzFamily};
 pub use graphics::GraphicsIntegrand;
+pub use ishigami::Ishigami;
 pub use keister::{KEISTER_MAX_DIMS, Keister};
 pub use polynomial::Polynomial;
 pub use roos_arnold::RoosArnold;

@@ -107,6 +107,32 @@ impl SobolGFunction {
         // Per axis: mean 1 and variance ∫(|4x-2| - 1)² / (1+a)² = 1/(3 (1+a)²).
         self.scale.iter().map(|s| 1.0 + s * s / 3.0).product()
     }
+
+    /// The exact Sobol' indices for inputs uniform on `[0,1)^d` (Saltelli & Sobol' 1995): each
+    /// factor has mean 1 and variance `V_i = 1/(3 (1 + a_i)^2)`, a product of independent
+    /// factors has `V = prod (1 + V_i) - 1`, and the terms that contain `i` add up to
+    /// `V_i prod_{j != i} (1 + V_j)`.
+    ///
+    /// ```
+    /// use mcint::testfns::SobolGFunction;
+    /// let exact = SobolGFunction::new(vec![0.0, 0.0]).unwrap().exact_indices();
+    /// // V_i = 1/3 each, V = 16/9 - 1 = 7/9: S_i = 3/7, ST_i = (1/3)(4/3)/(7/9) = 4/7.
+    /// assert!((exact.first_order[0] - 3.0 / 7.0).abs() < 1e-15);
+    /// assert!((exact.total[1] - 4.0 / 7.0).abs() < 1e-15);
+    /// ```
+    pub fn exact_indices(&self) -> crate::sensitivity::ExactIndices {
+        let partial: Vec<f64> = self.scale.iter().map(|s| s * s / 3.0).collect();
+        let product: f64 = partial.iter().map(|v| 1.0 + v).product();
+        let variance = product - 1.0;
+        crate::sensitivity::ExactIndices {
+            variance,
+            first_order: partial.iter().map(|v| v / variance).collect(),
+            total: partial
+                .iter()
+                .map(|v| v * product / (1.0 + v) / variance)
+                .collect(),
+        }
+    }
 }
 
 impl TestFunction for SobolGFunction {

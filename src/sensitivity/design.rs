@@ -1,0 +1,517 @@
+//! [`SobolDesign`]: the pick-freeze design of Sobol' indices as one vector run of the engine.
+
+use std::sync::Arc;
+
+use super::indices::{Indices, OutputIndices, SecondOrder};
+use super::layout::Layout;
+use crate::error::{Error, Result};
+use crate::estimator::VectorUniformEstimator;
+use crate::integrate::{Integrator, VectorRun};
+use crate::measure::Measure;
+use crate::pdf::UniformBox;
+use crate::sampler::{Scramble, Sobol};
+use crate::stats::{Tolerance, VectorEstimate, Warning};
+
+/// Points of the design unless [`SobolDesign::points`] says otherwise.
+pub const DEFAULT_POINTS: u64 = 1 << 16;
+/// Independently scrambled sequences the points are split into, unless
+/// [`SobolDesign::replicates`] says otherwise.
+pub const DEFAULT_REPLICATES: u64 = 8;
+
+/// The design's integrand over the unit cube: every model output's block of integrals.
+///
+/// ```
+/// use mcint::sensitivity::DesignIntegrand;
+/// let f: DesignIntegrand = Box::new(|u: &[f64], out: &mut [f64]| out[0] = u[0]);
+/// let mut out = [0.0];
+/// f(&[0.5], &mut out);
+/// assert_eq!(out[0], 0.5);
+/// ```
+pub type DesignIntegrand = Box<dyn Fn(&[f64], &mut [f64]) + Send + Sync>;
+
+/// The run of a design, as [`SobolDesign::integrator`] returns it: an [`Integrator`] of the
+/// design's integrand, to configure further (seed, threads, limits) and run.
+///
+/// ```
+/// use mcint::{measure::Uniform, sensitivity::{DesignRun, SobolDesign}};
+/// let design = SobolDesign::new(Uniform::unit(2).unwrap()).unwrap();
+/// let run: DesignRun = design.integrator(|x: &[f64]| x[0]).unwrap().threads(1);
+/// assert_eq!(run.run().unwrap().outputs.len(), 8);
+/// ```
+pub type DesignRun = Integrator<VectorRun<VectorUniformEstimator<DesignIntegrand>>>;
+
+/// The Sobol' indices of a model `Y = f(X)` whose inputs `X` follow a probability law seen
+/// from the unit cube (a [`Measure`] of weight 1: [`Uniform`], [`Gaussian`], ...), by the
+/// pick-freeze design of Saltelli et al. (2010).
+///
+/// Each point `u` of the unit cube of twice the law's canonical dimension `k` gives two
+/// independent inputs, `A` from `u[..k]` and `B` from `u[k..]`, and for each factor `j` (an
+/// input, or a group of inputs) the mixed input `AB_j`: `A` with the factor's coordinates
+/// taken from `B` (and `BA_j`, its mirror, for second order). The model runs `2 + F` times per
+/// point for `F` factors (`2 + 2F` with second order), and the run integrates the products
+/// whose means are the partial variances; every index is then a smooth function of those
+/// integrals with a delta-method error bar. The factors are the law's canonical coordinates
+/// (independent uniforms); for a law with independent coordinates ([`Uniform`], a
+/// [`Gaussian`] with diagonal covariance) these are the inputs themselves. For a correlated
+/// [`Gaussian`] with the Cholesky factorization, coordinate `i` is the part of `x_i` not
+/// explained by `x_1 .. x_{i-1}`, so the indices are those of that ordering.
+///
+/// [`integrator`](Self::integrator) gives the run as an [`Integrator`], with every setting
+/// the crate's runs share (seed, threads, time limits, checkpoints with
+/// [`run_part`](Integrator::run_part), MPI clusters), and [`indices`](Self::indices) turns its
+/// result into the indices.
+///
+/// **Points and error bars.** By default the design's [`DEFAULT_POINTS`] points are
+/// [`DEFAULT_REPLICATES`] independent Sobol' sequences, each with Matoušek's linear matrix
+/// scramble and a digital shift (the scramble of scipy and SALib), and the error bars come
+/// from the spread between them, with Student-t quantiles: over hundreds of seeds they cover
+/// at the nominal rate and are about 3-4 times the median actual error. The price is
+/// accuracy: on one sequence the total-index integrand's error falls about as fast as `N^-2`,
+/// so one sequence of all the points (`replicates(1)`, as SALib samples) is several times
+/// more accurate, but has no error bar (the spread of batches of one sequence was measured as
+/// an alternative, and is neither tight nor reliable; `docs/measurements.md`).
+///
+/// ```
+/// use mcint::{sensitivity::SobolDesign, testfns::Ishigami};
+/// let ishigami = Ishigami::new(7.0, 0.1).unwrap();
+/// let design = SobolDesign::new(ishigami.inputs()).unwrap();
+/// let run = design.integrator(move |x: &[f64]| ishigami.eval(x)).unwrap().seed(1).run().unwrap();
+/// let indices = design.indices(&run).unwrap();
+/// let exact = ishigami.exact_indices();
+/// for j in 0..3 {
+///     let (s, st) = (&indices.first_order()[j], &indices.total()[j]);
+///     assert!((s.mean - exact.first_order[j]).abs() < 5.0 * s.std_error.unwrap());
+///     assert!((st.mean - exact.total[j]).abs() < 5.0 * st.std_error.unwrap());
+/// }
+/// ```
+///
+/// [`Gaussian`]: crate::measure::Gaussian
+/// [`Uniform`]: crate::measure::Uniform
+pub struct SobolDesign<M> {
+    inputs: Arc<M>,
+    factors: Arc<Vec<Vec<usize>>>,
+    second_order: bool,
+    tolerance: Option<Tolerance>,
+    points: u64,
+    replicates: Option<u64>,
+}
+
+impl<M: Measure + 'static> SobolDesign<M> {
+    /// The design over the law `inputs`, one factor per canonical coordinate, first-order and
+    /// total indices.
+    ///
+    /// Errors when `inputs` is not a probability law (its weight at the centre of the cube is
+    /// not 1, as for an unbounded Lebesgue measure).
+    ///
+    /// ```
+    /// use mcint::measure::{Lebesgue, UnboundedTransform};
+    /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
+    /// assert_eq!(SobolDesign::new(Uniform::unit(4).unwrap()).unwrap().factors(), 4);
+    /// let line = Lebesgue::whole_space(1, UnboundedTransform::Rational).unwrap();
+    /// let err = SobolDesign::new(line).err().unwrap().to_string();
+    /// assert!(err.contains("probability law"), "{err}");
+    /// ```
+    pub fn new(inputs: M) -> Result<Self> {
+        let k = inputs.canonical_dims();
+        let mut x = vec![0.0; inputs.dims()];
+        let weight = inputs.map(&vec![0.5; k], &mut x);
+        if weight != 1.0 {
+            return Err(Error::invalid(
+                "inputs",
+                format!("a measure of weight {weight} at the centre of the cube"),
+                "a probability law (weight 1), such as a Uniform or a Gaussian: Sobol' indices \
+                 split the variance of the output under the inputs' law",
+            ));
+        }
+        Ok(SobolDesign {
+            inputs: Arc::new(inputs),
+            factors: Arc::new((0..k).map(|i| vec![i]).collect()),
+            second_order: false,
+            tolerance: None,
+            points: DEFAULT_POINTS,
+            replicates: None,
+        })
+    }
+
+    /// Indices of groups of inputs instead of single inputs: each group is a list of
+    /// canonical coordinates, and the groups must be non-empty and disjoint (inputs in no
+    /// group still vary, but get no index).
+    ///
+    /// ```
+    /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
+    /// let design = SobolDesign::new(Uniform::unit(4).unwrap()).unwrap();
+    /// let grouped = design.groups(vec![vec![0, 1], vec![3]]).unwrap();
+    /// assert_eq!(grouped.factors(), 2);
+    /// let bad = SobolDesign::new(Uniform::unit(4).unwrap()).unwrap().groups(vec![vec![0], vec![0, 2]]);
+    /// assert!(bad.err().unwrap().to_string().contains("disjoint"));
+    /// ```
+    pub fn groups(mut self, groups: Vec<Vec<usize>>) -> Result<Self> {
+        let k = self.inputs.canonical_dims();
+        if groups.is_empty() {
+            return Err(Error::invalid("groups", "[]", "at least one group"));
+        }
+        let mut used = vec![false; k];
+        for (g, group) in groups.iter().enumerate() {
+            if group.is_empty() {
+                return Err(Error::invalid(
+                    "groups",
+                    format!("group {g} is empty"),
+                    "non-empty groups of inputs",
+                ));
+            }
+            for &i in group {
+                if i >= k {
+                    return Err(Error::invalid(
+                        "groups",
+                        format!("input {i} in group {g}"),
+                        format!("inputs 0 to {} of the law's {k} coordinates", k - 1),
+                    ));
+                }
+                if std::mem::replace(&mut used[i], true) {
+                    return Err(Error::invalid(
+                        "groups",
+                        format!("input {i} appears twice"),
+                        "disjoint groups: each input in one group at most",
+                    ));
+                }
+            }
+        }
+        self.factors = Arc::new(groups);
+        Ok(self)
+    }
+
+    /// Also estimates the second-order indices `S_jk` of every pair of factors (closed
+    /// second-order variance minus both first orders, as SALib), at `F` more model runs per
+    /// point.
+    ///
+    /// ```
+    /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
+    /// let design = SobolDesign::new(Uniform::unit(3).unwrap()).unwrap();
+    /// assert_eq!(design.model_runs_per_point(), 5);
+    /// assert_eq!(design.second_order(true).model_runs_per_point(), 8);
+    /// ```
+    pub fn second_order(mut self, on: bool) -> Self {
+        self.second_order = on;
+        self
+    }
+
+    /// Points of the design (each `model_runs_per_point` model runs), split evenly into the
+    /// replicates; a power of two keeps each Sobol' net balanced. In a run to a tolerance, the
+    /// first stage's points.
+    ///
+    /// ```
+    /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
+    /// let design = SobolDesign::new(Uniform::unit(2).unwrap()).unwrap().points(1 << 12);
+    /// let run = design.integrator(|x: &[f64]| x[0]).unwrap().run().unwrap();
+    /// assert_eq!(run.evaluations, 1 << 12);
+    /// let odd = SobolDesign::new(Uniform::unit(2).unwrap()).unwrap().points(1001);
+    /// assert!(odd.integrator(|x: &[f64]| x[0]).is_err());
+    /// ```
+    pub fn points(mut self, points: u64) -> Self {
+        self.points = points;
+        self
+    }
+
+    /// Splits the points into `replicates` independently scrambled sequences: fewer give more
+    /// accurate indices and wider intervals (Student-t with `R - 1` degrees of freedom, and a
+    /// few-replicates warning below 8); 1 gives one sequence and no error bar. A run to a
+    /// tolerance needs at least 2.
+    ///
+    /// ```
+    /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
+    /// let design = SobolDesign::new(Uniform::unit(2).unwrap()).unwrap().replicates(1);
+    /// let run = design.integrator(|x: &[f64]| x[0] * x[1]).unwrap().run().unwrap();
+    /// let indices = design.indices(&run).unwrap();
+    /// assert!(indices.first_order()[0].std_error.is_none());
+    /// assert!((indices.first_order()[0].mean - 3.0 / 7.0).abs() < 1e-4);
+    /// ```
+    pub fn replicates(mut self, replicates: u64) -> Self {
+        self.replicates = Some(replicates);
+        self
+    }
+
+    /// Runs to a tolerance: the integrator stops when the 95% interval of every index (first
+    /// order, total and any second order, of every output) meets `tolerance` (an absolute
+    /// one suits indices, which are fractions of 1; a relative one never stops on an index of
+    /// zero). Its evaluation limit counts points, each `model_runs_per_point` model runs.
+    ///
+    /// ```
+    /// use mcint::{Tolerance, measure::Uniform, sensitivity::SobolDesign};
+    /// let design = SobolDesign::new(Uniform::unit(2).unwrap())
+    ///     .unwrap()
+    ///     .tolerance(Tolerance::absolute(1e-3).unwrap());
+    /// let run = design.integrator(|x: &[f64]| x[0] + 2.0 * x[1]).unwrap().run().unwrap();
+    /// let indices = design.indices(&run).unwrap();
+    /// assert_eq!(indices.converged, Some(true));
+    /// assert!(indices.total()[1].half_width(0.95).unwrap().unwrap() <= 1e-3);
+    /// ```
+    pub fn tolerance(mut self, tolerance: Tolerance) -> Self {
+        self.tolerance = Some(tolerance);
+        self
+    }
+
+    /// Number of factors `F` (inputs, or groups).
+    ///
+    /// ```
+    /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
+    /// assert_eq!(SobolDesign::new(Uniform::unit(5).unwrap()).unwrap().factors(), 5);
+    /// ```
+    pub fn factors(&self) -> usize {
+        self.factors.len()
+    }
+
+    /// Model runs per point of the design: `f(A)`, `f(B)`, and `f(AB_j)` (and `f(BA_j)` with
+    /// second order) for each factor.
+    ///
+    /// ```
+    /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
+    /// assert_eq!(SobolDesign::new(Uniform::unit(6).unwrap()).unwrap().model_runs_per_point(), 8);
+    /// ```
+    pub fn model_runs_per_point(&self) -> u64 {
+        let per_factor = if self.second_order { 2 } else { 1 };
+        2 + per_factor * self.factors() as u64
+    }
+
+    /// Dimensions of the design's points: twice the law's canonical dimension.
+    ///
+    /// ```
+    /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
+    /// assert_eq!(SobolDesign::new(Uniform::unit(3).unwrap()).unwrap().point_dims(), 6);
+    /// ```
+    pub fn point_dims(&self) -> usize {
+        2 * self.inputs.canonical_dims()
+    }
+
+    /// The run of a scalar model `f(x)`, ready to be configured further and run. Errors only
+    /// when the design's integrals do not fit in one vector run.
+    ///
+    /// ```
+    /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
+    /// let design = SobolDesign::new(Uniform::unit(2).unwrap()).unwrap().points(4096);
+    /// let run = design.integrator(|x: &[f64]| x[0] * x[1]).unwrap().threads(2).run().unwrap();
+    /// assert_eq!(run.evaluations, 4096); // points; each ran the model 4 times
+    /// ```
+    pub fn integrator<F>(&self, model: F) -> Result<DesignRun>
+    where
+        F: Fn(&[f64]) -> f64 + Send + Sync + 'static,
+    {
+        self.integrator_vector(1, move |x: &[f64], out: &mut [f64]| out[0] = model(x))
+    }
+
+    /// The run of a model with `outputs` outputs, `f(x, out)` writing output `o` to
+    /// `out[o]`: indices per output, over the same points.
+    ///
+    /// ```
+    /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
+    /// let design = SobolDesign::new(Uniform::unit(2).unwrap()).unwrap();
+    /// let model = |x: &[f64], out: &mut [f64]| { out[0] = x[0]; out[1] = x[1]; };
+    /// let run = design.integrator_vector(2, model).unwrap().seed(3).run().unwrap();
+    /// let indices = design.indices(&run).unwrap();
+    /// assert!((indices.outputs[0].first_order[0].mean - 1.0).abs() < 1e-3);
+    /// assert!((indices.outputs[1].first_order[1].mean - 1.0).abs() < 1e-3);
+    /// ```
+    pub fn integrator_vector<F>(&self, outputs: usize, model: F) -> Result<DesignRun>
+    where
+        F: Fn(&[f64], &mut [f64]) + Send + Sync + 'static,
+    {
+        let layout = self.layout(outputs)?;
+        let integrand: DesignIntegrand = Box::new(pick_freeze(
+            Arc::clone(&self.inputs),
+            Arc::clone(&self.factors),
+            layout,
+            model,
+        ));
+        let dims = self.point_dims();
+        let replicates = self.replicates.unwrap_or(DEFAULT_REPLICATES);
+        let least = if self.tolerance.is_some() { 2 } else { 1 };
+        if replicates < least {
+            return Err(Error::invalid(
+                "replicates",
+                replicates,
+                format!(
+                    "at least {least} independent scrambles{}",
+                    if least == 2 {
+                        " in a run to a tolerance (its stopping rule needs an error bar)"
+                    } else {
+                        ""
+                    }
+                ),
+            ));
+        }
+        if self.points < replicates || !self.points.is_multiple_of(replicates) {
+            return Err(Error::invalid(
+                "points",
+                self.points,
+                format!(
+                    "a positive multiple of the {replicates} replicates: a power of two such as \
+                     {DEFAULT_POINTS} keeps each Sobol' net balanced"
+                ),
+            ));
+        }
+        let mut integrator =
+            Integrator::over_box_vector(layout.outputs(), integrand, UniformBox::unit(dims)?)
+                .sampler(Sobol::new(dims, Scramble::Lms, 0)?)
+                .samples(self.points / replicates)
+                .replicates(replicates);
+        if let Some(tolerance) = self.tolerance {
+            for o in 0..outputs {
+                for j in 0..layout.factors {
+                    integrator = integrator
+                        .derived_tolerance(layout.first_order(o, j), tolerance)
+                        .derived_tolerance(layout.total_order(o, j), tolerance);
+                    if layout.second_order {
+                        for k in j + 1..layout.factors {
+                            integrator = integrator
+                                .derived_tolerance(layout.second_order(o, j, k), tolerance);
+                        }
+                    }
+                }
+            }
+        }
+        Ok(integrator)
+    }
+
+    /// The indices from a run of [`integrator`](Self::integrator) or
+    /// [`integrator_vector`](Self::integrator_vector) of this design.
+    ///
+    /// Errors when the run does not have this design's outputs, or when an output's variance
+    /// is not positive (a constant output has no variance to split).
+    ///
+    /// ```
+    /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
+    /// let design = SobolDesign::new(Uniform::unit(2).unwrap()).unwrap();
+    /// let run = design.integrator(|_: &[f64]| 1.0).unwrap().run().unwrap();
+    /// let err = design.indices(&run).unwrap_err().to_string();
+    /// assert!(err.contains("variance"), "{err}");
+    /// ```
+    pub fn indices(&self, run: &VectorEstimate) -> Result<Indices> {
+        let block = self.layout(1)?.block();
+        if run.outputs.is_empty() || !run.outputs.len().is_multiple_of(block) {
+            return Err(Error::invalid(
+                "run",
+                format!("a run of {} outputs", run.outputs.len()),
+                format!("a run of this design: a multiple of {block} outputs"),
+            ));
+        }
+        let layout = self.layout(run.outputs.len() / block)?;
+        let outputs = (0..layout.model_outputs)
+            .map(|o| self.output_indices(layout, run, o))
+            .collect::<Result<Vec<_>>>()?;
+        let mut warnings: Vec<Warning> = Vec::new();
+        for warning in run.outputs.iter().flat_map(|e| &e.warnings) {
+            if !warnings.contains(warning) {
+                warnings.push(warning.clone());
+            }
+        }
+        Ok(Indices {
+            outputs,
+            factors: self.factors.to_vec(),
+            points: run.evaluations,
+            model_evaluations: run.evaluations.saturating_mul(self.model_runs_per_point()),
+            stop: run.stop,
+            converged: run.converged,
+            warnings,
+        })
+    }
+
+    fn layout(&self, outputs: usize) -> Result<Layout> {
+        Layout::new(self.factors(), outputs, self.second_order)
+    }
+
+    fn output_indices(
+        &self,
+        layout: Layout,
+        run: &VectorEstimate,
+        o: usize,
+    ) -> Result<OutputIndices> {
+        let variance = run.derived(&layout.variance(o))?;
+        if variance.mean.is_nan() || variance.mean <= 0.0 {
+            return Err(Error::invalid(
+                "model output",
+                format!("output {o} with variance {:e}", variance.mean),
+                "an output with positive variance: a constant output has no variance to split \
+                 among its inputs",
+            ));
+        }
+        let per_factor = |index: &dyn Fn(usize) -> crate::stats::Derived| {
+            (0..layout.factors)
+                .map(|j| run.derived(&index(j)))
+                .collect::<Result<Vec<_>>>()
+        };
+        let mut second_order = Vec::new();
+        if layout.second_order {
+            for j in 0..layout.factors {
+                for k in j + 1..layout.factors {
+                    second_order.push(SecondOrder {
+                        factors: (j, k),
+                        index: run.derived(&layout.second_order(o, j, k))?,
+                    });
+                }
+            }
+        }
+        Ok(OutputIndices {
+            first_order: per_factor(&|j| layout.first_order(o, j))?,
+            total: per_factor(&|j| layout.total_order(o, j))?,
+            second_order,
+            variance,
+        })
+    }
+}
+
+/// The design's vector integrand over `[0,1)^{2k}` (the table of the `layout` module).
+fn pick_freeze<M: Measure, F: Fn(&[f64], &mut [f64]) + Send + Sync>(
+    inputs: Arc<M>,
+    factors: Arc<Vec<Vec<usize>>>,
+    layout: Layout,
+    model: F,
+) -> impl Fn(&[f64], &mut [f64]) + Send + Sync {
+    move |u: &[f64], out: &mut [f64]| {
+        let (k, m, nf) = (
+            inputs.canonical_dims(),
+            layout.model_outputs,
+            layout.factors,
+        );
+        let (a, b) = u.split_at(k);
+        let mixed_runs = if layout.second_order { 2 * nf } else { nf };
+        // f(A), f(B), then f(AB_j) for every j, then f(BA_j): m values each.
+        let mut values = vec![0.0; m * (2 + mixed_runs)];
+        let mut x = vec![0.0; inputs.dims()];
+        let mut run = |canonical: &[f64], slot: usize, values: &mut [f64]| {
+            inputs.map(canonical, &mut x);
+            model(&x, &mut values[slot * m..(slot + 1) * m]);
+        };
+        run(a, 0, &mut values);
+        run(b, 1, &mut values);
+        let mut mixed = a.to_vec();
+        for (j, factor) in factors.iter().enumerate() {
+            factor.iter().for_each(|&c| mixed[c] = b[c]);
+            run(&mixed, 2 + j, &mut values);
+            factor.iter().for_each(|&c| mixed[c] = a[c]);
+        }
+        if layout.second_order {
+            mixed.copy_from_slice(b);
+            for (j, factor) in factors.iter().enumerate() {
+                factor.iter().for_each(|&c| mixed[c] = a[c]);
+                run(&mixed, 2 + nf + j, &mut values);
+                factor.iter().for_each(|&c| mixed[c] = b[c]);
+            }
+        }
+        for o in 0..m {
+            let value = |slot: usize| values[slot * m + o];
+            let (fa, fb) = (value(0), value(1));
+            let start = layout.moments(o);
+            out[start..start + 4].copy_from_slice(&[fa, fb, fa * fa, fb * fb]);
+            for j in 0..nf {
+                let fab = value(2 + j);
+                out[layout.first(o, j)] = fb * (fab - fa);
+                out[layout.total(o, j)] = 0.5 * (fa - fab) * (fa - fab);
+                if layout.second_order {
+                    let fba = value(2 + nf + j);
+                    for k in j + 1..nf {
+                        out[layout.pair(o, j, k)] = fba * value(2 + k) - fa * fb;
+                    }
+                }
+            }
+        }
+    }
+}
