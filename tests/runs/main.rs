@@ -10,6 +10,7 @@
 //! | `adaptive/two_stage.rs` | `adaptive_two_stage` |
 //! | `adaptive/vegas.rs`, `vegas/`, `vegas_grid.rs` | `adaptive_vegas` |
 //! | `adaptive/sobol_g.rs` | `sobol_g` |
+//! | `sensitivity/` (Sobol' indices) | `sensitivity` |
 //! | batch integrands (`estimator/batch_uniform.rs`) | `batch_integrand` |
 //! | vector runs (`integrate/vector.rs`, `estimator/vector*.rs`, `stats/covariance.rs`) | `vector_integrands`, `vector_coverage` |
 //! | vector VEGAS | `vector_vegas` |
@@ -29,6 +30,7 @@ mod adaptive_vegas;
 mod batch_integrand;
 mod integrator;
 mod integrator_tolerance;
+mod sensitivity;
 mod sobol_g;
 mod vector_coverage;
 mod vector_integrands;

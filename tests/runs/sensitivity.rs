@@ -1,0 +1,345 @@
+//! Sobol' indices of the library (`src/sensitivity/`): intervals that cover the exact indices
+//! of the classic test models at the nominal rate and are not much wider than the error,
+//! Gaussian inputs, groups, second order and vector models against closed forms.
+
+use mcint::measure::{Factorization, Gaussian, Measure};
+use mcint::sensitivity::{ExactIndices, Indices, SobolDesign};
+use mcint::testfns::{Ishigami, SobolGFunction, TestFunction};
+use mcint::{Estimate, Tolerance};
+
+const SEEDS: u64 = 200;
+/// 95% intervals over 200 seeds: at 95% coverage the count is 190 +- 3.1, and 186 is what
+/// the issue asks of every index.
+const LEAST_COVERED: usize = 186;
+/// The most the median half-width may exceed the median actual error: an honest t interval
+/// of 8 replicates is about 3.4 times it.
+const MOST_WIDTH_RATIO: f64 = 5.0;
+
+/// `(covered, median half-width, median |error|)` of one index over the seeds.
+struct IndexRecord {
+    name: String,
+    covered: usize,
+    half_widths: Vec<f64>,
+    errors: Vec<f64>,
+}
+
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+/// Runs the default design of `model` over `inputs` for every seed and checks every first
+/// order and total index against `exact`.
+fn check_coverage<M: Measure + 'static>(
+    label: &str,
+    inputs: impl Fn() -> M,
+    model: impl Fn(&[f64]) -> f64 + Send + Sync + Clone + 'static,
+    exact: &ExactIndices,
+) {
+    let factors = exact.first_order.len();
+    let mut records: Vec<IndexRecord> = (0..2 * factors)
+        .map(|k| IndexRecord {
+            name: if k < factors {
+                format!("S{}", k + 1)
+            } else {
+                format!("ST{}", k - factors + 1)
+            },
+            covered: 0,
+            half_widths: Vec::new(),
+            errors: Vec::new(),
+        })
+        .collect();
+    let design = SobolDesign::new(inputs()).unwrap();
+    for seed in 0..SEEDS {
+        let run = design
+            .integrator(model.clone())
+            .unwrap()
+            .seed(seed)
+            .run()
+            .unwrap();
+        let indices = design.indices(&run).unwrap();
+        let estimates = indices.first_order().iter().chain(indices.total());
+        let truths = exact.first_order.iter().chain(&exact.total);
+        for ((record, estimate), truth) in records.iter_mut().zip(estimates).zip(truths) {
+            let half_width = estimate.half_width(0.95).unwrap().unwrap();
+            let error = (estimate.mean - truth).abs();
+            record.covered += usize::from(error <= half_width);
+            record.half_widths.push(half_width);
+            record.errors.push(error);
+        }
+    }
+    let mut failures = Vec::new();
+    for record in &mut records {
+        let ratio = median(&mut record.half_widths) / median(&mut record.errors);
+        if record.covered < LEAST_COVERED || ratio > MOST_WIDTH_RATIO {
+            failures.push(format!(
+                "{} covered {}/{SEEDS}, median half-width / median error {ratio:.2}",
+                record.name, record.covered
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{label}: {failures:?}");
+}
+
+#[test]
+fn ishigami_intervals_cover_and_fit_the_error() {
+    for (a, b) in [(7.0, 0.1), (5.0, 0.05), (2.0, 0.3)] {
+        let model = Ishigami::new(a, b).unwrap();
+        check_coverage(
+            &format!("Ishigami a = {a}, b = {b}"),
+            || model.inputs(),
+            move |x: &[f64]| model.eval(x),
+            &model.exact_indices(),
+        );
+    }
+}
+
+#[test]
+fn sobol_g_intervals_cover_and_fit_the_error() {
+    for weights in [
+        vec![0.0, 0.5, 3.0, 9.0, 99.0, 99.0],
+        vec![0.0, 0.0, 0.0, 0.0],
+        vec![1.0, 2.0, 5.0, 10.0, 20.0],
+    ] {
+        let g = SobolGFunction::new(weights.clone()).unwrap();
+        let d = weights.len();
+        let exact = g.exact_indices();
+        check_coverage(
+            &format!("g-function a = {weights:?}"),
+            || mcint::measure::Uniform::unit(d).unwrap(),
+            move |x: &[f64]| g.eval(x),
+            &exact,
+        );
+    }
+}
+
+/// Within `z` standard errors (and the error bar exists).
+fn near(estimate: &Estimate, exact: f64, z: f64) -> bool {
+    (estimate.mean - exact).abs() <= z * estimate.std_error.unwrap()
+}
+
+/// `y = c . x` with independent Gaussian inputs: `S_i = ST_i = c_i^2 s_i^2 / sum c_j^2 s_j^2`.
+#[test]
+fn linear_model_of_independent_gaussians_matches_its_closed_form() {
+    let (c, s) = ([1.0, -2.0, 0.5], [1.0, 0.5, 3.0]);
+    let covariance = vec![
+        s[0] * s[0],
+        0.0,
+        0.0,
+        0.0,
+        s[1] * s[1],
+        0.0,
+        0.0,
+        0.0,
+        s[2] * s[2],
+    ];
+    let inputs = Gaussian::new(vec![1.0, 2.0, -1.0], covariance, Factorization::Cholesky).unwrap();
+    let design = SobolDesign::new(inputs).unwrap();
+    let run = design
+        .integrator(move |x: &[f64]| c.iter().zip(x).map(|(c, x)| c * x).sum())
+        .unwrap()
+        .seed(11)
+        .run()
+        .unwrap();
+    let indices = design.indices(&run).unwrap();
+    let parts: Vec<f64> = (0..3).map(|i| (c[i] * s[i]).powi(2)).collect();
+    let variance: f64 = parts.iter().sum();
+    assert!(near(&indices.outputs[0].variance, variance, 5.0));
+    for (i, part) in parts.iter().enumerate() {
+        let exact = part / variance;
+        assert!(
+            near(&indices.first_order()[i], exact, 5.0),
+            "S{i}: {:?}",
+            indices.first_order()[i]
+        );
+        assert!(
+            near(&indices.total()[i], exact, 5.0),
+            "ST{i}: {:?}",
+            indices.total()[i]
+        );
+    }
+}
+
+/// Correlated Gaussians by Cholesky: the indices are those of the independent normals `z`
+/// with `x = mu + L z`, so `y = c . x` has `S_i = (L' c)_i^2 / |L' c|^2`.
+#[test]
+fn linear_model_of_correlated_gaussians_gives_the_indices_of_its_cholesky_normals() {
+    let (rho, c) = (0.6_f64, [1.0, 1.0]);
+    let inputs = Gaussian::new(
+        vec![0.0; 2],
+        vec![1.0, rho, rho, 1.0],
+        Factorization::Cholesky,
+    )
+    .unwrap();
+    // L = [[1, 0], [rho, sqrt(1 - rho^2)]], so L' c = (1 + rho, sqrt(1 - rho^2)).
+    let lc = [c[0] + rho * c[1], (1.0 - rho * rho).sqrt() * c[1]];
+    let norm = lc[0] * lc[0] + lc[1] * lc[1];
+    let design = SobolDesign::new(inputs).unwrap();
+    let run = design
+        .integrator(move |x: &[f64]| c[0] * x[0] + c[1] * x[1])
+        .unwrap()
+        .seed(5)
+        .run()
+        .unwrap();
+    let indices = design.indices(&run).unwrap();
+    for (estimate, part) in indices.first_order().iter().zip(lc) {
+        assert!(
+            near(estimate, part * part / norm, 5.0),
+            "{:?}",
+            indices.first_order()
+        );
+    }
+}
+
+/// Groups and second order on the g-function, whose variance is a product: a group's first
+/// order index is `(prod_{i in G} (1 + V_i) - 1) / V`, and `S_ij = V_i V_j / V`.
+#[test]
+fn groups_and_second_order_of_the_g_function_match_its_closed_form() {
+    let g = SobolGFunction::new(vec![0.0, 1.0, 4.5, 9.0]).unwrap();
+    let partial: Vec<f64> = g
+        .a()
+        .iter()
+        .map(|a| 1.0 / (3.0 * (1.0 + a).powi(2)))
+        .collect();
+    let variance = partial.iter().map(|v| 1.0 + v).product::<f64>() - 1.0;
+    let unit = || mcint::measure::Uniform::unit(4).unwrap();
+
+    let grouped = SobolDesign::new(unit())
+        .unwrap()
+        .groups(vec![vec![0, 1], vec![2, 3]])
+        .unwrap();
+    let model = move |x: &[f64]| g.eval(x);
+    let run = grouped
+        .integrator(model.clone())
+        .unwrap()
+        .seed(3)
+        .run()
+        .unwrap();
+    let indices = grouped.indices(&run).unwrap();
+    for (k, group) in [[0, 1], [2, 3]].iter().enumerate() {
+        let closed = (1.0 + partial[group[0]]) * (1.0 + partial[group[1]]) - 1.0;
+        assert!(
+            near(&indices.first_order()[k], closed / variance, 5.0),
+            "group {k}: {:?}",
+            indices.first_order()[k]
+        );
+    }
+
+    let pairs = SobolDesign::new(unit()).unwrap().second_order(true);
+    let run = pairs.integrator(model).unwrap().seed(4).run().unwrap();
+    let indices = pairs.indices(&run).unwrap();
+    assert_eq!(indices.outputs[0].second_order.len(), 6);
+    for pair in &indices.outputs[0].second_order {
+        let (i, j) = pair.factors;
+        let exact = partial[i] * partial[j] / variance;
+        assert!(
+            near(&pair.index, exact, 5.0),
+            "S{i}{j}: {:?} vs {exact}",
+            pair.index
+        );
+    }
+}
+
+/// A vector model gets the indices of each output over the same points, equal to the
+/// indices of each output run alone with the same seed.
+#[test]
+fn vector_model_indices_are_those_of_each_output() {
+    let ishigami = Ishigami::new(7.0, 0.1).unwrap();
+    let design = SobolDesign::new(ishigami.inputs()).unwrap();
+    let model = move |x: &[f64], out: &mut [f64]| {
+        out[0] = ishigami.eval(x);
+        out[1] = x[0] + 2.0 * x[2];
+    };
+    let run = design
+        .integrator_vector(2, model)
+        .unwrap()
+        .seed(9)
+        .run()
+        .unwrap();
+    let both: Indices = design.indices(&run).unwrap();
+    let alone = design
+        .integrator(move |x: &[f64]| ishigami.eval(x))
+        .unwrap()
+        .seed(9)
+        .run()
+        .unwrap();
+    let alone = design.indices(&alone).unwrap();
+    assert_eq!(both.outputs[0], alone.outputs[0]);
+    // x0 + 2 x2 with both uniform on [-pi, pi]: S = (1/5, 0, 4/5).
+    for (estimate, exact) in both.outputs[1].first_order.iter().zip([0.2, 0.0, 0.8]) {
+        assert!(
+            (estimate.mean - exact).abs() < 1e-9 + 5.0 * estimate.std_error.unwrap_or(0.0),
+            "{estimate:?}"
+        );
+    }
+    let exact = ishigami.exact_indices();
+    assert!(near(&both.outputs[0].total[0], exact.total[0], 5.0));
+}
+
+/// A run to a tolerance stops with every index's half-width below it, and its intervals
+/// still contain the exact indices.
+#[test]
+fn a_tolerance_run_meets_its_tolerance_on_every_index() {
+    let ishigami = Ishigami::new(7.0, 0.1).unwrap();
+    let design = SobolDesign::new(ishigami.inputs())
+        .unwrap()
+        .tolerance(Tolerance::absolute(2e-3).unwrap());
+    let run = design
+        .integrator(move |x: &[f64]| ishigami.eval(x))
+        .unwrap()
+        .seed(2)
+        .run()
+        .unwrap();
+    let indices = design.indices(&run).unwrap();
+    assert_eq!(indices.converged, Some(true));
+    let exact = ishigami.exact_indices();
+    for (estimate, truth) in indices
+        .first_order()
+        .iter()
+        .chain(indices.total())
+        .zip(exact.first_order.iter().chain(&exact.total))
+    {
+        assert!(estimate.half_width(0.95).unwrap().unwrap() <= 2e-3);
+        assert!(near(estimate, *truth, 5.0), "{estimate:?} vs {truth}");
+    }
+}
+
+#[test]
+fn bad_designs_are_refused_with_what_is_allowed() {
+    let unit = || mcint::measure::Uniform::unit(3).unwrap();
+    let err = SobolDesign::new(unit())
+        .unwrap()
+        .points(1001)
+        .integrator(|x: &[f64]| x[0])
+        .err()
+        .unwrap();
+    assert!(
+        err.to_string().contains("multiple of the 8 replicates"),
+        "{err}"
+    );
+    let err = SobolDesign::new(unit())
+        .unwrap()
+        .replicates(1)
+        .tolerance(Tolerance::absolute(1e-2).unwrap())
+        .integrator(|x: &[f64]| x[0])
+        .err()
+        .unwrap();
+    assert!(err.to_string().contains("at least 2"), "{err}");
+    let err = SobolDesign::new(unit())
+        .unwrap()
+        .groups(vec![vec![3]])
+        .err()
+        .unwrap();
+    assert!(err.to_string().contains("inputs 0 to 2"), "{err}");
+    let other = SobolDesign::new(mcint::measure::Uniform::unit(2).unwrap()).unwrap();
+    let foreign = other
+        .integrator(|x: &[f64]| x[0] + x[1])
+        .unwrap()
+        .run()
+        .unwrap();
+    let err = SobolDesign::new(unit())
+        .unwrap()
+        .indices(&foreign)
+        .unwrap_err();
+    assert!(err.to_string().contains("a run of this design"), "{err}");
+}
