@@ -11,7 +11,6 @@ pub mod input;
 pub mod integrands;
 pub mod methods;
 pub mod output;
-pub mod pick_freeze;
 pub mod plot;
 pub mod ranks;
 pub mod report;

@@ -1,50 +1,62 @@
-//! First-order and total Sobol' sensitivity indices of a test model, from ONE vector-valued
-//! randomized quasi-Monte Carlo run, with delta-method standard errors, next to the exact
-//! values.
+//! First-order, total and (with `--second-order`) second-order Sobol' sensitivity indices
+//! of a test model by the library's `mcint::sensitivity` design, with their standard errors,
+//! next to the exact values.
 //!
 //! ```text
-//! cargo run --release --bin sensitivity -- --function ishigami|sobol-g [--dims D]
-//!     [--n N] [--replicates R] [--seed S] [--time-limit SECONDS] [--json]
+//! cargo run --release --bin sensitivity -- --function ishigami [--a A] [--b B]
+//! cargo run --release --bin sensitivity -- --function sobol-g [--weights W1,W2,...|--dims D]
+//!     [--n N] [--replicates R] [--second-order] [--tol-abs T] [--seed S]
+//!     [--time-limit SECONDS] [--json]
 //! ```
-//! `ishigami` is `sin x1 + 7 sin^2 x2 + 0.1 x3^4 sin x1` on `[-pi, pi]^3`; `sobol-g` is the
-//! g-function on `[0, 1]^D` (default `D` = 6, at most 126) with the weights of Saltelli et al.
-//! (2010), `a = (0, 0.5, 3, 9, 99, 99)` and 99 beyond. The run integrates the pick-freeze
-//! design (`support/pick_freeze.rs`) over `--n` Owen-scrambled Sobol' points per replicate
-//! (default 16384; powers of two keep the net balanced) in `--replicates` independent
-//! scrambles (default 16, at least 2: the standard errors come from their spread).
+//! `ishigami` is `sin x1 + a sin^2 x2 + b x3^4 sin x1` on `[-pi, pi]^3` (default `a = 7`,
+//! `b = 0.1`); `sobol-g` is the g-function on `[0, 1]^D` with the given weights, or with those
+//! of Saltelli et al. (2010), `a = (0, 0.5, 3, 9, 99, 99)` and 99 beyond, on `--dims` inputs
+//! (default 6). The run integrates the pick-freeze design over `--replicates` independent
+//! LMS-scrambled Sobol' sequences (default 8; 1 gives one sequence, more accurate, with no
+//! error bar) of `--n` points each (default 8192; powers of two keep each net balanced);
+//! `--tol-abs T` instead runs until every index's 95% half-width is at most `T`.
 //!
-//! The integrator counts one evaluation per point for all outputs together; each point runs
-//! the model `D + 2` times (`f(A)`, `f(B)` and `f(AB_i)` for every input), so the report gives
-//! both: `evaluations` (points) and `model_evaluations` (`evaluations * (D + 2)`).
+//! The report gives `evaluations` (points) and `model_evaluations` (`evaluations` times the
+//! model runs per point: `D + 2`, or `2 D + 2` with second order).
 //!
-//! `--json` prints one object: `function`, `dims`, `parameters`, `n` (points per replicate),
-//! `replicates`, `seed`, `evaluations`, `model_evaluations`, `variance`, and `first_order`
-//! and `total`, arrays with one `{"estimate", "std_error", "exact"}` object per input; and
-//! `stop` (`budget`, or `time limit` when `--time-limit` stopped the run with the whole
-//! replicates done by then) and `warnings`, as `integrate --json` has them. Warnings also go
-//! to stderr.
+//! `--json` prints one object: `function`, `dims`, `parameters`, `n` (points per replicate
+//! of the first stage), `replicates`, `seed`, `evaluations`, `model_evaluations`,
+//! `variance`, and `first_order` and `total`, arrays with one `{"estimate", "std_error",
+//! "exact"}` object per input; with `--second-order`, `second_order`, one such object per pair
+//! with its `inputs` (`[i, j]`, from 0); `converged` (null without `--tol-abs`), `stop`, and
+//! `warnings`, as `integrate --json` has them. Warnings also go to stderr.
 
-use mcint::pdf::UniformBox;
-use mcint::sampler::{Scramble, Sobol};
-use mcint::stats::{Derived, StopReason, VectorEstimate, Warning};
-use mcint::{Estimate, Integrator};
+use mcint::estimator::MAX_OUTPUTS;
+use mcint::sensitivity::{Indices, SobolDesign};
+use mcint::stats::StopReason;
+use mcint::{Estimate, Tolerance};
 use mcint_cli::args as support;
-use mcint_cli::pick_freeze;
 use mcint_cli::sensitivity_models;
 use mcint_cli::{note, say};
-use pick_freeze::{MAX_INPUTS, PickFreeze};
 use sensitivity_models::Model;
 use support::Args;
 
+/// The most inputs whose `4 + 2 D` integrals fit in one vector run.
+const MAX_INPUTS: usize = (MAX_OUTPUTS - 4) / 2;
+
 const SPEC: support::Spec = &[
     ("function", true, "ishigami or sobol-g"),
-    ("dims", true, "inputs of sobol-g"),
+    ("a", true, "Ishigami's a (default 7)"),
+    ("b", true, "Ishigami's b (default 0.1)"),
+    ("weights", true, "the g-function's weights a_1,...,a_D"),
+    ("dims", true, "inputs of sobol-g with Saltelli's weights"),
+    ("n", true, "Sobol' points per replicate (default 8192)"),
     (
-        "n",
+        "replicates",
         true,
-        "Owen-scrambled Sobol' points per replicate (default 16384)",
+        "independent scrambles (default 8; 1: one sequence, no error bar)",
     ),
-    support::REPLICATES,
+    ("second-order", false, "also the second-order indices"),
+    (
+        "tol-abs",
+        true,
+        "run until every index's 95% half-width is at most this",
+    ),
     support::SEED,
     support::TIME_LIMIT,
     support::JSON,
@@ -54,25 +66,32 @@ const SPEC: support::Spec = &[
 fn usage() -> String {
     format!(
         "\
-Sobol' sensitivity indices from one vector randomized-QMC run.
+Sobol' sensitivity indices of a test model, by the library's pick-freeze design.
 
-usage: sensitivity --function ishigami|sobol-g [--dims D] [--n N] [--replicates R]
-                   [--seed S] [--json]
+usage: sensitivity --function ishigami|sobol-g [options]
 
-  --function     ishigami (3 inputs on [-pi, pi]^3, a = 7, b = 0.1) or
-                 sobol-g (the g-function on [0, 1]^D, a = 0, 0.5, 3, 9, 99, 99, 99, ...)
-  --dims D       inputs of sobol-g, 1 to {MAX_INPUTS} (default {DEFAULT_SOBOL_G_DIMS})
-  --n N          Owen-scrambled Sobol' points per replicate (default {DEFAULT_POINTS}; use a
-                 power of two)
-  --replicates R independent scrambles, at least 2 (default {DEFAULT_REPLICATES})
-  --seed S       seed of the scrambles (default 0)
-  --json         one JSON object instead of the table
+  --function      ishigami (3 inputs on [-pi, pi]^3) or sobol-g (the g-function on [0, 1]^D)
+  --a A, --b B    Ishigami's parameters (default {ISHIGAMI_A}, {ISHIGAMI_B})
+  --weights W,... the g-function's weights, one per input, each >= 0
+  --dims D        sobol-g with Saltelli's weights 0, 0.5, 3, 9, 99, 99, 99, ... on D inputs,
+                  1 to {MAX_INPUTS} (default {DEFAULT_SOBOL_G_DIMS})
+  --n N           Sobol' points per replicate (default {DEFAULT_POINTS}; use a power of two)
+  --replicates R  independent LMS scrambles, >= 1 (default {DEFAULT_REPLICATES}; 1 is one
+                  sequence: more accurate, no error bar)
+  --second-order  also the second-order index of every pair of inputs
+  --tol-abs T     run until every index's 95% half-width is at most T (--n is then the
+                  first stage; needs --replicates >= 2)
+  --seed S        seed of the scrambles (default 0)
+  --time-limit S  stop after S seconds with the whole stages done by then
+  --json          one JSON object instead of the table
 "
     )
 }
 
-const DEFAULT_POINTS: u64 = 1 << 14;
-const DEFAULT_REPLICATES: u64 = 16;
+const ISHIGAMI_A: f64 = 7.0;
+const ISHIGAMI_B: f64 = 0.1;
+const DEFAULT_POINTS: u64 = 1 << 13;
+const DEFAULT_REPLICATES: u64 = 8;
 const DEFAULT_SOBOL_G_DIMS: usize = 6;
 
 fn main() {
@@ -83,7 +102,7 @@ fn run() -> Result<(), String> {
     let args = Args::parse(&usage(), SPEC)?;
     let settings = Settings::from_args(&args)?;
     let report = analyse(settings)?;
-    for warning in &report.warnings {
+    for warning in &report.indices.warnings {
         note!("warning: {warning}");
     }
     if args.has("json") {
@@ -99,6 +118,8 @@ struct Settings {
     model: Model,
     n: u64,
     replicates: u64,
+    second_order: bool,
+    tolerance: Option<f64>,
     seed: u64,
     deadline: Option<std::time::Instant>,
 }
@@ -106,25 +127,10 @@ struct Settings {
 impl Settings {
     fn from_args(args: &Args) -> Result<Settings, String> {
         let name: String = args.require("function", "ishigami or sobol-g")?;
-        let dims: Option<usize> = args.get("dims", "a whole number of inputs >= 1")?;
-        let model = match (name.as_str(), dims) {
-            ("ishigami", None) => Model::ishigami(),
-            ("ishigami", Some(_)) => {
-                return Err(
-                    "--dims applies to --function sobol-g (ishigami has 3 inputs)".to_string(),
-                );
-            }
-            ("sobol-g", dims) => {
-                let d = dims.unwrap_or(DEFAULT_SOBOL_G_DIMS);
-                if !(1..=MAX_INPUTS).contains(&d) {
-                    return Err(format!(
-                        "invalid --dims {d}: expected 1 to {MAX_INPUTS} inputs (the design \
-                         needs 4 + 2 D outputs of one vector run)"
-                    ));
-                }
-                Model::sobol_g(d)?
-            }
-            (other, _) => {
+        let model = match name.as_str() {
+            "ishigami" => ishigami(args)?,
+            "sobol-g" => sobol_g(args)?,
+            other => {
                 return Err(format!(
                     "invalid --function '{other}': expected ishigami or sobol-g"
                 ));
@@ -136,28 +142,94 @@ impl Settings {
         if n == 0 {
             return Err(
                 "invalid --n 0: expected a whole number of points per replicate >= 1 \
-                 (a power of two such as 16384 keeps the Sobol' net balanced)"
+                 (a power of two such as 8192 keeps the Sobol' net balanced)"
                     .to_string(),
             );
         }
         let replicates = args
-            .get("replicates", "a whole number of replicates >= 2")?
+            .get("replicates", "a whole number of replicates >= 1")?
             .unwrap_or(DEFAULT_REPLICATES);
-        if replicates < 2 {
-            return Err(format!(
-                "invalid --replicates {replicates}: expected a whole number >= 2 (the \
-                 standard errors come from the spread between replicates)"
-            ));
+        if replicates == 0 {
+            return Err(
+                "invalid --replicates 0: expected a whole number >= 1 (1 is one sequence \
+                 with no error bar)"
+                    .to_string(),
+            );
         }
-        let seed = args.get("seed", "a whole number")?.unwrap_or(0);
+        let tolerance: Option<f64> = args.get("tol-abs", "a number > 0")?;
+        if let Some(t) = tolerance {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(format!("invalid --tol-abs {t}: expected a number > 0"));
+            }
+            if replicates < 2 {
+                return Err(
+                    "--tol-abs needs --replicates >= 2: its stopping rule needs an error bar"
+                        .to_string(),
+                );
+            }
+        }
         Ok(Settings {
             model,
             n,
             replicates,
-            seed,
+            second_order: args.has("second-order"),
+            tolerance,
+            seed: args.get("seed", "a whole number")?.unwrap_or(0),
             deadline: args.deadline()?,
         })
     }
+}
+
+/// `--function ishigami` with `--a`, `--b`.
+fn ishigami(args: &Args) -> Result<Model, String> {
+    if args.list("weights")?.is_some() || args.get::<String>("dims", "a whole number")?.is_some() {
+        return Err(
+            "--dims and --weights apply to --function sobol-g (ishigami has 3 inputs and \
+             parameters --a, --b)"
+                .to_string(),
+        );
+    }
+    let a: Option<f64> = args.get("a", "a finite number")?;
+    let b: Option<f64> = args.get("b", "a finite number")?;
+    Model::ishigami(a.unwrap_or(ISHIGAMI_A), b.unwrap_or(ISHIGAMI_B))
+}
+
+/// `--function sobol-g` with `--weights` or `--dims`.
+fn sobol_g(args: &Args) -> Result<Model, String> {
+    if args.get::<String>("a", "a number")?.is_some()
+        || args.get::<String>("b", "a number")?.is_some()
+    {
+        return Err(
+            "--a and --b apply to --function ishigami (sobol-g takes --weights)".to_string(),
+        );
+    }
+    let dims: Option<usize> = args.get("dims", "a whole number of inputs >= 1")?;
+    let model = match (args.list("weights")?, dims) {
+        (Some(_), Some(_)) => {
+            return Err(
+                "give --weights or --dims, not both (--weights sets one weight per input)"
+                    .to_string(),
+            );
+        }
+        (Some(weights), None) => Model::sobol_g(weights)?,
+        (None, dims) => {
+            let d = dims.unwrap_or(DEFAULT_SOBOL_G_DIMS);
+            if d == 0 {
+                return Err(format!(
+                    "invalid --dims 0: expected 1 to {MAX_INPUTS} inputs"
+                ));
+            }
+            Model::sobol_g_saltelli(d.min(MAX_INPUTS + 1))?
+        }
+    };
+    if model.dims() > MAX_INPUTS {
+        return Err(format!(
+            "invalid --dims {}: expected 1 to {MAX_INPUTS} inputs (the design needs 4 + 2 D \
+             integrals of one vector run)",
+            dims.unwrap_or(model.dims())
+        ));
+    }
+    Ok(model)
 }
 
 /// One index (or the variance): the estimate, its standard error and the exact value.
@@ -169,83 +241,70 @@ struct Row {
 
 struct Report {
     settings: Settings,
-    design: PickFreeze,
-    evaluations: u64,
-    stop: StopReason,
+    runs_per_point: u64,
+    indices: Indices,
     variance: Row,
     first_order: Vec<Row>,
     total: Vec<Row>,
-    warnings: Vec<Warning>,
+    /// `(i, j, row)` for every pair, with `--second-order`.
+    second_order: Vec<(usize, usize, Row)>,
 }
 
-/// Integrates the pick-freeze design of the model once and derives every index from it.
+/// Runs the library's design on the model and pairs every index with its exact value.
 fn analyse(settings: Settings) -> Result<Report, String> {
-    let design = PickFreeze {
-        inputs: settings.model.dims(),
-    };
+    let text = |e: mcint::Error| e.to_string();
+    let mut design = SobolDesign::new(settings.model.inputs())
+        .map_err(text)?
+        .points(settings.n.saturating_mul(settings.replicates))
+        .replicates(settings.replicates)
+        .second_order(settings.second_order);
+    if let Some(t) = settings.tolerance {
+        design = design.tolerance(Tolerance::absolute(t).map_err(text)?);
+    }
     let model = settings.model.clone();
-    // Over the unit cube: each contribution is the integrand itself (no box volume), and the
-    // model maps the point into its own input box.
-    let mut integrator = Integrator::over_box_vector(
-        design.outputs(),
-        design.integrand(move |u: &[f64]| model.eval_unit(u)),
-        UniformBox::unit(design.point_dims()).map_err(|e| e.to_string())?,
-    )
-    .sampler(
-        Sobol::new(design.point_dims(), Scramble::Owen, settings.seed)
-            .map_err(|e| e.to_string())?,
-    )
-    .samples(settings.n)
-    .replicates(settings.replicates)
-    .seed(settings.seed);
+    let mut integrator = design
+        .integrator(move |x: &[f64]| model.eval(x))
+        .map_err(text)?
+        .seed(settings.seed);
     if let Some(deadline) = settings.deadline {
         integrator = integrator.deadline(deadline);
     }
-    let run = integrator.run().map_err(|e| e.to_string())?;
+    let run = integrator.run().map_err(text)?;
+    let indices = design.indices(&run).map_err(text)?;
     let exact = settings.model.exact();
-    let row = |quantity: Derived, exact: f64| -> Result<Row, String> {
-        let e: Estimate = run.derived(&quantity).map_err(|e| e.to_string())?;
-        Ok(Row {
-            estimate: e.mean,
-            std_error: e.std_error,
-            exact,
-        })
+    let row = |e: &Estimate, exact: f64| Row {
+        estimate: e.mean,
+        std_error: e.std_error,
+        exact,
     };
-    let inputs = 0..design.inputs;
+    let rows = |estimates: &[Estimate], exact: &[f64]| -> Vec<Row> {
+        estimates
+            .iter()
+            .zip(exact)
+            .map(|(e, x)| row(e, *x))
+            .collect()
+    };
+    let output = &indices.outputs[0];
     Ok(Report {
-        variance: row(design.variance(), exact.variance)?,
-        first_order: inputs
-            .clone()
-            .map(|i| row(design.first_order(i), exact.first_order[i]))
-            .collect::<Result<_, _>>()?,
-        total: inputs
-            .map(|i| row(design.total(i), exact.total[i]))
-            .collect::<Result<_, _>>()?,
-        evaluations: run.evaluations,
-        stop: run.stop,
-        warnings: distinct_warnings(&run),
+        variance: row(&output.variance, exact.variance),
+        first_order: rows(&output.first_order, &exact.first_order),
+        total: rows(&output.total, &exact.total),
+        second_order: output
+            .second_order
+            .iter()
+            .map(|pair| {
+                let (i, j) = pair.factors;
+                let exact = settings.model.exact_second_order(i, j);
+                (i, j, row(&pair.index, exact))
+            })
+            .collect(),
+        runs_per_point: design.model_runs_per_point(),
+        indices,
         settings,
-        design,
     })
 }
 
-/// The warnings of every output, each once (most apply to the run, so all outputs share them).
-fn distinct_warnings(run: &VectorEstimate) -> Vec<Warning> {
-    let mut distinct: Vec<Warning> = Vec::new();
-    for warning in run.outputs.iter().flat_map(|o| &o.warnings) {
-        if !distinct.contains(warning) {
-            distinct.push(warning.clone());
-        }
-    }
-    distinct
-}
-
 impl Report {
-    fn model_evaluations(&self) -> u64 {
-        self.evaluations
-            .saturating_mul(self.design.model_runs_per_point())
-    }
-
     fn json(&self) -> serde_json::Value {
         let row = |r: &Row| {
             serde_json::json!({
@@ -261,24 +320,38 @@ impl Report {
             .into_iter()
             .map(|(name, values)| (name.to_string(), serde_json::json!(values)))
             .collect();
-        serde_json::json!({
+        let mut report = serde_json::json!({
             "function": s.model.name(),
-            "dims": self.design.inputs,
+            "dims": s.model.dims(),
             "parameters": parameters,
             "n": s.n,
             "replicates": s.replicates,
             "seed": s.seed,
-            "evaluations": self.evaluations,
-            "model_evaluations": self.model_evaluations(),
-            "stop": support::stop_name(self.stop),
+            "evaluations": self.indices.points,
+            "model_evaluations": self.indices.model_evaluations,
+            "converged": self.indices.converged,
+            "stop": support::stop_name(self.indices.stop),
             "variance": row(&self.variance),
             "first_order": self.first_order.iter().map(row).collect::<Vec<_>>(),
             "total": self.total.iter().map(row).collect::<Vec<_>>(),
-            "warnings": self.warnings.iter().map(|w| serde_json::json!({
+            "warnings": self.indices.warnings.iter().map(|w| serde_json::json!({
                 "kind": w.kind(),
                 "message": w.to_string(),
             })).collect::<Vec<_>>(),
-        })
+        });
+        if s.second_order {
+            report["second_order"] = self
+                .second_order
+                .iter()
+                .map(|(i, j, r)| {
+                    let mut entry = row(r);
+                    entry["inputs"] = serde_json::json!([i, j]);
+                    entry
+                })
+                .collect::<Vec<_>>()
+                .into();
+        }
+        report
     }
 
     fn print_table(&self) {
@@ -292,27 +365,42 @@ impl Report {
         say!(
             "model       {} with {} inputs, {}",
             s.model.name(),
-            self.design.inputs,
+            s.model.dims(),
             parameters.join(", ")
         );
         say!(
-            "design      pick-freeze over Owen-scrambled Sobol' points in {} dimensions, {} \
-             replicates x {} points",
-            self.design.point_dims(),
+            "design      pick-freeze over LMS-scrambled Sobol' points in {} dimensions, {} \
+             replicates x {} points{}",
+            2 * s.model.dims(),
             s.replicates,
-            s.n
+            s.n,
+            if s.tolerance.is_some() {
+                " in the first stage"
+            } else {
+                ""
+            }
         );
         say!(
             "cost        {} integrand evaluations = {} model evaluations ({} per point: f(A), \
-             f(B) and f(AB_i) for each input)",
-            self.evaluations,
-            self.model_evaluations(),
-            self.design.model_runs_per_point()
+             f(B) and the mixed inputs)",
+            self.indices.points,
+            self.indices.model_evaluations,
+            self.runs_per_point
         );
-        if self.stop != StopReason::Budget {
+        let stop = self.indices.stop;
+        if let Some(t) = s.tolerance {
+            if self.indices.converged == Some(true) {
+                say!("tolerance   met: every index's 95% half-width is at most {t}");
+            } else {
+                say!(
+                    "tolerance   {t} not met (stop: {})",
+                    support::stop_name(stop)
+                );
+            }
+        } else if stop != StopReason::Budget {
             say!(
                 "stopped     early ({}): the indices use the whole replicates done by then",
-                support::stop_name(self.stop)
+                support::stop_name(stop)
             );
         }
         let v = &self.variance;
@@ -344,6 +432,25 @@ impl Report {
                 std_error(total.std_error),
                 total.exact
             );
+        }
+        if !self.second_order.is_empty() {
+            say!();
+            say!(
+                "{:<6} {:>10} {:>9} {:>10}",
+                "pair",
+                "S_ij",
+                "std err",
+                "exact"
+            );
+            for (i, j, r) in &self.second_order {
+                say!(
+                    "{:<6} {:>10.6} {:>9} {:>10.6}",
+                    format!("x{}x{}", i + 1, j + 1),
+                    r.estimate,
+                    std_error(r.std_error),
+                    r.exact
+                );
+            }
         }
     }
 }

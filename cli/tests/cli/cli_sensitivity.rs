@@ -54,13 +54,17 @@ fn assert_indices_agree(report: &Value, kind: &str) -> Vec<f64> {
 /// The run's size and cost: `n` points per replicate, one integrand evaluation per point and
 /// `d + 2` model evaluations per point.
 fn assert_counts(report: &Value, n: u64, replicates: u64, dims: u64) {
+    assert_counts_with(report, n, replicates, dims, dims + 2);
+}
+
+fn assert_counts_with(report: &Value, n: u64, replicates: u64, dims: u64, runs_per_point: u64) {
     assert_eq!(report["dims"].as_u64(), Some(dims));
     assert_eq!(report["n"].as_u64(), Some(n));
     assert_eq!(report["replicates"].as_u64(), Some(replicates));
     assert_eq!(report["evaluations"].as_u64(), Some(n * replicates));
     assert_eq!(
         report["model_evaluations"].as_u64(),
-        Some(n * replicates * (dims + 2))
+        Some(n * replicates * runs_per_point)
     );
 }
 
@@ -68,7 +72,7 @@ fn assert_counts(report: &Value, n: u64, replicates: u64, dims: u64) {
 fn ishigami_indices_agree_with_the_analytic_values() {
     let report = json_run(&["--function", "ishigami", "--seed", "0"]);
     assert_eq!(report["function"], "ishigami");
-    assert_counts(&report, 1 << 14, 16, 3);
+    assert_counts(&report, 1 << 13, 8, 3);
     let first = assert_indices_agree(&report, "first_order");
     let total = assert_indices_agree(&report, "total");
     // The published values for a = 7, b = 0.1 (Saltelli et al. 2008, The Primer), an
@@ -101,7 +105,7 @@ fn sobol_g_indices_agree_with_the_analytic_values() {
         ]);
         assert_eq!(report["function"], "sobol-g");
         let d: u64 = dims.parse().unwrap();
-        assert_counts(&report, 4096, 16, d);
+        assert_counts(&report, 4096, 8, d);
         let first = assert_indices_agree(&report, "first_order");
         let total = assert_indices_agree(&report, "total");
         // V_i = 1/(3 (1 + a_i)^2) with Saltelli et al.'s (2010) weights.
@@ -193,7 +197,27 @@ fn bad_input_is_a_one_line_error_with_exit_code_2() {
         &["--function", "ishigami", "--n", "x"],
         "points per replicate >= 1",
     );
-    assert_usage_error(&["--function", "ishigami", "--replicates", "1"], ">= 2");
+    assert_usage_error(&["--function", "ishigami", "--replicates", "0"], ">= 1");
+    assert_usage_error(
+        &[
+            "--function",
+            "ishigami",
+            "--replicates",
+            "1",
+            "--tol-abs",
+            "1e-3",
+        ],
+        "--replicates >= 2",
+    );
+    assert_usage_error(&["--function", "ishigami", "--tol-abs", "-1"], "> 0");
+    assert_usage_error(&["--function", "ishigami", "--weights", "1,2,3"], "sobol-g");
+    assert_usage_error(&["--function", "sobol-g", "--b", "0.2"], "ishigami");
+    assert_usage_error(&["--function", "sobol-g", "--weights", "1,-2"], ">= 0");
+    assert_usage_error(
+        &["--function", "sobol-g", "--weights", "1,2", "--dims", "2"],
+        "not both",
+    );
+    assert_usage_error(&["--function", "ishigami", "--a", "inf"], "finite");
     assert_usage_error(&["--function", "ishigami", "--dims", "4"], "sobol-g");
     assert_usage_error(
         &["--function", "sobol-g", "--dims", "0"],
@@ -221,7 +245,95 @@ fn help_lists_every_flag() {
         "--replicates",
         "--seed",
         "--json",
+        "--a",
+        "--b",
+        "--weights",
+        "--second-order",
+        "--tol-abs",
     ] {
         assert!(text.contains(flag), "{flag} missing from\n{text}");
     }
+}
+
+/// Ishigami's parameters and the g-function's weights reach the model: the exact values
+/// the report gives are those of the parameters asked for, and the estimates agree.
+#[test]
+fn parameters_and_weights_reach_the_model() {
+    let report = json_run(&[
+        "--function",
+        "ishigami",
+        "--a",
+        "5",
+        "--b",
+        "0.2",
+        "--seed",
+        "1",
+    ]);
+    assert_eq!(report["parameters"]["a"][0], 5.0);
+    let total = assert_indices_agree(&report, "total");
+    // V13 / V with a = 5, b = 0.2: V = a^2/8 + b pi^4/5 + b^2 pi^8/18 + 1/2.
+    let pi = std::f64::consts::PI;
+    let v = 25.0 / 8.0 + 0.2 * pi.powi(4) / 5.0 + 0.04 * pi.powi(8) / 18.0 + 0.5;
+    let v13 = 0.04 * pi.powi(8) * (1.0 / 18.0 - 1.0 / 50.0);
+    assert!((total[2] - v13 / v).abs() < 1e-12, "{}", total[2]);
+    let report = json_run(&[
+        "--function",
+        "sobol-g",
+        "--weights",
+        "0,1,4.5",
+        "--seed",
+        "2",
+    ]);
+    assert_eq!(report["dims"], 3);
+    let first = assert_indices_agree(&report, "first_order");
+    let partial = [1.0 / 3.0, 1.0 / 12.0, 1.0 / (3.0 * 5.5 * 5.5)];
+    let v = partial.iter().map(|p| 1.0 + p).product::<f64>() - 1.0;
+    for (s, p) in first.iter().zip(partial) {
+        assert!((s - p / v).abs() < 1e-12);
+    }
+}
+
+/// `--second-order` adds `second_order`, one entry per pair with its inputs, within its
+/// standard errors of the exact `S_ij = V_i V_j / V` of the g-function, at `2 D + 2` model
+/// runs per point.
+#[test]
+fn second_order_indices_are_reported_per_pair() {
+    let report = json_run(&[
+        "--function",
+        "sobol-g",
+        "--weights",
+        "0,1,4.5",
+        "--second-order",
+    ]);
+    assert_counts_with(&report, 1 << 13, 8, 3, 8);
+    let pairs = report["second_order"].as_array().expect("second_order");
+    assert_eq!(pairs.len(), 3);
+    for (pair, inputs) in pairs.iter().zip([[0, 1], [0, 2], [1, 2]]) {
+        assert_eq!(pair["inputs"], serde_json::json!(inputs));
+        let (estimate, se, exact) = (
+            number(&pair["estimate"]),
+            number(&pair["std_error"]),
+            number(&pair["exact"]),
+        );
+        assert!(exact > 0.0);
+        assert!((estimate - exact).abs() <= SIGMAS * se, "{pair}");
+    }
+    let without = json_run(&["--function", "sobol-g", "--weights", "0,1,4.5"]);
+    assert!(without.get("second_order").is_none());
+}
+
+/// `--tol-abs` runs until every index's half-width meets it, and says so.
+#[test]
+fn a_tolerance_run_meets_it_on_every_index() {
+    let report = json_run(&["--function", "ishigami", "--tol-abs", "2e-3", "--n", "1024"]);
+    assert_eq!(report["converged"], true);
+    for kind in ["first_order", "total"] {
+        assert_indices_agree(&report, kind);
+        for row in report[kind].as_array().unwrap() {
+            // 95% half-width of 8 replicates: t_7 = 2.3646 standard errors.
+            assert!(2.3646 * number(&row["std_error"]) <= 2e-3 * 1.0001, "{row}");
+        }
+    }
+    let json_free = json_run(&["--function", "ishigami"]);
+    assert!(json_free["converged"].is_null());
 }
