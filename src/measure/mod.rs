@@ -22,6 +22,7 @@
 mod brownian;
 mod gaussian;
 mod geometric_brownian;
+mod independent;
 mod lebesgue;
 mod normal_map;
 mod uniform_law;
@@ -29,6 +30,7 @@ mod uniform_law;
 pub use brownian::{BrownianMotion, Construction};
 pub use gaussian::{Factorization, Gaussian, Lognormal};
 pub use geometric_brownian::GeometricBrownianMotion;
+pub use independent::Independent;
 pub use lebesgue::{Lebesgue, UnboundedTransform};
 pub use uniform_law::Uniform;
 

@@ -41,7 +41,8 @@ pub type DesignIntegrand = Box<dyn Fn(&[f64], &mut [f64]) + Send + Sync>;
 pub type DesignRun = Integrator<VectorRun<VectorUniformEstimator<DesignIntegrand>>>;
 
 /// The Sobol' indices of a model `Y = f(X)` whose inputs `X` follow a probability law seen
-/// from the unit cube (a [`Measure`] of weight 1: [`Uniform`], [`Gaussian`], ...), by the
+/// from the unit cube (a [`Measure`] of weight 1: [`Uniform`], [`Gaussian`], [`Lognormal`], inputs given by
+/// their quantile functions with [`Independent`], ...), by the
 /// pick-freeze design of Saltelli et al. (2010).
 ///
 /// Each point `u` of the unit cube of twice the law's canonical dimension `k` gives two
@@ -51,7 +52,7 @@ pub type DesignRun = Integrator<VectorRun<VectorUniformEstimator<DesignIntegrand
 /// point for `F` factors (`2 + 2F` with second order), and the run integrates the products
 /// whose means are the partial variances; every index is then a smooth function of those
 /// integrals with a delta-method error bar. The factors are the law's canonical coordinates
-/// (independent uniforms); for a law with independent coordinates ([`Uniform`], a
+/// (independent uniforms); for a law with independent coordinates ([`Uniform`], [`Independent`], a
 /// [`Gaussian`] with diagonal covariance) these are the inputs themselves. For a correlated
 /// [`Gaussian`] with the Cholesky factorization, coordinate `i` is the part of `x_i` not
 /// explained by `x_1 .. x_{i-1}`, so the indices are those of that ordering.
@@ -86,6 +87,8 @@ pub type DesignRun = Integrator<VectorRun<VectorUniformEstimator<DesignIntegrand
 /// ```
 ///
 /// [`Gaussian`]: crate::measure::Gaussian
+/// [`Lognormal`]: crate::measure::Lognormal
+/// [`Independent`]: crate::measure::Independent
 /// [`Uniform`]: crate::measure::Uniform
 pub struct SobolDesign<M> {
     inputs: Arc<M>,

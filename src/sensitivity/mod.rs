@@ -1,5 +1,7 @@
 //! Global sensitivity analysis: Sobol' first-order, total and second-order indices, of single
-//! inputs or groups, for scalar and vector models, over any probability law the crate samples.
+//! inputs or groups, for scalar and vector models, over any probability law the crate samples
+//! (the `measure` module's `Uniform`, `Gaussian`, `Lognormal`, and `Independent` inputs given
+//! by their quantile functions).
 //!
 //! A [`SobolDesign`] builds the pick-freeze design of A. Saltelli, P. Annoni, I. Azzini, F.
 //! Campolongo, M. Ratto and S. Tarantola, "Variance based sensitivity analysis of model

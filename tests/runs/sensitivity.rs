@@ -343,3 +343,56 @@ fn bad_designs_are_refused_with_what_is_allowed() {
         .unwrap_err();
     assert!(err.to_string().contains("a run of this design"), "{err}");
 }
+
+/// Inputs given by their quantile functions: `y = x1 + x2` with `x1` exponential (variance 1)
+/// and `x2` uniform on `[0, 6)` (variance 3) has `S = ST = (1/4, 3/4)`.
+#[test]
+fn inputs_given_by_quantile_functions_get_their_closed_form_indices() {
+    let law = mcint::measure::Independent::new(vec![
+        Box::new(|u: f64| -(1.0 - u).ln()),
+        Box::new(|u: f64| 6.0 * u),
+    ])
+    .unwrap();
+    let design = SobolDesign::new(law).unwrap();
+    let run = design
+        .integrator(|x: &[f64]| x[0] + x[1])
+        .unwrap()
+        .seed(8)
+        .run()
+        .unwrap();
+    let indices = design.indices(&run).unwrap();
+    for (k, exact) in [0.25, 0.75].into_iter().enumerate() {
+        assert!(
+            near(&indices.first_order()[k], exact, 5.0),
+            "{:?}",
+            indices.first_order()[k]
+        );
+        assert!(
+            near(&indices.total()[k], exact, 5.0),
+            "{:?}",
+            indices.total()[k]
+        );
+    }
+}
+
+/// The design's run is an ordinary Integrator run: split into parts (as a checkpoint or an
+/// MPI cluster splits it), merged and finished, it gives the same bits, and so the same
+/// indices.
+#[test]
+fn a_run_in_parts_gives_the_same_indices() {
+    let ishigami = Ishigami::new(7.0, 0.1).unwrap();
+    let design = SobolDesign::new(ishigami.inputs()).unwrap().points(1 << 17);
+    let integrator = design
+        .integrator(move |x: &[f64]| ishigami.eval(x))
+        .unwrap()
+        .seed(4)
+        .threads(2);
+    let total = integrator.total_chunks().unwrap();
+    assert!(total >= 8, "{total} chunks");
+    let mut part = integrator.run_part(0..total / 3).unwrap();
+    part.merge(integrator.run_part(total / 3..total).unwrap())
+        .unwrap();
+    let resumed = design.indices(&integrator.finish(&part).unwrap()).unwrap();
+    let whole = design.indices(&integrator.run().unwrap()).unwrap();
+    assert_eq!(resumed, whole);
+}
