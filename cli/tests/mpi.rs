@@ -5,9 +5,9 @@
 //! 3 and 4 ranks. Each rank runs every case twice, spread over the ranks and alone, and
 //! compares every bit; then a checkpoint saved by 3 ranks is resumed by 2. A rank records a
 //! failed comparison and goes on (leaving early would strand the others in a collective), and
-//! exits non-zero at the end, which fails `mpirun` and this test. Last, the `integrate`
-//! program (built with this test, `cargo test -p mcint-cli --features mpi`) run with `--mpi` on 2
-//! and 3 ranks prints the one-process result.
+//! exits non-zero at the end, which fails `mpirun` and this test. Last, the `integrate` and
+//! `sensitivity` programs (built with this test, `cargo test -p mcint-cli --features mpi`) run
+//! with `--mpi` on 2 and 3 ranks print the one-process result.
 //!
 //! Set `MPIRUN` to use another launcher.
 
@@ -54,7 +54,7 @@ fn launch() -> ExitCode {
     for ranks in [2, 3] {
         if let Err(e) = cli_matches_one_process(ranks) {
             eprintln!("mpi: {e}");
-            failed.push(format!("integrate --mpi on {ranks} ranks"));
+            failed.push(format!("integrate and sensitivity --mpi on {ranks} ranks"));
         }
     }
     if let Err(e) = one_error_line_from_the_job() {
@@ -64,7 +64,7 @@ fn launch() -> ExitCode {
     if failed.is_empty() {
         println!(
             "mpi: every case matched the one-process run on 1, 2, 3 and 4 ranks, and so did \
-             integrate --mpi on 2 and 3"
+             integrate and sensitivity --mpi on 2 and 3"
         );
         ExitCode::SUCCESS
     } else {
@@ -74,35 +74,54 @@ fn launch() -> ExitCode {
 }
 
 /// `mpirun -n ranks integrate --mpi ...` prints one JSON result, the one-process result with
-/// `ranks` set, for a run to a tolerance and for VEGAS+.
+/// `ranks` set, for a run to a tolerance and for VEGAS+; so does `sensitivity --mpi` for
+/// second-order indices to a tolerance.
 fn cli_matches_one_process(ranks: usize) -> Result<(), String> {
-    let integrate = common::example("integrate");
     let launcher = std::env::var("MPIRUN").unwrap_or_else(|_| "mpirun".to_string());
-    let runs: [&[&str]; 2] = [
-        &[
-            "--integrand",
-            "oscillatory",
-            "--dims",
-            "5",
-            "--method",
-            "rqmc",
-            "--tol-abs",
-            "1e-6",
-        ],
-        &[
-            "--integrand",
-            "gaussian,continuous",
-            "--ratio",
-            "1,0",
-            "--dims",
-            "4",
-            "--method",
-            "vegas-plus",
-            "--n",
-            "20000",
-        ],
+    let runs: [(&str, &[&str]); 3] = [
+        (
+            "integrate",
+            &[
+                "--integrand",
+                "oscillatory",
+                "--dims",
+                "5",
+                "--method",
+                "rqmc",
+                "--tol-abs",
+                "1e-6",
+            ],
+        ),
+        (
+            "integrate",
+            &[
+                "--integrand",
+                "gaussian,continuous",
+                "--ratio",
+                "1,0",
+                "--dims",
+                "4",
+                "--method",
+                "vegas-plus",
+                "--n",
+                "20000",
+            ],
+        ),
+        (
+            "sensitivity",
+            &[
+                "--function",
+                "sobol-g",
+                "--weights",
+                "0,1,4.5",
+                "--second-order",
+                "--tol-abs",
+                "2e-3",
+            ],
+        ),
     ];
-    for flags in runs {
+    for (program, flags) in runs {
+        let integrate = common::example(program);
         let alone = Command::new(&integrate)
             .args(flags)
             .args(["--json", "--threads", "1"])

@@ -5,8 +5,8 @@
 //! ```text
 //! cargo run --release --bin sensitivity -- --function ishigami [--a A] [--b B]
 //! cargo run --release --bin sensitivity -- --function sobol-g [--weights W1,W2,...|--dims D]
-//!     [--n N] [--replicates R] [--second-order] [--tol-abs T] [--seed S]
-//!     [--time-limit SECONDS] [--json]
+//!     [--n N] [--replicates R] [--second-order] [--tol-abs T] [--seed S] [--threads T]
+//!     [--time-limit SECONDS] [--json] [--mpi]
 //! ```
 //! `ishigami` is `sin x1 + a sin^2 x2 + b x3^4 sin x1` on `[-pi, pi]^3` (default `a = 7`,
 //! `b = 0.1`); `sobol-g` is the g-function on `[0, 1]^D` with the given weights, or with those
@@ -23,14 +23,20 @@
 //! of the first stage), `replicates`, `seed`, `evaluations`, `model_evaluations`,
 //! `variance`, and `first_order` and `total`, arrays with one `{"estimate", "std_error",
 //! "exact"}` object per input; with `--second-order`, `second_order`, one such object per pair
-//! with its `inputs` (`[i, j]`, from 0); `converged` (null without `--tol-abs`), `stop`, and
-//! `warnings`, as `integrate --json` has them. Warnings also go to stderr.
+//! with its `inputs` (`[i, j]`, from 0); `ranks` (of the MPI job, 1 without `--mpi`);
+//! `converged` (null without `--tol-abs`), `stop`, and `warnings`, as `integrate --json` has
+//! them. Warnings also go to stderr.
+//!
+//! `--mpi` (a build with `--features mpi`, launched as `mpirun -n N .../sensitivity --mpi
+//! ...`) spreads the run's chunks over the ranks; rank 0 prints the one-process result, bit
+//! for bit.
 
 use mcint::estimator::MAX_OUTPUTS;
 use mcint::sensitivity::{Indices, SobolDesign};
 use mcint::stats::StopReason;
 use mcint::{Estimate, Tolerance};
 use mcint_cli::args as support;
+use mcint_cli::ranks::{Ranks, Spread};
 use mcint_cli::sensitivity_models;
 use mcint_cli::{note, say};
 use sensitivity_models::Model;
@@ -58,8 +64,14 @@ const SPEC: support::Spec = &[
         "run until every index's 95% half-width is at most this",
     ),
     support::SEED,
+    support::THREADS,
     support::TIME_LIMIT,
     support::JSON,
+    (
+        "mpi",
+        false,
+        "spread the run over the ranks of the MPI job (mpirun; a build with --features mpi)",
+    ),
 ];
 
 /// What `--help` says before the list of flags.
@@ -82,8 +94,11 @@ usage: sensitivity --function ishigami|sobol-g [options]
   --tol-abs T     run until every index's 95% half-width is at most T (--n is then the
                   first stage; needs --replicates >= 2)
   --seed S        seed of the scrambles (default 0)
+  --threads T     worker threads (default: all cores; the result does not depend on it)
   --time-limit S  stop after S seconds with the whole stages done by then
   --json          one JSON object instead of the table
+  --mpi           spread the run over the ranks of the MPI job (mpirun -n N; a build with
+                  --features mpi); rank 0 prints the one-process result
 "
     )
 }
@@ -101,7 +116,12 @@ fn main() {
 fn run() -> Result<(), String> {
     let args = Args::parse(&usage(), SPEC)?;
     let settings = Settings::from_args(&args)?;
-    let report = analyse(settings)?;
+    // Lives until the run ends: MPI stays up as long as it.
+    let ranks = Ranks::new(args.has("mpi"))?;
+    let report = analyse(settings, ranks.spread)?;
+    if !ranks.spread.is_root() {
+        return Ok(());
+    }
     for warning in &report.indices.warnings {
         note!("warning: {warning}");
     }
@@ -121,6 +141,7 @@ struct Settings {
     second_order: bool,
     tolerance: Option<f64>,
     seed: u64,
+    threads: Option<usize>,
     deadline: Option<std::time::Instant>,
 }
 
@@ -175,6 +196,7 @@ impl Settings {
             second_order: args.has("second-order"),
             tolerance,
             seed: args.get("seed", "a whole number")?.unwrap_or(0),
+            threads: args.get("threads", "a whole number of threads >= 1")?,
             deadline: args.deadline()?,
         })
     }
@@ -241,6 +263,8 @@ struct Row {
 
 struct Report {
     settings: Settings,
+    /// Ranks of the MPI job the run was spread over (1 without `--mpi`).
+    ranks: usize,
     runs_per_point: u64,
     indices: Indices,
     variance: Row,
@@ -251,7 +275,7 @@ struct Report {
 }
 
 /// Runs the library's design on the model and pairs every index with its exact value.
-fn analyse(settings: Settings) -> Result<Report, String> {
+fn analyse(settings: Settings, spread: Spread) -> Result<Report, String> {
     let text = |e: mcint::Error| e.to_string();
     let mut design = SobolDesign::new(settings.model.inputs())
         .map_err(text)?
@@ -269,7 +293,10 @@ fn analyse(settings: Settings) -> Result<Report, String> {
     if let Some(deadline) = settings.deadline {
         integrator = integrator.deadline(deadline);
     }
-    let run = integrator.run().map_err(text)?;
+    if let Some(threads) = settings.threads {
+        integrator = integrator.threads(threads);
+    }
+    let run = mcint_cli::spread!(integrator, spread).run().map_err(text)?;
     let indices = design.indices(&run).map_err(text)?;
     let exact = settings.model.exact();
     let row = |e: &Estimate, exact: f64| Row {
@@ -299,6 +326,7 @@ fn analyse(settings: Settings) -> Result<Report, String> {
             })
             .collect(),
         runs_per_point: design.model_runs_per_point(),
+        ranks: spread.size,
         indices,
         settings,
     })
@@ -327,6 +355,7 @@ impl Report {
             "n": s.n,
             "replicates": s.replicates,
             "seed": s.seed,
+            "ranks": self.ranks,
             "evaluations": self.indices.points,
             "model_evaluations": self.indices.model_evaluations,
             "converged": self.indices.converged,

@@ -250,6 +250,8 @@ fn help_lists_every_flag() {
         "--weights",
         "--second-order",
         "--tol-abs",
+        "--threads",
+        "--mpi",
     ] {
         assert!(text.contains(flag), "{flag} missing from\n{text}");
     }
