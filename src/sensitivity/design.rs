@@ -41,9 +41,9 @@ pub type DesignIntegrand = Box<dyn Fn(&[f64], &mut [f64]) + Send + Sync>;
 pub type DesignRun = Integrator<VectorRun<VectorUniformEstimator<DesignIntegrand>>>;
 
 /// The Sobol' indices of a model `Y = f(X)` whose inputs `X` follow a probability law seen
-/// from the unit cube (a [`Measure`] of weight 1: [`Uniform`], [`Gaussian`], [`Lognormal`], inputs given by
-/// their quantile functions with [`Independent`], ...), by the
-/// pick-freeze design of Saltelli et al. (2010).
+/// from the unit cube (a [`Measure`] of weight 1: [`Uniform`], [`Gaussian`], [`Lognormal`],
+/// inputs given by their quantile functions with [`Independent`], ...), by the pick-freeze
+/// design of Saltelli et al. (2010).
 ///
 /// Each point `u` of the unit cube of twice the law's canonical dimension `k` gives two
 /// independent inputs, `A` from `u[..k]` and `B` from `u[k..]`, and for each factor `j` (an
@@ -52,10 +52,10 @@ pub type DesignRun = Integrator<VectorRun<VectorUniformEstimator<DesignIntegrand
 /// point for `F` factors (`2 + 2F` with second order), and the run integrates the products
 /// whose means are the partial variances; every index is then a smooth function of those
 /// integrals with a delta-method error bar. The factors are the law's canonical coordinates
-/// (independent uniforms); for a law with independent coordinates ([`Uniform`], [`Independent`], a
-/// [`Gaussian`] with diagonal covariance) these are the inputs themselves. For a correlated
-/// [`Gaussian`] with the Cholesky factorization, coordinate `i` is the part of `x_i` not
-/// explained by `x_1 .. x_{i-1}`, so the indices are those of that ordering.
+/// (independent uniforms); for a law with independent coordinates ([`Uniform`],
+/// [`Independent`], a [`Gaussian`] with diagonal covariance) these are the inputs themselves.
+/// For a correlated [`Gaussian`] with the Cholesky factorization, coordinate `i` is the part of
+/// `x_i` not explained by `x_1 .. x_{i-1}`, so the indices are those of that ordering.
 ///
 /// [`integrator`](Self::integrator) gives the run as an [`Integrator`], with every setting
 /// the crate's runs share (seed, threads, time limits, checkpoints with
@@ -285,8 +285,11 @@ impl<M: Measure + 'static> SobolDesign<M> {
         2 * self.inputs.canonical_dims()
     }
 
-    /// The run of a scalar model `f(x)`, ready to be configured further and run. Errors only
-    /// when the design's integrals do not fit in one vector run.
+    /// The run of a scalar model `f(x)`, ready to be configured further and run. Errors when
+    /// the design's integrals do not fit in one vector run, or the points do not split into
+    /// the replicates (see [`points`](Self::points), [`replicates`](Self::replicates)). A
+    /// non-finite model value stops the run with an error that names the design's output it
+    /// reached, as any vector run does.
     ///
     /// ```
     /// use mcint::{measure::Uniform, sensitivity::SobolDesign};

@@ -17,9 +17,10 @@
 //!   280-297);
 //!
 //! each over `Var Y` from `f(A)` and `f(B)`. These are the estimators SALib uses, which makes
-//! the two comparable point set for point set; the alternatives measured against them on one
-//! scrambled sequence (the centred Saltelli form, Janon et al. 2014) were no more accurate
-//! (`docs/measurements.md`).
+//! the two comparable point set for point set; the alternatives measured against them (Janon
+//! et al. 2014 for the first order, Jansen's numerator over the variance of the same pair or
+//! of every run, a centred Saltelli numerator) were within 20% of them either way, depending
+//! on the replicates and the budget (`docs/measurements.md`).
 //!
 //! The indices are ratios of means, so the run's error bars carry over by the delta method,
 //! and a run to a [`Tolerance`](crate::Tolerance) on every index is an ordinary run of the

@@ -246,8 +246,13 @@ fn sobol_g(args: &Args) -> Result<Model, String> {
     };
     if model.dims() > MAX_INPUTS {
         return Err(format!(
-            "invalid --dims {}: expected 1 to {MAX_INPUTS} inputs (the design needs 4 + 2 D \
+            "invalid {}: {} inputs, expected 1 to {MAX_INPUTS} (the design needs 4 + 2 D \
              integrals of one vector run)",
+            if dims.is_some() {
+                "--dims"
+            } else {
+                "--weights"
+            },
             dims.unwrap_or(model.dims())
         ));
     }
