@@ -32,7 +32,8 @@ pub enum ErrorBasis {
     WalshBound,
 }
 
-/// An estimate of an integral with its standard error and degrees of freedom.
+/// An estimate of an integral with its standard error and degrees of freedom. `{}` prints
+/// it with its 95% interval, `{:.6}` with six decimals.
 ///
 /// ```
 /// use mcint::stats::{Estimate, ErrorBasis};
@@ -40,6 +41,7 @@ pub enum ErrorBasis {
 /// assert_eq!(e.basis, ErrorBasis::Replicates);
 /// let (lo, hi) = e.confidence_interval(0.95).unwrap().unwrap();
 /// assert!(lo < 1.0 && 1.0 < hi);
+/// println!("{e:.3}"); // 1.000 ± 2.6e-1 (95% CI [0.740, 1.260], 4000 evaluations)
 /// ```
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[derive(Debug, Clone, PartialEq)]

@@ -7,6 +7,7 @@
 mod accumulator;
 mod covariance;
 mod derived;
+mod display;
 mod estimate;
 mod goodness_of_fit;
 pub(crate) mod rounding;
