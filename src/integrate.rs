@@ -68,7 +68,7 @@ const DEFAULT_SAMPLES: u64 = 1 << 16;
 /// main stage still miss, it is extended by the same rule). The interval assumes the CLT holds at
 /// that size, which needs `n` well above the square of the integrand's skewness: sharply peaked or
 /// heavy-tailed integrands need a tighter tolerance, or importance sampling. Randomized QMC and
-/// stratified points keep `R` replicates (default 16) and double the points per replicate, starting
+/// stratified points keep `R` replicates (default 8) and double the points per replicate, starting
 /// from `samples` (default: the pass size, or 1024), until the Student-t interval over the
 /// replicates, with its standard error inflated by 1.2 against optional stopping, meets the
 /// tolerance; each stage adds only the new points.
@@ -240,7 +240,7 @@ impl<E> Integrator<E> {
         self
     }
 
-    /// Number of independent replicates (at least 1; default 1, or 16 in a run to a
+    /// Number of independent replicates (at least 1; default 1, or 8 in a run to a
     /// tolerance with dependent points).
     ///
     /// ```

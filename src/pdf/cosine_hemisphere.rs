@@ -26,7 +26,7 @@ use glam::{DVec2, DVec3};
 /// Directions below the equator invert to the `u` of their mirror image above it.
 ///
 /// ```
-/// use glam::{DVec2, DVec3};
+/// use mcint::glam::{DVec2, DVec3};
 /// use mcint::pdf::{CosineHemisphere, Pdf};
 /// let d = CosineHemisphere.sample_point(DVec2::new(0.75, 0.5));
 /// // The middle of the square's right half goes to (1/2, 0) on the disk.
@@ -42,7 +42,7 @@ impl CosineHemisphere {
     /// The direction for the canonical point `u` in `[0, 1)^2`.
     ///
     /// ```
-    /// use glam::{DVec2, DVec3};
+    /// use mcint::glam::{DVec2, DVec3};
     /// assert_eq!(mcint::pdf::CosineHemisphere.sample_point(DVec2::splat(0.5)), DVec3::Z);
     /// ```
     pub fn sample_point(&self, u: DVec2) -> DVec3 {
@@ -55,7 +55,7 @@ impl CosineHemisphere {
     /// that is not finite).
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use mcint::glam::DVec3;
     /// let c = mcint::pdf::CosineHemisphere;
     /// assert_eq!(c.pdf_point(DVec3::Z), 1.0 / std::f64::consts::PI);
     /// assert_eq!(c.pdf_point(DVec3::X), 0.0);
@@ -73,7 +73,7 @@ impl CosineHemisphere {
     /// direction `d`.
     ///
     /// ```
-    /// use glam::{DVec2, DVec3};
+    /// use mcint::glam::{DVec2, DVec3};
     /// let u = mcint::pdf::CosineHemisphere.invert_point(DVec3::new(0.0, -0.6, 0.8));
     /// assert!((u - DVec2::new(0.5, 0.2)).length() < 1e-15);
     /// ```

@@ -55,7 +55,7 @@ use glam::{DVec2, DVec3};
 /// at `phi = 0`.
 ///
 /// ```
-/// use glam::{DVec2, DVec3};
+/// use mcint::glam::{DVec2, DVec3};
 /// use mcint::pdf::{Pdf, SphericalCap};
 /// // The sun seen from the earth: a cone of half-angle 0.00465 rad.
 /// let sun = SphericalCap::around_with_angle(DVec3::new(1.0, 1.0, 1.0), 0.00465).unwrap();
@@ -105,7 +105,7 @@ impl SphericalCap {
     /// `cos theta >= cos_theta_max`, for `cos_theta_max` in `[-1, 1)`.
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use mcint::glam::DVec3;
     /// use mcint::pdf::SphericalCap;
     /// let cap = SphericalCap::around(DVec3::new(0.0, -2.0, 0.0), 0.9).unwrap();
     /// assert_eq!(cap.axis(), DVec3::NEG_Y);
@@ -144,7 +144,7 @@ impl SphericalCap {
     /// `(0, pi]`) of it.
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use mcint::glam::DVec3;
     /// use mcint::pdf::SphericalCap;
     /// let cap = SphericalCap::around_with_angle(DVec3::X, std::f64::consts::PI).unwrap();
     /// assert!((cap.solid_angle() - 4.0 * std::f64::consts::PI).abs() < 1e-14);
@@ -213,7 +213,7 @@ impl SphericalCap {
     /// The cap's axis (unit length).
     ///
     /// ```
-    /// assert_eq!(mcint::pdf::SphericalCap::new(0.0).unwrap().axis(), glam::DVec3::Z);
+    /// assert_eq!(mcint::pdf::SphericalCap::new(0.0).unwrap().axis(), mcint::glam::DVec3::Z);
     /// ```
     pub fn axis(&self) -> DVec3 {
         self.axis
@@ -223,7 +223,7 @@ impl SphericalCap {
     /// (from `t` towards `b`); around `+z` it is `(+x, +y, +z)`.
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use mcint::glam::DVec3;
     /// use mcint::pdf::SphericalCap;
     /// let (t, b, n) = SphericalCap::around(DVec3::new(1.0, 2.0, -2.0), 0.0).unwrap().frame();
     /// assert!(t.dot(b).abs() < 1e-15 && t.dot(n).abs() < 1e-15);
@@ -267,7 +267,7 @@ impl SphericalCap {
     /// The direction for the canonical point `u` in `[0, 1)^2`.
     ///
     /// ```
-    /// use glam::{DVec2, DVec3};
+    /// use mcint::glam::{DVec2, DVec3};
     /// let cap = mcint::pdf::SphericalCap::new(0.0).unwrap();
     /// assert_eq!(cap.sample_point(DVec2::ZERO), DVec3::Z);
     /// ```
@@ -279,7 +279,7 @@ impl SphericalCap {
     /// The density at a unit direction `d`: `1 / solid_angle` on the cap, 0 off it.
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use mcint::glam::DVec3;
     /// let cap = mcint::pdf::SphericalCap::new(0.8).unwrap();
     /// let inside = DVec3::new(0.6, 0.0, 0.8);
     /// assert_eq!(cap.pdf_point(inside), 1.0 / cap.solid_angle());
@@ -299,7 +299,7 @@ impl SphericalCap {
     /// clamped to 1).
     ///
     /// ```
-    /// use glam::{DVec2, DVec3};
+    /// use mcint::glam::{DVec2, DVec3};
     /// let cap = mcint::pdf::SphericalCap::new(0.5).unwrap();
     /// let u = cap.invert_point(DVec3::new(0.0, 0.6, 0.8));
     /// assert!((u - DVec2::new(0.4, 0.25)).length() < 1e-15);

@@ -61,7 +61,7 @@ pub(super) fn concentric_disk_to_square(p: DVec2) -> DVec2 {
 /// rounding a sampled point carries, so every sample has positive density.
 ///
 /// ```
-/// use glam::DVec2;
+/// use mcint::glam::DVec2;
 /// use mcint::pdf::{Pdf, UniformDisk};
 /// let disk = UniformDisk::new(DVec2::new(1.0, 2.0), 0.5).unwrap();
 /// let x = disk.sample_point(DVec2::new(0.9, 0.3));
@@ -88,7 +88,7 @@ impl UniformDisk {
     /// disk that stay finite.
     ///
     /// ```
-    /// use glam::DVec2;
+    /// use mcint::glam::DVec2;
     /// use mcint::pdf::UniformDisk;
     /// assert!(UniformDisk::new(DVec2::ZERO, 0.0).is_err());
     /// assert!(UniformDisk::new(DVec2::new(f64::NAN, 0.0), 1.0).is_err());
@@ -140,7 +140,7 @@ impl UniformDisk {
     /// The centre.
     ///
     /// ```
-    /// use glam::DVec2;
+    /// use mcint::glam::DVec2;
     /// let disk = mcint::pdf::UniformDisk::new(DVec2::new(3.0, 4.0), 1.0).unwrap();
     /// assert_eq!(disk.center(), DVec2::new(3.0, 4.0));
     /// ```
@@ -160,7 +160,7 @@ impl UniformDisk {
     /// The area `pi r^2`, whose reciprocal is the density.
     ///
     /// ```
-    /// use glam::DVec2;
+    /// use mcint::glam::DVec2;
     /// let disk = mcint::pdf::UniformDisk::new(DVec2::ZERO, 2.0).unwrap();
     /// assert_eq!(disk.area(), 4.0 * std::f64::consts::PI);
     /// ```
@@ -171,7 +171,7 @@ impl UniformDisk {
     /// The point of the disk for the canonical point `u` in `[0, 1)^2`.
     ///
     /// ```
-    /// use glam::DVec2;
+    /// use mcint::glam::DVec2;
     /// let disk = mcint::pdf::UniformDisk::unit();
     /// // The centre of the square goes to the centre, the middle of its right side to (1, 0).
     /// assert_eq!(disk.sample_point(DVec2::new(0.5, 0.5)), DVec2::ZERO);
@@ -185,7 +185,7 @@ impl UniformDisk {
     /// The density at `x`: `1 / area` on the disk, 0 off it.
     ///
     /// ```
-    /// use glam::DVec2;
+    /// use mcint::glam::DVec2;
     /// let disk = mcint::pdf::UniformDisk::unit();
     /// assert_eq!(disk.pdf_point(DVec2::new(0.6, 0.8)), 1.0 / std::f64::consts::PI);
     /// assert_eq!(disk.pdf_point(DVec2::new(0.8, 0.8)), 0.0);
@@ -203,7 +203,7 @@ impl UniformDisk {
     /// off the disk, the result is clamped to `[0, 1]^2`).
     ///
     /// ```
-    /// use glam::DVec2;
+    /// use mcint::glam::DVec2;
     /// let disk = mcint::pdf::UniformDisk::unit();
     /// assert_eq!(disk.invert_point(DVec2::new(0.0, 0.5)), DVec2::new(0.5, 0.75));
     /// ```

@@ -22,7 +22,7 @@ use glam::{DVec2, DVec3};
 /// `phi = 0`, so a `u1` within rounding of 1 may come back within rounding of 0.
 ///
 /// ```
-/// use glam::{DVec2, DVec3};
+/// use mcint::glam::{DVec2, DVec3};
 /// use mcint::pdf::{Pdf, UniformHemisphere};
 /// let d = UniformHemisphere.sample_point(DVec2::new(0.5, 0.5));
 /// assert!((d.z - 0.5).abs() < 1e-15 && d.y.abs() < 1e-15 && d.x < 0.0);
@@ -38,7 +38,7 @@ impl UniformHemisphere {
     /// The direction for the canonical point `u` in `[0, 1)^2`.
     ///
     /// ```
-    /// use glam::{DVec2, DVec3};
+    /// use mcint::glam::{DVec2, DVec3};
     /// assert_eq!(mcint::pdf::UniformHemisphere.sample_point(DVec2::ZERO), DVec3::Z);
     /// ```
     pub fn sample_point(&self, u: DVec2) -> DVec3 {
@@ -49,7 +49,7 @@ impl UniformHemisphere {
     /// `d` that is not finite).
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use mcint::glam::DVec3;
     /// let h = mcint::pdf::UniformHemisphere;
     /// assert_eq!(h.pdf_point(DVec3::X), 0.5 / std::f64::consts::PI);
     /// assert_eq!(h.pdf_point(DVec3::new(0.0, 0.6, -0.8)), 0.0);
@@ -67,7 +67,7 @@ impl UniformHemisphere {
     /// `u0` clamped to 1).
     ///
     /// ```
-    /// use glam::{DVec2, DVec3};
+    /// use mcint::glam::{DVec2, DVec3};
     /// let u = mcint::pdf::UniformHemisphere.invert_point(DVec3::new(0.0, 0.6, 0.8));
     /// assert!((u - DVec2::new(0.2, 0.25)).length() < 1e-15);
     /// ```

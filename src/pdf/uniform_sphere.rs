@@ -71,7 +71,7 @@ pub(super) fn cap_canonical(d: DVec3, h: f64, chord: f64) -> DVec2 {
 /// same direction).
 ///
 /// ```
-/// use glam::{DVec2, DVec3};
+/// use mcint::glam::{DVec2, DVec3};
 /// use mcint::pdf::{Pdf, UniformSphere};
 /// let d = UniformSphere.sample_point(DVec2::new(0.5, 0.25));
 /// assert!((d - DVec3::Y).length() < 1e-15); // the equator, a quarter turn from +x
@@ -86,7 +86,7 @@ impl UniformSphere {
     /// The direction for the canonical point `u` in `[0, 1)^2`.
     ///
     /// ```
-    /// use glam::{DVec2, DVec3};
+    /// use mcint::glam::{DVec2, DVec3};
     /// assert_eq!(mcint::pdf::UniformSphere.sample_point(DVec2::ZERO), DVec3::Z);
     /// ```
     pub fn sample_point(&self, u: DVec2) -> DVec3 {
@@ -96,7 +96,7 @@ impl UniformSphere {
     /// The density `1 / (4 pi)` at a unit direction `d` (0 if `d` is not finite).
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use mcint::glam::DVec3;
     /// let p = mcint::pdf::UniformSphere.pdf_point(DVec3::NEG_Z);
     /// assert_eq!(p, 0.25 / std::f64::consts::PI);
     /// ```
@@ -108,7 +108,7 @@ impl UniformSphere {
     /// direction `d` (see the type's docs for the seams).
     ///
     /// ```
-    /// use glam::{DVec2, DVec3};
+    /// use mcint::glam::{DVec2, DVec3};
     /// let u = mcint::pdf::UniformSphere.invert_point(DVec3::NEG_X);
     /// assert!((u - DVec2::new(0.5, 0.5)).length() < 1e-15);
     /// ```

@@ -29,7 +29,7 @@ use glam::{DVec2, DVec3};
 /// every sample's density positive while points off the triangle by more than rounding get 0.
 ///
 /// ```
-/// use glam::{DVec2, DVec3};
+/// use mcint::glam::{DVec2, DVec3};
 /// use mcint::pdf::{Pdf, UniformTriangle};
 /// let t = UniformTriangle::new(DVec3::X, DVec3::Y, DVec3::ZERO).unwrap();
 /// assert_eq!(t.area(), 0.5);
@@ -69,7 +69,7 @@ impl UniformTriangle {
     /// smallest height must be above `64 eps S`; below that, rounding decides the area.
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use mcint::glam::DVec3;
     /// use mcint::pdf::UniformTriangle;
     /// // Collinear vertices have no area.
     /// let e = UniformTriangle::new(DVec3::ZERO, DVec3::X, 2.0 * DVec3::X).unwrap_err();
@@ -130,7 +130,7 @@ impl UniformTriangle {
     /// The vertices `(a, b, c)`.
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use mcint::glam::DVec3;
     /// let t = mcint::pdf::UniformTriangle::new(DVec3::ZERO, DVec3::X, DVec3::Z).unwrap();
     /// assert_eq!(t.vertices(), (DVec3::ZERO, DVec3::X, DVec3::Z));
     /// ```
@@ -141,7 +141,7 @@ impl UniformTriangle {
     /// The area, whose reciprocal is the density.
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use mcint::glam::DVec3;
     /// let t = mcint::pdf::UniformTriangle::new(DVec3::ZERO, 2.0 * DVec3::X, 3.0 * DVec3::Y)
     ///     .unwrap();
     /// assert_eq!(t.area(), 3.0);
@@ -153,7 +153,7 @@ impl UniformTriangle {
     /// The unit normal `(a - c) x (b - c) / |(a - c) x (b - c)|`.
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use mcint::glam::DVec3;
     /// let t = mcint::pdf::UniformTriangle::new(DVec3::X, DVec3::Y, DVec3::ZERO).unwrap();
     /// assert_eq!(t.normal(), DVec3::Z);
     /// ```
@@ -164,7 +164,7 @@ impl UniformTriangle {
     /// The point of the triangle for the canonical point `u` in `[0, 1)^2`.
     ///
     /// ```
-    /// use glam::{DVec2, DVec3};
+    /// use mcint::glam::{DVec2, DVec3};
     /// let t = mcint::pdf::UniformTriangle::new(DVec3::X, DVec3::Y, DVec3::Z).unwrap();
     /// assert_eq!(t.sample_point(DVec2::ZERO), DVec3::Z); // u = 0 is vertex c
     /// ```
@@ -181,7 +181,7 @@ impl UniformTriangle {
     /// the type), 0 off it.
     ///
     /// ```
-    /// use glam::DVec3;
+    /// use mcint::glam::DVec3;
     /// let t = mcint::pdf::UniformTriangle::new(DVec3::ZERO, DVec3::X, DVec3::Y).unwrap();
     /// assert_eq!(t.pdf_point(DVec3::new(0.5, 0.5, 0.0)), 2.0); // on the hypotenuse
     /// assert_eq!(t.pdf_point(DVec3::new(0.5, 0.51, 0.0)), 0.0);
@@ -200,7 +200,7 @@ impl UniformTriangle {
     /// type's docs for points off the triangle).
     ///
     /// ```
-    /// use glam::{DVec2, DVec3};
+    /// use mcint::glam::{DVec2, DVec3};
     /// let t = mcint::pdf::UniformTriangle::new(DVec3::X, DVec3::Y, DVec3::Z).unwrap();
     /// // Vertex a comes from u = (1, 0), b from (0, 1), c from (0, 0).
     /// assert!((t.invert_point(DVec3::X) - DVec2::new(1.0, 0.0)).length() < 1e-15);
