@@ -46,22 +46,45 @@ use support::Args;
 const MAX_INPUTS: usize = (MAX_OUTPUTS - 4) / 2;
 
 const SPEC: support::Spec = &[
-    ("function", true, "ishigami or sobol-g"),
-    ("a", true, "Ishigami's a (default 7)"),
-    ("b", true, "Ishigami's b (default 0.1)"),
-    ("weights", true, "the g-function's weights a_1,...,a_D"),
-    ("dims", true, "inputs of sobol-g with Saltelli's weights"),
-    ("n", true, "Sobol' points per replicate (default 8192)"),
+    (
+        "function",
+        true,
+        "ishigami (3 inputs on [-pi, pi]^3) or sobol-g (the g-function on [0, 1]^D)",
+    ),
+    ("a", true, "Ishigami's a, a finite number (default 7)"),
+    ("b", true, "Ishigami's b, a finite number (default 0.1)"),
+    (
+        "weights",
+        true,
+        "the g-function's weights W1,W2,..., one per input, each >= 0",
+    ),
+    (
+        "dims",
+        true,
+        "sobol-g on D inputs with Saltelli's weights 0, 0.5, 3, 9, 99, 99, ... (1 to 126, \
+         default 6)",
+    ),
+    (
+        "n",
+        true,
+        "Sobol' points per replicate, >= 1 (default 8192; use a power of two)",
+    ),
     (
         "replicates",
         true,
-        "independent scrambles (default 8; 1: one sequence, no error bar)",
+        "independent LMS scrambles, >= 1 (default 8; 1 is one sequence: more accurate, no \
+         error bar)",
     ),
-    ("second-order", false, "also the second-order indices"),
+    (
+        "second-order",
+        false,
+        "also the second-order index of every pair of inputs",
+    ),
     (
         "tol-abs",
         true,
-        "run until every index's 95% half-width is at most this",
+        "run until every index's 95% half-width is at most this, > 0 (--n is then the first \
+         stage; needs --replicates >= 2)",
     ),
     support::SEED,
     support::THREADS,
@@ -70,38 +93,14 @@ const SPEC: support::Spec = &[
     (
         "mpi",
         false,
-        "spread the run over the ranks of the MPI job (mpirun; a build with --features mpi)",
+        "spread the run over the ranks of the MPI job (mpirun -n N; a build with --features \
+         mpi); rank 0 prints the one-process result",
     ),
 ];
 
 /// What `--help` says before the list of flags.
-fn usage() -> String {
-    format!(
-        "\
-Sobol' sensitivity indices of a test model, by the library's pick-freeze design.
-
-usage: sensitivity --function ishigami|sobol-g [options]
-
-  --function      ishigami (3 inputs on [-pi, pi]^3) or sobol-g (the g-function on [0, 1]^D)
-  --a A, --b B    Ishigami's parameters (default {ISHIGAMI_A}, {ISHIGAMI_B})
-  --weights W,... the g-function's weights, one per input, each >= 0
-  --dims D        sobol-g with Saltelli's weights 0, 0.5, 3, 9, 99, 99, 99, ... on D inputs,
-                  1 to {MAX_INPUTS} (default {DEFAULT_SOBOL_G_DIMS})
-  --n N           Sobol' points per replicate (default {DEFAULT_POINTS}; use a power of two)
-  --replicates R  independent LMS scrambles, >= 1 (default {DEFAULT_REPLICATES}; 1 is one
-                  sequence: more accurate, no error bar)
-  --second-order  also the second-order index of every pair of inputs
-  --tol-abs T     run until every index's 95% half-width is at most T (--n is then the
-                  first stage; needs --replicates >= 2)
-  --seed S        seed of the scrambles (default 0)
-  --threads T     worker threads (default: all cores; the result does not depend on it)
-  --time-limit S  stop after S seconds with the whole stages done by then
-  --json          one JSON object instead of the table
-  --mpi           spread the run over the ranks of the MPI job (mpirun -n N; a build with
-                  --features mpi); rank 0 prints the one-process result
-"
-    )
-}
+const ABOUT: &str = "Sobol' sensitivity indices of a test model next to their exact values, by \
+                     the library's pick-freeze design (mcint::sensitivity).";
 
 const ISHIGAMI_A: f64 = 7.0;
 const ISHIGAMI_B: f64 = 0.1;
@@ -114,7 +113,7 @@ fn main() {
 }
 
 fn run() -> Result<(), String> {
-    let args = Args::parse(&usage(), SPEC)?;
+    let args = Args::parse(ABOUT, SPEC)?;
     let settings = Settings::from_args(&args)?;
     // Lives until the run ends: MPI stays up as long as it.
     let ranks = Ranks::new(args.has("mpi"))?;

@@ -255,6 +255,26 @@ fn help_lists_every_flag() {
     ] {
         assert!(text.contains(flag), "{flag} missing from\n{text}");
     }
+    assert_eq!(
+        text.matches("Usage:").count(),
+        1,
+        "one usage block:\n{text}"
+    );
+    // The defaults the help states are those a run without flags uses.
+    let report = json_run(&["--function", "ishigami"]);
+    for (key, stated) in [("n", "default 8192"), ("replicates", "default 8;")] {
+        assert!(text.contains(stated), "{stated} missing from\n{text}");
+        assert!(
+            stated.contains(&report[key].to_string()),
+            "{key}: {}",
+            report[key]
+        );
+    }
+    assert_eq!(report["parameters"]["a"][0], 7.0);
+    assert!(
+        text.contains("(default 7)") && text.contains("(default 0.1)"),
+        "{text}"
+    );
 }
 
 /// Ishigami's parameters and the g-function's weights reach the model: the exact values
