@@ -43,6 +43,9 @@ impl Independent {
     /// assert!(err.to_string().contains("finite"), "{err}");
     /// let err = Independent::new(vec![Box::new(|u: f64| -u)]).err().unwrap();
     /// assert!(err.to_string().contains("non-decreasing"), "{err}");
+    /// let table = [1.0, 2.0, 3.0];
+    /// let err = Independent::new(vec![Box::new(move |u: f64| table[(u * 4.0) as usize])]).err().unwrap();
+    /// assert!(err.to_string().contains("panicked"), "{err}");
     /// ```
     pub fn new(quantiles: Vec<Box<dyn Fn(f64) -> f64 + Send + Sync>>) -> Result<Self> {
         if quantiles.is_empty() {
@@ -59,7 +62,15 @@ impl Independent {
             let largest = 1.0 - f64::EPSILON / 2.0;
             for k in 0..=PROBES {
                 let u = (f64::from(k) / f64::from(PROBES)).min(largest);
-                let x = q(u);
+                // A panicking quantile is the caller's bug, reported as an error, as a
+                // panicking integrand is.
+                let Ok(x) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| q(u))) else {
+                    return Err(Error::invalid(
+                        "quantiles",
+                        format!("quantile {i} panicked at u = {u}"),
+                        "functions that return a value for every u in [0, 1)",
+                    ));
+                };
                 if !x.is_finite() {
                     return Err(Error::invalid(
                         "quantiles",
