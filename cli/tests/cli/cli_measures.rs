@@ -92,6 +92,32 @@ fn asian_option_prices_cover_the_closed_form_and_the_control_helps() {
     assert!(half <= 1e-3 * number(&tol, "price"), "{tol}");
 }
 
+/// `--help` states the default of every choice, and they are the ones a run without flags
+/// uses (issue 38 found the choices listed without their defaults).
+#[test]
+fn asian_option_help_states_the_defaults_a_plain_run_uses() {
+    let out = run("asian_option", &["--help"]);
+    assert!(out.status.success());
+    let help = stdout(&out);
+    let report = json("asian_option", &["--n", "256", "--json"]);
+    for (flag, key, value) in [
+        ("--construction", "construction", "standard"),
+        ("--sampler", "sampler", "sobol"),
+        ("--control", "control", "none"),
+        ("--payoff", "payoff", "arithmetic"),
+    ] {
+        let line = help
+            .lines()
+            .find(|l| l.trim_start().starts_with(flag))
+            .unwrap_or_else(|| panic!("{flag} missing from\n{help}"));
+        assert!(line.contains(&format!("{value} (default")), "{line}");
+        assert_eq!(report[key], value, "{key}");
+    }
+    let replicates = help.lines().find(|l| l.contains("--replicates")).unwrap();
+    assert!(replicates.contains("default 16"), "{replicates}");
+    assert_eq!(report["replicates"], 16);
+}
+
 #[test]
 fn asian_option_refuses_bad_input() {
     let bad =
