@@ -5,10 +5,11 @@ use std::sync::Arc;
 use super::indices::{Indices, OutputIndices, SecondOrder};
 use super::layout::Layout;
 use crate::error::{Error, Result};
-use crate::estimator::VectorUniformEstimator;
+use crate::estimator::BatchVectorUniformEstimator;
 use crate::integrate::{Integrator, VectorRun};
 use crate::measure::Measure;
 use crate::pdf::UniformBox;
+use crate::points::Points;
 use crate::sampler::{Scramble, Sobol};
 use crate::stats::{Tolerance, VectorEstimate, Warning};
 
@@ -18,16 +19,21 @@ pub const DEFAULT_POINTS: u64 = 1 << 16;
 /// [`SobolDesign::replicates`] says otherwise.
 pub const DEFAULT_REPLICATES: u64 = 8;
 
-/// The design's integrand over the unit cube: every model output's block of integrals.
+/// The design's integrand over the unit cube, on blocks of points: every model output's
+/// block of integrals.
 ///
 /// ```
 /// use mcint::sensitivity::DesignIntegrand;
-/// let f: DesignIntegrand = Box::new(|u: &[f64], out: &mut [f64]| out[0] = u[0]);
-/// let mut out = [0.0];
-/// f(&[0.5], &mut out);
-/// assert_eq!(out[0], 0.5);
+/// use mcint::Points;
+/// // Output k of point i goes to out[k * n + i].
+/// let f: DesignIntegrand = Box::new(|p: &Points, out: &mut [f64]| out.copy_from_slice(p.column(0)));
+/// let mut points = Points::new(1, 2).unwrap();
+/// points.column_mut(0)[1] = 0.5;
+/// let mut out = [1.0; 2];
+/// f(&points, &mut out);
+/// assert_eq!(out, [0.0, 0.5]);
 /// ```
-pub type DesignIntegrand = Box<dyn Fn(&[f64], &mut [f64]) + Send + Sync>;
+pub type DesignIntegrand = Box<dyn Fn(&Points, &mut [f64]) + Send + Sync>;
 
 /// The run of a design, as [`SobolDesign::integrator`] returns it: an [`Integrator`] of the
 /// design's integrand, to configure further (seed, threads, limits) and run.
@@ -38,7 +44,7 @@ pub type DesignIntegrand = Box<dyn Fn(&[f64], &mut [f64]) + Send + Sync>;
 /// let run: DesignRun = design.integrator(|x: &[f64]| x[0]).unwrap().threads(1);
 /// assert_eq!(run.run().unwrap().outputs.len(), 8);
 /// ```
-pub type DesignRun = Integrator<VectorRun<VectorUniformEstimator<DesignIntegrand>>>;
+pub type DesignRun = Integrator<VectorRun<BatchVectorUniformEstimator<DesignIntegrand>>>;
 
 /// The Sobol' indices of a model `Y = f(X)` whose inputs `X` follow a probability law seen
 /// from the unit cube (a [`Measure`] of weight 1: [`Uniform`], [`Gaussian`], [`Lognormal`],
@@ -355,7 +361,7 @@ impl<M: Measure + 'static> SobolDesign<M> {
             ));
         }
         let mut integrator =
-            Integrator::over_box_vector(layout.outputs(), integrand, UniformBox::unit(dims)?)
+            Integrator::over_box_vector_batch(layout.outputs(), integrand, UniformBox::unit(dims)?)
                 .sampler(Sobol::new(dims, Scramble::Lms, 0)?)
                 .samples(self.points / replicates)
                 .replicates(replicates);
@@ -464,58 +470,72 @@ impl<M: Measure + 'static> SobolDesign<M> {
     }
 }
 
-/// The design's vector integrand over `[0,1)^{2k}` (the table of the `layout` module).
+/// The design's integrand over `[0,1)^{2k}` (the table of the `layout` module), on blocks
+/// of points: the buffers are allocated once per block, not per point.
 fn pick_freeze<M: Measure, F: Fn(&[f64], &mut [f64]) + Send + Sync>(
     inputs: Arc<M>,
     factors: Arc<Vec<Vec<usize>>>,
     layout: Layout,
     model: F,
-) -> impl Fn(&[f64], &mut [f64]) + Send + Sync {
-    move |u: &[f64], out: &mut [f64]| {
-        let (k, m, nf) = (
-            inputs.canonical_dims(),
-            layout.model_outputs,
-            layout.factors,
-        );
-        let (a, b) = u.split_at(k);
+) -> impl Fn(&Points, &mut [f64]) + Send + Sync {
+    move |points: &Points, out: &mut [f64]| {
+        let n = points.len();
+        let (m, nf) = (layout.model_outputs, layout.factors);
         let mixed_runs = if layout.second_order { 2 * nf } else { nf };
+        let mut u = vec![0.0; 2 * inputs.canonical_dims()];
+        let mut mixed = vec![0.0; inputs.canonical_dims()];
+        let mut x = vec![0.0; inputs.dims()];
         // f(A), f(B), then f(AB_j) for every j, then f(BA_j): m values each.
         let mut values = vec![0.0; m * (2 + mixed_runs)];
-        let mut x = vec![0.0; inputs.dims()];
-        let mut run = |canonical: &[f64], slot: usize, values: &mut [f64]| {
-            inputs.map(canonical, &mut x);
-            model(&x, &mut values[slot * m..(slot + 1) * m]);
-        };
-        run(a, 0, &mut values);
-        run(b, 1, &mut values);
-        let mut mixed = a.to_vec();
-        for (j, factor) in factors.iter().enumerate() {
-            factor.iter().for_each(|&c| mixed[c] = b[c]);
-            run(&mixed, 2 + j, &mut values);
-            factor.iter().for_each(|&c| mixed[c] = a[c]);
-        }
-        if layout.second_order {
-            mixed.copy_from_slice(b);
+        let mut row = vec![0.0; layout.outputs()];
+        for i in 0..n {
+            points.copy_point(i, &mut u);
+            let (a, b) = u.split_at(mixed.len());
+            let mut run = |canonical: &[f64], slot: usize| {
+                inputs.map(canonical, &mut x);
+                model(&x, &mut values[slot * m..(slot + 1) * m]);
+            };
+            run(a, 0);
+            run(b, 1);
+            mixed.copy_from_slice(a);
             for (j, factor) in factors.iter().enumerate() {
-                factor.iter().for_each(|&c| mixed[c] = a[c]);
-                run(&mixed, 2 + nf + j, &mut values);
                 factor.iter().for_each(|&c| mixed[c] = b[c]);
+                run(&mixed, 2 + j);
+                factor.iter().for_each(|&c| mixed[c] = a[c]);
+            }
+            if layout.second_order {
+                mixed.copy_from_slice(b);
+                for (j, factor) in factors.iter().enumerate() {
+                    factor.iter().for_each(|&c| mixed[c] = a[c]);
+                    run(&mixed, 2 + nf + j);
+                    factor.iter().for_each(|&c| mixed[c] = b[c]);
+                }
+            }
+            integrals(layout, &values, &mut row);
+            for (k, value) in row.iter().enumerate() {
+                out[k * n + i] = *value;
             }
         }
-        for o in 0..m {
-            let value = |slot: usize| values[slot * m + o];
-            let (fa, fb) = (value(0), value(1));
-            let start = layout.moments(o);
-            out[start..start + 4].copy_from_slice(&[fa, fb, fa * fa, fb * fb]);
-            for j in 0..nf {
-                let fab = value(2 + j);
-                out[layout.first(o, j)] = fb * (fab - fa);
-                out[layout.total(o, j)] = 0.5 * (fa - fab) * (fa - fab);
-                if layout.second_order {
-                    let fba = value(2 + nf + j);
-                    for k in j + 1..nf {
-                        out[layout.pair(o, j, k)] = fba * value(2 + k) - fa * fb;
-                    }
+    }
+}
+
+/// One point's integrands from its model values (`values[slot * m + o]`, slots as in
+/// [`pick_freeze`]).
+fn integrals(layout: Layout, values: &[f64], row: &mut [f64]) {
+    let (m, nf) = (layout.model_outputs, layout.factors);
+    for o in 0..m {
+        let value = |slot: usize| values[slot * m + o];
+        let (fa, fb) = (value(0), value(1));
+        let start = layout.moments(o);
+        row[start..start + 4].copy_from_slice(&[fa, fb, fa * fa, fb * fb]);
+        for j in 0..nf {
+            let fab = value(2 + j);
+            row[layout.first(o, j)] = fb * (fab - fa);
+            row[layout.total(o, j)] = 0.5 * (fa - fab) * (fa - fab);
+            if layout.second_order {
+                let fba = value(2 + nf + j);
+                for k in j + 1..nf {
+                    row[layout.pair(o, j, k)] = fba * value(2 + k) - fa * fb;
                 }
             }
         }
