@@ -72,6 +72,7 @@ mod hash;
 mod integrate;
 pub mod measure;
 mod method;
+pub mod multilevel;
 mod non_finite;
 mod panics;
 pub mod pdf;

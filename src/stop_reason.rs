@@ -35,4 +35,8 @@ pub enum StopReason {
     /// bars are too small, and more iterations would not make the interval honest (VEGAS). The
     /// run is not `converged`. The CLI calls it `disagreement`.
     IterationsDisagree,
+    /// A multilevel run reached its deepest level allowed with the bias estimate still above
+    /// its share of the target ([`Warning::BiasAboveTarget`](crate::stats::Warning::BiasAboveTarget)):
+    /// the sampling error meets its share, the bias may not. The run is not `converged`.
+    MaxLevel,
 }

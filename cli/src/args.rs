@@ -296,6 +296,7 @@ pub fn stop_name(stop: mcint::stats::StopReason) -> &'static str {
         mcint::stats::StopReason::Cancelled => "cancelled",
         mcint::stats::StopReason::SamplerExhausted => "sampler exhausted",
         mcint::stats::StopReason::IterationsDisagree => "disagreement",
+        mcint::stats::StopReason::MaxLevel => "max level",
         _ => "other",
     }
 }

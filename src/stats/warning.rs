@@ -113,6 +113,17 @@ pub enum Warning {
         /// The floor reported in its place.
         floor: f64,
     },
+    /// A multilevel run's bias estimate (the decay of `E[P_l - P_{l-1}]` extrapolated past the
+    /// deepest level) stayed above its share of the root-mean-square error target at the
+    /// deepest level allowed: more levels (or a higher-order scheme) are needed.
+    BiasAboveTarget {
+        /// The deepest level used.
+        level: usize,
+        /// The bias estimate.
+        bias: f64,
+        /// Its share of the target, `eps / sqrt(2)`.
+        target: f64,
+    },
 }
 
 /// A `Q` below this warns that combined iterations disagree ([`Warning::IterationsDisagree`]):
@@ -141,6 +152,7 @@ impl Warning {
             Warning::StoppedEarly { .. } => "stopped-early",
             Warning::AllZero { .. } => "all-zero",
             Warning::IterationsDisagree { .. } => "iterations-disagree",
+            Warning::BiasAboveTarget { .. } => "bias-above-target",
         }
     }
 }
@@ -227,6 +239,14 @@ impl fmt::Display for Warning {
                 "the statistical standard error {statistical:.3e} is below the rounding error \
                  bound of the mean, {floor:.3e}, which is reported instead"
             ),
+            Warning::BiasAboveTarget {
+                level,
+                bias,
+                target,
+            } => write!(
+                f,
+                "the bias estimate {bias:.3e} is above its target {target:.3e} at level                  {level}, the deepest allowed: allow more levels (max_level) or use a scheme of                  higher weak order"
+            ),
         }
     }
 }
@@ -241,5 +261,6 @@ fn stop_words(stop: StopReason) -> &'static str {
         StopReason::Cancelled => "cancelled",
         StopReason::SamplerExhausted => "the sampler ran out of points",
         StopReason::IterationsDisagree => "iterations that disagree",
+        StopReason::MaxLevel => "the deepest level allowed",
     }
 }

@@ -11,6 +11,7 @@
 //! | `adaptive/vegas.rs`, `vegas/`, `vegas_grid.rs` | `adaptive_vegas` |
 //! | `adaptive/sobol_g.rs` | `sobol_g` |
 //! | `sensitivity/` (Sobol' indices) | `sensitivity` |
+//! | `multilevel/` (MLMC and MLQMC on SDE paths) | `multilevel` |
 //! | batch integrands (`estimator/batch_uniform.rs`) | `batch_integrand` |
 //! | vector runs (`integrate/vector.rs`, `estimator/vector*.rs`, `stats/covariance.rs`) | `vector_integrands`, `vector_coverage` |
 //! | vector VEGAS | `vector_vegas` |
@@ -30,6 +31,7 @@ mod adaptive_vegas;
 mod batch_integrand;
 mod integrator;
 mod integrator_tolerance;
+mod multilevel;
 mod sensitivity;
 mod sobol_g;
 mod vector_coverage;

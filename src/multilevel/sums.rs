@@ -1,0 +1,167 @@
+//! [`LevelSums`] and [`LevelJob`]: samples of one level drawn on the engine's executor.
+
+use super::Level;
+use crate::Points;
+use crate::engine::{ChunkJob, Executor, Limits};
+use crate::error::{Error, Result};
+use crate::sampler::Sampler;
+use crate::stats::{Accumulator, StopReason};
+
+/// What samples of one level sum to: `Y = P_l - P_{l-1}` and `P_l`, with the third and
+/// fourth power sums of `Y` (for the kurtosis of Giles' test).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[cfg_attr(feature = "mpi", derive(serde::Serialize, serde::Deserialize))]
+pub(super) struct LevelSums {
+    pub(super) difference: Accumulator,
+    pub(super) fine: Accumulator,
+    pub(super) cube: f64,
+    pub(super) fourth: f64,
+}
+
+impl LevelSums {
+    pub(super) fn push(&mut self, fine: f64, coarse: f64) {
+        let y = fine - coarse;
+        self.difference.push(y);
+        self.fine.push(fine);
+        let square = y * y;
+        self.cube += square * y;
+        self.fourth += square * square;
+    }
+
+    pub(super) fn merge(&mut self, other: &LevelSums) {
+        self.difference.merge(&other.difference);
+        self.fine.merge(&other.fine);
+        self.cube += other.cube;
+        self.fourth += other.fourth;
+    }
+
+    pub(super) fn count(&self) -> u64 {
+        self.difference.count()
+    }
+
+    /// The kurtosis of `Y`, from its power sums (Giles' `mlmc_test`); `None` without variance.
+    pub(super) fn kurtosis(&self) -> Option<f64> {
+        let n = self.count() as f64;
+        let m1 = self.difference.mean();
+        let m2 = self.difference.m2() / n + m1 * m1;
+        let (m3, m4) = (self.cube / n, self.fourth / n);
+        let central4 = m4 - 4.0 * m3 * m1 + 6.0 * m2 * m1 * m1 - 3.0 * m1.powi(4);
+        let variance = m2 - m1 * m1;
+        (variance > 0.0).then(|| central4 / (variance * variance))
+    }
+}
+
+/// Samples `first .. first + count` of each of `replicates` passes of a level's sampler,
+/// `chunk` samples per chunk of work.
+pub(super) struct LevelJob<'a, L> {
+    pub(super) model: &'a L,
+    pub(super) level: usize,
+    pub(super) sampler: &'a dyn Sampler,
+    pub(super) first: u64,
+    pub(super) count: u64,
+    pub(super) replicates: u64,
+    /// The sampler index of the first point of pass `r` is `r * stride`.
+    pub(super) stride: u64,
+    pub(super) chunk: u64,
+}
+
+/// Values of canonical points one chunk holds, at most: bounds a chunk's memory.
+const CHUNK_VALUES: u64 = 1 << 18;
+/// Units of cost one chunk aims at: enough work to amortize its start.
+const CHUNK_COST: f64 = 65_536.0;
+
+/// Samples per chunk for a level of `dims` coordinates and `cost` per sample: fixed by the
+/// level alone, so chunks (and every sum) are the same for any thread count.
+pub(super) fn chunk_size(dims: usize, cost: f64) -> u64 {
+    let by_cost = if cost >= 1.0 {
+        (CHUNK_COST / cost) as u64
+    } else {
+        CHUNK_COST as u64
+    };
+    by_cost
+        .min(CHUNK_VALUES / dims.max(1) as u64)
+        .clamp(1, 4096)
+}
+
+impl<L> LevelJob<'_, L> {
+    fn chunks_per_replicate(&self) -> u64 {
+        self.count.div_ceil(self.chunk)
+    }
+
+    /// The chunks of the job.
+    pub(super) fn chunks(&self) -> u64 {
+        self.chunks_per_replicate() * self.replicates
+    }
+
+    /// The replicate of chunk `chunk`.
+    pub(super) fn replicate(&self, chunk: u64) -> u64 {
+        chunk / self.chunks_per_replicate()
+    }
+
+    /// The first sample of `chunk` in its replicate, and how many it holds.
+    fn span(&self, chunk: u64) -> (u64, u64) {
+        let start = self.first + (chunk % self.chunks_per_replicate()) * self.chunk;
+        (start, self.chunk.min(self.first + self.count - start))
+    }
+}
+
+impl<L: Level> ChunkJob for LevelJob<'_, L> {
+    type Scratch = (Points, Vec<f64>, Vec<f64>);
+    type Output = LevelSums;
+
+    fn scratch(&self) -> Result<Self::Scratch> {
+        let dims = self.sampler.dims();
+        let len = usize::try_from(self.chunk).unwrap_or(usize::MAX);
+        Ok((Points::new(dims, len)?, vec![0.0; dims], Vec::new()))
+    }
+
+    fn run(
+        &self,
+        (points, u, scratch): &mut Self::Scratch,
+        chunk: u64,
+        _: &Limits,
+    ) -> Result<Option<LevelSums>> {
+        let (start, len) = self.span(chunk);
+        let replicate = self.replicate(chunk);
+        points.set_len(len as usize);
+        self.sampler.fill(replicate * self.stride + start, points)?;
+        let mut sums = LevelSums::default();
+        for i in 0..len as usize {
+            points.copy_point(i, u);
+            let (fine, coarse) = self.model.sample(self.level, u, scratch);
+            if !(fine.is_finite() && coarse.is_finite()) {
+                return Err(Error::invalid(
+                    "level sample",
+                    format!(
+                        "(P_l, P_l-1) = ({fine}, {coarse}) at sample {} of replicate {replicate} \
+                         of level {}, canonical point {u:?}",
+                        start + i as u64,
+                        self.level
+                    ),
+                    "finite values of the fine and coarse approximations",
+                ));
+            }
+            sums.push(fine, coarse);
+        }
+        Ok(Some(sums))
+    }
+
+    fn origin(&self, chunk: u64) -> (u64, u64) {
+        (self.replicate(chunk), self.span(chunk).0)
+    }
+}
+
+/// Runs `job`, folding its chunks into one sum per replicate (in chunk order); returns them
+/// and the limit that cut the job short, if one did.
+pub(super) fn run_job<L: Level>(
+    executor: &Executor,
+    job: &LevelJob<'_, L>,
+    limits: &Limits,
+) -> Result<(Vec<LevelSums>, Option<StopReason>)> {
+    let mut sums = vec![LevelSums::default(); job.replicates as usize];
+    let stop = executor.run(job, 0..job.chunks(), 64, limits, |chunk, out| {
+        sums[job.replicate(chunk) as usize].merge(&out);
+        Ok(())
+    })?;
+    Ok((sums, stop))
+}

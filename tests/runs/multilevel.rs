@@ -1,0 +1,465 @@
+//! `mcint::multilevel`: Giles' multilevel Monte Carlo and multilevel QMC on SDE paths.
+//!
+//! References are closed forms (Black-Scholes call and digital; Goldman-Sosin-Gatto's
+//! floating-strike lookback; Merton's and Reiner-Rubinstein's down-and-out call, all for a
+//! continuously monitored path), computed here with `libm`'s `erfc`, and for the arithmetic
+//! Asian call an RQMC integral over exact GBM paths. The RMSE bound `1.2 eps` over 50 seeds is
+//! the issue's: the algorithm aims at `eps`, and the RMSE of 50 runs is itself uncertain by
+//! about `1 / sqrt(100) = 10%`. The smallest targets here are `0.01` (the issue's `1e-3`
+//! study takes hours of two cores; `docs/measurements.md` has it).
+
+use mcint::measure::{Construction, GeometricBrownianMotion};
+use mcint::multilevel::{Level, Multilevel, MultilevelEstimate, Payoff, Scheme, Sde, SdeLevels};
+use mcint::sampler::{Scramble, Sobol};
+use mcint::stats::StopReason;
+use mcint::{CancelToken, Error, Integrator};
+
+const S0: f64 = 100.0;
+const STRIKE: f64 = 100.0;
+const RATE: f64 = 0.05;
+const SIGMA: f64 = 0.2;
+/// Black-Scholes, S0 = K = 100, r = 0.05, sigma = 0.2, T = 1.
+const EUROPEAN: f64 = 10.450583572185565;
+const SEEDS: u64 = 50;
+
+fn normal_cdf(x: f64) -> f64 {
+    0.5 * libm::erfc(-x / std::f64::consts::SQRT_2)
+}
+
+fn discount() -> f64 {
+    (-RATE).exp()
+}
+
+/// `e^{-r} Phi(d2)`.
+fn digital_exact() -> f64 {
+    let d2 = (RATE - 0.5 * SIGMA * SIGMA) / SIGMA;
+    discount() * normal_cdf(d2)
+}
+
+/// Goldman, Sosin and Gatto (1979), the floating-strike lookback call with the running
+/// minimum at S0, as Hull's Options, Futures and Other Derivatives states it.
+fn lookback_exact() -> f64 {
+    let k = SIGMA * SIGMA / (2.0 * RATE);
+    let a1 = (RATE + 0.5 * SIGMA * SIGMA) / SIGMA;
+    let a2 = a1 - SIGMA;
+    let a3 = (-RATE + 0.5 * SIGMA * SIGMA) / SIGMA;
+    S0 * normal_cdf(a1)
+        - S0 * k * normal_cdf(-a1)
+        - S0 * discount() * (normal_cdf(a2) - k * normal_cdf(-a3))
+}
+
+/// The down-and-out call with barrier H below the strike: the call minus the down-and-in
+/// (Reiner and Rubinstein 1991).
+fn barrier_exact(h: f64) -> f64 {
+    let lambda = (RATE + 0.5 * SIGMA * SIGMA) / (SIGMA * SIGMA);
+    let y = (h * h / (S0 * STRIKE)).ln() / SIGMA + lambda * SIGMA;
+    let down_in = S0 * (h / S0).powf(2.0 * lambda) * normal_cdf(y)
+        - STRIKE * discount() * (h / S0).powf(2.0 * lambda - 2.0) * normal_cdf(y - SIGMA);
+    EUROPEAN - down_in
+}
+
+/// The continuously averaged Asian call, another way: exact GBM prices on 512 dates, the
+/// trapezoidal average (error O(h^2), about 1e-5 here), by RQMC with a Brownian bridge.
+fn asian_reference() -> (f64, f64) {
+    let n = 512;
+    let times: Vec<f64> = (1..=n).map(|k| k as f64 / n as f64).collect();
+    let gbm = GeometricBrownianMotion::new(S0, RATE, SIGMA, times, Construction::Bridge).unwrap();
+    let payoff = move |s: &[f64]| {
+        let inner: f64 = s[..n - 1].iter().sum();
+        let average = (0.5 * (S0 + s[n - 1]) + inner) / n as f64;
+        (-RATE).exp() * (average - STRIKE).max(0.0)
+    };
+    let e = Integrator::expectation(payoff, gbm)
+        .sampler(Sobol::new(n, Scramble::Owen, 11).unwrap())
+        .samples(1 << 13)
+        .replicates(16)
+        .run()
+        .unwrap();
+    (e.mean, e.std_error.unwrap())
+}
+
+fn gbm_levels(scheme: Scheme, payoff: Payoff) -> SdeLevels {
+    SdeLevels::new(Sde::gbm(S0, RATE, SIGMA).unwrap(), scheme, payoff, 1.0)
+        .unwrap()
+        .discount(discount())
+}
+
+/// RMSE against `exact` and mean cost over the seeds.
+fn study(levels: impl Fn() -> SdeLevels, eps: f64, qmc: bool, exact: f64) -> (f64, f64) {
+    let (mut squares, mut cost) = (0.0, 0.0);
+    for seed in 0..SEEDS {
+        let run = Multilevel::new(levels())
+            .rmse(eps)
+            .qmc(qmc)
+            .seed(seed)
+            .run()
+            .unwrap();
+        assert!(run.converged, "seed {seed}: {run}");
+        squares += (run.estimate - exact).powi(2);
+        cost += run.cost;
+    }
+    ((squares / SEEDS as f64).sqrt(), cost / SEEDS as f64)
+}
+
+#[test]
+fn european_call_meets_its_rmse_at_eps_squared_cost() {
+    for (scheme, targets) in [
+        (Scheme::Milstein, &[0.1, 0.03, 0.01][..]),
+        (Scheme::Euler, &[0.1, 0.03][..]),
+    ] {
+        let levels = || gbm_levels(scheme, Payoff::european_call(STRIKE).unwrap());
+        let mut scaled = Vec::new();
+        for &eps in targets {
+            let (rmse, cost) = study(levels, eps, false, EUROPEAN);
+            assert!(rmse <= 1.2 * eps, "{scheme:?} eps {eps}: RMSE {rmse}");
+            scaled.push(cost * eps * eps);
+        }
+        // Cost ~ eps^-2 (Milstein, beta = 2 > gamma = 1), eps^-2 log^2 eps (Euler, beta =
+        // gamma = 1): cost * eps^2 may grow by the log factor at most, with a margin of 1.5
+        // for the randomness of N_l and of the number of levels.
+        let (first, last) = (targets[0], targets[targets.len() - 1]);
+        let allowed = match scheme {
+            Scheme::Milstein => 1.5,
+            Scheme::Euler => 1.5 * (last.ln() / first.ln()).powi(2),
+        };
+        let growth = scaled[scaled.len() - 1] / scaled[0];
+        assert!(growth <= allowed, "{scheme:?}: cost * eps^2 {scaled:?}");
+    }
+}
+
+#[test]
+fn multilevel_costs_a_tenth_of_standard_monte_carlo() {
+    let run = Multilevel::new(gbm_levels(
+        Scheme::Milstein,
+        Payoff::european_call(STRIKE).unwrap(),
+    ))
+    .rmse(0.01)
+    .seed(3)
+    .run()
+    .unwrap();
+    assert!(run.standard_mc_cost >= 10.0 * run.cost, "{run}");
+}
+
+#[test]
+fn path_dependent_payoffs_meet_their_rmse() {
+    let (asian, asian_se) = asian_reference();
+    assert!(asian_se < 2e-3, "{asian_se}");
+    let cases = [
+        (
+            Payoff::digital_call(STRIKE).unwrap(),
+            digital_exact(),
+            0.003,
+        ),
+        (Payoff::asian_call(STRIKE).unwrap(), asian, 0.03),
+        (Payoff::lookback(), lookback_exact(), 0.03),
+        (
+            Payoff::down_and_out_call(STRIKE, 85.0).unwrap(),
+            barrier_exact(85.0),
+            0.03,
+        ),
+    ];
+    for (payoff, exact, eps) in cases {
+        let name = payoff.name();
+        let levels = || gbm_levels(Scheme::Milstein, payoff.clone());
+        let (rmse, _) = study(levels, eps, false, exact);
+        assert!(
+            rmse <= 1.2 * eps,
+            "{name}: RMSE {rmse} at eps {eps} (exact {exact})"
+        );
+    }
+}
+
+/// Multilevel QMC meets the same targets, and spends a third of multilevel Monte Carlo or
+/// less (mean cost over 10 seeds; the measured gap is far wider, see docs/measurements.md).
+#[test]
+fn multilevel_qmc_spends_a_third_of_multilevel_monte_carlo() {
+    let (asian, _) = asian_reference();
+    for (payoff, exact) in [
+        (Payoff::european_call(STRIKE).unwrap(), EUROPEAN),
+        (Payoff::asian_call(STRIKE).unwrap(), asian),
+    ] {
+        let name = payoff.name();
+        let levels = || gbm_levels(Scheme::Milstein, payoff.clone());
+        let (rmse, _) = study(levels, 0.03, true, exact);
+        assert!(rmse <= 1.2 * 0.03, "{name}: QMC RMSE {rmse}");
+        let mean_cost = |qmc: bool| {
+            (0..10)
+                .map(|seed| {
+                    let run = Multilevel::new(levels()).rmse(0.01).qmc(qmc).seed(seed);
+                    run.run().unwrap().cost
+                })
+                .sum::<f64>()
+                / 10.0
+        };
+        let (mc, qmc) = (mean_cost(false), mean_cost(true));
+        assert!(3.0 * qmc <= mc, "{name}: QMC {qmc:.3e}, MC {mc:.3e}");
+    }
+}
+
+/// Giles' `mlmc_test` pattern for GBM: Euler's variance decays like `h` (beta = 1), Milstein's
+/// like `h^2`, both with weak order 1, and every level's coarse path has the law of the
+/// previous level's fine path.
+#[test]
+fn the_survey_shows_the_published_rates() {
+    for (scheme, beta) in [(Scheme::Euler, 1.0), (Scheme::Milstein, 2.0)] {
+        let levels = gbm_levels(scheme, Payoff::european_call(STRIKE).unwrap());
+        let survey = Multilevel::new(levels).seed(1).survey(8, 100_000).unwrap();
+        assert!((survey.beta - beta).abs() < 0.25, "{scheme:?}: {survey}");
+        assert!((survey.alpha - 1.0).abs() < 0.4, "{scheme:?}: {survey}");
+        assert!((survey.gamma - 1.0).abs() < 0.05, "{scheme:?}: {survey}");
+        assert!(
+            survey
+                .levels
+                .iter()
+                .skip(1)
+                .all(|l| l.consistency.unwrap() < 1.0),
+            "{survey}"
+        );
+        assert_eq!(survey.levels.len(), 9);
+    }
+}
+
+fn pinned_run(threads: usize, qmc: bool) -> MultilevelEstimate {
+    Multilevel::new(gbm_levels(Scheme::Milstein, Payoff::lookback()))
+        .rmse(0.05)
+        .qmc(qmc)
+        .seed(9)
+        .threads(threads)
+        .run()
+        .unwrap()
+}
+
+#[test]
+fn results_are_the_same_bits_on_any_thread_count() {
+    for qmc in [false, true] {
+        let one = pinned_run(1, qmc);
+        for threads in [2, 3, 8] {
+            assert_eq!(
+                pinned_run(threads, qmc),
+                one,
+                "qmc {qmc}, {threads} threads"
+            );
+        }
+    }
+}
+
+/// Heston with a frozen variance (kappa = xi = 0) is GBM with sigma = sqrt(v0): the general
+/// noise path, stepped by Euler, prices the Black-Scholes call.
+#[test]
+fn heston_with_frozen_variance_prices_black_scholes() {
+    let levels = || {
+        let sde = Sde::heston(S0, SIGMA * SIGMA, RATE, 0.0, 0.04, 0.0, -0.5).unwrap();
+        SdeLevels::new(
+            sde,
+            Scheme::Euler,
+            Payoff::european_call(STRIKE).unwrap(),
+            1.0,
+        )
+        .unwrap()
+        .discount(discount())
+    };
+    let (rmse, _) = study(levels, 0.1, false, EUROPEAN);
+    assert!(rmse <= 0.12, "{rmse}");
+}
+
+/// `dX = X (0.1 dW_1 + 0.2 dW_2)` is GBM with `sigma^2 = 0.05`; its noise commutes, so
+/// Milstein with the `L^j b_k` terms has `beta = 2`. Two independent GBMs as a diagonal
+/// system, read through a path closure, price the first one's call.
+#[test]
+fn general_and_diagonal_noise_step_as_scalar_gbm() {
+    let s = [0.1, 0.2];
+    let general = Sde::general(
+        vec![S0],
+        2,
+        |_, x, a| a[0] = RATE * x[0],
+        move |_, x, b| {
+            b[0] = s[0] * x[0];
+            b[1] = s[1] * x[0];
+        },
+    )
+    .unwrap()
+    .milstein_terms(move |_, x, l| {
+        for j in 0..2 {
+            for k in 0..2 {
+                l[j * 2 + k] = s[j] * s[k] * x[0];
+            }
+        }
+    })
+    .unwrap();
+    let levels = SdeLevels::new(
+        general,
+        Scheme::Milstein,
+        Payoff::european_call(STRIKE).unwrap(),
+        1.0,
+    )
+    .unwrap();
+    let survey = Multilevel::new(levels).seed(2).survey(6, 50_000).unwrap();
+    assert!((survey.beta - 2.0).abs() < 0.3, "{survey}");
+    let sigma = 0.05f64.sqrt();
+    let d1 = (RATE + 0.5 * sigma * sigma) / sigma;
+    let exact = (S0 * normal_cdf(d1) - STRIKE * discount() * normal_cdf(d1 - sigma)) / discount();
+    let last = survey.levels.last().unwrap();
+    let sampled: f64 = survey.levels.iter().map(|l| l.mean).sum();
+    let se = (last.fine_variance / last.samples as f64).sqrt();
+    assert!(
+        (sampled - exact).abs() < 5.0 * se + 0.05,
+        "{sampled} vs {exact}"
+    );
+
+    let pair = Sde::diagonal(
+        vec![S0, 50.0],
+        |_, x, a| {
+            a[0] = RATE * x[0];
+            a[1] = RATE * x[1];
+        },
+        |_, x, b| {
+            b[0] = SIGMA * x[0];
+            b[1] = 0.3 * x[1];
+        },
+    )
+    .unwrap()
+    .diagonal_derivative(|_, _, d| {
+        d[0] = SIGMA;
+        d[1] = 0.3;
+    })
+    .unwrap();
+    let first = Payoff::on_path(|p| (p.last()[0] - STRIKE).max(0.0));
+    let levels = SdeLevels::new(pair, Scheme::Milstein, first, 1.0)
+        .unwrap()
+        .discount(discount());
+    let run = Multilevel::new(levels).rmse(0.05).seed(4).run().unwrap();
+    assert!((run.estimate - EUROPEAN).abs() < 5.0 * 0.05, "{run}");
+    assert!(run.beta > 1.5, "{run}");
+}
+
+#[test]
+fn refinement_factor_four_keeps_the_rates() {
+    let levels = gbm_levels(Scheme::Euler, Payoff::european_call(STRIKE).unwrap())
+        .refinement_factor(4)
+        .unwrap();
+    assert_eq!(levels.refinement(), 4);
+    let survey = Multilevel::new(levels).seed(5).survey(4, 50_000).unwrap();
+    // Rates are per level in base M: Euler's beta stays 1.
+    assert!((survey.beta - 1.0).abs() < 0.25, "{survey}");
+}
+
+/// A model whose samples panic or turn non-finite at one level.
+struct Faulty {
+    nan: bool,
+}
+
+impl Level for Faulty {
+    fn dims(&self, _: usize) -> usize {
+        1
+    }
+    fn cost(&self, level: usize) -> f64 {
+        (1u64 << level) as f64
+    }
+    fn sample(&self, level: usize, u: &[f64], _: &mut Vec<f64>) -> (f64, f64) {
+        if level == 2 && u[0] < 0.01 {
+            if self.nan {
+                return (f64::NAN, 0.0);
+            }
+            panic!("level two broke");
+        }
+        (u[0], if level == 0 { 0.0 } else { u[0] })
+    }
+}
+
+#[test]
+fn bad_input_and_broken_models_are_errors() {
+    let run = |f: Faulty| Multilevel::new(f).rmse(0.01).seed(1).run().unwrap_err();
+    let nan = run(Faulty { nan: true }).to_string();
+    assert!(nan.contains("level 2") && nan.contains("NaN"), "{nan}");
+    assert!(matches!(
+        run(Faulty { nan: false }),
+        Error::IntegrandPanicked { .. }
+    ));
+    let levels = || gbm_levels(Scheme::Euler, Payoff::european_call(STRIKE).unwrap());
+    let err = |m: Multilevel<SdeLevels>| m.run().unwrap_err().to_string();
+    assert!(err(Multilevel::new(levels())).contains("rmse"));
+    assert!(err(Multilevel::new(levels()).rmse(f64::NAN)).contains("above 0"));
+    assert!(
+        err(Multilevel::new(levels()).rmse(0.1).qmc(true).replicates(1)).contains("at least 2")
+    );
+    assert!(
+        err(Multilevel::new(levels())
+            .rmse(0.1)
+            .qmc(true)
+            .initial_samples(6))
+        .contains("power of 2")
+    );
+    assert!(
+        err(Multilevel::new(levels())
+            .rmse(0.1)
+            .min_level(5)
+            .max_level(3))
+        .contains("min_level")
+    );
+    assert!(err(Multilevel::new(levels()).rmse(0.1).max_cost(10.0)).contains("max_cost"));
+    assert!(err(Multilevel::new(levels()).rmse(0.1).threads(0)).contains("threads"));
+    // Levels too deep for Sobol' points are refused up front.
+    assert!(
+        err(Multilevel::new(levels())
+            .rmse(0.1)
+            .qmc(true)
+            .min_level(16)
+            .max_level(20))
+        .contains("fit the sampler")
+    );
+    assert!(Multilevel::new(levels()).survey(0, 100).is_err());
+    assert!(Multilevel::new(levels()).survey(3, 1).is_err());
+    assert!(
+        SdeLevels::new(
+            Sde::gbm(S0, RATE, SIGMA).unwrap(),
+            Scheme::Euler,
+            Payoff::lookback(),
+            0.0
+        )
+        .is_err()
+    );
+    assert!(
+        gbm_levels(Scheme::Euler, Payoff::lookback())
+            .refinement_factor(1)
+            .is_err()
+    );
+}
+
+#[test]
+fn limits_stop_a_run_with_the_estimate_so_far() {
+    let levels = || gbm_levels(Scheme::Euler, Payoff::european_call(STRIKE).unwrap());
+    let capped = Multilevel::new(levels())
+        .rmse(1e-3)
+        .max_cost(2e6)
+        .seed(1)
+        .run()
+        .unwrap();
+    assert_eq!(capped.stop, StopReason::MaxEvaluations);
+    assert!(!capped.converged && capped.cost <= 2e6 && !capped.warnings.is_empty());
+    let token = CancelToken::new();
+    token.cancel();
+    let err = Multilevel::new(levels())
+        .rmse(0.01)
+        .cancel_token(token)
+        .run()
+        .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            Error::Interrupted {
+                stop: StopReason::Cancelled,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    let deep = Multilevel::new(levels())
+        .rmse(0.003)
+        .min_level(1)
+        .max_level(2)
+        .seed(1)
+        .run()
+        .unwrap();
+    assert_eq!(deep.stop, StopReason::MaxLevel);
+    assert_eq!(deep.warnings[0].kind(), "bias-above-target");
+}
