@@ -6,8 +6,8 @@
 //! compares every bit; then a checkpoint saved by 3 ranks is resumed by 2. A rank records a
 //! failed comparison and goes on (leaving early would strand the others in a collective), and
 //! exits non-zero at the end, which fails `mpirun` and this test. Last, the `integrate` and
-//! `sensitivity` programs (built with this test, `cargo test -p mcint-cli --features mpi`) run
-//! with `--mpi` on 2 and 3 ranks print the one-process result.
+//! `sensitivity` and `mlmc` programs (built with this test, `cargo test -p mcint-cli --features
+//! mpi`) run with `--mpi` on 2 and 3 ranks print the one-process result.
 //!
 //! Set `MPIRUN` to use another launcher.
 
@@ -54,7 +54,9 @@ fn launch() -> ExitCode {
     for ranks in [2, 3] {
         if let Err(e) = cli_matches_one_process(ranks) {
             eprintln!("mpi: {e}");
-            failed.push(format!("integrate and sensitivity --mpi on {ranks} ranks"));
+            failed.push(format!(
+                "integrate, sensitivity and mlmc --mpi on {ranks} ranks"
+            ));
         }
     }
     if let Err(e) = one_error_line_from_the_job() {
@@ -64,7 +66,7 @@ fn launch() -> ExitCode {
     if failed.is_empty() {
         println!(
             "mpi: every case matched the one-process run on 1, 2, 3 and 4 ranks, and so did \
-             integrate and sensitivity --mpi on 2 and 3"
+             integrate, sensitivity and mlmc --mpi on 2 and 3"
         );
         ExitCode::SUCCESS
     } else {
@@ -74,11 +76,11 @@ fn launch() -> ExitCode {
 }
 
 /// `mpirun -n ranks integrate --mpi ...` prints one JSON result, the one-process result with
-/// `ranks` set, for a run to a tolerance and for VEGAS+; so does `sensitivity --mpi` for
-/// second-order indices to a tolerance.
+/// `ranks` set, for a run to a tolerance and for VEGAS+; so do `sensitivity --mpi` for
+/// second-order indices to a tolerance and `mlmc --mpi` for a lookback by multilevel QMC.
 fn cli_matches_one_process(ranks: usize) -> Result<(), String> {
     let launcher = std::env::var("MPIRUN").unwrap_or_else(|_| "mpirun".to_string());
-    let runs: [(&str, &[&str]); 3] = [
+    let runs: [(&str, &[&str]); 4] = [
         (
             "integrate",
             &[
@@ -119,6 +121,7 @@ fn cli_matches_one_process(ranks: usize) -> Result<(), String> {
                 "2e-3",
             ],
         ),
+        ("mlmc", &["--payoff", "lookback", "--eps", "0.02", "--qmc"]),
     ];
     for (program, flags) in runs {
         let integrate = common::example(program);

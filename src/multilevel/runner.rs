@@ -15,6 +15,8 @@ use crate::stats::{StopReason, Warning};
 const THETA: f64 = 0.5;
 /// Samples per level a Monte Carlo run starts with (Giles' `N0`).
 const INITIAL_SAMPLES: u64 = 1000;
+/// Samples a level added by the Monte Carlo algorithm takes at least.
+const NEW_LEVEL_SAMPLES: u64 = 16;
 /// Points per randomization a multilevel QMC level starts with.
 const INITIAL_QMC_POINTS: u64 = 8;
 /// Randomizations per level of multilevel QMC (Giles and Waterhouse 2009 used 32).
@@ -142,15 +144,17 @@ impl<L: Level> Multilevel<L> {
         self
     }
 
-    /// Samples each new level starts with (per randomization under QMC; at least 2, and a
-    /// power of 2 under QMC; default 1000 for Monte Carlo, 8 for QMC).
+    /// Samples the first levels (`0..=min_level`) start with, Giles' `N0` (per randomization
+    /// under QMC, where every new level starts with it too; at least 2, and a power of 2
+    /// under QMC; default 1000 for Monte Carlo, 8 for QMC). Levels the Monte Carlo algorithm
+    /// adds later start with their optimal number, at least 16.
     ///
     /// ```
     /// # use mcint::multilevel::{Multilevel, Payoff, Scheme, Sde, SdeLevels};
     /// # let gbm = Sde::gbm(100.0, 0.05, 0.2).unwrap();
     /// # let levels = SdeLevels::new(gbm, Scheme::Euler, Payoff::european_call(100.0).unwrap(), 1.0).unwrap();
     /// let run = Multilevel::new(levels).rmse(0.2).initial_samples(200).seed(1).run().unwrap();
-    /// assert!(run.levels.iter().all(|l| l.samples >= 200));
+    /// assert!(run.levels[..3].iter().all(|l| l.samples >= 200));
     /// ```
     pub fn initial_samples(mut self, samples: u64) -> Self {
         self.initial = Some(samples);
@@ -570,6 +574,9 @@ impl<L: Level> Multilevel<L> {
                 let mut n = n;
                 n.push(0);
                 *pending = wanted.iter().zip(&n).map(|(&w, &n)| extra(w, n)).collect();
+                // A few samples at least, for a variance to start from.
+                let newest = pending.len() - 1;
+                pending[newest] = pending[newest].max(NEW_LEVEL_SAMPLES);
             }
         }
         pending.iter().all(|&p| p == 0)
@@ -652,7 +659,11 @@ impl<L: Level> Multilevel<L> {
         let deepest = summaries.len() - 1;
         let sampling_share = target.map_or(std_error * std_error, |t| (1.0 - THETA) * t * t);
         let fine_cost = self.model.fine_cost(deepest);
-        let standard_mc_cost = summaries[deepest].fine_variance * fine_cost / sampling_share;
+        let standard_mc_cost = if sampling_share > 0.0 {
+            summaries[deepest].fine_variance * fine_cost / sampling_share
+        } else {
+            0.0
+        };
         let converged = stop == StopReason::ToleranceMet;
         let mut warnings = Vec::new();
         if stop == StopReason::MaxLevel {

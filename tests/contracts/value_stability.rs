@@ -7,7 +7,7 @@
 //! a tolerance, VEGAS, VEGAS+, MISER (fixed and to a tolerance), TwoStage, SobolG (with its
 //! error bound), control variates, a checkpointed run, vector runs (plain, RQMC, VEGAS+: every
 //! output, the covariance and a ratio), an expectation under geometric Brownian motion, a
-//! convergence study and a mean periodogram.
+//! convergence study, a mean periodogram and multilevel runs (MLMC and MLQMC).
 //!
 //! A change that alters any of them must say so in its commit message and update the table on
 //! purpose: run
@@ -16,6 +16,7 @@
 
 use mcint::adaptive::{Miser, SobolG, TwoStage, Vegas};
 use mcint::measure::{Construction, GeometricBrownianMotion};
+use mcint::multilevel::{Multilevel, Payoff, Scheme, Sde, SdeLevels};
 use mcint::pdf::{Pdf1d, ProductPdf, TruncatedNormal, UniformBox};
 use mcint::quality::{Convergence, mean_periodogram_with_threads};
 use mcint::sampler::{Jittered, PassKind, Sampler, SamplerKind, Scramble, Sobol};
@@ -226,6 +227,22 @@ fn method_observations() -> Result<Vec<Observation>> {
         "expectation gbm bridge rqmc".into(),
         estimate_bits(&expectation.run()?),
     ));
+
+    // Multilevel runs: a lookback by MLMC, an Asian call by MLQMC.
+    for (label, payoff, qmc) in [
+        ("multilevel mc lookback", Payoff::lookback(), false),
+        ("multilevel qmc asian", Payoff::asian_call(100.0)?, true),
+    ] {
+        let levels = SdeLevels::new(Sde::gbm(100.0, 0.05, 0.2)?, Scheme::Milstein, payoff, 1.0)?;
+        let run = Multilevel::new(levels).rmse(0.2).qmc(qmc).seed(17).run()?;
+        let mut bits = vec![
+            run.estimate.to_bits(),
+            run.std_error.to_bits(),
+            run.bias.to_bits(),
+        ];
+        bits.extend(run.levels.iter().map(|l| l.samples));
+        out.push((label.to_string(), bits));
+    }
     Ok(out)
 }
 
@@ -414,4 +431,6 @@ const PINS: &[(&str, &[u64])] = &[
     ("expectation gbm bridge rqmc", &[0x401ab87b5c3daafc, 0x3f6e68e92d523f12, 0x0000000000002000, 0x0000000000002000, 0x0000000000000001]),
     ("convergence study", &[0x3f83db2ba3b88382, 0x3f632d1b69732dc0, 0x3f4cb3794ee57184, 0xbf39756ebee25800, 0x3f2b2b59bc649f42, 0xbf03bbc2e5a02000, 0xbff630bf778d37fa]),
     ("mean periodogram", &[0x3fddbf5bb72d0496, 0x3fe15fd94c5a40c0, 0x3fc61fee5650d016, 0x3f8f65989fbdbc24, 0x3f5260740c4e089c, 0x3f9d36032e4411cd, 0x3fc98da99ed08b5c, 0x3fcb64d768d8d3d5, 0x3fe64d5949c75d38, 0x3fd7453a801ea41d, 0x3fbeaf0787fdd5c7, 0x3fa64abb2e887f36, 0x3fa65ea067b08d2c, 0x3f2f069cfc7651be, 0x3fa022e47efad9d3, 0x3fb018decc905f17, 0x3fba58062f2466bd, 0x3fd0e6313af0288a, 0x3fb7d1f18fbca8ba, 0x3fb670b3a53ce8d1, 0x3f9a9aa1e059df4a, 0x3f7dd3472c84eafd, 0x3f29a9b1ab1f4d9e, 0x3f805afecb8baf1b, 0x3f9552fef6add2da, 0x3faef8f936b75882, 0x3fa31a2a8909a4cf, 0x3fa1fe7e70ece96b, 0x3f8775e756316db7, 0x3f9a09eb7d47a057, 0x3f55404637cb6aad, 0x3f072d255d372ab3, 0x3f567b59b48cc19e, 0x3f994a129d8020e1, 0x3fa2bddc600856a8, 0x3faa5749f92449f1, 0x3f37b9e6a4b21e8e, 0x3f21553e2eb7f961, 0x3f2badb59b9962d6, 0x3f0851acdeaac6cc, 0x4070000000000000, 0x3f0851acdeaac6cc, 0x3f2badb59b9962d6, 0x3f21553e2eb7f961, 0x3f37b9e6a4b21e8e, 0x3faa5749f92449f1, 0x3fa2bddc600856a8, 0x3f994a129d8020e1, 0x3f567b59b48cc19e, 0x3f072d255d372ab3, 0x3f55404637cb6aad, 0x3f9a09eb7d47a057, 0x3f8775e756316db7, 0x3fa1fe7e70ece96b, 0x3fa31a2a8909a4cf, 0x3faef8f936b75882, 0x3f9552fef6add2da, 0x3f805afecb8baf1b, 0x3f29a9b1ab1f4d9e, 0x3f7dd3472c84eafd, 0x3f9a9aa1e059df4a, 0x3fb670b3a53ce8d1, 0x3fb7d1f18fbca8ba, 0x3fd0e6313af0288a, 0x3fba58062f2466bd, 0x3fb018decc905f17, 0x3fa022e47efad9d3, 0x3f2f069cfc7651be, 0x3fa65ea067b08d2c, 0x3fa64abb2e887f36, 0x3fbeaf0787fdd5c7, 0x3fd7453a801ea41d, 0x3fe64d5949c75d38, 0x3fcb64d768d8d3d5, 0x3fc98da99ed08b5c, 0x3f9d36032e4411cd, 0x3f5260740c4e089c, 0x3f8f65989fbdbc24, 0x3fc61fee5650d016, 0x3fe15fd94c5a40c0, 0x3fddbf5bb72d0496]),
+    ("multilevel mc lookback", &[0x40322d58f08fea02, 0x3fc15a3b0c24e0a1, 0x3fc060acc1213094, 0x0000000000003aec, 0x00000000000003e8, 0x00000000000003e8, 0x000000000000007d, 0x0000000000000032]),
+    ("multilevel qmc asian", &[0x40173250a102ce3e, 0x3fc17c6f6804fd71, 0x3fb79fd676ff0ea3, 0x0000000000000200, 0x0000000000000100, 0x0000000000000100, 0x0000000000000100]),
 ];

@@ -18,7 +18,7 @@ fn assert_one_line_error(name: &str, args: &[&str], needle: &str) {
 }
 
 /// A flag each binary takes with a value, and valid values of its required flags.
-const BINARIES: [(&str, &str, &[&str]); 8] = [
+const BINARIES: [(&str, &str, &[&str]); 9] = [
     ("points", "--n", &["--sampler", "sobol", "--dims", "2"]),
     ("integrate", "--n", &["--genz", "gaussian", "--dims", "2"]),
     ("variance_reduction", "--n", &[]),
@@ -31,6 +31,7 @@ const BINARIES: [(&str, &str, &[&str]); 8] = [
     ("quality", "--input", &["--measure", "star"]),
     ("sensitivity", "--n", &["--function", "ishigami"]),
     ("asian_option", "--n", &[]),
+    ("mlmc", "--eps", &[]),
 ];
 
 #[test]

@@ -19,6 +19,18 @@ const TALKATIVE: &[(&str, &[&str])] = &[
     ),
     ("sensitivity", &["--function", "ishigami", "--n", "1024"]),
     ("asian_option", &["--dates", "8", "--n", "256"]),
+    (
+        "mlmc",
+        &[
+            "--eps",
+            "0.1",
+            "--test",
+            "--test-levels",
+            "3",
+            "--test-samples",
+            "1000",
+        ],
+    ),
 ];
 
 /// A program that exited with success and printed no panic.
@@ -166,6 +178,7 @@ fn an_argument_that_is_not_utf8_is_a_one_line_error() {
         "variance_reduction",
         "sensitivity",
         "asian_option",
+        "mlmc",
     ] {
         let out = Command::new(example(name)).arg(bad).output().unwrap();
         assert_one_line_error(&out, "not valid UTF-8");

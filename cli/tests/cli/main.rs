@@ -13,6 +13,7 @@
 //! | `points --format sum` | `cli_points_sum` |
 //! | `quality` | `cli_quality` |
 //! | closed and full output, non-UTF-8 arguments, sizes beyond memory | `cli_robustness` |
+//! | `mlmc` | `cli_mlmc` |
 //! | `sensitivity` | `cli_sensitivity` |
 //! | SIGINT, SIGTERM and `--time-limit` | `cli_signals` |
 //! | `integrate --genz F1,F2,...` and `--ratio` (vector runs) | `cli_vector` |
@@ -28,6 +29,7 @@ mod cli_bad_input;
 mod cli_checkpoint_kill;
 mod cli_flags;
 mod cli_measures;
+mod cli_mlmc;
 mod cli_points_sum;
 mod cli_quality;
 mod cli_robustness;

@@ -1,0 +1,124 @@
+//! The `mlmc` program: multilevel runs of GBM options agree with Black-Scholes, `--test`
+//! prints Giles' survey with the published rates, `--json` has the fields the issue names,
+//! `--plot` draws the decays, and bad input is a one-line error.
+
+use crate::common::{assert_one_line_error, run, scratch_dir, stderr, stdout};
+use serde_json::Value;
+
+fn json_run(args: &[&str]) -> Value {
+    let mut all = args.to_vec();
+    all.push("--json");
+    let out = run("mlmc", &all);
+    assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+    serde_json::from_str(&stdout(&out)).expect("one JSON object")
+}
+
+fn number(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("{v} is not a number"))
+}
+
+#[test]
+fn a_european_call_meets_its_target_and_reports_every_field() {
+    let report = json_run(&["--eps", "0.05", "--seed", "3"]);
+    let (estimate, exact) = (number(&report["estimate"]), number(&report["exact"]));
+    assert!((exact - 10.450583572185565).abs() < 1e-9, "{exact}");
+    // The run aims at an RMSE of 0.05: 4 of them is far in the tail.
+    assert!((estimate - exact).abs() < 0.2, "{report}");
+    assert_eq!(report["converged"], true);
+    assert_eq!(report["stop"], "tolerance met");
+    assert!(number(&report["cost"]) * 10.0 < number(&report["standard_mc_cost"]));
+    for field in ["std_error", "bias", "alpha", "beta", "gamma"] {
+        assert!(number(&report[field]) > 0.0, "{field}: {report}");
+    }
+    let levels = report["levels"].as_array().unwrap();
+    assert!(levels.len() >= 3);
+    for level in levels {
+        assert!(level["n"].as_u64().unwrap() >= 16, "{level}");
+        for field in ["mean", "variance", "cost"] {
+            number(&level[field]);
+        }
+    }
+    assert_eq!(levels[0]["check"], Value::Null);
+}
+
+#[test]
+fn the_survey_shows_euler_and_milstein_rates() {
+    for (scheme, beta) in [("euler", 1.0), ("milstein", 2.0)] {
+        let report = json_run(&[
+            "--scheme",
+            scheme,
+            "--test",
+            "--test-levels",
+            "6",
+            "--test-samples",
+            "40000",
+            "--eps",
+            "0.1",
+        ]);
+        let test = &report["test"];
+        assert_eq!(test["levels"].as_array().unwrap().len(), 7);
+        assert!(
+            (number(&test["beta"]) - beta).abs() < 0.3,
+            "{scheme}: {test}"
+        );
+    }
+    let out = run(
+        "mlmc",
+        &[
+            "--test",
+            "--test-levels",
+            "3",
+            "--test-samples",
+            "2000",
+            "--eps",
+            "0.2",
+        ],
+    );
+    let text = stdout(&out);
+    assert!(
+        text.contains("Giles' mlmc_test survey") && text.contains("Black-Scholes"),
+        "{text}"
+    );
+}
+
+#[test]
+fn other_payoffs_models_and_qmc_run() {
+    let digital = json_run(&["--payoff", "digital", "--eps", "0.002", "--seed", "1"]);
+    let error = number(&digital["estimate"]) - number(&digital["exact"]);
+    assert!(error.abs() < 0.008, "{digital}");
+    let qmc = json_run(&["--payoff", "asian", "--eps", "0.02", "--qmc"]);
+    assert_eq!(qmc["exact"], Value::Null);
+    assert!((number(&qmc["estimate"]) - 5.7631).abs() < 0.08, "{qmc}");
+    let heston = json_run(&["--model", "heston", "--eps", "0.1"]);
+    assert_eq!(heston["scheme"], "euler");
+    assert_eq!(heston["converged"], true);
+}
+
+#[test]
+fn the_plot_is_drawn() {
+    let dir = scratch_dir("mlmc-plot");
+    let file = dir.join("levels.svg");
+    let out = run("mlmc", &["--eps", "0.1", "--plot", file.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let svg = std::fs::read_to_string(&file).unwrap();
+    assert!(
+        svg.contains("<svg") && svg.contains("beta"),
+        "{}",
+        &svg[..200.min(svg.len())]
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_input_is_one_line() {
+    let cases: [(&[&str], &str); 5] = [
+        (&["--eps", "0"], "--eps"),
+        (&["--model", "heston", "--scheme", "milstein"], "milstein"),
+        (&["--payoff", "put"], "--payoff"),
+        (&["--refinement", "1"], "refinement"),
+        (&["--test", "--test-levels", "30"], "--test-levels"),
+    ];
+    for (args, needle) in cases {
+        assert_one_line_error(&run("mlmc", args), needle);
+    }
+}
