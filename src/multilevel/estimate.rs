@@ -36,8 +36,8 @@ pub struct LevelSummary {
     /// `None` when `Y_l` does not vary.
     pub kurtosis: Option<f64>,
     /// Giles' consistency check, `|E[Y_l] - E[P_l] + E[P_{l-1}]|` over three standard errors
-    /// of it (`None` at level 0): above 1 says the coarse path of level `l` does not have the
-    /// law of the fine path of level `l - 1`, a coupling error.
+    /// of it (`None` at level 0, and where no sample varies): above 1 says the coarse path of
+    /// level `l` does not have the law of the fine path of level `l - 1`, a coupling error.
     pub consistency: Option<f64>,
 }
 

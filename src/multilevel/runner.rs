@@ -632,14 +632,16 @@ impl<L: Level> Multilevel<L> {
             .enumerate()
             .map(|(l, state)| {
                 let pooled = pooled_of(state);
-                let consistency = (l > 0).then(|| {
-                    let previous = pooled_of(&levels[l - 1]).fine;
-                    let gap = pooled.difference.mean() - pooled.fine.mean() + previous.mean();
-                    let spread = pooled.difference.variance().sqrt()
-                        + pooled.fine.variance().sqrt()
-                        + previous.variance().sqrt();
-                    gap.abs() / (3.0 * spread / (pooled.count() as f64).sqrt())
-                });
+                let consistency = (l > 0)
+                    .then(|| {
+                        let previous = pooled_of(&levels[l - 1]).fine;
+                        let gap = pooled.difference.mean() - pooled.fine.mean() + previous.mean();
+                        let spread = pooled.difference.variance().sqrt()
+                            + pooled.fine.variance().sqrt()
+                            + previous.variance().sqrt();
+                        gap.abs() / (3.0 * spread / (pooled.count() as f64).sqrt())
+                    })
+                    .filter(|c| c.is_finite());
                 LevelSummary {
                     level: l,
                     samples: pooled.count(),
@@ -672,6 +674,18 @@ impl<L: Level> Multilevel<L> {
                 bias: stats.bias,
                 target: THETA.sqrt() * target.unwrap_or(f64::NAN),
             });
+        }
+        let all_zero = levels.iter().flat_map(|l| &l.sums).all(|s| {
+            [
+                s.fine.min(),
+                s.fine.max(),
+                s.difference.min(),
+                s.difference.max(),
+            ] == [0.0; 4]
+        });
+        if all_zero {
+            let count = summaries.iter().map(|l| l.samples).sum();
+            warnings.push(Warning::AllZero { count });
         }
         if !converged && target.is_some() && stop != StopReason::MaxLevel {
             warnings.push(Warning::ToleranceNotMet { stop });

@@ -94,6 +94,16 @@ fn other_payoffs_models_and_qmc_run() {
     assert_eq!(heston["converged"], true);
 }
 
+/// A call far out of the money pays nothing on every sampled path: the run says so instead
+/// of printing a NaN check.
+#[test]
+fn an_all_zero_run_warns() {
+    let out = run("mlmc", &["--s0", "50", "--eps", "0.5", "--scheme", "euler"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(stderr(&out).contains("exactly zero"), "{}", stderr(&out));
+    assert!(!stdout(&out).contains("NaN"), "{}", stdout(&out));
+}
+
 #[test]
 fn the_plot_is_drawn() {
     let dir = scratch_dir("mlmc-plot");
