@@ -184,6 +184,17 @@ pub fn run(
         .map_err(|e| e.to_string())
 }
 
+/// The text of the checkpoint `path`, or `None` when there is none yet: a path that is not a
+/// regular file, or a file larger than [`MAX_CHECKPOINT_BYTES`], is refused.
+pub fn read_text(path: &Path) -> Result<Option<String>, String> {
+    check_kind(path)?;
+    match read_bounded(path) {
+        Ok(text) => Ok(Some(text)),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(format!("cannot read checkpoint '{}': {e}", path.display())),
+    }
+}
+
 /// The text of `path`, refusing a file larger than [`MAX_CHECKPOINT_BYTES`] (such as
 /// `/dev/zero`) without reading more than that.
 fn read_bounded(path: &Path) -> std::io::Result<String> {
@@ -218,6 +229,12 @@ fn save(settings: &Settings, part: &PartialRun) -> Result<(), String> {
 /// place, so an interrupted save never leaves a truncated checkpoint.
 fn write(path: &Path, part: &PartialRun) -> Result<(), String> {
     let text = serde_json::to_string(part).map_err(|e| format!("cannot encode checkpoint: {e}"))?;
+    write_text(path, &text)
+}
+
+/// Writes `text` to the checkpoint `path` atomically (see `write`): for the programs whose
+/// checkpoints are not partial runs (`mlmc`).
+pub fn write_text(path: &Path, text: &str) -> Result<(), String> {
     let temporary = beside(path, "tmp");
     let written = (|| {
         let mut file = File::create(&temporary)?;

@@ -361,13 +361,15 @@ fn draw_line<DB: DrawingBackend>(
         .fold(0.0, f64::max)
         .max(1e-9)
         * 1.1;
+    // Below 0 only when a value is (logarithms of small quantities).
+    let y0 = all.iter().map(|p| p.1).fold(0.0, f64::min) * 1.1;
     root.fill(&WHITE).map_err(text_error)?;
     let mut chart = ChartBuilder::on(root)
         .caption(title, (FAMILY, 20))
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(50)
-        .build_cartesian_2d(0f64..x1, 0f64..y1)
+        .build_cartesian_2d(0f64..x1, y0..y1)
         .map_err(text_error)?;
     chart
         .configure_mesh()

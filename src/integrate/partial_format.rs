@@ -336,7 +336,7 @@ fn content_checksum(
     text(&mut h, &layout.sampler);
     text(&mut h, layout.label.as_deref().unwrap_or("\u{0}none"));
     for acc in &folded.accumulators {
-        feed_accumulator(&mut h, acc);
+        Accumulator::feed_checksum(&mut h, acc);
     }
     feed_non_finite(&mut h, folded.first_non_finite.as_ref(), several);
     for cov in &folded.covariances {
@@ -345,7 +345,7 @@ fn content_checksum(
     for (chunk, result) in chunks {
         h.update(&chunk.to_le_bytes());
         for acc in &result.accumulators {
-            feed_accumulator(&mut h, acc);
+            Accumulator::feed_checksum(&mut h, acc);
         }
         feed_non_finite(&mut h, result.first_non_finite.as_ref(), several);
         if let Some(cov) = &result.covariance {
@@ -353,20 +353,6 @@ fn content_checksum(
         }
     }
     h.finalize()
-}
-
-fn feed_accumulator(h: &mut crc32fast::Hasher, acc: &Accumulator) {
-    for word in [
-        acc.count(),
-        acc.mean().to_bits(),
-        acc.m2().to_bits(),
-        acc.min().to_bits(),
-        acc.max().to_bits(),
-        acc.non_finite(),
-        acc.rounding_bound().to_bits(),
-    ] {
-        h.update(&word.to_le_bytes());
-    }
 }
 
 fn feed_non_finite(h: &mut crc32fast::Hasher, first: Option<&NonFinite>, with_output: bool) {

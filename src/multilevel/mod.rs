@@ -31,6 +31,7 @@
 //! assert!(run.cost * 10.0 < run.standard_mc_cost);
 //! ```
 
+mod checkpoint;
 mod estimate;
 mod fit;
 mod level;
@@ -40,6 +41,7 @@ mod sde;
 mod sde_levels;
 mod sums;
 
+pub use checkpoint::MultilevelCheckpoint;
 pub use estimate::{LevelSummary, MultilevelEstimate};
 pub use level::Level;
 pub use payoff::{PathView, Payoff};

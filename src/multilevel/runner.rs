@@ -1,9 +1,10 @@
 //! [`Multilevel`]: Giles' adaptive multilevel Monte Carlo (and multilevel QMC) on the engine.
 
 use super::Level;
+use super::checkpoint::MultilevelCheckpoint;
 use super::estimate::{LevelSummary, MultilevelEstimate};
 use super::fit::log_slope;
-use super::sums::{LevelJob, LevelSums, chunk_size, run_job};
+use super::sums::{Extension, LevelJob, LevelSums, chunk_size, run_job};
 use crate::engine::{Executor, Limits, RunConfig, run_settings};
 use crate::error::{Error, Result};
 use crate::hash::hash_words;
@@ -375,9 +376,10 @@ impl<L: Level> Multilevel<L> {
         }
     }
 
-    /// Adds `count` samples per replicate to `state` (level `level`); returns the limit that
-    /// cut it short, if one did (Monte Carlo keeps the samples drawn; QMC keeps none, so that
-    /// every randomization keeps the same points).
+    /// Adds `count` samples per replicate to `state` (level `level`), continuing `resume`
+    /// (an extension of it a limit cut short) if given. Returns the samples (over every
+    /// replicate) newly drawn, and, when a limit cuts it short, the extension under way with
+    /// the limit; `state` then keeps its samples so far.
     fn extend(
         &self,
         executor: &Executor,
@@ -385,7 +387,8 @@ impl<L: Level> Multilevel<L> {
         level: usize,
         state: &mut LevelState,
         count: u64,
-    ) -> Result<Option<StopReason>> {
+        resume: Option<Extension>,
+    ) -> Result<(u64, Option<(Extension, StopReason)>)> {
         let dims = self.model.dims(level);
         let Some(sampler) = self.sampler(level, dims)? else {
             return Err(Error::invalid(
@@ -404,15 +407,40 @@ impl<L: Level> Multilevel<L> {
             stride: if self.qmc { SOBOL_PASS } else { 0 },
             chunk: chunk_size(dims, self.level_cost(level)?),
         };
-        let (sums, stop) = run_job(executor, &job, limits)?;
-        if stop.is_some() && self.qmc {
-            return Ok(stop);
+        let from = resume.map(|e| (e.sums, e.chunks));
+        let start = from.as_ref().map_or(0, |f| f.1);
+        let (sums, done, stop) = run_job(executor, &job, limits, from)?;
+        let added = job.samples_in(start..done);
+        if let Some(reason) = stop {
+            let chunks = done;
+            return Ok((
+                added,
+                Some((
+                    Extension {
+                        level,
+                        sums,
+                        chunks,
+                    },
+                    reason,
+                )),
+            ));
         }
         for (total, new) in state.sums.iter_mut().zip(&sums) {
             total.merge(new);
         }
         state.per_replicate = state.sums[0].count();
-        Ok(stop)
+        Ok((added, None))
+    }
+
+    /// The samples of an extension cut short, in `state` for an estimate: all of them under
+    /// Monte Carlo, none under QMC (every randomization must keep the same points).
+    fn absorb(&self, state: &mut LevelState, cut: &Extension) {
+        if !self.qmc {
+            for (total, new) in state.sums.iter_mut().zip(&cut.sums) {
+                total.merge(new);
+            }
+            state.per_replicate = state.sums[0].count();
+        }
     }
 
     /// Whether `level` can be sampled at all (its coordinates fit the sampler).
@@ -432,10 +460,81 @@ impl<L: Level> Multilevel<L> {
     /// assert!((run.estimate - 0.559618).abs() < 0.04, "{run}");
     /// ```
     pub fn run(&self) -> Result<MultilevelEstimate> {
+        let mut state = self.checkpoint()?;
+        self.run_from(&mut state)
+    }
+
+    /// The state of this run before its first sample, to run with
+    /// [`run_from`](Self::run_from) (see [`MultilevelCheckpoint`]).
+    ///
+    /// ```
+    /// # use mcint::multilevel::{Multilevel, Payoff, Scheme, Sde, SdeLevels};
+    /// # let gbm = Sde::gbm(100.0, 0.05, 0.2).unwrap();
+    /// # let levels = SdeLevels::new(gbm, Scheme::Euler, Payoff::european_call(100.0).unwrap(), 1.0).unwrap();
+    /// let runner = Multilevel::new(levels).rmse(0.1).seed(2);
+    /// let mut state = runner.checkpoint().unwrap();
+    /// assert_eq!(runner.run_from(&mut state).unwrap(), runner.run().unwrap());
+    /// ```
+    pub fn checkpoint(&self) -> Result<MultilevelCheckpoint> {
         let (target, replicates, initial) = self.checked(false)?;
+        let mut levels = Vec::new();
+        for level in 0..=self.min_level {
+            if !self.can_sample(level) {
+                return Err(Error::invalid(
+                    "min_level",
+                    self.min_level,
+                    format!("levels whose samples fit the sampler (level {level} does not)"),
+                ));
+            }
+            levels.push(vec![LevelSums::default(); replicates as usize]);
+        }
+        let pending = vec![initial; levels.len()];
+        let fingerprint = self.fingerprint(target, replicates, initial)?;
+        Ok(MultilevelCheckpoint::new(fingerprint, levels, pending))
+    }
+
+    /// Runs from `state` (a [`checkpoint`](Self::checkpoint) of a run of the same settings,
+    /// maybe saved and read back) to the target, leaving in `state` where it stopped (down to
+    /// the chunk of samples a limit stopped at): a run stopped by a time limit, a cancellation
+    /// or the cost limit resumes from it and ends with the bits of a run that never stopped. The cost limit,
+    /// time limits and thread count may differ between calls; the seed, target, QMC settings,
+    /// levels and model may not.
+    ///
+    /// ```
+    /// # use mcint::multilevel::{Multilevel, Payoff, Scheme, Sde, SdeLevels};
+    /// # let gbm = Sde::gbm(100.0, 0.05, 0.2).unwrap();
+    /// # let levels = || SdeLevels::new(gbm.clone(), Scheme::Euler, Payoff::european_call(100.0).unwrap(), 1.0).unwrap();
+    /// let mut state = Multilevel::new(levels()).rmse(0.1).seed(2).checkpoint().unwrap();
+    /// let err = Multilevel::new(levels()).rmse(0.1).seed(3).run_from(&mut state).unwrap_err();
+    /// assert!(err.to_string().contains("fingerprint"), "{err}");
+    /// ```
+    pub fn run_from(&self, state: &mut MultilevelCheckpoint) -> Result<MultilevelEstimate> {
+        let (target, replicates, initial) = self.checked(false)?;
+        let fingerprint = self.fingerprint(target, replicates, initial)?;
+        state.check(fingerprint, replicates, self.min_level + 1)?;
         let (executor, _scope) = self.config.executor()?;
         let limits = self.config.limits();
-        executor.on_pool(|| self.run_on(&executor, &limits, target, replicates, initial))
+        executor.on_pool(|| self.run_on(&executor, &limits, target, replicates, initial, state))
+    }
+
+    /// What a checkpoint must share with the run that resumes it.
+    fn fingerprint(&self, target: f64, replicates: u64, initial: u64) -> Result<u64> {
+        let mut words = vec![
+            u64::from(self.qmc),
+            replicates,
+            initial,
+            self.min_level as u64,
+            self.max_level as u64,
+            target.to_bits(),
+            u64::from(self.model.refinement()),
+            self.model.weak_order().map_or(0, f64::to_bits),
+        ];
+        for level in 0..=2 {
+            words.push(self.model.dims(level) as u64);
+            words.push(self.level_cost(level)?.to_bits());
+            words.push(self.model.fine_cost(level).to_bits());
+        }
+        Ok(hash_words(self.config.seed().unwrap_or(0), &words))
     }
 
     fn run_on(
@@ -445,31 +544,58 @@ impl<L: Level> Multilevel<L> {
         target: f64,
         replicates: u64,
         initial: u64,
+        state: &mut MultilevelCheckpoint,
     ) -> Result<MultilevelEstimate> {
         let m = f64::from(self.model.refinement());
         let fresh = LevelState {
             sums: vec![LevelSums::default(); replicates as usize],
             per_replicate: 0,
         };
-        let mut levels: Vec<LevelState> = Vec::new();
-        let mut pending: Vec<u64> = Vec::new();
-        for level in 0..=self.min_level {
-            if !self.can_sample(level) {
-                return Err(Error::invalid(
-                    "min_level",
-                    self.min_level,
-                    format!("levels whose samples fit the sampler (level {level} does not)"),
-                ));
-            }
-            levels.push(fresh.clone());
-            pending.push(initial);
-        }
-        let mut spent = 0.0;
-        let mut bias_stuck = false;
+        let mut levels: Vec<LevelState> = state
+            .levels
+            .iter()
+            .map(|sums| LevelState {
+                sums: sums.clone(),
+                per_replicate: sums[0].count(),
+            })
+            .collect();
+        let mut pending = state.pending.clone();
+        let mut spent = state.spent;
+        let mut bias_stuck = state.bias_stuck;
+        let mut in_flight = state.in_flight.take();
+        let save = |state: &mut MultilevelCheckpoint,
+                    levels: &[LevelState],
+                    pending: &[u64],
+                    spent: f64,
+                    bias_stuck: bool,
+                    in_flight: Option<Extension>| {
+            state.levels = levels.iter().map(|l| l.sums.clone()).collect();
+            state.pending = pending.to_vec();
+            state.spent = spent;
+            state.bias_stuck = bias_stuck;
+            state.in_flight = in_flight;
+            state.seal();
+        };
         let stop = 'run: loop {
+            if let Some(finished) = state.finished {
+                break finished;
+            }
+            save(
+                state,
+                &levels,
+                &pending,
+                spent,
+                bias_stuck,
+                in_flight.clone(),
+            );
+            // What is left of this iteration (an extension under way has spent some of it).
             let mut planned = 0.0;
             for (level, &count) in pending.iter().enumerate() {
                 planned += (count * replicates) as f64 * self.level_cost(level)?;
+            }
+            if let Some(cut) = &in_flight {
+                let drawn: u64 = cut.sums.iter().map(LevelSums::count).sum();
+                planned -= drawn as f64 * self.level_cost(cut.level)?;
             }
             if spent + planned > self.max_cost {
                 if spent == 0.0 {
@@ -488,16 +614,31 @@ impl<L: Level> Multilevel<L> {
                 if pending[level] == 0 {
                     continue;
                 }
-                let before = levels[level].per_replicate;
-                let stop =
-                    self.extend(executor, limits, level, &mut levels[level], pending[level])?;
-                let added = levels[level].per_replicate - before;
-                spent += (added * replicates) as f64 * self.level_cost(level)?;
+                let resume = in_flight.take_if(|cut| cut.level == level);
+                let (added, cut) = self.extend(
+                    executor,
+                    limits,
+                    level,
+                    &mut levels[level],
+                    pending[level],
+                    resume,
+                )?;
+                spent += added as f64 * self.level_cost(level)?;
                 self.config.report(spent as u64, 0);
-                pending[level] = 0;
-                if let Some(reason) = stop {
+                if let Some((cut, reason)) = cut {
+                    save(
+                        state,
+                        &levels,
+                        &pending,
+                        spent,
+                        bias_stuck,
+                        Some(cut.clone()),
+                    );
+                    self.absorb(&mut levels[level], &cut);
                     break 'run reason;
                 }
+                pending[level] = 0;
+                save(state, &levels, &pending, spent, bias_stuck, None);
             }
             let stats = Stats::of(&levels, m, self)?;
             let done = if self.qmc {
@@ -513,11 +654,15 @@ impl<L: Level> Multilevel<L> {
                 self.plan_mc(&stats, &levels, &mut pending, target, &mut bias_stuck)
             };
             if done {
-                break if bias_stuck {
+                let finished = if bias_stuck {
                     StopReason::MaxLevel
                 } else {
                     StopReason::ToleranceMet
                 };
+                save(state, &levels, &pending, spent, bias_stuck, None);
+                state.finished = Some(finished);
+                state.seal();
+                break finished;
             }
             while levels.len() < pending.len() {
                 levels.push(fresh.clone());
@@ -755,12 +900,16 @@ impl<L: Level> Multilevel<L> {
                     sums: vec![LevelSums::default(); replicates as usize],
                     per_replicate: 0,
                 };
-                let cut = self.extend(&executor, &limits, level, &mut state, samples)?;
-                spent += (state.per_replicate * replicates) as f64 * self.level_cost(level)?;
+                let (added, cut) =
+                    self.extend(&executor, &limits, level, &mut state, samples, None)?;
+                spent += added as f64 * self.level_cost(level)?;
+                if let Some((cut, _)) = &cut {
+                    self.absorb(&mut state, cut);
+                }
                 if state.per_replicate > 1 {
                     states.push(state);
                 }
-                if let Some(reason) = cut {
+                if let Some((_, reason)) = cut {
                     stop = reason;
                     break;
                 }

@@ -10,7 +10,7 @@ use crate::stats::{Accumulator, StopReason};
 /// What samples of one level sum to: `Y = P_l - P_{l-1}` and `P_l`, with the third and
 /// fourth power sums of `Y` (for the kurtosis of Giles' test).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-#[cfg_attr(feature = "mpi", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub(super) struct LevelSums {
     pub(super) difference: Accumulator,
     pub(super) fine: Accumulator,
@@ -151,17 +151,39 @@ impl<L: Level> ChunkJob for LevelJob<'_, L> {
     }
 }
 
-/// Runs `job`, folding its chunks into one sum per replicate (in chunk order); returns them
-/// and the limit that cut the job short, if one did.
+/// A level's extension under way, cut short by a limit: the sums of its first `chunks`
+/// chunks, per replicate, folded as an uninterrupted extension folds them.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub(super) struct Extension {
+    pub(super) level: usize,
+    pub(super) sums: Vec<LevelSums>,
+    pub(super) chunks: u64,
+}
+
+impl<L> LevelJob<'_, L> {
+    /// The samples (over every replicate) in `chunks`.
+    pub(super) fn samples_in(&self, chunks: std::ops::Range<u64>) -> u64 {
+        chunks.map(|c| self.span(c).1).sum()
+    }
+}
+
+/// Runs the chunks of `job` from `from` (the chunks an interrupted extension folded, or none),
+/// folding them into one sum per replicate in chunk order; returns the sums, the chunks
+/// folded in all, and the limit that cut the job short, if one did.
 pub(super) fn run_job<L: Level>(
     executor: &Executor,
     job: &LevelJob<'_, L>,
     limits: &Limits,
-) -> Result<(Vec<LevelSums>, Option<StopReason>)> {
-    let mut sums = vec![LevelSums::default(); job.replicates as usize];
-    let stop = executor.run(job, 0..job.chunks(), 64, limits, |chunk, out| {
+    from: Option<(Vec<LevelSums>, u64)>,
+) -> Result<(Vec<LevelSums>, u64, Option<StopReason>)> {
+    let (mut sums, start) =
+        from.unwrap_or_else(|| (vec![LevelSums::default(); job.replicates as usize], 0));
+    let mut done = start;
+    let stop = executor.run(job, start..job.chunks(), 64, limits, |chunk, out| {
         sums[job.replicate(chunk) as usize].merge(&out);
+        done = chunk + 1;
         Ok(())
     })?;
-    Ok((sums, stop))
+    Ok((sums, done, stop))
 }

@@ -410,6 +410,22 @@ impl Accumulator {
     }
 
     /// Whether every finite value was exactly zero (and there was at least one).
+    /// Feeds the state into the checksum of a saved run (checkpoints; the words and their
+    /// order are part of the checkpoint format).
+    pub(crate) fn feed_checksum(h: &mut crc32fast::Hasher, acc: &Accumulator) {
+        for word in [
+            acc.count(),
+            acc.mean().to_bits(),
+            acc.m2().to_bits(),
+            acc.min().to_bits(),
+            acc.max().to_bits(),
+            acc.non_finite(),
+            acc.rounding_bound().to_bits(),
+        ] {
+            h.update(&word.to_le_bytes());
+        }
+    }
+
     pub(crate) fn all_zero(&self) -> bool {
         self.count > 0 && self.min == 0.0 && self.max == 0.0
     }

@@ -463,3 +463,56 @@ fn limits_stop_a_run_with_the_estimate_so_far() {
     assert_eq!(deep.stop, StopReason::MaxLevel);
     assert_eq!(deep.warnings[0].kind(), "bias-above-target");
 }
+
+/// A run cancelled midway (by its own progress callback, after about half its cost) and
+/// resumed from its checkpoint, saved as JSON and read back, ends with the bits of the run
+/// that was never stopped; an altered or foreign checkpoint is refused.
+#[test]
+fn checkpoints_resume_to_the_uninterrupted_run() {
+    for qmc in [false, true] {
+        let runner = || {
+            Multilevel::new(gbm_levels(
+                Scheme::Milstein,
+                Payoff::asian_call(STRIKE).unwrap(),
+            ))
+            .rmse(0.02)
+            .qmc(qmc)
+            .seed(21)
+        };
+        let whole = runner().run().unwrap();
+        let token = CancelToken::new();
+        let stopper = token.clone();
+        let half = whole.cost / 2.0;
+        let mut state = runner().checkpoint().unwrap();
+        let cut = runner()
+            .cancel_token(token)
+            .progress(move |done, _| {
+                if done as f64 > half {
+                    stopper.cancel();
+                }
+            })
+            .run_from(&mut state)
+            .unwrap();
+        assert_eq!(cut.stop, StopReason::Cancelled, "qmc {qmc}");
+        assert!(!cut.converged && cut.cost < whole.cost);
+        let text = serde_json::to_string(&state).unwrap();
+        let mut read: mcint::multilevel::MultilevelCheckpoint =
+            serde_json::from_str(&text).unwrap();
+        let resumed = runner().threads(3).run_from(&mut read).unwrap();
+        assert_eq!(resumed, whole, "qmc {qmc}");
+        // A finished checkpoint gives the same result again, at no cost.
+        assert_eq!(runner().run_from(&mut read).unwrap(), whole);
+
+        let altered = text.replacen("\"spent\":", "\"spent\":1", 1);
+        let mut altered: mcint::multilevel::MultilevelCheckpoint =
+            serde_json::from_str(&altered).unwrap();
+        let err = runner().run_from(&mut altered).unwrap_err().to_string();
+        assert!(err.contains("checksum"), "{err}");
+        let err = runner()
+            .rmse(0.03)
+            .run_from(&mut state)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("fingerprint"), "{err}");
+    }
+}

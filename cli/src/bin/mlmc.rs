@@ -22,6 +22,11 @@
 //! `standard_mc_cost`, `converged`, `stop`, `warnings`, `ranks`, and with `--test`, `test`
 //! (the survey, as an object with `levels`, `alpha`, `beta`, `gamma`).
 //!
+//! `--checkpoint FILE` resumes the run saved in FILE (if it exists) and saves its state there
+//! when it stops (down to the chunk of samples it stopped at): a run cut by `--time-limit` or
+//! Ctrl-C continues when the same command is run again, and ends with the bits of an
+//! uninterrupted run. A checkpoint of other flags, or an altered one, is refused.
+//!
 //! `--plot FILE` (`.svg` or `.png`) draws `log2 |mean|` and `log2 variance` of `P_l` and
 //! `P_l - P_{l-1}` against the level (of the survey with `--test`, else of the run).
 
@@ -30,6 +35,7 @@ use std::path::PathBuf;
 use mcint::multilevel::{Multilevel, MultilevelEstimate, Payoff, Scheme, Sde, SdeLevels};
 use mcint_cli::args::{self as support, Args};
 use mcint_cli::asian::normal_cdf;
+use mcint_cli::checkpoint;
 use mcint_cli::plot;
 use mcint_cli::ranks::Ranks;
 use mcint_cli::{note, say};
@@ -108,6 +114,12 @@ const SPEC: support::Spec = &[
         "plot",
         true,
         "draw the level decays into this .svg or .png file",
+    ),
+    (
+        "checkpoint",
+        true,
+        "save the run's state to this file when it stops, and resume from it if it exists \
+         (with --time-limit: run the same command again to continue)",
     ),
     support::SEED,
     support::THREADS,
@@ -248,6 +260,11 @@ fn run() -> Result<(), String> {
     if let Some(deadline) = args.deadline()? {
         runner = runner.deadline(deadline);
     }
+    // Ctrl-C (or SIGTERM) stops the run between chunks, with its estimate and checkpoint.
+    let token = mcint::CancelToken::new();
+    let stopper = token.clone();
+    let _ = ctrlc::set_handler(move || stopper.cancel());
+    let runner = runner.cancel_token(token);
     let runner = mcint_cli::spread!(runner, ranks.spread);
     let survey = match settings.test {
         Some((deepest, samples)) => {
@@ -255,7 +272,37 @@ fn run() -> Result<(), String> {
         }
         None => None,
     };
-    let result = runner.run().map_err(text)?;
+    let checkpoint: Option<PathBuf> = args.get("checkpoint", "a file name")?;
+    let result = match &checkpoint {
+        None => runner.run().map_err(text)?,
+        Some(path) => {
+            let mut state = match checkpoint::read_text(path)? {
+                Some(saved) => serde_json::from_str(&saved)
+                    .map_err(|e| format!("cannot read checkpoint '{}': {e}", path.display()))?,
+                None => runner.checkpoint().map_err(text)?,
+            };
+            let result = runner.run_from(&mut state).map_err(|e| {
+                format!(
+                    "checkpoint '{}' cannot continue with these flags ({e}); delete it or repeat \
+                     the flags of its run",
+                    path.display()
+                )
+            })?;
+            if ranks.spread.is_root() {
+                let saved = serde_json::to_string(&state)
+                    .map_err(|e| format!("cannot encode checkpoint: {e}"))?;
+                checkpoint::write_text(path, &saved)?;
+                if !result.converged {
+                    note!(
+                        "checkpoint: {}; saved in '{}'; run the same command again to continue",
+                        support::stop_name(result.stop),
+                        path.display()
+                    );
+                }
+            }
+            result
+        }
+    };
     if !ranks.spread.is_root() {
         return Ok(());
     }

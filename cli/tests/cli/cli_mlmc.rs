@@ -132,3 +132,38 @@ fn bad_input_is_one_line() {
         assert_one_line_error(&run("mlmc", args), needle);
     }
 }
+
+/// `--checkpoint` with a short `--time-limit`, run again until it converges, ends with the
+/// bits of the uninterrupted run; a checkpoint of other flags is refused.
+#[test]
+fn a_checkpointed_run_resumes_to_the_uninterrupted_result() {
+    let dir = scratch_dir("mlmc-checkpoint");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("run.json");
+    let file = file.to_str().unwrap();
+    let flags = ["--payoff", "asian", "--eps", "0.01", "--seed", "4"];
+    let whole = json_run(&flags);
+    let mut pieces = 0;
+    let resumed = loop {
+        pieces += 1;
+        // A hang guard by count: every piece makes progress (at least one chunk).
+        assert!(pieces <= 500, "no convergence after {pieces} pieces");
+        let mut args = flags.to_vec();
+        args.extend(["--checkpoint", file, "--time-limit", "0.05"]);
+        let report = json_run(&args);
+        if report["converged"] == true {
+            break report;
+        }
+    };
+    for field in ["estimate", "std_error", "cost", "levels"] {
+        assert_eq!(
+            resumed[field], whole[field],
+            "{field} after {pieces} pieces"
+        );
+    }
+    let mut other = flags.to_vec();
+    other[3] = "0.02";
+    other.extend(["--checkpoint", file]);
+    assert_one_line_error(&run("mlmc", &other), "cannot continue with these flags");
+    let _ = std::fs::remove_dir_all(&dir);
+}
