@@ -641,24 +641,21 @@ impl<L: Level> Multilevel<L> {
                 save(state, &levels, &pending, spent, bias_stuck, None);
             }
             let stats = Stats::of(&levels, m, self)?;
-            let done = if self.qmc {
-                self.plan_qmc(
-                    &stats,
-                    &levels,
-                    &mut pending,
-                    target,
-                    initial,
-                    &mut bias_stuck,
-                )
-            } else {
-                self.plan_mc(&stats, &levels, &mut pending, target, &mut bias_stuck)
-            };
-            if done {
-                let finished = if bias_stuck {
+            let ended = |done: bool, bias_stuck: bool| {
+                done.then_some(if bias_stuck {
                     StopReason::MaxLevel
                 } else {
                     StopReason::ToleranceMet
-                };
+                })
+            };
+            let finished = if self.qmc {
+                self.plan_qmc(&stats, &levels, &mut pending, target, initial)
+            } else {
+                let done = self.plan_mc(&stats, &levels, &mut pending, target, &mut bias_stuck);
+                ended(done, bias_stuck)
+            };
+            if let Some(finished) = finished {
+                bias_stuck = finished == StopReason::MaxLevel;
                 save(state, &levels, &pending, spent, bias_stuck, None);
                 state.finished = Some(finished);
                 state.seal();
@@ -729,7 +726,8 @@ impl<L: Level> Multilevel<L> {
 
     /// Giles and Waterhouse's QMC step: double the points of the level whose variance per
     /// cost is largest until the variance is within its share, then add a level while the
-    /// bias is too large. Returns whether the run is done.
+    /// bias is too large. Returns how the run ends, if it does: the target met, the deepest
+    /// level reached, or a level's Sobol' sequences too short to double.
     fn plan_qmc(
         &self,
         stats: &Stats,
@@ -737,8 +735,7 @@ impl<L: Level> Multilevel<L> {
         pending: &mut Vec<u64>,
         target: f64,
         initial: u64,
-        bias_stuck: &mut bool,
-    ) -> bool {
+    ) -> Option<StopReason> {
         let variance: f64 = stats.mean_variance.iter().sum();
         if variance > (1.0 - THETA) * target * target {
             let worst = (0..levels.len())
@@ -749,18 +746,20 @@ impl<L: Level> Multilevel<L> {
                     gain(a).total_cmp(&gain(b))
                 })
                 .unwrap_or(0);
+            if 2 * levels[worst].per_replicate > SOBOL_PASS {
+                return Some(StopReason::SamplerExhausted);
+            }
             pending[worst] = levels[worst].per_replicate;
-            return false;
+            return None;
         }
         if stats.bias <= THETA.sqrt() * target {
-            return true;
+            return Some(StopReason::ToleranceMet);
         }
         if levels.len() > self.max_level || !self.can_sample(levels.len()) {
-            *bias_stuck = true;
-            return true;
+            return Some(StopReason::MaxLevel);
         }
         pending.push(initial);
-        false
+        None
     }
 
     fn result(
