@@ -819,14 +819,10 @@ impl<L: Level> Multilevel<L> {
                 target: THETA.sqrt() * target.unwrap_or(f64::NAN),
             });
         }
-        let all_zero = levels.iter().flat_map(|l| &l.sums).all(|s| {
-            [
-                s.fine.min(),
-                s.fine.max(),
-                s.difference.min(),
-                s.difference.max(),
-            ] == [0.0; 4]
-        });
+        let all_zero = levels
+            .iter()
+            .flat_map(|l| &l.sums)
+            .all(|s| s.fine.all_zero() && s.difference.all_zero());
         if all_zero {
             let count = summaries.iter().map(|l| l.samples).sum();
             warnings.push(Warning::AllZero { count });

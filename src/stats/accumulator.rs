@@ -409,7 +409,6 @@ impl Accumulator {
         (self.m2 / (self.count - 1) as f64 / self.count as f64).sqrt() * self.scale
     }
 
-    /// Whether every finite value was exactly zero (and there was at least one).
     /// Feeds the state into the checksum of a saved run (checkpoints; the words and their
     /// order are part of the checkpoint format).
     pub(crate) fn feed_checksum(h: &mut crc32fast::Hasher, acc: &Accumulator) {
@@ -420,21 +419,15 @@ impl Accumulator {
             acc.min().to_bits(),
             acc.max().to_bits(),
             acc.non_finite(),
-            acc.rounding_bound().to_bits(),
+            acc.rounding.to_bits(),
         ] {
             h.update(&word.to_le_bytes());
         }
     }
 
+    /// Whether every finite value was exactly zero (and there was at least one).
     pub(crate) fn all_zero(&self) -> bool {
         self.count > 0 && self.min == 0.0 && self.max == 0.0
-    }
-
-    /// The tracked bound on the rounding of the sums behind the mean, without the allowance
-    /// for the values' own evaluation (what a saved accumulator must restore).
-    #[cfg(feature = "serde")]
-    pub(crate) fn rounding_bound(&self) -> f64 {
-        self.rounding
     }
 
     /// A bound on the floating-point error of [`mean`](Self::mean): the rounding of the sums
