@@ -6,7 +6,8 @@
 //! cargo build --release --example mlmc_study
 //! target/release/examples/mlmc_study SCHEME PAYOFF EPS SEEDS [mc|qmc] [THREADS] [EXACT]
 //! ```
-//! `SCHEME` is euler or milstein, `PAYOFF` european, asian, lookback, digital or barrier (at
+//! `SEEDS` is a count `N` (seeds `0..N`) or a range `A..B`, so that a long study can run in
+//! pieces and be pooled (mean squares and mean costs weighted by seed counts). `SCHEME` is euler or milstein, `PAYOFF` european, asian, lookback, digital or barrier (at
 //! strike 100, barrier 85); `EXACT` is the value to measure errors against (default: the
 //! Black-Scholes call, or the digital's closed form for `digital`). Prints one line: the RMSE
 //! over the seeds in units of `EPS`, the mean cost, the mean cost times `EPS^2`, the mean
@@ -36,7 +37,7 @@ fn run() -> Result<(), String> {
     let scheme: Scheme = arg(0)?.parse().map_err(text)?;
     let payoff: Payoff = arg(1)?.parse().map_err(text)?;
     let eps = number(2)?;
-    let seeds = number(3)? as u64;
+    let seeds = seed_range(arg(3)?)?;
     let qmc = args.get(4).is_some_and(|m| m == "qmc");
     let threads = args.get(5).map_or(Ok(0.0), |_| number(5))? as usize;
     let discount = (-0.05f64).exp();
@@ -46,7 +47,7 @@ fn run() -> Result<(), String> {
         (None, _) => 10.450583572185565,
     };
     let (mut squares, mut cost, mut standard, mut levels, mut unconverged) = (0.0, 0.0, 0.0, 0, 0);
-    for seed in 0..seeds {
+    for seed in seeds.clone() {
         let sde = Sde::gbm(100.0, 0.05, 0.2).map_err(text)?;
         let model = SdeLevels::new(sde, scheme, payoff.clone(), 1.0)
             .map_err(text)?
@@ -62,9 +63,9 @@ fn run() -> Result<(), String> {
         levels += run.levels.len();
         unconverged += usize::from(!run.converged);
     }
-    let n = seeds as f64;
+    let n = seeds.clone().count() as f64;
     println!(
-        "{scheme:?} {} eps {eps:e} {} seeds {seeds}: RMSE/eps {:.3}, cost {:.3e}, cost*eps^2 \
+        "{scheme:?} {} eps {eps:e} {} seeds {seeds:?}: RMSE/eps {:.3}, cost {:.3e}, cost*eps^2 \
          {:.1}, standard MC {:.3e} ({:.1}x), levels {:.1}, not converged {unconverged}",
         payoff.name(),
         if qmc { "MLQMC" } else { "MLMC" },
@@ -76,4 +77,16 @@ fn run() -> Result<(), String> {
         levels as f64 / n,
     );
     Ok(())
+}
+
+/// Seeds `0..N` from `N`, or `A..B` from `A..B`.
+fn seed_range(text: &str) -> Result<std::ops::Range<u64>, String> {
+    let bad = || format!("SEEDS must be a count N or a range A..B, not {text}");
+    let parse = |t: &str| t.parse::<u64>().map_err(|_| bad());
+    match text.split_once("..") {
+        Some((a, b)) if parse(a)? < parse(b)? => Ok(parse(a)?..parse(b)?),
+        Some(_) => Err(bad()),
+        None if parse(text)? > 0 => Ok(0..parse(text)?),
+        None => Err(bad()),
+    }
 }
