@@ -40,3 +40,25 @@ pub enum StopReason {
     /// the sampling error meets its share, the bias may not. The run is not `converged`.
     MaxLevel,
 }
+
+impl StopReason {
+    /// A short lower-case name, the one the command line prints (`"budget"`, `"tolerance
+    /// met"`, `"max evaluations"`, `"time limit"`, `"cancelled"`, `"sampler exhausted"`,
+    /// `"disagreement"`, `"max level"`).
+    ///
+    /// ```
+    /// assert_eq!(mcint::StopReason::IterationsDisagree.name(), "disagreement");
+    /// ```
+    pub fn name(self) -> &'static str {
+        match self {
+            StopReason::Budget => "budget",
+            StopReason::ToleranceMet => "tolerance met",
+            StopReason::MaxEvaluations => "max evaluations",
+            StopReason::TimeLimit => "time limit",
+            StopReason::Cancelled => "cancelled",
+            StopReason::SamplerExhausted => "sampler exhausted",
+            StopReason::IterationsDisagree => "disagreement",
+            StopReason::MaxLevel => "max level",
+        }
+    }
+}

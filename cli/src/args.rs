@@ -288,17 +288,7 @@ fn one_line(error: &clap::Error, spec: Spec) -> String {
 
 /// How a run ended, in words.
 pub fn stop_name(stop: mcint::stats::StopReason) -> &'static str {
-    match stop {
-        mcint::stats::StopReason::Budget => "budget",
-        mcint::stats::StopReason::ToleranceMet => "tolerance met",
-        mcint::stats::StopReason::MaxEvaluations => "max evaluations",
-        mcint::stats::StopReason::TimeLimit => "time limit",
-        mcint::stats::StopReason::Cancelled => "cancelled",
-        mcint::stats::StopReason::SamplerExhausted => "sampler exhausted",
-        mcint::stats::StopReason::IterationsDisagree => "disagreement",
-        mcint::stats::StopReason::MaxLevel => "max level",
-        _ => "other",
-    }
+    stop.name()
 }
 
 /// Ends a program with the result of its work: stdout flushed (a failed write is one line and
