@@ -1,0 +1,54 @@
+# Type stubs of the extension module (the public API is in mcint/__init__.py).
+from typing import Callable, Optional, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class PointSet:
+    def __init__(
+        self,
+        kind: str,
+        d: int,
+        size: int,
+        scramble: Optional[str],
+        seed: int,
+        strength: Optional[int] = None,
+    ) -> None: ...
+    def fill(self, start: int, n: int) -> npt.NDArray[np.float64]: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def d(self) -> int: ...
+    @property
+    def randomized(self) -> bool: ...
+    @property
+    def passes(self) -> Tuple[str, int]: ...
+
+class RunResult:
+    def interval(self, output: Optional[int], level: float) -> Optional[Tuple[float, float]]: ...
+    def report(self) -> dict: ...
+
+def integrate_box(
+    g: Callable[[npt.NDArray[np.float64]], npt.NDArray[np.float64]],
+    lower: list,
+    upper: list,
+    outputs: int,
+    method: str,
+    *,
+    n: Optional[int] = None,
+    replicates: Optional[int] = None,
+    rtol: Optional[float] = None,
+    atol: Optional[float] = None,
+    max_evals: Optional[int] = None,
+    time_limit: Optional[float] = None,
+    seed: int = 0,
+    threads: Optional[int] = None,
+    sampler: Optional[str] = None,
+    scramble: Optional[str] = None,
+    ratio: Optional[Tuple[int, int]] = None,
+) -> RunResult: ...
+def sampler_names() -> list: ...
+def scramble_names() -> list: ...
+def sampler_info(name: str) -> Tuple[str, str]: ...

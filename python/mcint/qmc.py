@@ -1,0 +1,285 @@
+"""Point sets as ``scipy.stats.qmc`` engines.
+
+Each class draws the points of one of mcint's samplers with the methods of a
+``scipy.stats.qmc.QMCEngine`` (``random``, ``random_base2``, ``integers``, ``reset``,
+``fast_forward``), and subclasses it when scipy is installed, so that an engine can be
+passed where scipy takes one::
+
+    >>> import mcint.qmc
+    >>> engine = mcint.qmc.Sobol(d=3, seed=7)
+    >>> engine.random(4).shape
+    (4, 3)
+
+An integer seed gives the same bits as the Rust crate's samplers with that seed.
+
+The sequences (``Sobol``, ``Halton``, ``Lattice``, ``PMJ02``, ``Independent``) continue
+where the last call stopped. The point sets of a fixed size (``LatinHypercube``,
+``Jittered``, ``MultiJittered``, ...) give, on each call ``random(n)``, a new independent
+set of ``n`` points, as scipy's ``LatinHypercube`` does.
+"""
+
+import numpy as np
+
+from . import _native, _seed
+
+try:
+    from scipy.stats import qmc as _scipy_qmc
+
+    _Base = _scipy_qmc.QMCEngine
+except ImportError:  # scipy is optional
+    _Base = object
+
+__all__ = [
+    "Engine",
+    "Sobol",
+    "Halton",
+    "Lattice",
+    "PMJ02",
+    "Independent",
+    "LatinHypercube",
+    "Hammersley",
+    "Jittered",
+    "MultiJittered",
+    "CorrelatedMultiJittered",
+    "OrthogonalArray",
+    "MultiStageNRooks",
+    "PoissonDisk",
+    "BestCandidate",
+    "sampler_names",
+    "scramble_names",
+]
+
+
+def sampler_names():
+    """The sampler names :class:`Engine` accepts."""
+    return list(_native.sampler_names())
+
+
+def scramble_names():
+    """The randomizations :class:`Engine` accepts by name."""
+    return list(_native.scramble_names())
+
+
+class Engine(_Base):
+    """Any of mcint's samplers by name, as a scipy QMC engine.
+
+    Parameters
+    ----------
+    name : str
+        One of :func:`sampler_names` (``"sobol"``, ``"halton"``, ``"lattice"``, ...).
+    d : int
+        The dimension.
+    scramble : bool or str
+        ``True`` for the sampler's default randomization (Owen scrambling for Sobol',
+        random digit permutations for Halton, a random shift for lattices), ``False`` for
+        none, or a name from :func:`scramble_names`.
+    seed : None, int, numpy.random.Generator or SeedSequence
+        An integer gives the Rust crate's points for that seed. ``rng`` is a synonym.
+    strength : int, optional
+        The strength of ``"oa-bush"`` orthogonal arrays.
+    """
+
+    def __init__(
+        self, name, d, *, scramble=True, seed=None, rng=None, strength=None, optimization=None
+    ):
+        self._setup(name, d, scramble, seed, rng, strength, optimization)
+        self._init_quad = {"name": name, "d": d, "scramble": scramble, "strength": strength}
+
+    def _setup(self, name, d, scramble, seed, rng, strength, optimization):
+        if optimization is not None:
+            raise ValueError(
+                f"invalid optimization = {optimization!r}: mcint's engines take none (the "
+                "Rust crate's random_cd and lloyd are not in the Python package yet)"
+            )
+        if seed is not None and rng is not None:
+            raise TypeError("give seed or rng, not both")
+        seed = rng if rng is not None else seed
+        if isinstance(d, (bool, np.bool_)) or not isinstance(d, (int, np.integer)) or d < 1:
+            raise ValueError(f"invalid d = {d!r}: expected an integer >= 1")
+        passes, default_scramble = _native.sampler_info(name)
+        if scramble is True:
+            scramble_name = None
+        elif default_scramble == "none":
+            raise ValueError(
+                f"invalid scramble = {scramble!r}: the {name} sampler's randomization is built "
+                "in; leave scramble at True (scrambles apply to sobol, halton, hammersley and "
+                "lattice)"
+            )
+        elif scramble is False:
+            scramble_name = "none"
+        elif isinstance(scramble, str) and scramble in scramble_names():
+            scramble_name = scramble
+        elif isinstance(scramble, str):
+            raise ValueError(
+                f"invalid scramble = {scramble!r}: expected True, False or one of "
+                f"{', '.join(scramble_names())}"
+            )
+        else:
+            raise TypeError(
+                f"invalid scramble = {scramble!r}: expected True, False or one of "
+                f"{', '.join(scramble_names())}"
+            )
+        self.d = int(d)
+        self._name = name
+        self._scramble = scramble_name
+        self._strength = strength
+        self.rng_seed = seed
+        if seed is None:
+            self.rng = np.random.default_rng()
+            self.seed = _seed.to_int(self.rng)
+        else:
+            self.seed = _seed.to_int(seed)
+            self.rng = _seed.generator(seed)
+        self.optimization_method = None
+        self.num_generated = 0
+        self._fixed = passes == "fixed"
+        # Built once for the sequences; the fixed-size sets are built per call, for their n.
+        self._points = None
+        if not self._fixed:
+            self._points = _native.PointSet(name, self.d, 0, scramble_name, self.seed, strength)
+
+    def _point_set(self, n):
+        if not self._fixed:
+            return self._points
+        return _native.PointSet(
+            self._name, self.d, n, self._scramble, self.seed, self._strength
+        )
+
+    @property
+    def name(self):
+        """The sampler's name."""
+        return self._name
+
+    def random(self, n=1, *, workers=1):
+        """``n`` points in ``[0, 1)^d`` as an ``(n, d)`` array.
+
+        ``workers`` is accepted for scipy's signature; the points are generated in Rust.
+        """
+        return self._random(n, workers=workers)
+
+    def _random(self, n=1, *, workers=1):
+        # scipy's abstract method; here it also advances the engine, as random() does.
+        n = _count(n)
+        if self._fixed:
+            if n == 0:
+                return np.empty((0, self.d))
+            # A new whole set: the next pass of n points after those drawn so far.
+            passes = -(-self.num_generated // n)
+            sample = self._point_set(n).fill(passes * n, n)
+            self.num_generated = (passes + 1) * n
+            return sample
+        sample = self._points.fill(self.num_generated, n)
+        self.num_generated += n
+        return sample
+
+    def random_base2(self, m):
+        """``2**m`` points; the total drawn must stay a power of 2 (balance)."""
+        if isinstance(m, (bool, np.bool_)) or not isinstance(m, (int, np.integer)) or m < 0:
+            raise ValueError(f"invalid m = {m!r}: expected an integer >= 0")
+        n = 2 ** int(m)
+        total = self.num_generated + n
+        if total & (total - 1):
+            raise ValueError(
+                f"The balance properties of the points require n to be a power of 2. "
+                f"{self.num_generated} points have been previously generated, then: "
+                f"n={self.num_generated}+2**{m}={total}. If you still want to do this, "
+                f"the function 'random()' can be used."
+            )
+        return self.random(n)
+
+    def integers(self, l_bounds, u_bounds=None, n=1, *, endpoint=False, workers=1):
+        """``n`` integer points in ``[l_bounds, u_bounds)`` (``]`` with ``endpoint``), as
+        scipy: the unit points scaled to the bounds and rounded down."""
+        if u_bounds is None:
+            l_bounds, u_bounds = 0, l_bounds
+        lower = np.broadcast_to(np.asarray(l_bounds), (self.d,))
+        upper = np.broadcast_to(np.asarray(u_bounds), (self.d,))
+        if not (np.issubdtype(lower.dtype, np.integer) and np.issubdtype(upper.dtype, np.integer)):
+            raise ValueError("'u_bounds' and 'l_bounds' must be integers or array-like of integers")
+        if endpoint:
+            upper = upper + 1
+        if np.any(lower >= upper):
+            raise ValueError("Bounds are not consistent 'l_bounds' < 'u_bounds'")
+        sample = self.random(n)
+        return np.floor(lower + sample * (upper - lower)).astype(np.int64)
+
+    def reset(self):
+        """Back to the first point, with the same randomization."""
+        self.rng = _seed.generator(self.rng_seed)
+        self.num_generated = 0
+        return self
+
+    def fast_forward(self, n):
+        """Skips ``n`` points."""
+        self.num_generated += _count(n)
+        return self
+
+    def __repr__(self):
+        return f"{type(self).__name__}(d={self.d}, seed={self.seed})"
+
+
+def _count(n):
+    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 0:
+        raise ValueError(f"invalid n = {n!r}: expected an integer >= 0")
+    return int(n)
+
+
+def _named(class_name, sampler, doc):
+    """An :class:`Engine` subclass for one sampler, built as scipy builds its engines:
+    ``Class(d, *, scramble=True, seed=None)``."""
+
+    def __init__(self, d, *, scramble=True, seed=None, rng=None, optimization=None):
+        self._setup(sampler, d, scramble, seed, rng, None, optimization)
+        self._init_quad = {"d": d, "scramble": scramble}
+
+    return type(class_name, (Engine,), {"__init__": __init__, "__doc__": doc, "__module__": __name__})
+
+
+Sobol = _named(
+    "Sobol",
+    "sobol",
+    "The Sobol' sequence (Joe-Kuo direction numbers, as scipy's); ``scramble=True`` is Owen "
+    "scrambling, ``'lms'`` a linear matrix scramble with a digital shift, ``False`` the "
+    "plain sequence (scipy's ``Sobol(scramble=False)`` bit for bit).",
+)
+Halton = _named(
+    "Halton",
+    "halton",
+    "The Halton sequence; ``scramble=True`` permutes digits at random, ``'owen'`` Owen-scrambles, "
+    "``False`` gives the plain sequence (scipy's ``Halton(scramble=False)``).",
+)
+Lattice = _named(
+    "Lattice",
+    "lattice",
+    "A rank-1 lattice rule (extensible, radical-inverse order); ``scramble=True`` is a random shift.",
+)
+PMJ02 = _named("PMJ02", "pmj02", "The progressive multi-jittered (0,2) sequence (2-D strata per pair).")
+Independent = _named("Independent", "independent", "Independent uniform points (PCG64).")
+LatinHypercube = _named(
+    "LatinHypercube",
+    "latin",
+    "Latin hypercube (N-rooks) sets: each ``random(n)`` a new set of ``n`` points.",
+)
+Hammersley = _named("Hammersley", "hammersley", "Hammersley sets of ``n`` points.")
+Jittered = _named("Jittered", "jittered", "Stratified (jittered) sets; ``n`` must be ``k**d``.")
+MultiJittered = _named("MultiJittered", "multijitter", "Multi-jittered sets of ``n = m * k`` points.")
+CorrelatedMultiJittered = _named(
+    "CorrelatedMultiJittered", "cmj", "Correlated multi-jittered sets (Kensler) of ``n`` points."
+)
+MultiStageNRooks = _named(
+    "MultiStageNRooks", "nrooks-multistage", "Multi-stage N-rooks sets of ``n = k**d`` points."
+)
+PoissonDisk = _named("PoissonDisk", "poisson", "Poisson-disk (blue noise) sets of ``n`` points.")
+BestCandidate = _named(
+    "BestCandidate", "best-candidate", "Mitchell's best-candidate blue-noise sets of ``n`` points."
+)
+
+
+class OrthogonalArray(Engine):
+    """Orthogonal arrays with multi-jittered offsets: ``strength=2`` by Bose's construction
+    (``n = p**2``, ``p`` prime), higher strengths by Bush's (``n = p**strength``)."""
+
+    def __init__(self, d, *, strength=2, scramble=True, seed=None, rng=None, optimization=None):
+        name = "oa-bose" if strength == 2 else "oa-bush"
+        self._setup(name, d, scramble, seed, rng, strength, optimization)
+        self._init_quad = {"d": d, "strength": strength, "scramble": scramble}

@@ -1,0 +1,20 @@
+//! The library's errors as Python exceptions.
+
+use pyo3::PyErr;
+use pyo3::exceptions::{PyFloatingPointError, PyRuntimeError, PyValueError};
+
+/// A library error as the exception a Python user expects: bad parameters are a
+/// `ValueError` carrying the library's message (what was given and what is allowed); an
+/// integrand that returned NaN or an infinity is a `FloatingPointError`; a run that could
+/// not finish is a `RuntimeError`.
+pub fn to_py(error: mcint::Error) -> PyErr {
+    match error {
+        mcint::Error::NonFiniteContribution { .. } => {
+            PyFloatingPointError::new_err(error.to_string())
+        }
+        mcint::Error::Interrupted { .. } | mcint::Error::IntegrandPanicked { .. } => {
+            PyRuntimeError::new_err(error.to_string())
+        }
+        _ => PyValueError::new_err(error.to_string()),
+    }
+}

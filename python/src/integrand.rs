@@ -1,0 +1,104 @@
+//! `PyIntegrand`: a vectorized Python function as the library's integrand, batch or point.
+
+use std::sync::Mutex;
+
+use mcint::{CancelToken, Points};
+use numpy::npyffi::NPY_ORDER;
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+/// A Python callable `g(x) -> y` taking an `(n, d)` float64 array and returning a contiguous
+/// float64 array of `n * outputs` values, output-major (`y[k * n + i]` is output `k` at
+/// point `i`; the Python layer reshapes the user's `f` into this form). The first exception
+/// it raises is kept, the run is cancelled, and every later call returns NaN without
+/// calling it, so that the run stops at the next chunk and the exception reaches the caller.
+pub struct PyIntegrand {
+    g: Py<PyAny>,
+    outputs: usize,
+    failure: Mutex<Option<PyErr>>,
+    cancel: CancelToken,
+}
+
+impl PyIntegrand {
+    pub fn new(g: Py<PyAny>, outputs: usize, cancel: CancelToken) -> Self {
+        PyIntegrand {
+            g,
+            outputs,
+            failure: Mutex::new(None),
+            cancel,
+        }
+    }
+
+    /// The exception that stopped the run, if any (taken once).
+    pub fn take_failure(&self) -> Option<PyErr> {
+        self.lock().take()
+    }
+
+    /// Stops the run with `error` (the first one wins).
+    pub fn fail(&self, error: PyErr) {
+        self.lock().get_or_insert(error);
+        self.cancel.cancel();
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Option<PyErr>> {
+        // A poisoned lock only means another thread panicked while holding it; the slot is
+        // still a plain Option.
+        self.failure.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn failed(&self) -> bool {
+        self.lock().is_some()
+    }
+
+    /// `g` on a block of points: `out[k * n + i]` is output `k` at point `i`.
+    pub fn batch(&self, points: &Points, out: &mut [f64]) {
+        let (n, d) = (points.len(), points.dims());
+        let mut columns = Vec::with_capacity(n * d);
+        for k in 0..d {
+            columns.extend_from_slice(points.column(k));
+        }
+        self.call(columns, n, d, out);
+    }
+
+    /// `g` at one point: `out[k]` is output `k`.
+    pub fn point(&self, x: &[f64], out: &mut [f64]) {
+        self.call(x.to_vec(), 1, x.len(), out);
+    }
+
+    /// `g` at one point of a scalar integrand.
+    pub fn scalar(&self, x: &[f64]) -> f64 {
+        let mut y = [0.0];
+        self.point(x, &mut y);
+        y[0]
+    }
+
+    /// Calls `g` on `n` points given as `d` columns of `columns`, into `out`.
+    fn call(&self, columns: Vec<f64>, n: usize, d: usize, out: &mut [f64]) {
+        if self.failed() {
+            out.fill(f64::NAN);
+            return;
+        }
+        let called = Python::attach(|py| -> PyResult<()> {
+            // Fortran order: each coordinate a contiguous column, as the library holds it.
+            let x = PyArray1::from_vec(py, columns)
+                .reshape_with_order([n, d], NPY_ORDER::NPY_FORTRANORDER)?;
+            let y = self.g.call1(py, (x,))?;
+            let y: PyReadonlyArray1<f64> = y.extract(py)?;
+            let y = y.as_slice()?;
+            if y.len() != n * self.outputs {
+                return Err(PyValueError::new_err(format!(
+                    "the integrand returned {} values for {n} points and {} outputs",
+                    y.len(),
+                    self.outputs
+                )));
+            }
+            out.copy_from_slice(y);
+            Ok(())
+        });
+        if let Err(error) = called {
+            self.fail(error);
+            out.fill(f64::NAN);
+        }
+    }
+}

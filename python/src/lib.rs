@@ -1,0 +1,25 @@
+//! `mcint._native`: the Rust side of the Python package. The Python modules in `mcint/`
+//! give it its public shape (scipy engines, `integrate`, the result type); this module
+//! only moves numbers between numpy and the library, and runs the library with the
+//! interpreter's lock released.
+
+use pyo3::prelude::*;
+
+mod errors;
+mod integrand;
+mod point_set;
+mod result;
+mod run;
+
+/// The extension module.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<point_set::PointSet>()?;
+    m.add_class::<result::RunResult>()?;
+    m.add_function(wrap_pyfunction!(run::integrate_box, m)?)?;
+    m.add_function(wrap_pyfunction!(point_set::sampler_names, m)?)?;
+    m.add_function(wrap_pyfunction!(point_set::scramble_names, m)?)?;
+    m.add_function(wrap_pyfunction!(point_set::sampler_info, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
