@@ -1,9 +1,10 @@
 //! [`Run`]: what every runner is to a program that chooses its method at run time.
 
-use crate::adaptive::{Miser, SobolG, TwoStage, Vegas, VegasOutputs};
+use crate::adaptive::{Miser, SobolG, TwoStage, Vegas, VegasBatch, VegasOutputs};
 use crate::error::Result;
 use crate::estimator::Estimator;
 use crate::integrate::{Integration, Integrator};
+use crate::points::Points;
 use crate::stats::{Estimate, VectorEstimate};
 
 /// A configured run of any method: the [`Integrator`] (scalar or vector), [`Vegas`] (scalar
@@ -70,6 +71,12 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run for Vegas<F> {
 }
 
 impl<G: Fn(&[f64], &mut [f64]) + Sync> Run for Vegas<VegasOutputs<G>> {
+    fn run_vector(&self) -> Result<VectorEstimate> {
+        self.run()
+    }
+}
+
+impl<G: Fn(&Points, &mut [f64]) + Sync> Run for Vegas<VegasOutputs<VegasBatch<G>>> {
     fn run_vector(&self) -> Result<VectorEstimate> {
         self.run()
     }

@@ -22,5 +22,5 @@ mod walsh;
 pub use miser::Miser;
 pub use sobol_g::SobolG;
 pub use two_stage::{TwoStage, strata_per_axis_for};
-pub use vegas::{Vegas, VegasOutputs};
+pub use vegas::{Vegas, VegasBatch, VegasOutputs};
 pub use vegas_grid::VegasGrid;

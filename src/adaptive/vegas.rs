@@ -58,12 +58,13 @@ use crate::engine::{self, Drive, RunConfig, Targets, require_randomized, run_set
 use crate::error::{Error, Result};
 use crate::estimator::checked_outputs;
 use crate::pdf::{Pdf, UniformBox};
+use crate::points::Points;
 use crate::sampler::{PassKind, Sampler};
 use crate::stats::{Derived, Estimate, Tolerance, VectorEstimate};
 use combination::VectorCombination;
 use growth::Growth;
-pub use integrand::VegasOutputs;
 use integrand::{Integrand, Scalar};
+pub use integrand::{VegasBatch, VegasOutputs};
 use stages::Iterations;
 use strata::Strata;
 
@@ -626,6 +627,32 @@ impl<G: Fn(&[f64], &mut [f64]) + Sync> Vegas<VegasOutputs<G>> {
         Vegas::with_defaults(f, domain)
     }
 
+    /// Runs the warm-up and the iterations and combines the latter, for every output.
+    ///
+    /// Errors as [`Vegas::run`] does, and when the number of outputs is 0 or above
+    /// [`MAX_OUTPUTS`](crate::estimator::MAX_OUTPUTS), the per-output tolerances are not one
+    /// per output, or a derived quantity names an output that does not exist; a non-finite
+    /// value is reported with its output.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Vegas, pdf::UniformBox};
+    /// let f = |x: &[f64], out: &mut [f64]| out[0] = x[0]; // out[1] never written
+    /// let err = Vegas::new_vector(2, f, UniformBox::unit(1).unwrap()).run().unwrap_err();
+    /// assert!(err.to_string().contains("in output 1"), "{err}");
+    /// ```
+    pub fn run(&self) -> Result<VectorEstimate> {
+        let targets = Targets::new(
+            self.f.outputs,
+            self.config.tolerance,
+            self.f.output_tolerances.as_deref(),
+            &self.f.derived_tolerances,
+        )?;
+        self.run_engine(&self.f, &targets)?.checked()
+    }
+}
+
+/// The settings of vector runs, per point or by blocks.
+impl<G> Vegas<VegasOutputs<G>> {
     /// A tolerance for each output (one per output): the run stops when every output meets
     /// its own (see [`Integrator::output_tolerances`](crate::Integrator::output_tolerances)).
     ///
@@ -662,19 +689,49 @@ impl<G: Fn(&[f64], &mut [f64]) + Sync> Vegas<VegasOutputs<G>> {
         self.f.derived_tolerances.push((quantity, tolerance));
         self
     }
+}
 
-    /// Runs the warm-up and the iterations and combines the latter, for every output.
-    ///
-    /// Errors as [`Vegas::run`] does, and when the number of outputs is 0 or above
-    /// [`MAX_OUTPUTS`](crate::estimator::MAX_OUTPUTS), the per-output tolerances are not one
-    /// per output, or a derived quantity names an output that does not exist; a non-finite
-    /// value is reported with its output.
+impl<G: Fn(&Points, &mut [f64]) + Sync> Vegas<VegasOutputs<VegasBatch<G>>> {
+    /// VEGAS (or VEGAS+) for an integrand evaluated a block of points at a time:
+    /// `f(points, out)` gets up to 512 points of the domain (one column per axis) and writes
+    /// output `k` at point `i` to `out[k * n + i]`. For integrands that pay a cost per call
+    /// (an interpreter, a GPU kernel, vectorized code); with the same arithmetic per point,
+    /// the result has the bits of [`new_vector`](Vegas::new_vector) (or of [`new`](Vegas::new)
+    /// for one output).
     ///
     /// ```
-    /// use mcint::{adaptive::Vegas, pdf::UniformBox};
-    /// let f = |x: &[f64], out: &mut [f64]| out[0] = x[0]; // out[1] never written
-    /// let err = Vegas::new_vector(2, f, UniformBox::unit(1).unwrap()).run().unwrap_err();
-    /// assert!(err.to_string().contains("in output 1"), "{err}");
+    /// use mcint::{Points, adaptive::Vegas, pdf::UniformBox};
+    /// let peak = |x: &[f64]| (-x.iter().map(|v| 100.0 * (v - 0.4).powi(2)).sum::<f64>()).exp();
+    /// let block = |p: &Points, out: &mut [f64]| {
+    ///     let mut x = [0.0; 3];
+    ///     for (i, y) in out.iter_mut().enumerate() {
+    ///         p.copy_point(i, &mut x);
+    ///         *y = peak(&x);
+    ///     }
+    /// };
+    /// let square = || UniformBox::unit(3).unwrap();
+    /// let batch = Vegas::new_batch(1, block, square()).samples(2000).seed(3).run().unwrap();
+    /// let point = Vegas::new(peak, square()).samples(2000).seed(3).run().unwrap();
+    /// assert_eq!(batch.outputs[0], point);
+    /// ```
+    pub fn new_batch(outputs: usize, f: G, domain: UniformBox) -> Self {
+        let f = VegasOutputs {
+            outputs,
+            f: VegasBatch(f),
+            output_tolerances: None,
+            derived_tolerances: Vec::new(),
+        };
+        Vegas::with_defaults(f, domain)
+    }
+
+    /// Runs the warm-up and the iterations and combines the latter, for every output; errors
+    /// as [`run`](Vegas::run) of [`new_vector`](Vegas::new_vector).
+    ///
+    /// ```
+    /// use mcint::{Points, adaptive::Vegas, pdf::UniformBox};
+    /// let unwritten = |_: &Points, _: &mut [f64]| {};
+    /// let err = Vegas::new_batch(1, unwritten, UniformBox::unit(1).unwrap()).run().unwrap_err();
+    /// assert!(err.to_string().contains("non-finite"), "{err}");
     /// ```
     pub fn run(&self) -> Result<VectorEstimate> {
         let targets = Targets::new(

@@ -286,28 +286,38 @@ pub(super) struct Scratch {
     points: Points,
     /// The block's points, one row per point.
     rows: Vec<f64>,
+    /// The block's points mapped through the grid, one row per point; their Jacobians; and
+    /// the grid cell of each coordinate.
     x: Vec<f64>,
+    jacobians: Vec<f64>,
     cells: Vec<usize>,
+    /// The mapped block, one column per axis, for integrands that take blocks.
+    mapped: Points,
     /// Coordinates of the current hypercube, as integers and as floats.
     coords: Vec<u64>,
     coords_f: Vec<f64>,
-    /// One point's outputs.
+    /// The block's outputs (`k * len + i`), and one point's.
     values: Vec<f64>,
+    point: Vec<f64>,
 }
 
 impl Scratch {
     fn new<I: Integrand>(pass: &Pass<I>) -> Result<Scratch> {
         let dims = pass.grid.dims();
         let block = (BLOCK_COORDINATES / dims.max(1)).clamp(1, BLOCK);
+        let m = pass.f.outputs();
         Ok(Scratch {
             block,
             points: Points::new(dims, block)?,
             rows: vec![0.0; dims * block],
-            x: vec![0.0; dims],
-            cells: vec![0; dims],
+            x: vec![0.0; dims * block],
+            jacobians: vec![0.0; block],
+            cells: vec![0; dims * block],
+            mapped: Points::new(dims, block)?,
             coords: vec![0; dims],
             coords_f: vec![0.0; dims],
-            values: vec![0.0; pass.f.outputs()],
+            values: vec![0.0; m * block],
+            point: vec![0.0; m],
         })
     }
 
@@ -343,7 +353,9 @@ impl Scratch {
         }
     }
 
-    /// Evaluates chunk `chunk` into `out`.
+    /// Evaluates chunk `chunk` into `out`, block by block: the block's points are mapped
+    /// through the grid (walking the hypercubes they fall in), evaluated together, then summed
+    /// per hypercube (walking the hypercubes again).
     fn run_chunk<I: Integrand>(
         &mut self,
         pass: &Pass<I>,
@@ -354,15 +366,18 @@ impl Scratch {
     ) -> Result<bool> {
         let start = pass.chunks[chunk];
         let end = pass.chunks.get(chunk + 1).map_or(pass.total, |c| c.index);
-        let dims = self.x.len();
+        let dims = self.coords.len();
         let grid = pass.grid;
         let strata = pass.strata;
         out.reset(&start);
 
+        // The hypercube being summed, its points still to come, and whether it began in an
+        // earlier chunk; the mapping runs ahead within a block with its own count.
         let mut cube = start.cube;
         self.set_coords(cube, strata);
         let mut cube_n = pass.allocation.evaluations(cube);
         let mut remaining = cube_n - start.offset;
+        let (mut mapping_cube, mut mapping_remaining) = (cube, remaining);
         let mut continued = start.offset > 0;
         // Each point's share of y-space volume weights its training data, so that the
         // per-increment averages of (J f)^2 are consistent under any allocation.
@@ -386,32 +401,43 @@ impl Scratch {
                 }
             }
             for j in 0..len {
+                if mapping_remaining == 0 {
+                    mapping_cube += 1;
+                    self.next_coords(strata);
+                    mapping_remaining = pass.allocation.evaluations(mapping_cube);
+                }
+                mapping_remaining -= 1;
+                let mut jacobian = 1.0;
+                for d in 0..dims {
+                    let y = (self.coords_f[d] + self.rows[j * dims + d]) * strata.inverse[d];
+                    let (x, factor, cell) = grid.map_axis(d, y);
+                    self.x[j * dims + d] = x;
+                    self.cells[j * dims + d] = cell;
+                    jacobian *= factor;
+                }
+                self.jacobians[j] = jacobian;
+            }
+            self.mapped.set_len(len);
+            let values = &mut self.values[..m * len];
+            pass.f
+                .eval_block(&self.x[..len * dims], &mut self.mapped, values);
+            for j in 0..len {
                 if remaining == 0 {
                     out.close_cube(&sums, continued, pass);
                     continued = false;
                     sums.clear();
                     cube += 1;
-                    self.next_coords(strata);
                     cube_n = pass.allocation.evaluations(cube);
                     remaining = cube_n;
                     share = strata.cube_volume / cube_n as f64;
                 }
                 remaining -= 1;
-                let u = &self.rows[j * dims..(j + 1) * dims];
-                let mut jacobian = 1.0;
-                for (d, &u) in u.iter().enumerate() {
-                    let y = (self.coords_f[d] + u) * strata.inverse[d];
-                    let (x, factor, cell) = grid.map_axis(d, y);
-                    self.x[d] = x;
-                    self.cells[d] = cell;
-                    jacobian *= factor;
-                }
-                let values = &mut self.values[..m];
-                pass.f.eval(&self.x, values);
+                let jacobian = self.jacobians[j];
+                let point = &mut self.point[..m];
                 let mut weighted = 0.0;
                 let mut bad = None;
-                for (k, (y, w)) in values.iter_mut().zip(&pass.weights[..m]).enumerate() {
-                    *y *= jacobian;
+                for (k, (y, w)) in point.iter_mut().zip(&pass.weights[..m]).enumerate() {
+                    *y = self.values[k * len + j] * jacobian;
                     if !y.is_finite() {
                         bad.get_or_insert((k, *y));
                     }
@@ -422,9 +448,9 @@ impl Scratch {
                     out.first_non_finite.get_or_insert((index + j as u64, v, k));
                     continue;
                 }
-                sums.push(values);
+                sums.push(point);
                 let weighted = weighted * share;
-                for &cell in &self.cells {
+                for &cell in &self.cells[j * dims..(j + 1) * dims] {
                     training[2 * cell] += weighted;
                     training[2 * cell + 1] += share;
                 }
