@@ -693,7 +693,7 @@ impl<G> Vegas<VegasOutputs<G>> {
 
 impl<G: Fn(&Points, &mut [f64]) + Sync> Vegas<VegasOutputs<VegasBatch<G>>> {
     /// VEGAS (or VEGAS+) for an integrand evaluated a block of points at a time:
-    /// `f(points, out)` gets up to 512 points of the domain (one column per axis) and writes
+    /// `f(points, out)` gets up to 4096 points of the domain (one column per axis) and writes
     /// output `k` at point `i` to `out[k * n + i]`. For integrands that pay a cost per call
     /// (an interpreter, a GPU kernel, vectorized code); with the same arithmetic per point,
     /// the result has the bits of [`new_vector`](Vegas::new_vector) (or of [`new`](Vegas::new)

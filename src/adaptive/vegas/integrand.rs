@@ -8,6 +8,12 @@ pub(super) trait Integrand: Sync {
     /// Number of outputs `m`.
     fn outputs(&self) -> usize;
 
+    /// The most points evaluated together: a cache-sized block for a per-point integrand,
+    /// larger for one that pays per call.
+    fn block(&self) -> usize {
+        512
+    }
+
     /// Writes `f_k` at point `i` of `rows` (one row of `dims` coordinates per point, in
     /// `points` when the integrand takes blocks: the same coordinates, one column per axis)
     /// to `out[k * n + i]`, for the `n` points of the block.
@@ -91,7 +97,7 @@ impl<F: Fn(&[f64], &mut [f64]) + Sync> Integrand for VegasOutputs<F> {
     }
 }
 
-/// An integrand evaluated a block of points at a time, `f(points, out)` writing output `k` at
+/// An integrand evaluated a block of points (up to 4096) at a time, `f(points, out)` writing output `k` at
 /// point `i` to `out[k * n + i]` (the layout of
 /// [`Integrator::over_box_vector_batch`](crate::Integrator::over_box_vector_batch)): what
 /// [`Vegas::new_batch`](super::super::Vegas::new_batch) wraps, for integrands that pay a cost
@@ -109,6 +115,10 @@ pub struct VegasBatch<G>(pub(super) G);
 impl<G: Fn(&Points, &mut [f64]) + Sync> Integrand for VegasOutputs<VegasBatch<G>> {
     fn outputs(&self) -> usize {
         self.outputs
+    }
+
+    fn block(&self) -> usize {
+        4096
     }
 
     #[inline]

@@ -20,8 +20,6 @@ use crate::points::Points;
 use crate::sampler::Sampler;
 use crate::stats::StopReason;
 
-/// Points drawn from the sampler at once, at most.
-const BLOCK: usize = 512;
 /// Coordinates drawn at once, at most (about): a block of a high dimension is a few points,
 /// so that limits are checked every few milliseconds whatever the dimension.
 const BLOCK_COORDINATES: usize = 1 << 16;
@@ -304,7 +302,7 @@ pub(super) struct Scratch {
 impl Scratch {
     fn new<I: Integrand>(pass: &Pass<I>) -> Result<Scratch> {
         let dims = pass.grid.dims();
-        let block = (BLOCK_COORDINATES / dims.max(1)).clamp(1, BLOCK);
+        let block = (BLOCK_COORDINATES / dims.max(1)).clamp(1, pass.f.block());
         let m = pass.f.outputs();
         Ok(Scratch {
             block,
