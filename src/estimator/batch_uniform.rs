@@ -2,6 +2,8 @@
 
 use super::Estimator;
 use super::box_block::{evaluate_scaled, is_unit, with_mapped};
+use super::{DEFAULT_POINTS_PER_CALL, MAX_POINTS_PER_CALL};
+use crate::error::{Error, Result};
 use crate::pdf::{Pdf, UniformBox};
 use crate::points::Points;
 
@@ -53,6 +55,8 @@ pub struct BatchUniformEstimator<F> {
     domain: UniformBox,
     /// The domain is `[0,1)^d`: canonical points need no mapping.
     unit: bool,
+    /// The most points per call of `f`.
+    per_call: usize,
 }
 
 impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchUniformEstimator<F> {
@@ -65,7 +69,41 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchUniformEstimator<F> {
     /// ```
     pub fn new(f: F, domain: UniformBox) -> Self {
         let unit = is_unit(&domain);
-        BatchUniformEstimator { f, domain, unit }
+        BatchUniformEstimator {
+            f,
+            domain,
+            unit,
+            per_call: DEFAULT_POINTS_PER_CALL,
+        }
+    }
+
+    /// Asks for blocks of up to `points` (1 to 2^20; default 1024) per call of `f`: more for
+    /// an integrand that pays a cost per call (an interpreter, a GPU kernel). The Integrator
+    /// still sums contributions 1024 at a time, so the estimate has the same bits.
+    ///
+    /// ```
+    /// use mcint::estimator::{BatchUniformEstimator, Estimator};
+    /// use mcint::{Integrator, Points, pdf::UniformBox};
+    /// let sum = |p: &Points, out: &mut [f64]| {
+    ///     assert!(p.len() <= 8192);
+    ///     for (y, (a, b)) in out.iter_mut().zip(p.column(0).iter().zip(p.column(1))) {
+    ///         *y = a + b;
+    ///     }
+    /// };
+    /// let square = || UniformBox::unit(2).unwrap();
+    /// let big = BatchUniformEstimator::new(sum, square()).with_points_per_call(8192).unwrap();
+    /// assert_eq!(big.points_per_call(), 8192);
+    /// let by_8192 = Integrator::new(big).samples(20_000).run().unwrap();
+    /// let by_1024 = Integrator::over_box_batch(sum, square()).samples(20_000).run().unwrap();
+    /// assert_eq!(by_8192, by_1024);
+    /// assert!(BatchUniformEstimator::new(sum, square()).with_points_per_call(0).is_err());
+    /// ```
+    pub fn with_points_per_call(mut self, points: usize) -> Result<Self> {
+        if !(1..=MAX_POINTS_PER_CALL).contains(&points) {
+            return Err(Error::invalid("points_per_call", points, "1 to 2^20"));
+        }
+        self.per_call = points;
+        Ok(self)
     }
 
     /// The integration domain.
@@ -86,6 +124,10 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchUniformEstimator<F> {
 }
 
 impl<F: Fn(&Points, &mut [f64]) + Send + Sync> Estimator for BatchUniformEstimator<F> {
+    fn points_per_call(&self) -> usize {
+        self.per_call
+    }
+
     fn canonical_dims(&self) -> usize {
         self.domain.dims()
     }

@@ -45,6 +45,13 @@ mod vector_uniform;
 mod warp_importance;
 
 pub use batch_uniform::BatchUniformEstimator;
+
+/// The points an estimator gets per call unless it asks for more (see
+/// [`Estimator::points_per_call`]): also the block the Integrator sums at a time.
+pub(crate) const DEFAULT_POINTS_PER_CALL: usize = 1024;
+
+/// The most points per call an estimator may ask for.
+pub(crate) const MAX_POINTS_PER_CALL: usize = 1 << 20;
 pub use consistent_biased::ConsistentBiased;
 pub use expectation::{ExpectationEstimator, VectorExpectationEstimator};
 pub use fitted_control_variates::{ControlFit, FittedControlVariates};
@@ -104,6 +111,21 @@ pub trait Estimator: Send + Sync {
         }
     }
 
+    /// The most points [`contributions`](Self::contributions) should get in one call: 1024
+    /// by default (a block that stays in cache); more for an integrand that pays a cost per
+    /// call (see [`BatchUniformEstimator::points_per_call`]). The Integrator still sums
+    /// contributions 1024 at a time, so the hint never changes a result's bits.
+    ///
+    /// ```
+    /// use mcint::estimator::{Estimator, UniformEstimator};
+    /// use mcint::pdf::UniformBox;
+    /// let e = UniformEstimator::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap());
+    /// assert_eq!(e.points_per_call(), 1024);
+    /// ```
+    fn points_per_call(&self) -> usize {
+        DEFAULT_POINTS_PER_CALL
+    }
+
     /// Integrand evaluations one contribution costs (default 1; a multi-sample MIS
     /// contribution evaluates the integrand once per sample of every technique), so that runs
     /// report, and limit, true evaluation counts.
@@ -159,6 +181,10 @@ macro_rules! forward_estimator {
 
             fn evaluations_per_contribution(&self) -> u64 {
                 (**self).evaluations_per_contribution()
+            }
+
+            fn points_per_call(&self) -> usize {
+                (**self).points_per_call()
             }
 
             fn pilot(&self) -> Option<&dyn PilotFit> {

@@ -55,6 +55,19 @@ pub trait VectorEstimator: Send + Sync {
         }
     }
 
+    /// The most points [`contributions`](Self::contributions) should get in one call (see
+    /// [`Estimator::points_per_call`]; default 1024).
+    ///
+    /// ```
+    /// use mcint::estimator::{VectorEstimator, VectorUniformEstimator};
+    /// use mcint::pdf::UniformBox;
+    /// let e = VectorUniformEstimator::new(2, |x: &[f64], o: &mut [f64]| o.fill(x[0]), UniformBox::unit(1).unwrap());
+    /// assert_eq!(e.points_per_call(), 1024);
+    /// ```
+    fn points_per_call(&self) -> usize {
+        super::DEFAULT_POINTS_PER_CALL
+    }
+
     /// Integrand evaluations one point costs (default 1, for all `m` outputs together).
     ///
     /// ```
@@ -96,5 +109,9 @@ impl VectorEstimator for SingleOutput<'_> {
 
     fn evaluations_per_contribution(&self) -> u64 {
         self.0.evaluations_per_contribution()
+    }
+
+    fn points_per_call(&self) -> usize {
+        self.0.points_per_call()
     }
 }

@@ -3,6 +3,8 @@
 
 use super::VectorEstimator;
 use super::box_block::{evaluate_scaled, is_unit, with_mapped};
+use super::{DEFAULT_POINTS_PER_CALL, MAX_POINTS_PER_CALL};
+use crate::error::{Error, Result};
 use crate::pdf::{Pdf, UniformBox};
 use crate::points::Points;
 
@@ -39,6 +41,8 @@ pub struct BatchVectorUniformEstimator<F> {
     f: F,
     domain: UniformBox,
     unit: bool,
+    /// The most points per call of `f`.
+    per_call: usize,
 }
 
 impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchVectorUniformEstimator<F> {
@@ -58,7 +62,27 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchVectorUniformEstimator<F> {
             f,
             domain,
             unit,
+            per_call: DEFAULT_POINTS_PER_CALL,
         }
+    }
+
+    /// Asks for blocks of up to `points` (1 to 2^20; default 1024) per call of `f`: more for
+    /// an integrand that pays a cost per call (an interpreter, a GPU kernel). The Integrator
+    /// still sums contributions 1024 at a time, so the estimate has the same bits.
+    ///
+    /// ```
+    /// use mcint::estimator::{BatchVectorUniformEstimator, VectorEstimator};
+    /// use mcint::pdf::UniformBox;
+    /// let f = |_: &mcint::Points, out: &mut [f64]| out.fill(1.0);
+    /// let e = BatchVectorUniformEstimator::new(2, f, UniformBox::unit(1).unwrap());
+    /// assert_eq!(e.with_points_per_call(4096).unwrap().points_per_call(), 4096);
+    /// ```
+    pub fn with_points_per_call(mut self, points: usize) -> Result<Self> {
+        if !(1..=MAX_POINTS_PER_CALL).contains(&points) {
+            return Err(Error::invalid("points_per_call", points, "1 to 2^20"));
+        }
+        self.per_call = points;
+        Ok(self)
     }
 
     fn evaluate(&self, mapped: &Points, out: &mut [f64]) {
@@ -68,6 +92,10 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchVectorUniformEstimator<F> {
 }
 
 impl<F: Fn(&Points, &mut [f64]) + Send + Sync> VectorEstimator for BatchVectorUniformEstimator<F> {
+    fn points_per_call(&self) -> usize {
+        self.per_call
+    }
+
     fn outputs(&self) -> usize {
         self.outputs
     }

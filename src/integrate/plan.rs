@@ -9,8 +9,10 @@ use crate::points::Points;
 use crate::sampler::{PassKind, Sampler};
 use crate::stats::{Accumulator, CovarianceAccumulator, StopReason, VectorEstimate, Warning};
 
-/// Points generated and evaluated together: small enough to stay in L1/L2 cache.
-const BLOCK: u64 = 1024;
+/// Points summed together (and, unless the estimator asks for more per call, generated and
+/// evaluated together): small enough to stay in L1/L2 cache. The summation blocks fix the
+/// result's bits, so they never change with the estimator's call size.
+const BLOCK: u64 = crate::estimator::DEFAULT_POINTS_PER_CALL as u64;
 /// The most replicates of a run (each keeps an accumulator in memory).
 pub(super) const MAX_REPLICATES: u64 = 1 << 20;
 /// Chunk results held in memory at once by a run: bounds the memory of huge runs.
@@ -551,6 +553,16 @@ impl<'a> Chunks<'a> {
 pub(super) struct Workspace {
     points: Points,
     values: Vec<f64>,
+    /// One summation block of every output, when a call holds several (for the covariance).
+    block: Vec<f64>,
+}
+
+impl Chunks<'_> {
+    /// Points per call of the estimator: what it asks for, in whole summation blocks.
+    fn call(&self) -> u64 {
+        let asked = self.estimator.points_per_call().max(1) as u64;
+        asked.div_ceil(BLOCK) * BLOCK
+    }
 }
 
 impl ChunkJob for Chunks<'_> {
@@ -558,9 +570,16 @@ impl ChunkJob for Chunks<'_> {
     type Output = ChunkResult;
 
     fn scratch(&self) -> Result<Workspace> {
+        let call = self.call() as usize;
+        let m = self.estimator.outputs();
         Ok(Workspace {
-            points: Points::new(self.sampler.dims(), BLOCK as usize)?,
-            values: vec![0.0; BLOCK as usize * self.estimator.outputs()],
+            points: Points::new(self.sampler.dims(), call)?,
+            values: vec![0.0; call * m],
+            block: if call > BLOCK as usize && self.covariance {
+                vec![0.0; BLOCK as usize * m]
+            } else {
+                Vec::new()
+            },
         })
     }
 
@@ -578,35 +597,49 @@ impl ChunkJob for Chunks<'_> {
             .then(|| CovarianceAccumulator::new(m))
             .transpose()?;
         let mut first_non_finite = None;
+        let call = self.call();
         let mut start = first;
         while start < end {
             if start > first && limits.reached().is_some() {
                 return Ok(None);
             }
-            let len = (end - start).min(BLOCK) as usize;
+            let len = (end - start).min(call) as usize;
             work.points.set_len(len);
             self.sampler.fill(base + start, &mut work.points)?;
             let values = &mut work.values[..len * m];
             self.estimator.contributions(&work.points, values);
-            let mut finite = true;
-            for (acc, column) in accumulators.iter_mut().zip(values.chunks_exact(len)) {
-                let before = acc.non_finite();
-                acc.extend(column);
-                finite &= acc.non_finite() == before;
-            }
-            if let Some(cov) = covariance.as_mut() {
-                cov.extend_columns(values, len);
-            }
-            if !finite && first_non_finite.is_none() {
-                first_non_finite = (0..len)
-                    .flat_map(|i| (0..m).map(move |k| (i, k)))
-                    .find(|&(i, k)| !values[k * len + i].is_finite())
-                    .map(|(i, k)| NonFinite {
-                        replicate,
-                        index: start + i as u64,
-                        value: values[k * len + i],
-                        output: k,
-                    });
+            // Summed BLOCK at a time from the chunk's start, whatever the call size.
+            for offset in (0..len).step_by(BLOCK as usize) {
+                let n = (len - offset).min(BLOCK as usize);
+                let column = |k: usize| &values[k * len + offset..k * len + offset + n];
+                let mut finite = true;
+                for (k, acc) in accumulators.iter_mut().enumerate() {
+                    let before = acc.non_finite();
+                    acc.extend(column(k));
+                    finite &= acc.non_finite() == before;
+                }
+                if let Some(cov) = covariance.as_mut() {
+                    if n == len {
+                        cov.extend_columns(values, len);
+                    } else {
+                        let block = &mut work.block[..n * m];
+                        for (k, part) in block.chunks_exact_mut(n).enumerate() {
+                            part.copy_from_slice(column(k));
+                        }
+                        cov.extend_columns(block, n);
+                    }
+                }
+                if !finite && first_non_finite.is_none() {
+                    first_non_finite = (0..n)
+                        .flat_map(|i| (0..m).map(move |k| (i, k)))
+                        .find(|&(i, k)| !column(k)[i].is_finite())
+                        .map(|(i, k)| NonFinite {
+                            replicate,
+                            index: start + (offset + i) as u64,
+                            value: column(k)[i],
+                            output: k,
+                        });
+                }
             }
             start += len as u64;
         }

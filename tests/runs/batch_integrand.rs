@@ -385,3 +385,64 @@ fn vegas_by_blocks_reports_unwritten_outputs_as_non_finite() {
     assert!(matches!(err, Error::NonFiniteContribution { .. }), "{err}");
     assert!(err.to_string().contains("output 1"), "{err}");
 }
+
+#[test]
+fn larger_calls_change_no_bit_of_a_vector_run() {
+    use mcint::estimator::BatchVectorUniformEstimator;
+    use mcint::stats::Tolerance;
+    let domain = || UniformBox::unit(3).unwrap();
+    let run = |per_call: Option<usize>, threads| {
+        let mut e = BatchVectorUniformEstimator::new(2, two_outputs_batch, domain());
+        if let Some(points) = per_call {
+            e = e.with_points_per_call(points).unwrap();
+        }
+        Integrator::new_vector(e)
+            .sampler(Sobol::new(3, Scramble::Owen, 3).unwrap())
+            .tolerance(Tolerance::relative(1e-6).unwrap())
+            .seed(3)
+            .threads(threads)
+            .run()
+            .unwrap()
+    };
+    let reference = run(None, 1);
+    assert!(reference.covariance_matrix.is_some());
+    // 5000 is not a whole number of summation blocks: calls of 5120 points.
+    for per_call in [Some(5000), Some(1 << 14), Some(1)] {
+        for threads in [1, 3] {
+            assert_eq!(
+                run(per_call, threads),
+                reference,
+                "{per_call:?} x {threads}"
+            );
+        }
+    }
+}
+
+#[test]
+fn larger_calls_report_the_same_non_finite_point() {
+    use mcint::estimator::BatchUniformEstimator;
+    // NaN wherever x0 is in a thin slab: the first such point is the same for any call size.
+    let slab = |p: &Points, out: &mut [f64]| {
+        for (y, &x) in out.iter_mut().zip(p.column(0)) {
+            *y = if (0.3..0.3001).contains(&x) {
+                f64::NAN
+            } else {
+                x
+            };
+        }
+    };
+    let error = |per_call: usize| {
+        let e = BatchUniformEstimator::new(slab, UniformBox::unit(2).unwrap())
+            .with_points_per_call(per_call)
+            .unwrap();
+        Integrator::new(e)
+            .samples(50_000)
+            .seed(1)
+            .run()
+            .unwrap_err()
+            .to_string()
+    };
+    let reference = error(1024);
+    assert!(reference.contains("non-finite"), "{reference}");
+    assert_eq!(error(8192), reference);
+}
