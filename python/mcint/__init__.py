@@ -8,7 +8,6 @@ The Python face of the Rust crate ``mcint``:
 * :mod:`mcint.qmc` gives the library's point sets as ``scipy.stats.qmc`` engines.
 """
 
-from . import qmc
 from ._integrate import METHODS, integrate
 from ._native import __version__
 from ._result import IntegrationResult, McintWarning, RunWarning
@@ -22,3 +21,12 @@ __all__ = [
     "METHODS",
     "__version__",
 ]
+
+
+def __getattr__(name):
+    # mcint.qmc imports scipy (its engines subclass scipy's): only when asked for.
+    if name == "qmc":
+        import importlib
+
+        return importlib.import_module(".qmc", __name__)
+    raise AttributeError(f"module 'mcint' has no attribute {name!r}")

@@ -31,7 +31,7 @@ class RunResult:
     def report(self) -> dict: ...
 
 def integrate_box(
-    g: Callable[[npt.NDArray[np.float64]], npt.NDArray[np.float64]],
+    f: Callable[[npt.NDArray[np.float64]], npt.NDArray[np.float64]],
     lower: list,
     upper: list,
     outputs: int,

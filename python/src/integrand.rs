@@ -4,26 +4,26 @@ use std::sync::Mutex;
 
 use mcint::{CancelToken, Points};
 use numpy::npyffi::NPY_ORDER;
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-/// A Python callable `g(x) -> y` taking an `(n, d)` float64 array and returning a contiguous
-/// float64 array of `n * outputs` values, output-major (`y[k * n + i]` is output `k` at
-/// point `i`; the Python layer reshapes the user's `f` into this form). The first exception
-/// it raises is kept, the run is cancelled, and every later call returns NaN without
-/// calling it, so that the run stops at the next chunk and the exception reaches the caller.
+/// The user's vectorized Python function `f(x)`, called with an `(n, d)` float64 array and
+/// returning `n` values, shape `(n,)` (or `(n, 1)`) for one output, `(n, m)` for `m`. The
+/// first exception it raises (or a wrong shape) is kept, the run is cancelled, and every later
+/// call returns NaN without calling it, so that the run stops at the next chunk and the
+/// exception reaches the caller.
 pub struct PyIntegrand {
-    g: Py<PyAny>,
+    f: Py<PyAny>,
     outputs: usize,
     failure: Mutex<Option<PyErr>>,
     cancel: CancelToken,
 }
 
 impl PyIntegrand {
-    pub fn new(g: Py<PyAny>, outputs: usize, cancel: CancelToken) -> Self {
+    pub fn new(f: Py<PyAny>, outputs: usize, cancel: CancelToken) -> Self {
         PyIntegrand {
-            g,
+            f,
             outputs,
             failure: Mutex::new(None),
             cancel,
@@ -83,17 +83,35 @@ impl PyIntegrand {
             // Fortran order: each coordinate a contiguous column, as the library holds it.
             let x = PyArray1::from_vec(py, columns)
                 .reshape_with_order([n, d], NPY_ORDER::NPY_FORTRANORDER)?;
-            let y = self.g.call1(py, (x,))?;
-            let y: PyReadonlyArray1<f64> = y.extract(py)?;
-            let y = y.as_slice()?;
-            if y.len() != n * self.outputs {
-                return Err(PyValueError::new_err(format!(
-                    "the integrand returned {} values for {n} points and {} outputs",
-                    y.len(),
-                    self.outputs
-                )));
+            let y = self.f.bind(py).call1((x,))?;
+            let y: PyReadonlyArrayDyn<f64> = match y.extract() {
+                Ok(array) => array,
+                // Another dtype, a list, a scalar: as numpy.asarray(y, dtype=float64).
+                Err(_) => {
+                    let numpy = py.import("numpy")?;
+                    numpy.call_method1("asarray", (&y, "float64"))?.extract()?
+                }
+            };
+            let y = y.as_array();
+            let m = self.outputs;
+            match y.shape() {
+                [rows] if *rows == n && m == 1 => {
+                    out.iter_mut().zip(y.iter()).for_each(|(o, &v)| *o = v);
+                }
+                [rows, cols] if *rows == n && *cols == m => {
+                    for ((i, k), &v) in y.indexed_iter().map(|(ix, v)| ((ix[0], ix[1]), v)) {
+                        out[k * n + i] = v;
+                    }
+                }
+                shape => {
+                    let want = if m == 1 { format!("({n},)") } else { format!("({n}, {m})") };
+                    let got: Vec<String> = shape.iter().map(usize::to_string).collect();
+                    return Err(PyValueError::new_err(format!(
+                        "the integrand returned shape ({}) for {n} points: expected {want}",
+                        got.join(", ")
+                    )));
+                }
             }
-            out.copy_from_slice(y);
             Ok(())
         });
         if let Err(error) = called {

@@ -5,6 +5,7 @@ use std::sync::mpsc;
 use std::time::Duration;
 
 use mcint::adaptive::{Miser, SobolG, TwoStage, Vegas, strata_per_axis_for};
+use mcint::estimator::{BatchUniformEstimator, BatchVectorUniformEstimator};
 use mcint::pdf::UniformBox;
 use mcint::sampler::{PassKind, Sampler, SamplerKind};
 use mcint::stats::{Derived, Tolerance};
@@ -25,6 +26,11 @@ const DEFAULT_TWO_STAGE_EVALUATIONS: u64 = 1 << 16;
 
 /// Iterations allowed to a VEGAS run to a tolerance: its evaluation limit stops it first.
 const VEGAS_ITERATIONS_TO_TOLERANCE: u64 = 1 << 20;
+
+/// Points per call of a Python integrand in plain and rqmc runs: each call costs some
+/// microseconds of interpreter overhead, which larger calls spread (the sums, and so the bits,
+/// do not depend on it).
+const POINTS_PER_CALL: usize = 8192;
 
 /// How often the calling thread looks for a pending signal (Ctrl-C) while a run goes on.
 const SIGNAL_POLL: Duration = Duration::from_millis(50);
@@ -59,10 +65,10 @@ macro_rules! common {
     }};
 }
 
-/// Integrates `g` (see [`PyIntegrand`]) over the box `[lower, upper)` by `method`.
+/// Integrates `f` (see [`PyIntegrand`]) over the box `[lower, upper)` by `method`.
 #[pyfunction]
 #[pyo3(signature = (
-    g, lower, upper, outputs, method, *, n=None, replicates=None, rtol=None, atol=None,
+    f, lower, upper, outputs, method, *, n=None, replicates=None, rtol=None, atol=None,
     max_evals=None, time_limit=None, seed=0, threads=None, sampler=None, scramble=None,
     ratio=None
 ))]
@@ -72,7 +78,7 @@ macro_rules! common {
 )]
 pub fn integrate_box(
     py: Python<'_>,
-    g: Py<PyAny>,
+    f: Py<PyAny>,
     lower: Vec<f64>,
     upper: Vec<f64>,
     outputs: usize,
@@ -140,7 +146,7 @@ pub fn integrate_box(
         threads,
         cancel: cancel.clone(),
     };
-    let integrand = PyIntegrand::new(g, outputs, cancel);
+    let integrand = PyIntegrand::new(f, outputs, cancel);
     let outcome = run_watching_signals(py, settings, &integrand);
     if let Some(error) = integrand.take_failure() {
         return Err(error);
@@ -215,7 +221,14 @@ fn run_watching_signals(
         // Waited on with the lock released, which needs a shareable receiver.
         let finished = std::sync::Mutex::new(finished);
         let worker = scope.spawn(move || {
-            let result = build(settings, integrand).and_then(|run| run.run_vector().map_err(to_py));
+            // The worker keeps a Python thread state for the whole run (released, so the
+            // caller can take the lock): each call of f then only takes the lock, instead of
+            // creating and destroying a thread state, which cost about 40 us a call.
+            let result = Python::attach(|py| {
+                py.detach(|| {
+                    build(settings, integrand).and_then(|run| run.run_vector().map_err(to_py))
+                })
+            });
             // The receiver only goes away once this thread is joined.
             let _ = done.send(());
             result
@@ -258,7 +271,10 @@ fn build<'a>(mut s: Settings, integrand: &'a PyIntegrand) -> PyResult<Box<dyn Ru
             };
             if vector {
                 let f = move |p: &mcint::Points, out: &mut [f64]| integrand.batch(p, out);
-                let mut run = common!(Integrator::over_box_vector_batch(s.outputs, f, domain), s);
+                let estimator = BatchVectorUniformEstimator::new(s.outputs, f, domain)
+                    .with_points_per_call(POINTS_PER_CALL)
+                    .map_err(to_py)?;
+                let mut run = common!(Integrator::new_vector(estimator), s);
                 if let Some(sampler) = s.sampler.take() {
                     run = run.sampler(sampler);
                 }
@@ -271,7 +287,10 @@ fn build<'a>(mut s: Settings, integrand: &'a PyIntegrand) -> PyResult<Box<dyn Ru
                 Ok(Box::new(run))
             } else {
                 let f = move |p: &mcint::Points, out: &mut [f64]| integrand.batch(p, out);
-                let mut run = common!(Integrator::over_box_batch(f, domain), s);
+                let estimator = BatchUniformEstimator::new(f, domain)
+                    .with_points_per_call(POINTS_PER_CALL)
+                    .map_err(to_py)?;
+                let mut run = common!(Integrator::new(estimator), s);
                 if let Some(sampler) = s.sampler.take() {
                     run = run.sampler(sampler);
                 }
@@ -288,40 +307,25 @@ fn build<'a>(mut s: Settings, integrand: &'a PyIntegrand) -> PyResult<Box<dyn Ru
                     "replicates does not apply to VEGAS (its error bar combines iterations)",
                 );
             }
-            let stratified = s.method == Method::VegasPlus;
-            if vector {
-                let f = move |x: &[f64], out: &mut [f64]| integrand.point(x, out);
-                let mut run = common!(Vegas::new_vector(s.outputs, f, domain), s);
-                run = run.stratified(stratified);
-                if let Some(sampler) = s.sampler.take() {
-                    run = run.sampler(sampler);
-                }
-                if let Some(n) = s.n {
-                    run = run.samples(n);
-                }
-                run = match (s.tolerance, s.ratio) {
-                    (Some(t), Some((i, j))) => run.derived_tolerance(Derived::ratio(i, j), t),
-                    (Some(t), None) => run.tolerance(t),
-                    (None, _) => run,
-                };
-                if s.tolerance.is_some() {
-                    run = run.iterations(VEGAS_ITERATIONS_TO_TOLERANCE);
-                }
-                Ok(Box::new(run))
-            } else {
-                let f = move |x: &[f64]| integrand.scalar(x);
-                let mut run = common!(Vegas::new(f, domain), s).stratified(stratified);
-                if let Some(sampler) = s.sampler.take() {
-                    run = run.sampler(sampler);
-                }
-                if let Some(n) = s.n {
-                    run = run.samples(n);
-                }
-                if let Some(t) = s.tolerance {
-                    run = run.tolerance(t).iterations(VEGAS_ITERATIONS_TO_TOLERANCE);
-                }
-                Ok(Box::new(run))
+            // By blocks, one output or several: one Python call per block of points.
+            let f = move |p: &mcint::Points, out: &mut [f64]| integrand.batch(p, out);
+            let mut run = common!(Vegas::new_batch(s.outputs, f, domain), s)
+                .stratified(s.method == Method::VegasPlus);
+            if let Some(sampler) = s.sampler.take() {
+                run = run.sampler(sampler);
             }
+            if let Some(n) = s.n {
+                run = run.samples(n);
+            }
+            run = match (s.tolerance, s.ratio) {
+                (Some(t), Some((i, j))) => run.derived_tolerance(Derived::ratio(i, j), t),
+                (Some(t), None) => run.tolerance(t),
+                (None, _) => run,
+            };
+            if s.tolerance.is_some() {
+                run = run.iterations(VEGAS_ITERATIONS_TO_TOLERANCE);
+            }
+            Ok(Box::new(run))
         }
         _ if vector || s.ratio.is_some() => refuse(&format!(
             "method '{}' integrates one output; several outputs or a ratio take method \
