@@ -5,15 +5,20 @@ The Python face of the Rust crate ``mcint``:
 * :func:`integrate` integrates a vectorized numpy function over a box by any method of
   the library (randomized QMC, plain Monte Carlo, VEGAS, VEGAS+, MISER, two-stage
   stratification, Sobol' with a Walsh-coefficient bound) to a tolerance or a budget.
+* :func:`expectation` averages a function over a measure of :mod:`mcint.measure`
+  (Gaussian, lognormal, Brownian paths, geometric Brownian motion).
 * :mod:`mcint.qmc` gives the library's point sets as ``scipy.stats.qmc`` engines.
 """
 
-from ._integrate import METHODS, integrate
+from . import measure
+from ._integrate import METHODS, expectation, integrate
 from ._native import __version__
 from ._result import IntegrationResult, McintWarning, RunWarning
 
 __all__ = [
     "integrate",
+    "expectation",
+    "measure",
     "qmc",
     "IntegrationResult",
     "McintWarning",

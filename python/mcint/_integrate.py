@@ -102,7 +102,66 @@ def integrate(
         raise ValueError(
             f"lower has {lower.size} values and upper {upper.size}: expected one per dimension"
         )
-    outputs = _outputs(f, lower, upper)
+    centre = (lower + upper) / 2
+    return _run(f, lower, upper, centre, None, method, rtol, atol, n, replicates, max_evals,
+                time_limit, seed, threads, sampler, scramble, ratio)
+
+
+def expectation(
+    f,
+    measure,
+    *,
+    method="rqmc",
+    rtol=None,
+    atol=None,
+    n=None,
+    replicates=None,
+    max_evals=None,
+    time_limit=None,
+    seed=None,
+    threads=None,
+    sampler=None,
+    scramble=None,
+    ratio=None,
+):
+    """The expectation of ``f(X)`` for ``X`` drawn from ``measure`` (see
+    :mod:`mcint.measure`): a Gaussian, a lognormal, Brownian paths on given dates, geometric
+    Brownian motion, a uniform box.
+
+    ``f`` is vectorized as in :func:`integrate`: it gets an ``(n, measure.d)`` array of the
+    measure's points and returns ``(n,)`` or ``(n, m)``. The points come from uniform
+    (quasi-random) points mapped through the measure, so ``method`` is ``"rqmc"`` (default)
+    or ``"plain"``; the other arguments and the result are those of :func:`integrate`.
+
+    Examples
+    --------
+    >>> import numpy as np, mcint
+    >>> from mcint.measure import GeometricBrownianMotion
+    >>> paths = GeometricBrownianMotion(100, 0.05, 0.2, np.arange(1, 13) / 12, "bridge")
+    >>> r = mcint.expectation(lambda s: s[:, -1], paths, rtol=1e-6, seed=1)  # E[S(1)]
+    >>> abs(r.mean - 100 * np.exp(0.05)) < 5 * r.std_error
+    True
+    """
+    if not callable(f):
+        raise TypeError(f"invalid f = {f!r}: expected a callable taking an (n, d) array")
+    spec = getattr(measure, "_spec", None)
+    if not isinstance(spec, _native.MeasureSpec):
+        raise TypeError(
+            f"invalid measure = {measure!r}: expected one of mcint.measure's (Gaussian, "
+            "Lognormal, BrownianMotion, GeometricBrownianMotion, Uniform)"
+        )
+    if method not in ("rqmc", "plain"):
+        raise ValueError(
+            f"invalid method = {method!r}: an expectation over a measure takes 'rqmc' or 'plain'"
+        )
+    cube = np.zeros(spec.canonical_dims)
+    return _run(f, cube, cube + 1, np.array(spec.middle()), spec, method, rtol, atol, n,
+                replicates, max_evals, time_limit, seed, threads, sampler, scramble, ratio)
+
+
+def _run(f, lower, upper, probe, spec, method, rtol, atol, n, replicates, max_evals,
+         time_limit, seed, threads, sampler, scramble, ratio):
+    outputs = _outputs(f, probe)
     seed_int = _seed.to_int(seed)
     if ratio is not None:
         if outputs < 2:
@@ -128,11 +187,13 @@ def integrate(
         sampler=sampler,
         scramble=scramble,
         ratio=ratio,
+        measure=spec,
     )
-    result = IntegrationResult(native, outputs, method, lower.size, seed_int)
+    dims = lower.size if spec is None else spec.d
+    result = IntegrationResult(native, outputs, method, dims, seed_int)
     for w in result.warnings:
         where = "" if w.output is None else f"output {w.output}: "
-        warnings.warn(f"{where}{w.message}", McintWarning, stacklevel=2)
+        warnings.warn(f"{where}{w.message}", McintWarning, stacklevel=3)
     return result
 
 
@@ -146,10 +207,9 @@ def _corner(name, values):
     return array
 
 
-def _outputs(f, lower, upper):
-    """The number of outputs of ``f``, from one call at the box's centre."""
-    centre = ((lower + upper) / 2).reshape(1, -1)
-    y = np.asarray(f(np.asfortranarray(centre)), dtype=np.float64)
+def _outputs(f, point):
+    """The number of outputs of ``f``, from one call at ``point``."""
+    y = np.asarray(f(np.asfortranarray(point.reshape(1, -1))), dtype=np.float64)
     if y.shape in ((1,), (1, 1)):
         return 1
     if y.ndim == 2 and y.shape[0] == 1 and y.shape[1] >= 1:

@@ -1,7 +1,8 @@
 //! `PyIntegrand`: a vectorized Python function as the library's integrand, batch or point.
 
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
+use mcint::measure::Measure;
 use mcint::{CancelToken, Points};
 use numpy::npyffi::NPY_ORDER;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn};
@@ -16,15 +17,24 @@ use pyo3::prelude::*;
 pub struct PyIntegrand {
     f: Py<PyAny>,
     outputs: usize,
+    /// The measure an expectation is over: `f` then sees its points, and its weights
+    /// multiply the values.
+    measure: Option<Arc<dyn Measure>>,
     failure: Mutex<Option<PyErr>>,
     cancel: CancelToken,
 }
 
 impl PyIntegrand {
-    pub fn new(f: Py<PyAny>, outputs: usize, cancel: CancelToken) -> Self {
+    pub fn new(
+        f: Py<PyAny>,
+        outputs: usize,
+        measure: Option<Arc<dyn Measure>>,
+        cancel: CancelToken,
+    ) -> Self {
         PyIntegrand {
             f,
             outputs,
+            measure,
             failure: Mutex::new(None),
             cancel,
         }
@@ -52,13 +62,34 @@ impl PyIntegrand {
     }
 
     /// `g` on a block of points: `out[k * n + i]` is output `k` at point `i`.
+    /// With a measure, `points` are canonical and `f` gets their images.
     pub fn batch(&self, points: &Points, out: &mut [f64]) {
-        let (n, d) = (points.len(), points.dims());
-        let mut columns = Vec::with_capacity(n * d);
-        for k in 0..d {
-            columns.extend_from_slice(points.column(k));
+        let n = points.len();
+        let Some(measure) = &self.measure else {
+            let d = points.dims();
+            let mut columns = Vec::with_capacity(n * d);
+            for k in 0..d {
+                columns.extend_from_slice(points.column(k));
+            }
+            return self.call(columns, n, d, out);
+        };
+        let d = measure.dims();
+        let (mut u, mut x) = (vec![0.0; measure.canonical_dims()], vec![0.0; d]);
+        let mut columns = vec![0.0; n * d];
+        let mut weights = vec![0.0; n];
+        for (i, weight) in weights.iter_mut().enumerate() {
+            points.copy_point(i, &mut u);
+            *weight = measure.map(&u, &mut x);
+            for (k, &v) in x.iter().enumerate() {
+                columns[k * n + i] = v;
+            }
         }
         self.call(columns, n, d, out);
+        for column in out.chunks_exact_mut(n.max(1)) {
+            for (y, &w) in column.iter_mut().zip(&weights) {
+                *y *= w;
+            }
+        }
     }
 
     /// `g` at one point: `out[k]` is output `k`.
@@ -104,7 +135,11 @@ impl PyIntegrand {
                     }
                 }
                 shape => {
-                    let want = if m == 1 { format!("({n},)") } else { format!("({n}, {m})") };
+                    let want = if m == 1 {
+                        format!("({n},)")
+                    } else {
+                        format!("({n}, {m})")
+                    };
                     let got: Vec<String> = shape.iter().map(usize::to_string).collect();
                     return Err(PyValueError::new_err(format!(
                         "the integrand returned shape ({}) for {n} points: expected {want}",

@@ -7,6 +7,7 @@ use pyo3::prelude::*;
 
 mod errors;
 mod integrand;
+mod measure;
 mod point_set;
 mod result;
 mod run;
@@ -16,6 +17,7 @@ mod run;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<point_set::PointSet>()?;
     m.add_class::<result::RunResult>()?;
+    m.add_class::<measure::MeasureSpec>()?;
     m.add_function(wrap_pyfunction!(run::integrate_box, m)?)?;
     m.add_function(wrap_pyfunction!(point_set::sampler_names, m)?)?;
     m.add_function(wrap_pyfunction!(point_set::scramble_names, m)?)?;

@@ -1,7 +1,7 @@
 //! `integrate_box`: every method of the library over a box, with a Python integrand, run on
 //! a worker thread while the calling thread watches for Ctrl-C.
 
-use std::sync::mpsc;
+use std::sync::{Arc, mpsc};
 use std::time::Duration;
 
 use mcint::adaptive::{Miser, SobolG, TwoStage, Vegas, strata_per_axis_for};
@@ -15,6 +15,7 @@ use pyo3::prelude::*;
 
 use crate::errors::to_py;
 use crate::integrand::PyIntegrand;
+use crate::measure::MeasureSpec;
 use crate::result::RunResult;
 
 /// Points per replicate of a plain or rqmc run given neither `n` nor a tolerance (as the
@@ -70,7 +71,7 @@ macro_rules! common {
 #[pyo3(signature = (
     f, lower, upper, outputs, method, *, n=None, replicates=None, rtol=None, atol=None,
     max_evals=None, time_limit=None, seed=0, threads=None, sampler=None, scramble=None,
-    ratio=None
+    ratio=None, measure=None
 ))]
 #[allow(
     clippy::too_many_arguments,
@@ -94,9 +95,21 @@ pub fn integrate_box(
     sampler: Option<&str>,
     scramble: Option<&str>,
     ratio: Option<(usize, usize)>,
+    measure: Option<PyRef<'_, MeasureSpec>>,
 ) -> PyResult<RunResult> {
     let method: Method = method.parse().map_err(to_py)?;
-    let domain = UniformBox::new(lower, upper).map_err(to_py)?;
+    let measure = measure.map(|m| Arc::clone(&m.measure));
+    // An expectation integrates over the measure's canonical cube.
+    let domain = match &measure {
+        Some(_) if method.is_adaptive() => {
+            return Err(PyValueError::new_err(format!(
+                "an expectation over a measure takes method 'rqmc' or 'plain', not '{method}'"
+            )));
+        }
+        Some(m) => UniformBox::unit(m.canonical_dims()),
+        None => UniformBox::new(lower, upper),
+    }
+    .map_err(to_py)?;
     let tolerance = match (rtol, atol) {
         (None, None) => None,
         _ => Some(Tolerance::new(atol, rtol).map_err(to_py)?),
@@ -146,7 +159,7 @@ pub fn integrate_box(
         threads,
         cancel: cancel.clone(),
     };
-    let integrand = PyIntegrand::new(f, outputs, cancel);
+    let integrand = PyIntegrand::new(f, outputs, measure, cancel);
     let outcome = run_watching_signals(py, settings, &integrand);
     if let Some(error) = integrand.take_failure() {
         return Err(error);

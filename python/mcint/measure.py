@@ -1,0 +1,85 @@
+"""Measures to take expectations over: ``mcint.expectation(f, measure)`` averages ``f`` over
+points drawn from them by (randomized quasi-) Monte Carlo, the points built from canonical
+uniform points by inverse cdfs and factorizations, so that QMC points stay QMC points."""
+
+import numpy as np
+
+from . import _native
+
+__all__ = ["Gaussian", "Lognormal", "BrownianMotion", "GeometricBrownianMotion", "Uniform"]
+
+
+def _floats(name, values, ndim):
+    array = np.asarray(values, dtype=np.float64)
+    if array.ndim != ndim:
+        raise ValueError(f"invalid {name}: expected {ndim}-dimensional numbers, got shape {array.shape}")
+    return array
+
+
+class _Measure:
+    _spec = None
+
+    @property
+    def d(self):
+        """The dimension of the measure's points."""
+        return self._spec.d
+
+    @property
+    def canonical_dims(self):
+        """Uniform coordinates one point takes."""
+        return self._spec.canonical_dims
+
+    def __repr__(self):
+        return f"{type(self).__name__}(d={self.d})"
+
+
+class Gaussian(_Measure):
+    """The normal law with ``mean`` and covariance ``cov`` (default the identity), its
+    points ``mean + L z`` with ``L`` the Cholesky factor (``factorization="cholesky"``) or the
+    principal components (``"pca"``: the first coordinates carry the most variance, which
+    suits QMC; accepts a singular ``cov``)."""
+
+    _kind = "gaussian"
+
+    def __init__(self, mean, cov=None, factorization="cholesky"):
+        mean = _floats("mean", mean, 1)
+        cov = np.eye(mean.size) if cov is None else _floats("cov", cov, 2)
+        if cov.shape != (mean.size, mean.size):
+            raise ValueError(f"invalid cov: expected shape {(mean.size, mean.size)}, got {cov.shape}")
+        build = getattr(_native.MeasureSpec, self._kind)
+        self._spec = build(mean.tolist(), cov.reshape(-1).tolist(), factorization)
+
+
+class Lognormal(Gaussian):
+    """``exp`` of the normal law with ``mean`` and ``cov``, coordinate by coordinate."""
+
+    _kind = "lognormal"
+
+
+class BrownianMotion(_Measure):
+    """``drift t + diffusion W(t)`` on the dates ``times`` (increasing, above 0), built by
+    ``construction`` ``"standard"`` (increments in time order), ``"bridge"`` (the endpoint
+    first, then midpoints) or ``"pca"`` (principal components first)."""
+
+    def __init__(self, times, drift=0.0, diffusion=1.0, construction="standard"):
+        times = _floats("times", times, 1)
+        self._spec = _native.MeasureSpec.brownian(times.tolist(), float(drift), float(diffusion), construction)
+
+
+class GeometricBrownianMotion(_Measure):
+    """Prices ``S(t) = s0 exp((rate - sigma^2 / 2) t + sigma W(t))`` on the dates ``times``."""
+
+    def __init__(self, s0, rate, sigma, times, construction="standard"):
+        times = _floats("times", times, 1)
+        self._spec = _native.MeasureSpec.geometric_brownian(
+            float(s0), float(rate), float(sigma), times.tolist(), construction
+        )
+
+
+class Uniform(_Measure):
+    """The uniform law on the box ``[lower, upper)``."""
+
+    def __init__(self, lower, upper):
+        self._spec = _native.MeasureSpec.uniform(
+            _floats("lower", lower, 1).tolist(), _floats("upper", upper, 1).tolist()
+        )
