@@ -46,12 +46,6 @@ mod warp_importance;
 
 pub use batch_uniform::BatchUniformEstimator;
 
-/// The points an estimator gets per call unless it asks for more (see
-/// [`Estimator::points_per_call`]): also the block the Integrator sums at a time.
-pub(crate) const DEFAULT_POINTS_PER_CALL: usize = 1024;
-
-/// The most points per call an estimator may ask for.
-pub(crate) const MAX_POINTS_PER_CALL: usize = 1 << 20;
 pub use consistent_biased::ConsistentBiased;
 pub use expectation::{ExpectationEstimator, VectorExpectationEstimator};
 pub use fitted_control_variates::{ControlFit, FittedControlVariates};
@@ -72,6 +66,13 @@ pub use vector_batch_uniform::BatchVectorUniformEstimator;
 pub use vector_importance::VectorImportanceEstimator;
 pub use vector_uniform::VectorUniformEstimator;
 pub use warp_importance::WarpImportanceEstimator;
+
+/// The points an estimator gets per call unless it asks for more (see
+/// [`Estimator::points_per_call`]): also the block the Integrator sums at a time.
+pub(crate) const DEFAULT_POINTS_PER_CALL: usize = 1024;
+
+/// The most points per call an estimator may ask for.
+pub(crate) const MAX_POINTS_PER_CALL: usize = 1 << 20;
 
 use crate::points::Points;
 
@@ -111,10 +112,11 @@ pub trait Estimator: Send + Sync {
         }
     }
 
-    /// The most points [`contributions`](Self::contributions) should get in one call: 1024
+    /// How many points [`contributions`](Self::contributions) would like in one call: 1024
     /// by default (a block that stays in cache); more for an integrand that pays a cost per
-    /// call (see [`BatchUniformEstimator::points_per_call`]). The Integrator still sums
-    /// contributions 1024 at a time, so the hint never changes a result's bits.
+    /// call (see [`BatchUniformEstimator::with_points_per_call`]). The Integrator calls with
+    /// whole blocks of 1024 points, as many as fit (at least one), and sums contributions
+    /// 1024 at a time whatever the call size, so the hint never changes a result's bits.
     ///
     /// ```
     /// use mcint::estimator::{Estimator, UniformEstimator};

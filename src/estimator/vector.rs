@@ -55,7 +55,7 @@ pub trait VectorEstimator: Send + Sync {
         }
     }
 
-    /// The most points [`contributions`](Self::contributions) should get in one call (see
+    /// How many points [`contributions`](Self::contributions) would like in one call (see
     /// [`Estimator::points_per_call`]; default 1024).
     ///
     /// ```

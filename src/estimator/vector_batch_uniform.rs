@@ -66,9 +66,11 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchVectorUniformEstimator<F> {
         }
     }
 
-    /// Asks for blocks of up to `points` (1 to 2^20; default 1024) per call of `f`: more for
-    /// an integrand that pays a cost per call (an interpreter, a GPU kernel). The Integrator
-    /// still sums contributions 1024 at a time, so the estimate has the same bits.
+    /// Asks for calls of `f` on up to `points` points (1 to 2^20; default 1024): more for an
+    /// integrand that pays a cost per call (an interpreter, a GPU kernel). The Integrator
+    /// calls with whole blocks of 1024 points, as many as fit in `points` (at least one, at
+    /// most the 16 of a chunk of work), and still sums contributions 1024 at a time, so the
+    /// estimate has the same bits.
     ///
     /// ```
     /// use mcint::estimator::{BatchVectorUniformEstimator, VectorEstimator};

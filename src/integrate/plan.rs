@@ -558,10 +558,11 @@ pub(super) struct Workspace {
 }
 
 impl Chunks<'_> {
-    /// Points per call of the estimator: what it asks for, in whole summation blocks.
+    /// Points per call of the estimator: as many whole summation blocks as fit in what it
+    /// asks for, at least one, and no more than a chunk holds.
     fn call(&self) -> u64 {
-        let asked = self.estimator.points_per_call().max(1) as u64;
-        asked.div_ceil(BLOCK) * BLOCK
+        let asked = self.estimator.points_per_call() as u64;
+        ((asked / BLOCK).max(1) * BLOCK).min(CHUNK.max(BLOCK))
     }
 }
 

@@ -406,7 +406,7 @@ fn larger_calls_change_no_bit_of_a_vector_run() {
     };
     let reference = run(None, 1);
     assert!(reference.covariance_matrix.is_some());
-    // 5000 is not a whole number of summation blocks: calls of 5120 points.
+    // 5000 is not a whole number of summation blocks: calls of 4096 points (1: of 1024).
     for per_call in [Some(5000), Some(1 << 14), Some(1)] {
         for threads in [1, 3] {
             assert_eq!(
