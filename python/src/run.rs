@@ -66,7 +66,8 @@ macro_rules! common {
     }};
 }
 
-/// Integrates `f` (see [`PyIntegrand`]) over the box `[lower, upper)` by `method`.
+/// Integrates `f` (see [`PyIntegrand`]) over the box `[lower, upper)` by `method`, or, with
+/// a `measure`, averages it over the measure (its canonical cube integrated).
 #[pyfunction]
 #[pyo3(signature = (
     f, lower, upper, outputs, method, *, n=None, replicates=None, rtol=None, atol=None,
