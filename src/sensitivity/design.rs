@@ -333,6 +333,46 @@ impl<M: Measure + 'static> SobolDesign<M> {
             layout,
             model,
         ));
+        self.run_of(layout, integrand)
+    }
+
+    /// The run of a model evaluated a block of inputs at a time, for models that pay a cost
+    /// per call (an interpreter, a GPU kernel): `model(inputs, out)` gets the inputs of every
+    /// model run of a block of design points (one column per input of the law) and writes
+    /// output `o` of input `i` to `out[o * n + i]`. With the same arithmetic per input, the
+    /// run has the bits of [`integrator_vector`](Self::integrator_vector).
+    ///
+    /// ```
+    /// use mcint::{Points, measure::Uniform, sensitivity::SobolDesign};
+    /// let design = SobolDesign::new(Uniform::unit(2).unwrap()).unwrap().points(4096);
+    /// let per_point = |x: &[f64], out: &mut [f64]| out[0] = x[0] + x[0] * x[1];
+    /// let block = |x: &Points, out: &mut [f64]| {
+    ///     for (i, y) in out.iter_mut().enumerate() {
+    ///         *y = x.get(i, 0) + x.get(i, 0) * x.get(i, 1);
+    ///     }
+    /// };
+    /// let a = design.integrator_vector(1, per_point).unwrap().seed(2).run().unwrap();
+    /// let b = design.integrator_batch(1, block).unwrap().seed(2).run().unwrap();
+    /// assert_eq!(a, b);
+    /// ```
+    pub fn integrator_batch<F>(&self, outputs: usize, model: F) -> Result<DesignRun>
+    where
+        F: Fn(&Points, &mut [f64]) + Send + Sync + 'static,
+    {
+        let layout = self.layout(outputs)?;
+        let integrand: DesignIntegrand = Box::new(pick_freeze_batch(
+            Arc::clone(&self.inputs),
+            Arc::clone(&self.factors),
+            layout,
+            model,
+        ));
+        self.run_of(layout, integrand)
+    }
+
+    /// The Integrator of the design's `integrand`, with its points, replicates and
+    /// tolerances.
+    fn run_of(&self, layout: Layout, integrand: DesignIntegrand) -> Result<DesignRun> {
+        let outputs = layout.model_outputs;
         let dims = self.point_dims();
         let replicates = self.replicates.unwrap_or(DEFAULT_REPLICATES);
         let least = if self.tolerance.is_some() { 2 } else { 1 };
@@ -480,41 +520,110 @@ fn pick_freeze<M: Measure, F: Fn(&[f64], &mut [f64]) + Send + Sync>(
 ) -> impl Fn(&Points, &mut [f64]) + Send + Sync {
     move |points: &Points, out: &mut [f64]| {
         let n = points.len();
-        let (m, nf) = (layout.model_outputs, layout.factors);
-        let mixed_runs = if layout.second_order { 2 * nf } else { nf };
+        let m = layout.model_outputs;
         let mut u = vec![0.0; 2 * inputs.canonical_dims()];
         let mut mixed = vec![0.0; inputs.canonical_dims()];
         let mut x = vec![0.0; inputs.dims()];
-        // f(A), f(B), then f(AB_j) for every j, then f(BA_j): m values each.
-        let mut values = vec![0.0; m * (2 + mixed_runs)];
+        let mut values = vec![0.0; m * runs_per_point(layout)];
         let mut row = vec![0.0; layout.outputs()];
         for i in 0..n {
             points.copy_point(i, &mut u);
-            let (a, b) = u.split_at(mixed.len());
-            let mut run = |canonical: &[f64], slot: usize| {
+            each_run(layout, &factors, &u, &mut mixed, |canonical, slot| {
                 inputs.map(canonical, &mut x);
                 model(&x, &mut values[slot * m..(slot + 1) * m]);
-            };
-            run(a, 0);
-            run(b, 1);
-            mixed.copy_from_slice(a);
-            for (j, factor) in factors.iter().enumerate() {
-                factor.iter().for_each(|&c| mixed[c] = b[c]);
-                run(&mixed, 2 + j);
-                factor.iter().for_each(|&c| mixed[c] = a[c]);
-            }
-            if layout.second_order {
-                mixed.copy_from_slice(b);
-                for (j, factor) in factors.iter().enumerate() {
-                    factor.iter().for_each(|&c| mixed[c] = a[c]);
-                    run(&mixed, 2 + nf + j);
-                    factor.iter().for_each(|&c| mixed[c] = b[c]);
-                }
-            }
+            });
             integrals(layout, &values, &mut row);
             for (k, value) in row.iter().enumerate() {
                 out[k * n + i] = *value;
             }
+        }
+    }
+}
+
+/// [`pick_freeze`] for a model that takes blocks: the inputs of every run of the block's
+/// points (slot by slot: run `slot` of point `i` is input `slot * n + i`) in one call.
+fn pick_freeze_batch<M: Measure, F: Fn(&Points, &mut [f64]) + Send + Sync>(
+    inputs: Arc<M>,
+    factors: Arc<Vec<Vec<usize>>>,
+    layout: Layout,
+    model: F,
+) -> impl Fn(&Points, &mut [f64]) + Send + Sync {
+    move |points: &Points, out: &mut [f64]| {
+        let n = points.len();
+        let (m, slots, d) = (layout.model_outputs, runs_per_point(layout), inputs.dims());
+        // Bounded by the block and the design's size; refused, the block is non-finite and
+        // the run says so.
+        let Ok(mut runs) = Points::new(d, n * slots) else {
+            out.fill(f64::NAN);
+            return;
+        };
+        let mut u = vec![0.0; 2 * inputs.canonical_dims()];
+        let mut mixed = vec![0.0; inputs.canonical_dims()];
+        let mut x = vec![0.0; d];
+        for i in 0..n {
+            points.copy_point(i, &mut u);
+            each_run(layout, &factors, &u, &mut mixed, |canonical, slot| {
+                inputs.map(canonical, &mut x);
+                for (c, &v) in x.iter().enumerate() {
+                    runs.column_mut(c)[slot * n + i] = v;
+                }
+            });
+        }
+        // An output the model does not write is non-finite.
+        let mut values = vec![f64::NAN; m * n * slots];
+        model(&runs, &mut values);
+        let mut point = vec![0.0; m * slots];
+        let mut row = vec![0.0; layout.outputs()];
+        for i in 0..n {
+            for slot in 0..slots {
+                for o in 0..m {
+                    point[slot * m + o] = values[o * n * slots + slot * n + i];
+                }
+            }
+            integrals(layout, &point, &mut row);
+            for (k, value) in row.iter().enumerate() {
+                out[k * n + i] = *value;
+            }
+        }
+    }
+}
+
+/// Model runs per design point: `A`, `B`, every `AB_j`, and with second order every `BA_j`.
+fn runs_per_point(layout: Layout) -> usize {
+    let mixed = if layout.second_order {
+        2 * layout.factors
+    } else {
+        layout.factors
+    };
+    2 + mixed
+}
+
+/// Calls `run(canonical input, slot)` for every model run of the design point `u` (`A`
+/// from its first half, `B` from its second): `A` in slot 0, `B` in 1, `AB_j` in `2 + j`,
+/// `BA_j` in `2 + F + j`. `mixed` is scratch of the law's canonical dimension.
+fn each_run(
+    layout: Layout,
+    factors: &[Vec<usize>],
+    u: &[f64],
+    mixed: &mut [f64],
+    mut run: impl FnMut(&[f64], usize),
+) {
+    let nf = layout.factors;
+    let (a, b) = u.split_at(mixed.len());
+    run(a, 0);
+    run(b, 1);
+    mixed.copy_from_slice(a);
+    for (j, factor) in factors.iter().enumerate() {
+        factor.iter().for_each(|&c| mixed[c] = b[c]);
+        run(mixed, 2 + j);
+        factor.iter().for_each(|&c| mixed[c] = a[c]);
+    }
+    if layout.second_order {
+        mixed.copy_from_slice(b);
+        for (j, factor) in factors.iter().enumerate() {
+            factor.iter().for_each(|&c| mixed[c] = a[c]);
+            run(mixed, 2 + nf + j);
+            factor.iter().for_each(|&c| mixed[c] = b[c]);
         }
     }
 }

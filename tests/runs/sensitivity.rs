@@ -396,3 +396,53 @@ fn a_run_in_parts_gives_the_same_indices() {
     let whole = design.indices(&integrator.run().unwrap()).unwrap();
     assert_eq!(resumed, whole);
 }
+
+#[test]
+fn a_model_taking_blocks_gives_the_bits_of_the_per_point_model() {
+    use mcint::Points;
+    let ishigami = Ishigami::new(7.0, 0.1).unwrap();
+    // Two outputs, so that the block's output-major layout is exercised.
+    let point = move |x: &[f64], out: &mut [f64]| {
+        out[0] = ishigami.eval(x);
+        out[1] = x[0] * x[2];
+    };
+    let block = move |x: &Points, out: &mut [f64]| {
+        let n = x.len();
+        let mut row = [0.0; 3];
+        let mut pair = [0.0; 2];
+        for i in 0..n {
+            x.copy_point(i, &mut row);
+            point(&row, &mut pair);
+            out[i] = pair[0];
+            out[n + i] = pair[1];
+        }
+    };
+    for (second_order, groups) in [(false, None), (true, Some(vec![vec![0, 2], vec![1]]))] {
+        let mut design = SobolDesign::new(ishigami.inputs())
+            .unwrap()
+            .second_order(second_order)
+            .points(1 << 12);
+        if let Some(groups) = groups.clone() {
+            design = design.groups(groups).unwrap();
+        }
+        let per_point = design
+            .integrator_vector(2, point)
+            .unwrap()
+            .seed(5)
+            .threads(1)
+            .run()
+            .unwrap();
+        for threads in [1, 3] {
+            let batch = design
+                .integrator_batch(2, block)
+                .unwrap()
+                .seed(5)
+                .threads(threads)
+                .run()
+                .unwrap();
+            assert_eq!(batch, per_point, "second order {second_order}, {groups:?}");
+        }
+        let indices = design.indices(&per_point).unwrap();
+        assert_eq!(indices.outputs.len(), 2);
+    }
+}
