@@ -7,6 +7,7 @@ The Python face of the Rust crate ``mcint``:
   stratification, Sobol' with a Walsh-coefficient bound) to a tolerance or a budget.
 * :func:`expectation` averages a function over a measure of :mod:`mcint.measure`
   (Gaussian, lognormal, Brownian paths, geometric Brownian motion).
+* :func:`sobol_indices` gives Sobol' sensitivity indices of a model with error bars.
 * :mod:`mcint.qmc` gives the library's point sets as ``scipy.stats.qmc`` engines.
 """
 
@@ -14,10 +15,13 @@ from . import measure
 from ._integrate import METHODS, expectation, integrate
 from ._native import __version__
 from ._result import IntegrationResult, McintWarning, RunWarning
+from ._sensitivity import SensitivityResult, sobol_indices
 
 __all__ = [
     "integrate",
     "expectation",
+    "sobol_indices",
+    "SensitivityResult",
     "measure",
     "qmc",
     "IntegrationResult",

@@ -72,3 +72,23 @@ class MeasureSpec:
     def d(self) -> int: ...
     @property
     def canonical_dims(self) -> int: ...
+
+class SensitivityRun:
+    def report(self) -> dict: ...
+    def interval(self, kind: str, output: int, j: int, level: float) -> Optional[Tuple[float, float]]: ...
+
+def sobol_indices(
+    f: Callable[[npt.NDArray[np.float64]], npt.NDArray[np.float64]],
+    measure: MeasureSpec,
+    outputs: int,
+    *,
+    groups: Optional[list] = None,
+    second_order: bool = False,
+    n: Optional[int] = None,
+    replicates: Optional[int] = None,
+    rtol: Optional[float] = None,
+    atol: Optional[float] = None,
+    time_limit: Optional[float] = None,
+    seed: int = 0,
+    threads: Optional[int] = None,
+) -> SensitivityRun: ...

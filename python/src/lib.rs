@@ -11,6 +11,7 @@ mod measure;
 mod point_set;
 mod result;
 mod run;
+mod sensitivity;
 
 /// The extension module.
 #[pymodule]
@@ -19,6 +20,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<result::RunResult>()?;
     m.add_class::<measure::MeasureSpec>()?;
     m.add_function(wrap_pyfunction!(run::integrate_box, m)?)?;
+    m.add_class::<sensitivity::SensitivityRun>()?;
+    m.add_function(wrap_pyfunction!(sensitivity::sobol_indices, m)?)?;
     m.add_function(wrap_pyfunction!(point_set::sampler_names, m)?)?;
     m.add_function(wrap_pyfunction!(point_set::scramble_names, m)?)?;
     m.add_function(wrap_pyfunction!(point_set::sampler_info, m)?)?;

@@ -9,7 +9,7 @@ use mcint::estimator::{BatchUniformEstimator, BatchVectorUniformEstimator};
 use mcint::pdf::UniformBox;
 use mcint::sampler::{PassKind, Sampler, SamplerKind};
 use mcint::stats::{Derived, Tolerance};
-use mcint::{CancelToken, Integrator, Method, Pdf, Run, VectorEstimate};
+use mcint::{CancelToken, Integrator, Method, Pdf, Run};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -161,7 +161,9 @@ pub fn integrate_box(
         cancel: cancel.clone(),
     };
     let integrand = PyIntegrand::new(f, outputs, measure, cancel);
-    let outcome = run_watching_signals(py, settings, &integrand);
+    let outcome = run_watching_signals(py, &integrand, || {
+        build(settings, &integrand).and_then(|run| run.run_vector().map_err(to_py))
+    });
     if let Some(error) = integrand.take_failure() {
         return Err(error);
     }
@@ -222,14 +224,15 @@ fn build_sampler(
     Ok(Some(sampler))
 }
 
-/// Runs on a worker thread; the calling thread waits with the interpreter's lock released
-/// and, between waits, takes it to look for a signal: a `KeyboardInterrupt` cancels the run
-/// (it stops within a chunk) and is raised once the worker has finished.
-fn run_watching_signals(
+/// Runs `job` on a worker thread; the calling thread waits with the interpreter's lock
+/// released and, between waits, takes it to look for a signal: a `KeyboardInterrupt` cancels
+/// the run (through `integrand`: it stops within a chunk) and is raised once the worker has
+/// finished.
+pub fn run_watching_signals<T: Send>(
     py: Python<'_>,
-    settings: Settings,
     integrand: &PyIntegrand,
-) -> PyResult<VectorEstimate> {
+    job: impl FnOnce() -> PyResult<T> + Send,
+) -> PyResult<T> {
     std::thread::scope(|scope| {
         let (done, finished) = mpsc::channel();
         // Waited on with the lock released, which needs a shareable receiver.
@@ -238,11 +241,7 @@ fn run_watching_signals(
             // The worker keeps a Python thread state for the whole run (released, so the
             // caller can take the lock): each call of f then only takes the lock, instead of
             // creating and destroying a thread state, which cost about 40 us a call.
-            let result = Python::attach(|py| {
-                py.detach(|| {
-                    build(settings, integrand).and_then(|run| run.run_vector().map_err(to_py))
-                })
-            });
+            let result = Python::attach(|py| py.detach(job));
             // The receiver only goes away once this thread is joined.
             let _ = done.send(());
             result
