@@ -2,8 +2,8 @@
 
 use super::Estimator;
 use super::box_block::{evaluate_scaled, is_unit, with_mapped};
-use super::{DEFAULT_POINTS_PER_CALL, MAX_POINTS_PER_CALL};
-use crate::error::{Error, Result};
+use super::{DEFAULT_POINTS_PER_CALL, checked_points_per_call};
+use crate::error::Result;
 use crate::pdf::{Pdf, UniformBox};
 use crate::points::Points;
 
@@ -101,10 +101,7 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchUniformEstimator<F> {
     /// assert!(BatchUniformEstimator::new(sum, square()).with_points_per_call(0).is_err());
     /// ```
     pub fn with_points_per_call(mut self, points: usize) -> Result<Self> {
-        if !(1..=MAX_POINTS_PER_CALL).contains(&points) {
-            return Err(Error::invalid("points_per_call", points, "1 to 2^20"));
-        }
-        self.per_call = points;
+        self.per_call = checked_points_per_call(points)?;
         Ok(self)
     }
 

@@ -71,8 +71,18 @@ pub use warp_importance::WarpImportanceEstimator;
 /// [`Estimator::points_per_call`]): also the block the Integrator sums at a time.
 pub(crate) const DEFAULT_POINTS_PER_CALL: usize = 1024;
 
-/// The most points per call an estimator may ask for.
-pub(crate) const MAX_POINTS_PER_CALL: usize = 1 << 20;
+/// `points` per call if an estimator may ask for them: 1 to 2^20.
+pub(crate) fn checked_points_per_call(points: usize) -> crate::error::Result<usize> {
+    if (1..=1 << 20).contains(&points) {
+        Ok(points)
+    } else {
+        Err(crate::error::Error::invalid(
+            "points_per_call",
+            points,
+            "1 to 2^20",
+        ))
+    }
+}
 
 use crate::points::Points;
 

@@ -3,8 +3,8 @@
 
 use super::VectorEstimator;
 use super::box_block::{evaluate_scaled, is_unit, with_mapped};
-use super::{DEFAULT_POINTS_PER_CALL, MAX_POINTS_PER_CALL};
-use crate::error::{Error, Result};
+use super::{DEFAULT_POINTS_PER_CALL, checked_points_per_call};
+use crate::error::Result;
 use crate::pdf::{Pdf, UniformBox};
 use crate::points::Points;
 
@@ -80,10 +80,7 @@ impl<F: Fn(&Points, &mut [f64]) + Send + Sync> BatchVectorUniformEstimator<F> {
     /// assert_eq!(e.with_points_per_call(4096).unwrap().points_per_call(), 4096);
     /// ```
     pub fn with_points_per_call(mut self, points: usize) -> Result<Self> {
-        if !(1..=MAX_POINTS_PER_CALL).contains(&points) {
-            return Err(Error::invalid("points_per_call", points, "1 to 2^20"));
-        }
-        self.per_call = points;
+        self.per_call = checked_points_per_call(points)?;
         Ok(self)
     }
 
