@@ -6,6 +6,7 @@ import warnings
 import numpy as np
 
 from . import _native, _seed
+from .measure import spec_of
 from ._result import IntegrationResult, McintWarning
 
 METHODS = ("plain", "rqmc", "vegas", "vegas-plus", "miser", "two-stage", "sobol-g")
@@ -144,12 +145,7 @@ def expectation(
     """
     if not callable(f):
         raise TypeError(f"invalid f = {f!r}: expected a callable taking an (n, d) array")
-    spec = getattr(measure, "_spec", None)
-    if not isinstance(spec, _native.MeasureSpec):
-        raise TypeError(
-            f"invalid measure = {measure!r}: expected one of mcint.measure's (Gaussian, "
-            "Lognormal, BrownianMotion, GeometricBrownianMotion, Uniform)"
-        )
+    spec = spec_of(measure, "measure")
     if method not in ("rqmc", "plain"):
         raise ValueError(
             f"invalid method = {method!r}: an expectation over a measure takes 'rqmc' or 'plain'"

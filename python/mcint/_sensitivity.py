@@ -7,6 +7,7 @@ import numpy as np
 from . import _native, _seed
 from ._integrate import _outputs, _positive, _whole
 from ._result import RunWarning
+from .measure import spec_of
 
 
 def sobol_indices(
@@ -49,12 +50,7 @@ def sobol_indices(
     """
     if not callable(f):
         raise TypeError(f"invalid f = {f!r}: expected a callable taking an (n, d) array")
-    spec = getattr(inputs, "_spec", None)
-    if not isinstance(spec, _native.MeasureSpec):
-        raise TypeError(
-            f"invalid inputs = {inputs!r}: expected a measure of mcint.measure (Uniform, "
-            "Gaussian, Lognormal, ...)"
-        )
+    spec = spec_of(inputs, "inputs")
     outputs = _outputs(f, np.array(spec.middle()))
     if groups is not None:
         groups = [[_whole("groups", i, 0) for i in group] for group in groups]

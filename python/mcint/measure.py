@@ -16,6 +16,17 @@ def _floats(name, values, ndim):
     return array
 
 
+def spec_of(measure, name):
+    """The native measure of ``measure``, or a TypeError naming the argument ``name``."""
+    spec = getattr(measure, "_spec", None)
+    if not isinstance(spec, _native.MeasureSpec):
+        raise TypeError(
+            f"invalid {name} = {measure!r}: expected a measure of mcint.measure (Gaussian, "
+            "Lognormal, BrownianMotion, GeometricBrownianMotion, Uniform)"
+        )
+    return spec
+
+
 class _Measure:
     _spec = None
 

@@ -125,18 +125,7 @@ pub fn integrate_box(
         }
         (t, None) => t,
     };
-    let time_limit = time_limit
-        .map(|seconds| {
-            Duration::try_from_secs_f64(seconds)
-                .ok()
-                .filter(|d| !d.is_zero())
-                .ok_or_else(|| {
-                    PyValueError::new_err(format!(
-                        "invalid time_limit = {seconds}: expected a number of seconds above 0"
-                    ))
-                })
-        })
-        .transpose()?;
+    let time_limit = time_limit.map(duration).transpose()?;
     if let Some((i, j)) = ratio
         && (i >= outputs || j >= outputs || i == j)
     {
@@ -173,6 +162,18 @@ pub fn integrate_box(
         None => None,
     };
     Ok(RunResult::new(run, ratio))
+}
+
+/// `time_limit` seconds as a duration: finite and above 0.
+pub fn duration(seconds: f64) -> PyResult<Duration> {
+    Duration::try_from_secs_f64(seconds)
+        .ok()
+        .filter(|d| !d.is_zero())
+        .ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "invalid time_limit = {seconds}: expected a number of seconds above 0"
+            ))
+        })
 }
 
 /// The sampler `sampler` and `scramble` name: for plain and rqmc runs always (the method's

@@ -2,7 +2,6 @@
 //! the library's pick-freeze design with the model called on blocks of inputs.
 
 use std::sync::Arc;
-use std::time::Duration;
 
 use mcint::measure::Measure;
 use mcint::sensitivity::{Indices, SobolDesign};
@@ -15,7 +14,7 @@ use pyo3::types::{PyDict, PyList};
 use crate::errors::to_py;
 use crate::integrand::PyIntegrand;
 use crate::measure::MeasureSpec;
-use crate::run::run_watching_signals;
+use crate::run::{duration, run_watching_signals};
 
 /// A shared measure as the design's input law.
 struct Shared(Arc<dyn Measure>);
@@ -171,15 +170,7 @@ pub fn sobol_indices(
         run = run.threads(t);
     }
     if let Some(seconds) = time_limit {
-        let limit = Duration::try_from_secs_f64(seconds)
-            .ok()
-            .filter(|d| !d.is_zero())
-            .ok_or_else(|| {
-                PyValueError::new_err(format!(
-                    "invalid time_limit = {seconds}: expected a number of seconds above 0"
-                ))
-            })?;
-        run = run.time_limit(limit);
+        run = run.time_limit(duration(seconds)?);
     }
     let outcome = run_watching_signals(py, &model, || run.run().map_err(to_py));
     if let Some(error) = model.take_failure() {

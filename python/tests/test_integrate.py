@@ -3,6 +3,7 @@
 import _thread
 import resource
 import threading
+import time
 import warnings
 
 import numpy as np
@@ -129,23 +130,29 @@ def test_keyboard_interrupt_cancels_the_run():
 
 
 def test_the_lock_is_released_while_the_run_goes_on():
-    # A Python thread keeps running while mcint integrates on the main thread.
-    ticks = []
+    # A Python thread keeps running while mcint integrates on the main thread: it ticks
+    # between the integrand's calls, not only before and after the run.
+    ticks, calls = [], []
     stop = threading.Event()
 
     def ticker():
         while not stop.is_set():
-            ticks.append(1)
+            ticks.append(time.perf_counter())
             stop.wait(0.001)
+
+    def timed(x):
+        calls.append(time.perf_counter())
+        return gauss(x)
 
     thread = threading.Thread(target=ticker)
     thread.start()
     try:
-        mcint.integrate(gauss, [0] * 3, [1] * 3, n=1 << 18, replicates=8, seed=0)
+        mcint.integrate(timed, [0] * 3, [1] * 3, n=1 << 18, replicates=8, seed=0, threads=1)
     finally:
         stop.set()
         thread.join()
-    assert len(ticks) > 1
+    during = [t for t in ticks if calls[1] < t < calls[-1]]  # calls[0] is the shape probe
+    assert len(during) > 1, (len(ticks), len(calls))
 
 
 # numpy's divide-by-zero warning is raised on the thread that calls f.
