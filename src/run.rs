@@ -1,6 +1,6 @@
 //! [`Run`]: what every runner is to a program that chooses its method at run time.
 
-use crate::adaptive::{Miser, SobolG, TwoStage, Vegas, VegasBatch, VegasOutputs};
+use crate::adaptive::{Miser, ScalarBatch, SobolG, TwoStage, Vegas, VegasBatch, VegasOutputs};
 use crate::error::Result;
 use crate::estimator::Estimator;
 use crate::integrate::{Integration, Integrator};
@@ -88,7 +88,19 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Run for Miser<F> {
     }
 }
 
+impl<G: Fn(&Points, &mut [f64]) + Sync> Run for Miser<ScalarBatch<G>> {
+    fn run_vector(&self) -> Result<VectorEstimate> {
+        self.run().map(VectorEstimate::from)
+    }
+}
+
 impl<F: Fn(&[f64]) -> f64 + Sync> Run for TwoStage<F> {
+    fn run_vector(&self) -> Result<VectorEstimate> {
+        self.run().map(VectorEstimate::from)
+    }
+}
+
+impl<G: Fn(&Points, &mut [f64]) + Sync> Run for TwoStage<ScalarBatch<G>> {
     fn run_vector(&self) -> Result<VectorEstimate> {
         self.run().map(VectorEstimate::from)
     }

@@ -26,21 +26,35 @@ use crate::sampler::{PassKind, Sampler};
 /// Points generated and evaluated together.
 pub(in crate::adaptive) const BLOCK: usize = 256;
 
-/// Per-thread buffers of a method that draws batches: a block of canonical points, and one
-/// point in canonical and in domain coordinates.
+/// Per-thread buffers of a method that draws batches: a block of canonical points, one point
+/// in canonical and in domain coordinates, and the buffers of an integrand evaluated by blocks.
 pub(in crate::adaptive) struct Workspace {
     pub(in crate::adaptive) points: Points,
     pub(in crate::adaptive) unit: Vec<f64>,
     pub(in crate::adaptive) x: Vec<f64>,
+    pub(in crate::adaptive) block: BlockBuffers,
+}
+
+/// A block's points in canonical and in domain coordinates and its values, for an integrand
+/// evaluated by blocks (empty until one is).
+pub(in crate::adaptive) struct BlockBuffers {
+    pub(in crate::adaptive) units: Points,
+    pub(in crate::adaptive) xs: Points,
+    pub(in crate::adaptive) values: Vec<f64>,
 }
 
 impl Workspace {
-    /// The buffers for points of `dims` coordinates.
-    pub(in crate::adaptive) fn new(dims: usize) -> Result<Workspace> {
+    /// The buffers for blocks of up to `block` points of `dims` coordinates.
+    pub(in crate::adaptive) fn new(dims: usize, block: usize) -> Result<Workspace> {
         Ok(Workspace {
-            points: Points::new(dims, BLOCK)?,
+            points: Points::new(dims, block)?,
             unit: vec![0.0; dims],
             x: vec![0.0; dims],
+            block: BlockBuffers {
+                units: Points::new(dims, 0)?,
+                xs: Points::new(dims, 0)?,
+                values: Vec::new(),
+            },
         })
     }
 }

@@ -25,8 +25,9 @@
 //! replicate means are independent and identically distributed, so their Student-t interval
 //! with `R - 1` degrees of freedom is honest ([`Estimate::from_replicates`]).
 
-use super::batches::{BLOCK, Batches, Workspace};
+use super::batches::{Batches, Workspace};
 use super::cell::Cell;
+use super::scalar_batch::{ScalarBatch, ScalarIntegrand};
 use crate::engine::{
     self, ChunkJob, DEFAULT_REPLICATES, Drive, Executor, Limits, Next, NonFinite, RunConfig,
     StageEnd, Stages, Targets, run_settings,
@@ -34,6 +35,7 @@ use crate::engine::{
 use crate::error::{Error, Result};
 use crate::hash::hash_words;
 use crate::pdf::{Pdf, UniformBox};
+use crate::points::Points;
 use crate::stats::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
 use crate::stats::{Estimate, StopReason, VectorEstimate};
 
@@ -112,6 +114,79 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
         }
     }
 
+    /// Runs the integration.
+    ///
+    /// Errors name the setting that is out of range, report a sampler of the wrong dimension
+    /// or kind, and report NaN or infinite integrand values (their count and the first
+    /// point, in coordinates relative to the domain), since such a mean would be silently
+    /// wrong.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox};
+    /// let bad = Miser::new(|x: &[f64]| 1.0 / (x[0] - x[0]), UniformBox::unit(1).unwrap()).run();
+    /// assert!(bad.unwrap_err().to_string().contains("non-finite"));
+    /// ```
+    pub fn run(&self) -> Result<Estimate> {
+        self.run_with(&self.f)
+    }
+}
+
+impl<G: Fn(&Points, &mut [f64]) + Sync> Miser<ScalarBatch<G>> {
+    /// MISER for an integrand evaluated a block of points at a time (see [`ScalarBatch`]),
+    /// with the defaults of [`new`](Miser::new): the same points, decisions and bits as the
+    /// per-point integrand with the same values.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox, Points};
+    /// let per_point = Miser::new(|x: &[f64]| x[0] * x[1], UniformBox::unit(2).unwrap());
+    /// let by_blocks = Miser::new_batch(
+    ///     |p: &Points, out: &mut [f64]| {
+    ///         for (y, (a, b)) in out.iter_mut().zip(p.column(0).iter().zip(p.column(1))) {
+    ///             *y = a * b;
+    ///         }
+    ///     },
+    ///     UniformBox::unit(2).unwrap(),
+    /// );
+    /// let (a, b) = (per_point.seed(3).run().unwrap(), by_blocks.seed(3).run().unwrap());
+    /// assert_eq!(a.mean.to_bits(), b.mean.to_bits());
+    /// ```
+    pub fn new_batch(f: G, domain: UniformBox) -> Self {
+        let Miser {
+            domain,
+            config,
+            explore_fraction,
+            min_points,
+            min_points_per_bisection,
+            dither,
+            alpha,
+            ..
+        } = Miser::new(|_: &[f64]| 0.0, domain);
+        Miser {
+            f: ScalarBatch(f),
+            domain,
+            config,
+            explore_fraction,
+            min_points,
+            min_points_per_bisection,
+            dither,
+            alpha,
+        }
+    }
+
+    /// Runs the integration, as [`Miser::run`] does for a per-point integrand.
+    ///
+    /// ```
+    /// use mcint::{adaptive::Miser, pdf::UniformBox, Points};
+    /// let f = |p: &Points, out: &mut [f64]| out.fill(f64::NAN);
+    /// let bad = Miser::new_batch(f, UniformBox::unit(1).unwrap()).run();
+    /// assert!(bad.unwrap_err().to_string().contains("non-finite"));
+    /// ```
+    pub fn run(&self) -> Result<Estimate> {
+        self.run_with(&self.f)
+    }
+}
+
+impl<F> Miser<F> {
     run_settings! {
         setup: "use mcint::{adaptive::Miser, pdf::UniformBox};\n\
                 const DIMS: usize = 2;\n\
@@ -219,24 +294,14 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
         self
     }
 
-    /// Runs the integration.
-    ///
-    /// Errors name the setting that is out of range, report a sampler of the wrong dimension
-    /// or kind, and report NaN or infinite integrand values (their count and the first
-    /// point, in coordinates relative to the domain), since such a mean would be silently
-    /// wrong.
-    ///
-    /// ```
-    /// use mcint::{adaptive::Miser, pdf::UniformBox};
-    /// let bad = Miser::new(|x: &[f64]| 1.0 / (x[0] - x[0]), UniformBox::unit(1).unwrap()).run();
-    /// assert!(bad.unwrap_err().to_string().contains("non-finite"));
-    /// ```
-    pub fn run(&self) -> Result<Estimate> {
-        self.run_unchecked().and_then(Estimate::checked)
+    /// The run over `f` (the integrand, per point or by blocks), its result checked for
+    /// overflow.
+    fn run_with<E: ScalarIntegrand>(&self, f: &E) -> Result<Estimate> {
+        self.run_unchecked(f).and_then(Estimate::checked)
     }
 
-    /// [`run`](Self::run) before its result is checked for overflow.
-    fn run_unchecked(&self) -> Result<Estimate> {
+    /// [`run_with`](Self::run_with) before its result is checked for overflow.
+    fn run_unchecked<E: ScalarIntegrand>(&self, f: &E) -> Result<Estimate> {
         let settings = self.settings()?;
         let (executor, _run) = self.config.executor()?;
         let sampler = self
@@ -244,7 +309,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
             .sampler(self.domain.dims(), "sampler (the dimension of the domain)")?;
         let limits = self.config.limits();
         let run = Recursion {
-            f: &self.f,
+            f,
             domain: &self.domain,
             batches: Batches::new(&*sampler, "MISER")?,
             settings,
@@ -465,7 +530,7 @@ struct Stage {
     per_replicate: u64,
 }
 
-impl<F: Fn(&[f64]) -> f64 + Sync> Recursion<'_, F> {
+impl<F: ScalarIntegrand> Recursion<'_, F> {
     /// Stops the work of a stage once its time limit has passed or it was cancelled (checked
     /// before every region and every block of points).
     fn check_limits(&self) -> Result<()> {
@@ -630,11 +695,11 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Recursion<'_, F> {
             self.executor.join(
                 origin,
                 || {
-                    let mut own = Workspace::new(s.dims)?;
+                    let mut own = Workspace::new(s.dims, self.f.block())?;
                     self.region(stage, left, n_left, slot_left, depth + 1, &mut own)
                 },
                 || {
-                    let mut own = Workspace::new(s.dims)?;
+                    let mut own = Workspace::new(s.dims, self.f.block())?;
                     self.region(stage, right, n_right, slot_right, depth + 1, &mut own)
                 },
             )
@@ -669,12 +734,12 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Recursion<'_, F> {
         let mut k = 0u64;
         while k < n {
             self.check_limits()?;
-            let want = (n - k).min(BLOCK as u64) as usize;
+            let want = (n - k).min(self.f.block() as u64) as usize;
             let len = self.batches.fill(slot, k, want, &mut work.points)?;
-            for i in 0..len {
+            let place = |points: &Points, i: usize, unit: &mut [f64], x: &mut [f64]| {
                 let forced = ((k + i as u64) / 2 % dims as u64) as usize;
                 let right_side = (k + i as u64).is_multiple_of(2);
-                for (dim, u) in work.unit.iter_mut().enumerate() {
+                for (dim, u) in unit.iter_mut().enumerate() {
                     let (lo, hi) = if dim != forced {
                         (cell.lo[dim], cell.hi[dim])
                     } else if right_side {
@@ -682,22 +747,23 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Recursion<'_, F> {
                     } else {
                         (cell.lo[dim], mid[dim])
                     };
-                    *u = lo + work.points.get(i, dim) * (hi - lo);
+                    *u = lo + points.get(i, dim) * (hi - lo);
                 }
-                self.domain.sample(&work.unit, &mut work.x);
-                let y = (self.f)(&work.x);
+                self.domain.sample(unit, x);
+            };
+            self.f.each(len, work, place, |i, y, unit| {
                 if !y.is_finite() {
-                    partial.record(slot - stage.base_of(slot) + k + i as u64, y, &work.unit);
-                    continue;
+                    partial.record(slot - stage.base_of(slot) + k + i as u64, y, unit);
+                    return;
                 }
                 let y = y - *shift.get_or_insert(y);
-                for ((half, &u), &m) in halves.iter_mut().zip(&work.unit).zip(mid) {
+                for ((half, &u), &m) in halves.iter_mut().zip(unit).zip(mid) {
                     let side = if u <= m { &mut half.0 } else { &mut half.1 };
                     side.count += 1;
                     side.sum += y;
                     side.sum_sq += y * y;
                 }
-            }
+            });
             k += len as u64;
         }
         Ok(halves)
@@ -718,18 +784,19 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Recursion<'_, F> {
         let mut k = 0u64;
         while k < n {
             self.check_limits()?;
-            let want = (n - k).min(BLOCK as u64) as usize;
+            let want = (n - k).min(self.f.block() as u64) as usize;
             let len = self.batches.fill(slot, k, want, &mut work.points)?;
-            for i in 0..len {
-                cell.place(&work.points, i, self.domain, &mut work.unit, &mut work.x);
-                let y = (self.f)(&work.x);
+            let place = |points: &Points, i: usize, unit: &mut [f64], x: &mut [f64]| {
+                cell.place(points, i, self.domain, unit, x);
+            };
+            self.f.each(len, work, place, |i, y, unit| {
                 if y.is_finite() {
                     sum += y;
                     largest = largest.max(y.abs());
                 } else {
-                    partial.record(slot - stage.base_of(slot) + k + i as u64, y, &work.unit);
+                    partial.record(slot - stage.base_of(slot) + k + i as u64, y, unit);
                 }
-            }
+            });
             k += len as u64;
         }
         // The finite values only (all of them, unless non-finite ones are skipped).
@@ -751,12 +818,12 @@ struct StageJob<'a, 'b, F> {
     stage: Stage,
 }
 
-impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StageJob<'_, '_, F> {
+impl<F: ScalarIntegrand> ChunkJob for StageJob<'_, '_, F> {
     type Scratch = Workspace;
     type Output = Partial;
 
     fn scratch(&self) -> Result<Workspace> {
-        Workspace::new(self.run.settings.dims)
+        Workspace::new(self.run.settings.dims, self.run.f.block())
     }
 
     fn run(&self, work: &mut Workspace, r: u64, _: &Limits) -> Result<Option<Partial>> {
@@ -794,7 +861,7 @@ struct MiserStages<'a, 'b, F> {
     last: Option<Estimate>,
 }
 
-impl<F: Fn(&[f64]) -> f64 + Sync> Stages for MiserStages<'_, '_, F> {
+impl<F: ScalarIntegrand> Stages for MiserStages<'_, '_, F> {
     fn next(&mut self, _left: u64) -> Result<Next> {
         if self.stages > 0 {
             if !self.doubling {

@@ -13,6 +13,7 @@
 mod batches;
 mod cell;
 mod miser;
+mod scalar_batch;
 mod sobol_g;
 mod two_stage;
 mod vegas;
@@ -20,6 +21,7 @@ mod vegas_grid;
 mod walsh;
 
 pub use miser::Miser;
+pub use scalar_batch::ScalarBatch;
 pub use sobol_g::SobolG;
 pub use two_stage::{TwoStage, strata_per_axis_for};
 pub use vegas::{Vegas, VegasBatch, VegasOutputs};

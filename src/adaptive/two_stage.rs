@@ -21,12 +21,14 @@
 
 use super::batches::{BLOCK, Batches, Workspace};
 use super::cell::Cell;
+use super::scalar_batch::{ScalarBatch, ScalarIntegrand};
 use crate::engine::{
     self, ChunkJob, Drive, Executor, Limits, Next, NonFinite, RunConfig, StageEnd, Stages, Targets,
     run_settings,
 };
 use crate::error::{Error, Result};
 use crate::pdf::{Pdf, UniformBox};
+use crate::points::Points;
 use crate::stats::rounding::{UNIT_ROUNDOFF, gamma};
 use crate::stats::{Accumulator, ErrorBasis, Estimate, StopReason, VectorEstimate};
 
@@ -103,6 +105,68 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
         }
     }
 
+    /// Runs both stages.
+    ///
+    /// Errors name the setting that is out of range, report a sampler of the wrong dimension
+    /// or kind, and report NaN or infinite integrand values (their count and the first point,
+    /// in coordinates relative to the domain).
+    ///
+    /// ```
+    /// use mcint::{adaptive::TwoStage, pdf::UniformBox, stats::ErrorBasis};
+    /// let e = TwoStage::new(|x: &[f64]| x[0] * x[0], UniformBox::unit(1).unwrap(), 8).run().unwrap();
+    /// assert_eq!((e.basis, e.iterations), (ErrorBasis::PerSample, 2));
+    /// ```
+    pub fn run(&self) -> Result<Estimate> {
+        self.run_with(&self.f)
+    }
+}
+
+impl<G: Fn(&Points, &mut [f64]) + Sync> TwoStage<ScalarBatch<G>> {
+    /// Two-stage sampling of an integrand evaluated a block of points at a time (see
+    /// [`ScalarBatch`]; the points of a block may lie in many strata), with the defaults of
+    /// [`new`](TwoStage::new): the same points, allocation and bits as the per-point integrand
+    /// with the same values.
+    ///
+    /// ```
+    /// use mcint::{adaptive::TwoStage, pdf::UniformBox, Points};
+    /// let per_point = TwoStage::new(|x: &[f64]| x[0] * x[1], UniformBox::unit(2).unwrap(), 8);
+    /// let by_blocks = TwoStage::new_batch(
+    ///     |p: &Points, out: &mut [f64]| {
+    ///         for (y, (a, b)) in out.iter_mut().zip(p.column(0).iter().zip(p.column(1))) {
+    ///             *y = a * b;
+    ///         }
+    ///     },
+    ///     UniformBox::unit(2).unwrap(),
+    ///     8,
+    /// );
+    /// let (a, b) = (per_point.seed(3).run().unwrap(), by_blocks.seed(3).run().unwrap());
+    /// assert_eq!(a.mean.to_bits(), b.mean.to_bits());
+    /// ```
+    pub fn new_batch(f: G, domain: UniformBox, strata_per_axis: usize) -> Self {
+        TwoStage {
+            f: ScalarBatch(f),
+            domain,
+            strata_per_axis,
+            pilot: DEFAULT_PILOT,
+            reuse_pilot: false,
+            config: RunConfig::default(),
+        }
+    }
+
+    /// Runs both stages, as [`TwoStage::run`] does for a per-point integrand.
+    ///
+    /// ```
+    /// use mcint::{adaptive::TwoStage, pdf::UniformBox, Points};
+    /// let f = |p: &Points, out: &mut [f64]| out.fill(f64::INFINITY);
+    /// let bad = TwoStage::new_batch(f, UniformBox::unit(1).unwrap(), 4).run();
+    /// assert!(bad.unwrap_err().to_string().contains("non-finite"));
+    /// ```
+    pub fn run(&self) -> Result<Estimate> {
+        self.run_with(&self.f)
+    }
+}
+
+impl<F> TwoStage<F> {
     run_settings! {
         setup: "use mcint::{adaptive::TwoStage, pdf::UniformBox};\n\
                 const DIMS: usize = 2;\n\
@@ -154,23 +218,14 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
         self
     }
 
-    /// Runs both stages.
-    ///
-    /// Errors name the setting that is out of range, report a sampler of the wrong dimension
-    /// or kind, and report NaN or infinite integrand values (their count and the first point,
-    /// in coordinates relative to the domain).
-    ///
-    /// ```
-    /// use mcint::{adaptive::TwoStage, pdf::UniformBox, stats::ErrorBasis};
-    /// let e = TwoStage::new(|x: &[f64]| x[0] * x[0], UniformBox::unit(1).unwrap(), 8).run().unwrap();
-    /// assert_eq!((e.basis, e.iterations), (ErrorBasis::PerSample, 2));
-    /// ```
-    pub fn run(&self) -> Result<Estimate> {
-        self.run_unchecked().and_then(Estimate::checked)
+    /// The run over `f` (the integrand, per point or by blocks), its result checked for
+    /// overflow.
+    fn run_with<E: ScalarIntegrand>(&self, f: &E) -> Result<Estimate> {
+        self.run_unchecked(f).and_then(Estimate::checked)
     }
 
-    /// [`run`](Self::run) before its result is checked for overflow.
-    fn run_unchecked(&self) -> Result<Estimate> {
+    /// [`run_with`](Self::run_with) before its result is checked for overflow.
+    fn run_unchecked<E: ScalarIntegrand>(&self, f: &E) -> Result<Estimate> {
         let dims = self.domain.dims();
         let strata = self.strata()?;
         if self.pilot < 2 {
@@ -216,7 +271,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
             });
         }
         let grid = Grid {
-            f: &self.f,
+            f,
             domain: &self.domain,
             batches,
             per_axis: self.strata_per_axis,
@@ -303,7 +358,7 @@ struct Grid<'a, F> {
 /// A stratum's first non-finite value: stratum, index within its batch, value, point.
 type FirstBad = (usize, u64, f64, Vec<f64>);
 
-impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
+impl<F: ScalarIntegrand> Grid<'_, F> {
     /// The cell of stratum `j`: digit `i` of `j` in base `per_axis` is its row along axis `i`.
     fn cell(&self, mut j: usize) -> Cell {
         let k = self.per_axis;
@@ -378,32 +433,62 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Grid<'_, F> {
         Ok((sampled, non_finite))
     }
 
-    /// Points `first .. first + n` of stratum `j` from the batch at `slot`.
-    fn sample_stratum(
+    /// The statistics of the pieces `(stratum j, (first, n))` in order: points `first ..
+    /// first + n` of stratum `j`'s batch, whose first slot is `slot(j)`, each piece's values
+    /// pushed in index order. Points of consecutive pieces share blocks, so that an integrand
+    /// evaluated by blocks is called with many small strata at once.
+    fn sample_pieces(
         &self,
-        j: usize,
-        slot: u64,
-        (first, n): (u64, u64),
+        pieces: &[(usize, (u64, u64))],
+        slot: &dyn Fn(usize) -> u64,
         work: &mut Workspace,
         bad: &mut Option<FirstBad>,
-    ) -> Result<Accumulator> {
-        let cell = self.cell(j);
-        let mut acc = Accumulator::new();
-        let mut k = first;
-        while k < first + n {
-            let want = (first + n - k).min(BLOCK as u64) as usize;
-            let len = self.batches.fill(slot, k, want, &mut work.points)?;
-            for i in 0..len {
-                cell.place(&work.points, i, self.domain, &mut work.unit, &mut work.x);
-                let y = (self.f)(&work.x);
-                acc.push(y);
+    ) -> Result<Vec<(usize, Accumulator)>> {
+        let cells: Vec<Cell> = pieces.iter().map(|&(j, _)| self.cell(j)).collect();
+        let mut stats: Vec<(usize, Accumulator)> = pieces
+            .iter()
+            .map(|&(j, _)| (j, Accumulator::new()))
+            .collect();
+        let block = self.f.block();
+        let dims = self.domain.dims();
+        // Where each point of the block came from: its piece and its index in the batch.
+        let mut origins: Vec<(usize, u64)> = Vec::with_capacity(block);
+        let mut staged = Points::new(dims, 0)?;
+        work.points.set_len(block);
+        let mut flush = |work: &mut Workspace, origins: &mut Vec<(usize, u64)>| {
+            let place = |points: &Points, i: usize, unit: &mut [f64], x: &mut [f64]| {
+                cells[origins[i].0].place(points, i, self.domain, unit, x);
+            };
+            self.f.each(origins.len(), work, place, |i, y, unit| {
+                let (piece, index) = origins[i];
+                stats[piece].1.push(y);
                 if !y.is_finite() && bad.is_none() {
-                    *bad = Some((j, k + i as u64, y, work.unit.clone()));
+                    *bad = Some((pieces[piece].0, index, y, unit.to_vec()));
+                }
+            });
+            origins.clear();
+        };
+        for (piece, &(j, (first, n))) in pieces.iter().enumerate() {
+            let mut k = first;
+            while k < first + n {
+                let want = (first + n - k).min((block - origins.len()) as u64) as usize;
+                let len = self.batches.fill(slot(j), k, want, &mut staged)?;
+                let at = origins.len();
+                for d in 0..dims {
+                    work.points.column_mut(d)[at..at + len].copy_from_slice(staged.column(d));
+                }
+                origins.extend((0..len as u64).map(|i| (piece, k + i)));
+                k += len as u64;
+                if origins.len() == block {
+                    flush(work, &mut origins);
                 }
             }
-            k += len as u64;
         }
-        Ok(acc)
+        if !origins.is_empty() {
+            // The block keeps its length: its first points are the ones staged.
+            flush(work, &mut origins);
+        }
+        Ok(stats)
     }
 }
 
@@ -426,14 +511,14 @@ struct Stratified<'a, 'b, F> {
     cut: u64,
 }
 
-impl<F: Fn(&[f64]) -> f64 + Sync> Stratified<'_, '_, F> {
+impl<F: ScalarIntegrand> Stratified<'_, '_, F> {
     /// Evaluations of the pilot: stratum `j` at slots `j * pilot ..`.
     fn pilot_evaluations(&self) -> u64 {
         self.strata as u64 * self.pilot
     }
 }
 
-impl<F: Fn(&[f64]) -> f64 + Sync> Stages for Stratified<'_, '_, F> {
+impl<F: ScalarIntegrand> Stages for Stratified<'_, '_, F> {
     fn next(&mut self, _left: u64) -> Result<Next> {
         let main_base = self.pilot_evaluations();
         match (&self.pilot_stats, &self.main_stats) {
@@ -634,26 +719,19 @@ impl Stage<'_> {
     }
 }
 
-impl<F: Fn(&[f64]) -> f64 + Sync> ChunkJob for StrataJob<'_, '_, F> {
+impl<F: ScalarIntegrand> ChunkJob for StrataJob<'_, '_, F> {
     type Scratch = Workspace;
     type Output = (Vec<(usize, Accumulator)>, Option<FirstBad>);
 
     fn scratch(&self) -> Result<Workspace> {
-        Workspace::new(self.grid.domain.dims())
+        Workspace::new(self.grid.domain.dims(), self.grid.f.block())
     }
 
     fn run(&self, work: &mut Workspace, chunk: u64, _: &Limits) -> Result<Option<Self::Output>> {
         let mut bad = None;
-        let stats = self
-            .stage
-            .pieces(chunk)
-            .into_iter()
-            .map(|(j, piece)| {
-                let slot = (self.stage.batch)(j).0;
-                let acc = self.grid.sample_stratum(j, slot, piece, work, &mut bad)?;
-                Ok((j, acc))
-            })
-            .collect::<Result<_>>()?;
+        let pieces = self.stage.pieces(chunk);
+        let slot = |j: usize| (self.stage.batch)(j).0;
+        let stats = self.grid.sample_pieces(&pieces, &slot, work, &mut bad)?;
         Ok(Some((stats, bad)))
     }
 

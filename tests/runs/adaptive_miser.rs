@@ -228,7 +228,9 @@ fn tolerance_stops_the_run_for_the_right_reason() {
 #[test]
 fn bad_parameters_are_errors_that_name_the_field() {
     let g = Genz::with_defaults(GenzFamily::Gaussian, 2).unwrap();
-    let message = |m: Miser<_>| m.run().unwrap_err().to_string();
+    fn message<F: Fn(&[f64]) -> f64 + Sync>(m: Miser<F>) -> String {
+        m.run().unwrap_err().to_string()
+    }
     let cases: Vec<(String, &str)> = vec![
         (message(miser(&g).samples(0)), "samples"),
         (message(miser(&g).replicates(0)), "replicates"),

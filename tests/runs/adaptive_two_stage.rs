@@ -160,7 +160,9 @@ fn results_are_bit_identical_for_any_thread_count_and_sampler_choices_work() {
 fn bad_parameters_are_errors_that_name_the_field() {
     let f = |x: &[f64]| x[0];
     let unit = || UniformBox::unit(2).unwrap();
-    let message = |t: TwoStage<_>| t.run().unwrap_err().to_string();
+    fn message<F: Fn(&[f64]) -> f64 + Sync>(t: TwoStage<F>) -> String {
+        t.run().unwrap_err().to_string()
+    }
     let cases = [
         (message(TwoStage::new(f, unit(), 0)), "strata_per_axis"),
         (message(TwoStage::new(f, unit(), 5000)), "strata_per_axis"),

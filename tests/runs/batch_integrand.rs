@@ -7,7 +7,7 @@ use mcint::sampler::{Independent, LatinHypercube, Scramble, Sobol};
 use mcint::{Error, Integrator, NonFinitePolicy, Points};
 
 /// The per-point integrand: a smooth function that uses every coordinate.
-fn f(x: &[f64]) -> f64 {
+pub(super) fn f(x: &[f64]) -> f64 {
     x.iter()
         .enumerate()
         .map(|(i, &v)| (v * (i as f64 + 1.0)).cos())
@@ -17,7 +17,7 @@ fn f(x: &[f64]) -> f64 {
 
 /// The same function over a block, column by column: per point it adds the same terms in the
 /// same order, so each value has the same bits as `f`.
-fn f_batch(p: &Points, out: &mut [f64]) {
+pub(super) fn f_batch(p: &Points, out: &mut [f64]) {
     out.fill(0.0);
     for d in 0..p.dims() {
         let scale = d as f64 + 1.0;
@@ -30,7 +30,7 @@ fn f_batch(p: &Points, out: &mut [f64]) {
     }
 }
 
-fn boxes(dims: usize) -> Vec<UniformBox> {
+pub(super) fn boxes(dims: usize) -> Vec<UniformBox> {
     vec![
         UniformBox::unit(dims).unwrap(),
         UniformBox::new(

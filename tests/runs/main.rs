@@ -13,6 +13,7 @@
 //! | `sensitivity/` (Sobol' indices) | `sensitivity` |
 //! | `multilevel/` (MLMC and MLQMC on SDE paths) | `multilevel` |
 //! | batch integrands (`estimator/batch_uniform.rs`) | `batch_integrand` |
+//! | MISER and two-stage sampling by blocks (`adaptive/scalar_batch.rs`) | `adaptive_batch` |
 //! | vector runs (`integrate/vector.rs`, `estimator/vector*.rs`, `stats/covariance.rs`) | `vector_integrands`, `vector_coverage` |
 //! | vector VEGAS | `vector_vegas` |
 //! | VEGAS and VEGAS+ to a tolerance on sharp 8-D peaks | `vegas_peaks` |
@@ -24,6 +25,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod adaptive_batch;
 mod adaptive_miser;
 mod adaptive_tolerance;
 mod adaptive_two_stage;
