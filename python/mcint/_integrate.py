@@ -39,8 +39,8 @@ def integrate(
         column contiguous) and returns ``n`` values, shape ``(n,)``, or ``n`` rows of ``m``
         outputs, shape ``(n, m)``, all integrated over the same points. It is called once
         at the box's centre to learn ``m`` (not counted in ``evaluations``), then on
-        blocks of up to 8192 points (4096 for VEGAS, 1024 for ``sobol-g``; one point at a time for ``miser`` and
-        ``two-stage``, which are slow from Python).
+        blocks of up to 8192 points (4096 for VEGAS, ``miser`` and ``two-stage``, 1024
+        for ``sobol-g``; ``miser`` calls once per exploration or leaf of its tree).
     lower, upper : array_like
         The box's corners (``d`` finite values each, ``lower < upper``).
     method : str

@@ -1,4 +1,4 @@
-//! `PyIntegrand`: a vectorized Python function as the library's integrand, batch or point.
+//! `PyIntegrand`: a vectorized Python function as the library's integrand, called on blocks of points.
 
 use std::sync::{Arc, Mutex};
 
@@ -90,18 +90,6 @@ impl PyIntegrand {
                 *y *= w;
             }
         }
-    }
-
-    /// `g` at one point: `out[k]` is output `k`.
-    pub fn point(&self, x: &[f64], out: &mut [f64]) {
-        self.call(x.to_vec(), 1, x.len(), out);
-    }
-
-    /// `g` at one point of a scalar integrand.
-    pub fn scalar(&self, x: &[f64]) -> f64 {
-        let mut y = [0.0];
-        self.point(x, &mut y);
-        y[0]
     }
 
     /// Calls `g` on `n` points given as `d` columns of `columns`, into `out`.

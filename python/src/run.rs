@@ -347,8 +347,9 @@ fn build<'a>(mut s: Settings, integrand: &'a PyIntegrand) -> PyResult<Box<dyn Ru
             s.method
         )),
         Method::Miser => {
-            let f = move |x: &[f64]| integrand.scalar(x);
-            let mut run = common!(Miser::new(f, domain), s);
+            // By blocks: one Python call per exploration or leaf (up to 4,096 points).
+            let f = move |p: &mcint::Points, out: &mut [f64]| integrand.batch(p, out);
+            let mut run = common!(Miser::new_batch(f, domain), s);
             if let Some(sampler) = s.sampler.take() {
                 run = run.sampler(sampler);
             }
@@ -372,8 +373,9 @@ fn build<'a>(mut s: Settings, integrand: &'a PyIntegrand) -> PyResult<Box<dyn Ru
             }
             let n = s.n.unwrap_or(DEFAULT_TWO_STAGE_EVALUATIONS);
             let strata = strata_per_axis_for(domain.dims(), n);
-            let f = move |x: &[f64]| integrand.scalar(x);
-            let mut run = common!(TwoStage::new(f, domain, strata).samples(n), s);
+            // By blocks that gather many strata: one Python call per 4,096 points.
+            let f = move |p: &mcint::Points, out: &mut [f64]| integrand.batch(p, out);
+            let mut run = common!(TwoStage::new_batch(f, domain, strata).samples(n), s);
             if let Some(sampler) = s.sampler.take() {
                 run = run.sampler(sampler);
             }

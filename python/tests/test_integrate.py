@@ -67,6 +67,27 @@ def test_the_same_seed_gives_the_same_bits_on_any_thread_count():
     assert vegas[0] == vegas[1]
 
 
+@pytest.mark.parametrize("method", ["miser", "two-stage"])
+def test_miser_and_two_stage_call_f_on_blocks_with_the_bits_of_any_thread_count(method):
+    sizes = []
+
+    def counted(x):
+        sizes.append(len(x))
+        return gauss(x)
+
+    runs = [
+        mcint.integrate(counted, [0] * 3, [1] * 3, method=method, n=50_000, seed=4, threads=t)
+        for t in (1, 3)
+    ]
+    assert runs[0].to_dict() == runs[1].to_dict()
+    # MISER: one call per exploration or leaf (each at least 16 d = 48 points); two-stage:
+    # blocks of up to 4,096 points gathered across its strata. Per point, it would be
+    # 1 call per evaluation.
+    calls = len(sizes) // 2 - 1  # one run's calls, less the probe of the output count
+    assert max(sizes) <= 4096
+    assert calls <= runs[0].evaluations / 48, (calls, runs[0].evaluations)
+
+
 def test_vector_outputs_covariance_and_ratio():
     def moments(x):
         return np.stack([x[:, 0], x[:, 0] ** 2, x[:, 1] ** 3], axis=1)
