@@ -83,13 +83,19 @@ class Engine(_Base):
         self, name, d, *, scramble=True, seed=None, rng=None, strength=None, optimization=None
     ):
         self._setup(name, d, scramble, seed, rng, strength, optimization)
-        self._init_quad = {"name": name, "d": d, "scramble": scramble, "strength": strength}
+        self._init_quad = {
+            "name": name,
+            "d": d,
+            "scramble": scramble,
+            "strength": strength,
+            "optimization": optimization,
+        }
 
     def _setup(self, name, d, scramble, seed, rng, strength, optimization):
-        if optimization is not None:
+        if optimization not in (None, "random-cd", "lloyd"):
             raise ValueError(
-                f"invalid optimization = {optimization!r}: mcint's engines take none (the "
-                "Rust crate's random_cd and lloyd are not in the Python package yet)"
+                f"invalid optimization = {optimization!r}: expected None, 'random-cd' (swaps "
+                "that lower the centered discrepancy) or 'lloyd' (Lloyd relaxation)"
             )
         if seed is not None and rng is not None:
             raise TypeError("give seed or rng, not both")
@@ -130,7 +136,10 @@ class Engine(_Base):
         else:
             self.seed = _seed.to_int(seed)
             self.rng = _seed.generator(seed)
+        # Applied by random() itself (scipy's attribute stays None so nothing applies it twice).
         self.optimization_method = None
+        self._optimization = optimization
+        self._bits = None
         self.num_generated = 0
         self._fixed = passes == "fixed"
         # Built once for the sequences; the fixed-size sets are built per call, for their n.
@@ -155,11 +164,26 @@ class Engine(_Base):
 
         ``workers`` is accepted for scipy's signature; the points are generated in Rust.
         """
-        return self._random(n, workers=workers)
+        start = self.num_generated
+        sample = self._random(n, workers=workers)
+        if self._bits is not None:
+            # As scipy's Sobol(bits=b) with b < 32: integers of b bits over 2**b.
+            scale = float(2**self._bits)
+            sample = np.floor(sample * scale) / scale
+        if self._optimization is not None and len(sample) > 0:
+            # A seed per call, from the engine's seed and the call's first index.
+            seed = (self.seed * 0x9E3779B97F4A7C15 + start + 1) % 2**64
+            sample = _native.optimize(np.ascontiguousarray(sample), self._optimization, seed)
+        return sample
 
     def _random(self, n=1, *, workers=1):
         # scipy's abstract method; here it also advances the engine, as random() does.
         n = _count(n)
+        if self._bits is not None and self.num_generated + n > 2**self._bits:
+            raise ValueError(
+                f"{self.num_generated} + {n} points exceed 2**bits = 2**{self._bits}: draw "
+                "fewer, or give more bits (up to 64)"
+            )
         if self._fixed:
             if n == 0:
                 return np.empty((0, self.d))
@@ -230,18 +254,31 @@ def _named(class_name, sampler, doc):
 
     def __init__(self, d, *, scramble=True, seed=None, rng=None, optimization=None):
         self._setup(sampler, d, scramble, seed, rng, None, optimization)
-        self._init_quad = {"d": d, "scramble": scramble}
+        self._init_quad = {"d": d, "scramble": scramble, "optimization": optimization}
 
     return type(class_name, (Engine,), {"__init__": __init__, "__doc__": doc, "__module__": __name__})
 
 
-Sobol = _named(
-    "Sobol",
-    "sobol",
-    "The Sobol' sequence (Joe-Kuo direction numbers, as scipy's); ``scramble=True`` is Owen "
-    "scrambling, ``'lms'`` a linear matrix scramble with a digital shift, ``False`` the "
-    "plain sequence (scipy's ``Sobol(scramble=False)`` bit for bit).",
-)
+class Sobol(Engine):
+    """The Sobol' sequence (Joe-Kuo direction numbers, as scipy's); ``scramble=True`` is Owen
+    scrambling, ``'lms'`` a linear matrix scramble with a digital shift, ``False`` the plain
+    sequence (scipy's ``Sobol(scramble=False)`` bit for bit). mcint's points carry 32 bits
+    (``bits=None`` or 32 and more); ``bits`` below 32 rounds them down to ``bits`` bits and
+    allows at most ``2**bits`` points, as scipy's."""
+
+    def __init__(self, d, *, scramble=True, bits=None, seed=None, rng=None, optimization=None):
+        if bits is not None and (
+            isinstance(bits, (bool, np.bool_))
+            or not isinstance(bits, (int, np.integer))
+            or not 1 <= bits <= 64
+        ):
+            raise ValueError(f"invalid bits = {bits!r}: expected None or an integer in 1..=64")
+        self._setup("sobol", d, scramble, seed, rng, None, optimization)
+        self._bits = int(bits) if bits is not None and bits < 32 else None
+        self.bits = 32 if bits is None else int(bits)
+        self._init_quad = {"d": d, "scramble": scramble, "bits": bits, "optimization": optimization}
+
+
 Halton = _named(
     "Halton",
     "halton",
@@ -282,4 +319,9 @@ class OrthogonalArray(Engine):
     def __init__(self, d, *, strength=2, scramble=True, seed=None, rng=None, optimization=None):
         name = "oa-bose" if strength == 2 else "oa-bush"
         self._setup(name, d, scramble, seed, rng, strength, optimization)
-        self._init_quad = {"d": d, "strength": strength, "scramble": scramble}
+        self._init_quad = {
+            "d": d,
+            "strength": strength,
+            "scramble": scramble,
+            "optimization": optimization,
+        }

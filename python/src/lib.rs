@@ -25,6 +25,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(point_set::sampler_names, m)?)?;
     m.add_function(wrap_pyfunction!(point_set::scramble_names, m)?)?;
     m.add_function(wrap_pyfunction!(point_set::sampler_info, m)?)?;
+    m.add_function(wrap_pyfunction!(point_set::optimize, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

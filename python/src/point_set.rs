@@ -1,8 +1,8 @@
 //! `PointSet`: any named sampler of the library, drawn from any index as numpy rows.
 
 use mcint::Points;
-use mcint::sampler::{PassKind, Sampler, SamplerKind, Scramble};
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use mcint::sampler::{Lloyd, PassKind, RandomCd, Sampler, SamplerKind, Scramble, lloyd, random_cd};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -124,4 +124,51 @@ pub fn sampler_info(name: &str) -> PyResult<(&'static str, &'static str)> {
         _ => "fixed",
     };
     Ok((passes, kind.default_scramble().name()))
+}
+
+/// `points` (an `(n, d)` array in `[0, 1]^d`) optimized as scipy's engines do with
+/// `optimization=`: `"random-cd"` (swaps within columns that lower the centered discrepancy,
+/// scipy's 10,000 tries and patience 100) or `"lloyd"` (10 Lloyd relaxation steps), the
+/// random choices drawn from `seed`; computed with the interpreter's lock released.
+#[pyfunction]
+pub fn optimize<'py>(
+    py: Python<'py>,
+    points: PyReadonlyArray2<'py, f64>,
+    method: &str,
+    seed: u64,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let view = points.as_array();
+    let (n, d) = view.dim();
+    let mut block = Points::new(d.max(1), n).map_err(to_py)?;
+    for k in 0..d {
+        for (x, &v) in block.column_mut(k).iter_mut().zip(view.column(k)) {
+            *x = v;
+        }
+    }
+    let optimized = py.detach(|| -> mcint::Result<Points> {
+        match method {
+            "random-cd" => random_cd(&mut block, RandomCd::default(), seed).map(|_| ()),
+            "lloyd" => {
+                let settings = Lloyd {
+                    seed,
+                    ..Lloyd::default()
+                };
+                lloyd(&mut block, settings).map(|_| ())
+            }
+            other => Err(mcint::Error::invalid(
+                "optimization",
+                other,
+                "None, 'random-cd' or 'lloyd'",
+            )),
+        }?;
+        Ok(block)
+    });
+    let block = optimized.map_err(to_py)?;
+    let mut rows = vec![0.0; n * d];
+    for k in 0..d {
+        for (i, &x) in block.column(k).iter().enumerate() {
+            rows[i * d + k] = x;
+        }
+    }
+    PyArray1::from_vec(py, rows).reshape([n, d])
 }

@@ -133,7 +133,10 @@ def test_seeds_as_numpy_gives_them():
         (lambda: mq.Sobol(2, seed=-1), ValueError, r"2\*\*64"),
         (lambda: mq.Sobol(2, seed="x"), TypeError, "Generator"),
         (lambda: mq.Sobol(2, seed=1, rng=2), TypeError, "not both"),
-        (lambda: mq.Sobol(2, optimization="random-cd"), ValueError, "optimization"),
+        (lambda: mq.Sobol(2, optimization="random_cd"), ValueError, "'random-cd'"),
+        (lambda: mq.Sobol(2, bits=0), ValueError, "1..=64"),
+        (lambda: mq.Sobol(2, bits=65), ValueError, "1..=64"),
+        (lambda: mq.Sobol(2, bits=4).random(17), ValueError, r"2\*\*4"),
         (lambda: mq.Sobol(100_000), ValueError, "dims"),
         (lambda: mq.Engine("sobel", 2), ValueError, "sobol"),
         (lambda: mq.Sobol(2).random(-1), ValueError, "n = -1"),
@@ -146,6 +149,49 @@ def test_seeds_as_numpy_gives_them():
 def test_bad_input_is_a_clear_error(make, error, words):
     with pytest.raises(error, match=words):
         make()
+
+
+def test_random_cd_lowers_the_discrepancy_and_keeps_a_latin_hypercube():
+    n, d = 64, 4
+    plain = mq.LatinHypercube(d, seed=3).random(n)
+    engine = mq.LatinHypercube(d, seed=3, optimization="random-cd")
+    optimized = engine.random(n)
+    assert qmc.discrepancy(optimized, method="CD") < qmc.discrepancy(plain, method="CD")
+    # One point in each of the n slices of every axis, as before the swaps.
+    for column in optimized.T:
+        assert sorted(np.floor(column * n).astype(int)) == list(range(n))
+    # Reproducible: the same seed gives the same bits, and a second call its own swaps.
+    again = mq.LatinHypercube(d, seed=3, optimization="random-cd")
+    assert np.array_equal(again.random(n), optimized)
+    assert not np.array_equal(engine.random(n), optimized)
+
+
+def test_lloyd_spreads_the_points():
+    def min_distance(x):
+        gaps = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2)
+        return gaps[np.triu_indices(len(x), 1)].min()
+
+    plain = mq.Independent(2, seed=5).random(64)
+    relaxed = mq.Independent(2, seed=5, optimization="lloyd").random(64)
+    assert min_distance(relaxed) > min_distance(plain)
+    assert relaxed.min() >= 0 and relaxed.max() <= 1
+
+
+def test_sobol_bits_as_scipy_defines_them():
+    for bits in (10, 30):
+        ours = mq.Sobol(3, scramble=False, bits=bits).random(1 << 9)
+        theirs = qmc.Sobol(3, scramble=False, bits=bits).random(1 << 9)
+        assert np.array_equal(ours, theirs)
+    coarse = mq.Sobol(2, bits=6, seed=1).random(64)
+    assert np.array_equal(coarse * 64, np.floor(coarse * 64))
+    assert mq.Sobol(2, bits=40).bits == 40 and mq.Sobol(2).bits == 32
+
+
+def test_qmc_quad_rebuilds_engines_with_their_options():
+    f, exact = genz_families(5)["gaussian"]
+    for qrng in (mq.Sobol(5, seed=2, bits=20), mq.LatinHypercube(5, seed=2, optimization="random-cd")):
+        result = qmc_quad(f, [0] * 5, [1] * 5, n_estimates=8, n_points=256, qrng=qrng)
+        assert abs(result.integral - exact) <= 5 * result.standard_error
 
 
 def test_every_named_sampler_has_an_engine():
