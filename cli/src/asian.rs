@@ -1,5 +1,5 @@
-//! The arithmetic- and geometric-average Asian call under Black-Scholes, and the closed-form
-//! price of the geometric one (Kemna & Vorst 1990), for the `asian_option` program.
+//! The arithmetic- and geometric-average Asian call under Black-Scholes for the
+//! `asian_option` program (the geometric one's closed form is the library's).
 
 use mcint::measure::{Construction, GeometricBrownianMotion};
 
@@ -42,34 +42,10 @@ impl Contract {
         self.discount() * (log_average.exp() - self.strike).max(0.0)
     }
 
-    /// The law of the log of the geometric average: normal with mean
-    /// `log S0 + (r - sigma^2/2) mean(t)` and standard deviation
-    /// `sigma sqrt(sum_ij min(t_i, t_j)) / n`, as `(mean, standard deviation)`.
-    pub fn log_geometric_average(&self) -> (f64, f64) {
-        let times = self.times();
-        let n = times.len() as f64;
-        let mean_t = times.iter().sum::<f64>() / n;
-        let sum_min: f64 = times
-            .iter()
-            .map(|&s| times.iter().map(|&t| s.min(t)).sum::<f64>())
-            .sum();
-        let mu = self.s0.ln() + (self.rate - 0.5 * self.sigma * self.sigma) * mean_t;
-        (mu, self.sigma * (sum_min / (n * n)).sqrt())
+    /// The exact price of the geometric-average call (the library's closed form,
+    /// [`GeometricBrownianMotion::geometric_average_call`]).
+    pub fn geometric_price(&self) -> mcint::Result<f64> {
+        self.paths(Construction::Standard)?
+            .geometric_average_call(self.strike)
     }
-
-    /// The exact price of the geometric-average call (a Black-Scholes formula for the
-    /// lognormal average of [`log_geometric_average`](Self::log_geometric_average)).
-    pub fn geometric_price(&self) -> f64 {
-        let (mu, sd) = self.log_geometric_average();
-        let variance = sd * sd;
-        let d2 = (mu - self.strike.ln()) / sd;
-        let d1 = d2 + sd;
-        self.discount()
-            * ((mu + 0.5 * variance).exp() * normal_cdf(d1) - self.strike * normal_cdf(d2))
-    }
-}
-
-/// The standard normal cdf, `erfc(-x / sqrt 2) / 2`.
-pub fn normal_cdf(x: f64) -> f64 {
-    0.5 * libm::erfc(-x / std::f64::consts::SQRT_2)
 }

@@ -17,9 +17,8 @@
 //! stratified and randomized quasi-Monte Carlo points alike; the price is the pilot's
 //! evaluations and an excess variance of order `k / pilot` over `(1 - R^2) Var(Y)`.
 
-use super::{Estimator, PilotFit};
+use super::{ControlDomain, Estimator, PilotFit};
 use crate::error::{Error, Result};
-use crate::pdf::Pdf;
 use crate::stats::CovarianceAccumulator;
 
 /// Pilot points when the caller gives none.
@@ -93,7 +92,7 @@ pub struct ControlFit {
 impl<'a, F, P> FittedControlVariates<'a, F, P>
 where
     F: Fn(&[f64]) -> f64 + Send + Sync,
-    P: Pdf,
+    P: ControlDomain,
 {
     /// `f` sampled from `pdf` (a [`UniformBox`](crate::pdf::UniformBox) for plain Monte
     /// Carlo), with no controls yet and a pilot of 4096 points.
@@ -201,7 +200,7 @@ where
 impl<F, P> Estimator for FittedControlVariates<'_, F, P>
 where
     F: Fn(&[f64]) -> f64 + Send + Sync,
-    P: Pdf,
+    P: ControlDomain,
 {
     fn canonical_dims(&self) -> usize {
         self.pdf.canonical_dims()
@@ -212,8 +211,8 @@ where
     }
 
     fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
-        self.pdf.sample(u, x);
-        ratio((self.f)(x), self.pdf.pdf(x))
+        let factor = self.pdf.place(u, x);
+        self.pdf.weigh((self.f)(x), factor)
     }
 
     fn pilot(&self) -> Option<&dyn PilotFit> {
@@ -224,7 +223,7 @@ where
 impl<F, P> PilotFit for FittedControlVariates<'_, F, P>
 where
     F: Fn(&[f64]) -> f64 + Send + Sync,
-    P: Pdf,
+    P: ControlDomain,
 {
     fn points(&self) -> u64 {
         self.pilot
@@ -235,11 +234,10 @@ where
     }
 
     fn row(&self, u: &[f64], x: &mut [f64], row: &mut [f64]) {
-        self.pdf.sample(u, x);
-        let density = self.pdf.pdf(x);
-        row[0] = ratio((self.f)(x), density);
+        let factor = self.pdf.place(u, x);
+        row[0] = self.pdf.weigh((self.f)(x), factor);
         for (slot, (g, _)) in row[1..].iter_mut().zip(&self.controls) {
-            *slot = ratio(g(x), density);
+            *slot = self.pdf.weigh(g(x), factor);
         }
     }
 
@@ -272,12 +270,6 @@ where
     }
 }
 
-/// `f/pdf` with a zero integrand contributing zero even where the pdf is zero (no `0/0`).
-#[inline]
-fn ratio(value: f64, density: f64) -> f64 {
-    if value == 0.0 { 0.0 } else { value / density }
-}
-
 /// The main run's estimator: `(f - beta^T g)/pdf + beta^T G` with the fitted `beta`.
 struct Fitted<'c, 'a, F, P> {
     cv: &'c FittedControlVariates<'a, F, P>,
@@ -289,7 +281,7 @@ struct Fitted<'c, 'a, F, P> {
 impl<F, P> Estimator for Fitted<'_, '_, F, P>
 where
     F: Fn(&[f64]) -> f64 + Send + Sync,
-    P: Pdf,
+    P: ControlDomain,
 {
     fn canonical_dims(&self) -> usize {
         self.cv.canonical_dims()
@@ -300,7 +292,7 @@ where
     }
 
     fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
-        self.cv.pdf.sample(u, x);
+        let factor = self.cv.pdf.place(u, x);
         let controls: f64 = self
             .coefficients
             .iter()
@@ -308,7 +300,7 @@ where
             .map(|(b, (g, _))| b * g(x))
             .sum();
         let difference = (self.cv.f)(x) - controls;
-        ratio(difference, self.cv.pdf.pdf(x)) + self.shift
+        self.cv.pdf.weigh(difference, factor) + self.shift
     }
 }
 

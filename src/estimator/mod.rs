@@ -26,6 +26,7 @@
 mod batch_uniform;
 mod box_block;
 mod consistent_biased;
+mod control_domain;
 mod expectation;
 mod fitted_control_variates;
 mod fixed_control_variate;
@@ -47,6 +48,7 @@ mod warp_importance;
 pub use batch_uniform::BatchUniformEstimator;
 
 pub use consistent_biased::ConsistentBiased;
+pub use control_domain::{ControlDomain, OverMeasure};
 pub use expectation::{ExpectationEstimator, VectorExpectationEstimator};
 pub use fitted_control_variates::{ControlFit, FittedControlVariates};
 pub use fixed_control_variate::FixedControlVariate;

@@ -190,7 +190,11 @@ fn run() -> Result<(), String> {
     for warning in &estimate.warnings {
         note!("warning: {warning}");
     }
-    let exact = (!choice.arithmetic).then(|| contract.geometric_price());
+    let exact = if choice.arithmetic {
+        None
+    } else {
+        Some(contract.geometric_price().map_err(|e| e.to_string())?)
+    };
     if args.has("json") {
         let json = serde_json::json!({
             "price": estimate.mean,
@@ -323,7 +327,7 @@ fn construction_name(c: Construction) -> &'static str {
 /// The price by one run of the Integrator.
 fn price(contract: &Contract, choice: Choice, budget: &Budget) -> mcint::Result<Estimate> {
     let paths = contract.paths(choice.construction)?;
-    let exact_geometric = contract.geometric_price();
+    let exact_geometric = contract.geometric_price()?;
     let c = *contract;
     let payoff = move |prices: &[f64]| {
         if !choice.arithmetic {

@@ -34,7 +34,6 @@ use std::path::PathBuf;
 
 use mcint::multilevel::{Multilevel, MultilevelEstimate, Payoff, Scheme, Sde, SdeLevels};
 use mcint_cli::args::{self as support, Args};
-use mcint_cli::asian::normal_cdf;
 use mcint_cli::checkpoint;
 use mcint_cli::plot;
 use mcint_cli::ranks::Ranks;
@@ -433,4 +432,9 @@ fn draw(path: &std::path::Path, run: &MultilevelEstimate) -> Result<(), String> 
         run.alpha, run.beta, run.gamma, run.refinement
     );
     plot::line(path, &title, "level l", "log2", &lines, None)
+}
+
+/// The standard normal cdf, `erfc(-x / sqrt 2) / 2`.
+fn normal_cdf(x: f64) -> f64 {
+    0.5 * libm::erfc(-x / std::f64::consts::SQRT_2)
 }
