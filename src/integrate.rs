@@ -146,11 +146,12 @@ impl<F: Fn(&[f64]) -> f64 + Send + Sync, P: Pdf> Integrator<ImportanceEstimator<
     }
 }
 
-impl<P: WarpPoint, F: Fn(P) -> f64 + Send + Sync, W: GeometricWarp<P>>
-    Integrator<WarpImportanceEstimator<F, W, P>>
+impl<P: WarpPoint, R: Into<f64>, F: Fn(P) -> R + Send + Sync, W: GeometricWarp<P>>
+    Integrator<WarpImportanceEstimator<F, W, P, R>>
 {
     /// Integrates `f` over directions, the points of a triangle or of a disk, handed to it as
-    /// a glam vector (`DVec3`, or `DVec2` for the disk), sampling from `warp` (see
+    /// a glam vector (`DVec3`, or `DVec2` for the disk; a renderer's `f32` `Vec3` and `Vec2`
+    /// too, the sampled point rounded, and `f` may return `f32`), sampling from `warp` (see
     /// [`WarpImportanceEstimator`]): a sphere, a hemisphere or cap about any normal
     /// ([`Warp3::about`](crate::pdf::Warp3::about)), a triangle, a disk.
     ///
@@ -169,6 +170,11 @@ impl<P: WarpPoint, F: Fn(P) -> f64 + Send + Sync, W: GeometricWarp<P>>
     ///     .samples(100_000)
     ///     .run()?;
     /// assert!((e.mean - std::f64::consts::FRAC_PI_2).abs() < 5.0 * e.std_error.unwrap());
+    /// // A renderer's f32 vectors and f32 radiance: the same integral of cos over the hemisphere.
+    /// let n32 = mcint::glam::Vec3::new(1.0, -2.0, 0.5).normalize();
+    /// let cosine = move |d: mcint::glam::Vec3| d.dot(n32).max(0.0);
+    /// let e = Integrator::over_warp(cosine, UniformHemisphere.about(n)?).samples(100_000).run()?;
+    /// assert!((e.mean - std::f64::consts::PI).abs() < 5.0 * e.std_error.unwrap());
     /// # Ok::<(), mcint::Error>(())
     /// ```
     pub fn over_warp(f: F, warp: W) -> Self {

@@ -1,5 +1,6 @@
 //! The `f/pdf` estimator (Jarosz's A.19) for integrands of a geometric point, handed to them
-//! as a glam vector (`DVec3` for directions and triangles, `DVec2` for the disk).
+//! as a glam vector (`DVec3` for directions and triangles, `DVec2` for the disk, or their `f32`
+//! forms `Vec3` and `Vec2`), returning `f64` or `f32`.
 
 use std::marker::PhantomData;
 
@@ -26,13 +27,13 @@ use crate::pdf::{GeometricWarp, WarpPoint};
 /// assert!((e.contribution(&[0.3, 0.6], &mut x) - std::f64::consts::PI).abs() < 1e-12);
 /// # Ok::<(), mcint::Error>(())
 /// ```
-pub struct WarpImportanceEstimator<F, W, P> {
+pub struct WarpImportanceEstimator<F, W, P, R = f64> {
     f: F,
     warp: W,
-    point: PhantomData<fn() -> P>,
+    point: PhantomData<fn() -> (P, R)>,
 }
 
-impl<F: Clone, W: Clone, P> Clone for WarpImportanceEstimator<F, W, P> {
+impl<F: Clone, W: Clone, P, R> Clone for WarpImportanceEstimator<F, W, P, R> {
     fn clone(&self) -> Self {
         WarpImportanceEstimator {
             f: self.f.clone(),
@@ -42,7 +43,7 @@ impl<F: Clone, W: Clone, P> Clone for WarpImportanceEstimator<F, W, P> {
     }
 }
 
-impl<F, W: std::fmt::Debug, P> std::fmt::Debug for WarpImportanceEstimator<F, W, P> {
+impl<F, W: std::fmt::Debug, P, R> std::fmt::Debug for WarpImportanceEstimator<F, W, P, R> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("WarpImportanceEstimator")
             .field("warp", &self.warp)
@@ -50,8 +51,8 @@ impl<F, W: std::fmt::Debug, P> std::fmt::Debug for WarpImportanceEstimator<F, W,
     }
 }
 
-impl<P: WarpPoint, F: Fn(P) -> f64 + Send + Sync, W: GeometricWarp<P>>
-    WarpImportanceEstimator<F, W, P>
+impl<P: WarpPoint, R: Into<f64>, F: Fn(P) -> R + Send + Sync, W: GeometricWarp<P>>
+    WarpImportanceEstimator<F, W, P, R>
 {
     /// Estimates the integral of `f` over the warp's domain, sampling from `warp`.
     ///
@@ -73,8 +74,8 @@ impl<P: WarpPoint, F: Fn(P) -> f64 + Send + Sync, W: GeometricWarp<P>>
     }
 }
 
-impl<P: WarpPoint, F: Fn(P) -> f64 + Send + Sync, W: GeometricWarp<P>> Estimator
-    for WarpImportanceEstimator<F, W, P>
+impl<P: WarpPoint, R: Into<f64>, F: Fn(P) -> R + Send + Sync, W: GeometricWarp<P>> Estimator
+    for WarpImportanceEstimator<F, W, P, R>
 {
     fn canonical_dims(&self) -> usize {
         2
@@ -86,13 +87,13 @@ impl<P: WarpPoint, F: Fn(P) -> f64 + Send + Sync, W: GeometricWarp<P>> Estimator
 
     #[inline]
     fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
-        let point = self.warp.sample_vector(DVec2::new(u[0], u[1]));
+        let (point, density) = self.warp.sample_with_density(DVec2::new(u[0], u[1]));
         point.write_to(x);
-        let value = (self.f)(point);
+        let value: f64 = (self.f)(point).into();
         if value == 0.0 {
             // Zero integrand contributes zero even where the pdf is zero (no 0/0).
             return 0.0;
         }
-        value / self.warp.density_at(point)
+        value / density
     }
 }

@@ -167,3 +167,65 @@ fn integrands_of_points_of_a_disk_get_two_vectors() {
     let want = std::f64::consts::PI * radius.powi(4) / 2.0;
     assert!((e.mean - want).abs() < 5.0 * e.std_error.unwrap());
 }
+
+/// The integral of a cosine lobe about `n` over `warp`'s directions, with `f64` and with
+/// `f32` vectors and values: the f32 points are the f64 ones rounded, with the density of the
+/// unrounded point, so the estimates differ by f32 rounding only.
+fn f32_matches_f64<W: Warp3 + Clone + 'static>(name: &str, warp: W, n: DVec3) {
+    use mcint::glam::Vec3;
+    let lobe = move |d: DVec3| d.dot(n).max(0.0).powi(8);
+    let n32 = n.as_vec3();
+    let lobe32 = move |d: Vec3| d.dot(n32).max(0.0).powi(8);
+    let run64 = Integrator::over_warp(lobe, warp.clone())
+        .samples(20_000)
+        .seed(4)
+        .run()
+        .unwrap();
+    let run32 = Integrator::over_warp(lobe32, warp)
+        .samples(20_000)
+        .seed(4)
+        .run()
+        .unwrap();
+    let gap = (run64.mean - run32.mean).abs();
+    assert!(
+        gap <= 1e-5 * run64.mean.abs(),
+        "{name}: {run64:?} vs {run32:?}"
+    );
+}
+
+#[test]
+fn renderers_f32_vectors_and_values_get_the_f64_runs_estimate() {
+    use mcint::glam::Vec2;
+    use mcint::pdf::UniformDisk;
+    let n = DVec3::new(0.3, -1.0, 0.4).normalize();
+    f32_matches_f64("uniform hemisphere", UniformHemisphere.about(n).unwrap(), n);
+    f32_matches_f64("cosine hemisphere", CosineHemisphere.about(n).unwrap(), n);
+    f32_matches_f64("cap", SphericalCap::new(0.6).unwrap().about(n).unwrap(), n);
+    f32_matches_f64("sphere", UniformSphere, n);
+    let disk = UniformDisk::new(DVec2::new(1.0, 2.0), 0.5).unwrap();
+    let run64 = Integrator::over_warp(|p: DVec2| p.x * p.y, disk)
+        .seed(1)
+        .run()
+        .unwrap();
+    let run32 = Integrator::over_warp(|p: Vec2| p.x * p.y, disk)
+        .seed(1)
+        .run()
+        .unwrap();
+    assert!((run64.mean - run32.mean).abs() <= 1e-6 * run64.mean.abs());
+}
+
+#[test]
+fn a_point_rounded_across_a_caps_edge_keeps_its_density() {
+    use mcint::glam::Vec3;
+    // A cap 1e-4 rad wide: its directions are within f32 rounding of its edge, where the f32
+    // point's own density could be zero. Every value must stay finite: f = 1 integrates to the
+    // cap's solid angle exactly.
+    let cap = SphericalCap::around_with_angle(DVec3::new(1.0, 2.0, 3.0), 1e-4).unwrap();
+    let e = Integrator::over_warp(|_: Vec3| 1.0f32, cap)
+        .samples(10_000)
+        .run()
+        .unwrap();
+    // 2 pi (1 - cos theta), written without the cancellation of 1 - cos.
+    let solid_angle = 4.0 * std::f64::consts::PI * (0.5e-4f64).sin().powi(2);
+    assert!((e.mean - solid_angle).abs() <= 1e-9 * solid_angle, "{e:?}");
+}
