@@ -8,8 +8,9 @@
 //! uses (`TestFunction::eval_batch`: vectorized `exp` and `cos`) and with a per-point closure;
 //! `sobol_g` (QMCPy's `CubQMCSobolG` rule, one LMS-scrambled Sobol' sequence and a bound from
 //! its Walsh coefficients) likewise, in both forms.
-//! Methods that need far longer are measured once from the command line instead (see the
-//! README). The Python peers (scipy's `qmc_quad`, QMCPy's `CubQMCSobolG`, vegas) are timed on
+//! Methods that need far longer are measured once from the command line instead (see
+//! `docs/benchmarks.md`). The Python peers (scipy's `qmc_quad`, QMCPy's
+//! `CubQMCSobolG`, vegas) are timed on
 //! the same work by `benches/peers_python/adaptive_peers.py`.
 //!
 //! `cargo bench --bench adaptive -- two_threads`: VEGAS and VEGAS+ on the cheap 4-D Genz

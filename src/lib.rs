@@ -68,6 +68,7 @@ mod engine;
 mod error;
 pub mod estimator;
 mod float;
+pub mod guide;
 mod hash;
 mod integrate;
 pub mod measure;

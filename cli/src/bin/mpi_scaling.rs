@@ -1,5 +1,5 @@
 //! Strong scaling of a run spread over MPI ranks, and what one exchange between the ranks
-//! costs: the figures behind the README's MPI section.
+//! costs: the figures behind the guide's MPI chapter (`mcint::guide::mpi`).
 //!
 //! ```text
 //! cargo build --release -p mcint-cli --features mpi
