@@ -41,6 +41,8 @@
 //! * [`testfns`]: the Genz families and other integrands with known integrals.
 //! * [`vector_math`]: `exp` and `cos` over slices, vectorized at run time, for batch
 //!   integrands.
+//! * [`guide`]: how to use all of it, chapter by chapter (choosing a point set, reading an
+//!   error bar, runs, vector outputs, measures, multilevel Monte Carlo, MPI, the programs).
 //!
 //! Cargo features, all off by default: `serde` (serialization of accumulators, estimates and
 //! [`PartialRun`] checkpoints) and `mpi` (runs spread over MPI ranks with the bits of one
