@@ -102,16 +102,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> Miser<F> {
     /// assert!((e.mean - 1.0).abs() < 1e-2);
     /// ```
     pub fn new(f: F, domain: UniformBox) -> Self {
-        Miser {
-            f,
-            domain,
-            config: RunConfig::default(),
-            explore_fraction: 0.1,
-            min_points: None,
-            min_points_per_bisection: None,
-            dither: 0.0,
-            alpha: 2.0,
-        }
+        Miser::with_defaults(f, domain)
     }
 
     /// Runs the integration.
@@ -151,26 +142,7 @@ impl<G: Fn(&Points, &mut [f64]) + Sync> Miser<ScalarBatch<G>> {
     /// assert_eq!(a.mean.to_bits(), b.mean.to_bits());
     /// ```
     pub fn new_batch(f: G, domain: UniformBox) -> Self {
-        let Miser {
-            domain,
-            config,
-            explore_fraction,
-            min_points,
-            min_points_per_bisection,
-            dither,
-            alpha,
-            ..
-        } = Miser::new(|_: &[f64]| 0.0, domain);
-        Miser {
-            f: ScalarBatch(f),
-            domain,
-            config,
-            explore_fraction,
-            min_points,
-            min_points_per_bisection,
-            dither,
-            alpha,
-        }
+        Miser::with_defaults(ScalarBatch(f), domain)
     }
 
     /// Runs the integration, as [`Miser::run`] does for a per-point integrand.
@@ -187,6 +159,20 @@ impl<G: Fn(&Points, &mut [f64]) + Sync> Miser<ScalarBatch<G>> {
 }
 
 impl<F> Miser<F> {
+    /// MISER over `f` (per point or by blocks) with GSL's defaults.
+    fn with_defaults(f: F, domain: UniformBox) -> Self {
+        Miser {
+            f,
+            domain,
+            config: RunConfig::default(),
+            explore_fraction: 0.1,
+            min_points: None,
+            min_points_per_bisection: None,
+            dither: 0.0,
+            alpha: 2.0,
+        }
+    }
+
     run_settings! {
         setup: "use mcint::{adaptive::Miser, pdf::UniformBox};\n\
                 const DIMS: usize = 2;\n\

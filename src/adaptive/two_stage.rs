@@ -95,14 +95,7 @@ impl<F: Fn(&[f64]) -> f64 + Sync> TwoStage<F> {
     /// assert!(TwoStage::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap(), 0).run().is_err());
     /// ```
     pub fn new(f: F, domain: UniformBox, strata_per_axis: usize) -> Self {
-        TwoStage {
-            f,
-            domain,
-            strata_per_axis,
-            pilot: DEFAULT_PILOT,
-            reuse_pilot: false,
-            config: RunConfig::default(),
-        }
+        TwoStage::with_defaults(f, domain, strata_per_axis)
     }
 
     /// Runs both stages.
@@ -143,14 +136,7 @@ impl<G: Fn(&Points, &mut [f64]) + Sync> TwoStage<ScalarBatch<G>> {
     /// assert_eq!(a.mean.to_bits(), b.mean.to_bits());
     /// ```
     pub fn new_batch(f: G, domain: UniformBox, strata_per_axis: usize) -> Self {
-        TwoStage {
-            f: ScalarBatch(f),
-            domain,
-            strata_per_axis,
-            pilot: DEFAULT_PILOT,
-            reuse_pilot: false,
-            config: RunConfig::default(),
-        }
+        TwoStage::with_defaults(ScalarBatch(f), domain, strata_per_axis)
     }
 
     /// Runs both stages, as [`TwoStage::run`] does for a per-point integrand.
@@ -167,6 +153,18 @@ impl<G: Fn(&Points, &mut [f64]) + Sync> TwoStage<ScalarBatch<G>> {
 }
 
 impl<F> TwoStage<F> {
+    /// Two-stage sampling over `f` (per point or by blocks) with the defaults of `new`.
+    fn with_defaults(f: F, domain: UniformBox, strata_per_axis: usize) -> Self {
+        TwoStage {
+            f,
+            domain,
+            strata_per_axis,
+            pilot: DEFAULT_PILOT,
+            reuse_pilot: false,
+            config: RunConfig::default(),
+        }
+    }
+
     run_settings! {
         setup: "use mcint::{adaptive::TwoStage, pdf::UniformBox};\n\
                 const DIMS: usize = 2;\n\
