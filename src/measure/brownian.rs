@@ -196,15 +196,21 @@ impl BrownianMotion {
     }
 
     /// The linear map `L` from the normals `z` to the standard path `W` (`n x n`, row by
-    /// row): `L L'` is the covariance `min(t_i, t_j)` for every construction.
+    /// row): `L L'` is the covariance `min(t_i, t_j)` for every construction. An error for
+    /// more dates than a dense `n x n` matrix is kept for (the standard and bridge
+    /// constructions themselves take any number).
     ///
     /// ```
     /// use mcint::measure::{BrownianMotion, Construction};
     /// let b = BrownianMotion::new(vec![1.0, 2.0], 0.0, 1.0, Construction::Standard).unwrap();
-    /// assert_eq!(b.factor(), vec![1.0, 0.0, 1.0, 1.0]);
+    /// assert_eq!(b.factor().unwrap(), vec![1.0, 0.0, 1.0, 1.0]);
+    /// let many: Vec<f64> = (1..=1_000_000).map(|i| i as f64).collect();
+    /// let long = BrownianMotion::new(many, 0.0, 1.0, Construction::Bridge).unwrap();
+    /// assert!(long.factor().unwrap_err().to_string().contains("at most"));
     /// ```
-    pub fn factor(&self) -> Vec<f64> {
+    pub fn factor(&self) -> Result<Vec<f64>> {
         let n = self.times.len();
+        check_factor_dims("times", n, "dates", "; the paths themselves need no factor")?;
         let mut l = vec![0.0; n * n];
         let mut column = vec![0.0; n];
         let mut z = vec![0.0; n];
@@ -216,7 +222,7 @@ impl BrownianMotion {
                 l[i * n + j] = column[i];
             }
         }
-        l
+        Ok(l)
     }
 
     /// For each date, the largest `|W(t_i)|` any canonical point gives: the normals are at

@@ -96,7 +96,7 @@ fn every_brownian_construction_has_covariance_min_s_t() {
     let n = times.len();
     for construction in CONSTRUCTIONS {
         let path = BrownianMotion::new(times.clone(), 0.0, 1.0, construction).unwrap();
-        let c = product(&path.factor(), n);
+        let c = product(&path.factor().unwrap(), n);
         for i in 0..n {
             for j in 0..n {
                 let exact = times[i].min(times[j]);
@@ -143,7 +143,7 @@ fn brownian_constructions_keep_min_s_t_at_extreme_time_scales() {
         let times: Vec<f64> = base.iter().map(|t| t * scale).collect();
         for construction in CONSTRUCTIONS {
             let path = BrownianMotion::new(times.clone(), 0.0, 1.0, construction).unwrap();
-            let c = product(&path.factor(), n);
+            let c = product(&path.factor().unwrap(), n);
             for i in 0..n {
                 for j in 0..n {
                     let exact = times[i].min(times[j]);
