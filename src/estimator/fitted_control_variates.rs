@@ -59,7 +59,7 @@ type ControlFn<'a> = Box<dyn Fn(&[f64]) -> f64 + Send + Sync + 'a>;
 /// ```
 pub struct FittedControlVariates<'a, F, P> {
     f: F,
-    pdf: P,
+    domain: P,
     controls: Vec<(ControlFn<'a>, f64)>,
     pilot: u64,
 }
@@ -94,18 +94,19 @@ where
     F: Fn(&[f64]) -> f64 + Send + Sync,
     P: ControlDomain,
 {
-    /// `f` sampled from `pdf` (a [`UniformBox`](crate::pdf::UniformBox) for plain Monte
-    /// Carlo), with no controls yet and a pilot of 4096 points.
+    /// `f` sampled from `domain`: a pdf (a [`UniformBox`](crate::pdf::UniformBox) for plain
+    /// Monte Carlo) or a measure wrapped in [`OverMeasure`](super::OverMeasure); with no
+    /// controls yet and a pilot of 4096 points.
     ///
     /// ```
     /// use mcint::{estimator::FittedControlVariates, pdf::UniformBox};
     /// let cv = FittedControlVariates::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap());
     /// assert_eq!(cv.controls(), 0);
     /// ```
-    pub fn new(f: F, pdf: P) -> Self {
+    pub fn new(f: F, domain: P) -> Self {
         FittedControlVariates {
             f,
-            pdf,
+            domain,
             controls: Vec::new(),
             pilot: DEFAULT_PILOT,
         }
@@ -203,16 +204,16 @@ where
     P: ControlDomain,
 {
     fn canonical_dims(&self) -> usize {
-        self.pdf.canonical_dims()
+        self.domain.canonical_dims()
     }
 
     fn domain_dims(&self) -> usize {
-        self.pdf.dims()
+        self.domain.dims()
     }
 
     fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
-        let factor = self.pdf.place(u, x);
-        self.pdf.weigh((self.f)(x), factor)
+        let factor = self.domain.place(u, x);
+        self.domain.weigh((self.f)(x), factor)
     }
 
     fn pilot(&self) -> Option<&dyn PilotFit> {
@@ -234,10 +235,10 @@ where
     }
 
     fn row(&self, u: &[f64], x: &mut [f64], row: &mut [f64]) {
-        let factor = self.pdf.place(u, x);
-        row[0] = self.pdf.weigh((self.f)(x), factor);
+        let factor = self.domain.place(u, x);
+        row[0] = self.domain.weigh((self.f)(x), factor);
         for (slot, (g, _)) in row[1..].iter_mut().zip(&self.controls) {
-            *slot = self.pdf.weigh(g(x), factor);
+            *slot = self.domain.weigh(g(x), factor);
         }
     }
 
@@ -292,7 +293,7 @@ where
     }
 
     fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
-        let factor = self.cv.pdf.place(u, x);
+        let factor = self.cv.domain.place(u, x);
         let controls: f64 = self
             .coefficients
             .iter()
@@ -300,7 +301,7 @@ where
             .map(|(b, (g, _))| b * g(x))
             .sum();
         let difference = (self.cv.f)(x) - controls;
-        self.cv.pdf.weigh(difference, factor) + self.shift
+        self.cv.domain.weigh(difference, factor) + self.shift
     }
 }
 
