@@ -102,7 +102,7 @@ fn recording(sizes: &Mutex<Vec<usize>>) -> impl Fn(&Points, &mut [f64]) + Sync +
 }
 
 #[test]
-fn miser_calls_hold_at_least_one_region_and_at_most_4096_points() {
+fn miser_calls_hold_whole_regions_of_at_most_4096_points() {
     let sizes = Mutex::new(Vec::new());
     let dims = 3;
     let run = Miser::new_batch(recording(&sizes), UniformBox::unit(dims).unwrap())
@@ -113,11 +113,15 @@ fn miser_calls_hold_at_least_one_region_and_at_most_4096_points() {
         .unwrap();
     let sizes = sizes.into_inner().unwrap();
     assert_eq!(sizes.iter().sum::<usize>() as u64, run.evaluations);
-    // Every exploration and leaf has at least min_points = 16 d points (independent points
-    // have no pass boundaries to cut a block short).
+    assert!(sizes.iter().all(|&n| n <= 4096), "{sizes:?}");
+    // Every exploration and leaf has at least min_points = 16 d points and takes
+    // ceil(n / 4096) <= n / 48 calls: at most one call per 48 evaluations (per point, one
+    // call per evaluation).
+    let most = run.evaluations / (16 * dims as u64);
     assert!(
-        sizes.iter().all(|&n| (16 * dims..=4096).contains(&n)),
-        "{sizes:?}"
+        sizes.len() as u64 <= most,
+        "{} calls, at most {most}",
+        sizes.len()
     );
 }
 
