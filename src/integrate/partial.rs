@@ -182,6 +182,7 @@ impl PartialRun {
     }
 }
 
+/// Resuming: a fixed-budget run by chunks, for checkpoints and runs split across processes.
 impl<E: Integration> Integrator<E> {
     /// Number of chunks of this run (fixed budget only), the unit of [`run_part`](Self::run_part).
     ///
@@ -247,27 +248,6 @@ impl<E: Integration> Integrator<E> {
     /// ```
     pub fn finish(&self, partial: &PartialRun) -> Result<E::Output> {
         E::output(self.finish_engine(partial)?)
-    }
-}
-
-impl<E> Integrator<E> {
-    /// Names the integrand for checkpoints: a [`PartialRun`] of a run with another label is
-    /// refused. The integrand itself cannot be compared (only its values at a few probe
-    /// points are), so a label such as the family and parameters of a test function guards
-    /// against resuming a checkpoint with an integrand that differs elsewhere.
-    ///
-    /// ```
-    /// use mcint::{Integrator, pdf::UniformBox};
-    /// let run = |label: &str| Integrator::over_box(|x: &[f64]| x[0], UniformBox::unit(1).unwrap())
-    ///     .samples(50_000)
-    ///     .label(label);
-    /// let part = run("x").run_part(0..1).unwrap();
-    /// let err = run("y").finish(&part).unwrap_err();
-    /// assert!(err.to_string().contains("label"), "{err}");
-    /// ```
-    pub fn label(mut self, label: impl Into<String>) -> Self {
-        self.config.label = Some(label.into());
-        self
     }
 }
 
