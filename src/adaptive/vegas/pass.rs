@@ -24,9 +24,9 @@ use crate::stats::StopReason;
 /// so that limits are checked every few milliseconds whatever the dimension.
 const BLOCK_COORDINATES: usize = 1 << 16;
 /// Chunks whose training data are summed before they are folded (or sent to other ranks).
-const GROUP: u64 = 2;
+const GROUP: u64 = 8;
 /// Groups (each with a copy of the grid's training data) held in memory at once.
-const WINDOW_GROUPS: u64 = 32;
+const WINDOW_GROUPS: u64 = 8;
 
 /// Everything one iteration's chunks share.
 pub(super) struct Pass<'a, I> {

@@ -5,8 +5,9 @@
 /// `MIN_CHUNK` points, at most `CHUNKS` of them while they fit in `MAX_CHUNK` points, and
 /// never more than `MAX_CHUNKS`. Each chunk carries an array of grid training data (two
 /// values per increment), whose cost is small against `MIN_CHUNK` points; four chunks of a
-/// `10^4`-point iteration keep two or four threads equally busy.
-const CHUNKS: u64 = 16;
+/// `10^4`-point iteration keep two or four threads equally busy, and up to 64 chunks keep
+/// the thread that finishes last at most a sixty-fourth of the iteration behind.
+const CHUNKS: u64 = 64;
 const MIN_CHUNK: u64 = 2500;
 const MAX_CHUNK: u64 = 1 << 16;
 const MAX_CHUNKS: u64 = 1 << 16;
@@ -224,8 +225,9 @@ mod tests {
             (50, 50, 1),
             (4_999, 4_999, 1),
             (10_000, 2_500, 4),
-            (50_001, 3_126, 16),
-            (1 << 20, 1 << 16, 16),
+            (50_001, 2_501, 20),
+            (1 << 20, 1 << 14, 64),
+            (1 << 22, 1 << 16, 64),
             (10_000_000, 1 << 16, 153),
         ] {
             assert_eq!(chunk_size(n), chunk, "{n}");
