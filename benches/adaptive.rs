@@ -18,7 +18,8 @@
 //! `10^6`, `10^7` (criterion) and `10^8` evaluations in 5 warm-up and 10 measured iterations,
 //! and a run to a tolerance in the default iterations of `10^4` points; then the speedup of
 //! two threads over one, from runs timed in alternating pairs (the median of the pairs'
-//! ratios, so that a machine whose speed drifts still compares like with like).
+//! ratios, so that a machine whose speed drifts still compares like with like; each timing
+//! repeats a short run for about half a second).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use mcint::adaptive::{Miser, SobolG, Vegas};
@@ -194,9 +195,13 @@ fn asked_for(group: &str) -> bool {
 /// Prints the speedup of two threads over one for each method and work size: the median,
 /// over alternating pairs of runs, of (one-thread time) / (two-thread time).
 fn print_speedups(f: &Genz) {
-    let time = |stratified, budget, threads| {
+    // Each timing covers `runs` runs back to back, enough for about half a second on one
+    // thread, so that one scheduling hiccup of a shared machine does not decide a pair.
+    let time = |stratified, budget, threads, runs| {
         let start = Instant::now();
-        vegas_run(f, stratified, budget, threads);
+        for _ in 0..runs {
+            vegas_run(f, stratified, budget, threads);
+        }
         start.elapsed().as_secs_f64()
     };
     println!("two threads over one (median of paired runs):");
@@ -207,8 +212,10 @@ fn print_speedups(f: &Genz) {
             .chain([(None, "to 5e-6 in 10^4-point iterations".to_string())]);
         for (budget, what) in cases {
             let pairs = if budget == Some(BUDGETS[2]) { 3 } else { 7 };
+            let once = time(stratified, budget, 1, 1);
+            let runs = (0.5 / once).ceil().max(1.0) as usize;
             let mut ratios: Vec<f64> = (0..pairs)
-                .map(|_| time(stratified, budget, 1) / time(stratified, budget, 2))
+                .map(|_| time(stratified, budget, 1, runs) / time(stratified, budget, 2, runs))
                 .collect();
             ratios.sort_by(f64::total_cmp);
             println!("  {name:7} {what:34} {:.2}x", ratios[pairs / 2]);
