@@ -35,8 +35,8 @@
 //! combination can sit several standard errors from the truth, and a `Q` below 0.01 warns.
 //!
 //! Work is cut into fixed chunks of the iteration's index range, independent of the thread
-//! count; their grid training data are summed in fixed pairs of chunks (on each MPI rank
-//! before the exchange) and then axis by axis in pair order, and their hypercube sums folded
+//! count; their grid training data are summed in fixed groups of chunks (on each MPI rank
+//! before the exchange) and then axis by axis in group order, and their hypercube sums folded
 //! strictly in order ([`pass`]), so sums, training data and allocations, and hence the
 //! result, are bit-identical for any number of threads or ranks. The driver runs on a
 //! thread of the pool, and each axis of the grid adapts on its own thread.

@@ -263,7 +263,7 @@ fn a_run_that_exhausts_its_sampler_says_so() {
     );
 }
 
-/// Progress comes after every chunk of work (every replicate for MISER, every pair of chunks
+/// Progress comes after every chunk of work (every replicate for MISER, every group of chunks
 /// for VEGAS), not only between stages or iterations, and ends at the evaluations the
 /// estimate counts.
 #[test]
@@ -292,7 +292,8 @@ fn progress_is_reported_after_every_chunk() {
         .run()
         .unwrap();
     check(log, e, 64, "integrator");
-    // 5 iterations (warm-up included) of 2^16 points: 16 chunks of 4096 each, folded in pairs.
+    // 5 iterations (warm-up included) of 2^16 points: 26 chunks of 2521 each, folded in 4
+    // groups of at most 8.
     let (log, progress) = logger();
     let e = Vegas::new(f, unit())
         .samples(1 << 16)
@@ -300,7 +301,7 @@ fn progress_is_reported_after_every_chunk() {
         .progress(progress)
         .run()
         .unwrap();
-    check(log, e, 5 * 8, "vegas");
+    check(log, e, 5 * 4, "vegas");
     // One stage of 16 replicates.
     let (log, progress) = logger();
     let e = Miser::new(f, unit())
