@@ -502,8 +502,9 @@ fn failures_on_one_rank(cluster: Cluster, checks: &mut Checks) {
         checks,
     );
 
+    // 100,000 points an iteration: 40 chunks in 5 groups, at least one for every rank of 4.
     let vegas = Vegas::new(panics, unit(2))
-        .samples(50_000)
+        .samples(100_000)
         .cluster(cluster)
         .run();
     checks.check(

@@ -191,8 +191,11 @@ impl Executor {
         let size = grouping.chunks;
         let groups = (chunks.end.saturating_sub(chunks.start)).div_ceil(size);
         let first_chunk = |group: u64| chunks.start + group * size;
-        let chunks_of =
-            |groups: Range<u64>| first_chunk(groups.start)..first_chunk(groups.end).min(chunks.end);
+        // A rank's share of a window may be empty and start past the last group, whose first
+        // chunk can lie beyond the last chunk: both ends are clamped.
+        let chunks_of = |groups: Range<u64>| {
+            first_chunk(groups.start).min(chunks.end)..first_chunk(groups.end).min(chunks.end)
+        };
         let local = |groups: Range<u64>| {
             let outputs = self.window(job, chunks_of(groups), limits)?;
             Ok(Executor::merged(outputs, size, &merge))
@@ -292,9 +295,11 @@ impl Executor {
             return chunks.map(|chunk| one(&mut scratch, chunk)).collect();
         }
         let first = chunks.start;
-        let len = usize::try_from(chunks.end - first).map_err(|_| Error::IndexOutOfRange {
-            what: "chunks in one window",
-            limit: usize::MAX as u64,
+        let len = usize::try_from(chunks.end.saturating_sub(first)).map_err(|_| {
+            Error::IndexOutOfRange {
+                what: "chunks in one window",
+                limit: usize::MAX as u64,
+            }
         })?;
         // Each thread claims the next chunk when it is free, so a thread that wakes late takes
         // less of the window instead of an even share; outputs go back to chunk order after.
