@@ -3,8 +3,7 @@
 //! rule for independent points, and doubling with fixed replicates for randomized QMC and
 //! stratified points.
 
-use super::plan::Plan;
-use super::plan::{Folded, MAX_REPLICATES, balance_warning};
+use super::plan::{Folded, MAX_REPLICATES, Plan, balance_warning};
 use crate::engine::{
     Executor, Limits, Next, RunConfig, StageEnd, Stages, TOLERANCE_REPLICATES, Targets, Verdict,
 };
