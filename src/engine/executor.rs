@@ -94,6 +94,20 @@ impl Grouping {
             window: window.max(1),
         }
     }
+
+    /// The first chunk of group `group` of `chunks` (past their end for the last group's
+    /// successors).
+    fn first_chunk(&self, chunks: &Range<u64>, group: u64) -> u64 {
+        chunks.start + group * self.chunks
+    }
+
+    /// The chunks of `groups`, within `chunks`. A rank's share of a window may be empty and
+    /// start past the last group, whose first chunk lies beyond the last chunk: both ends
+    /// are clamped.
+    fn chunks_of(&self, chunks: &Range<u64>, groups: Range<u64>) -> Range<u64> {
+        let at = |group| self.first_chunk(chunks, group).min(chunks.end);
+        at(groups.start)..at(groups.end)
+    }
 }
 
 /// The most threads started per available core, whatever a run asks for.
@@ -190,14 +204,8 @@ impl Executor {
     ) -> Result<Option<StopReason>> {
         let size = grouping.chunks;
         let groups = (chunks.end.saturating_sub(chunks.start)).div_ceil(size);
-        let first_chunk = |group: u64| chunks.start + group * size;
-        // A rank's share of a window may be empty and start past the last group, whose first
-        // chunk can lie beyond the last chunk: both ends are clamped.
-        let chunks_of = |groups: Range<u64>| {
-            first_chunk(groups.start).min(chunks.end)..first_chunk(groups.end).min(chunks.end)
-        };
         let local = |groups: Range<u64>| {
-            let outputs = self.window(job, chunks_of(groups), limits)?;
+            let outputs = self.window(job, grouping.chunks_of(&chunks, groups), limits)?;
             Ok(Executor::merged(outputs, size, &merge))
         };
         let mut start = 0;
@@ -209,7 +217,7 @@ impl Executor {
             let (outputs, stop) = self.outputs(start..end, &local, limits)?;
             for (group, output) in (start..end).zip(outputs) {
                 match output {
-                    Some(output) => fold(first_chunk(group), output)?,
+                    Some(output) => fold(grouping.first_chunk(&chunks, group), output)?,
                     None => return Ok(Some(stop.unwrap_or(StopReason::Cancelled))),
                 }
             }
@@ -295,11 +303,9 @@ impl Executor {
             return chunks.map(|chunk| one(&mut scratch, chunk)).collect();
         }
         let first = chunks.start;
-        let len = usize::try_from(chunks.end.saturating_sub(first)).map_err(|_| {
-            Error::IndexOutOfRange {
-                what: "chunks in one window",
-                limit: usize::MAX as u64,
-            }
+        let len = usize::try_from(chunks.end - first).map_err(|_| Error::IndexOutOfRange {
+            what: "chunks in one window",
+            limit: usize::MAX as u64,
         })?;
         // Each thread claims the next chunk when it is free, so a thread that wakes late takes
         // less of the window instead of an even share; outputs go back to chunk order after.
@@ -600,6 +606,19 @@ mod tests {
             .run(&Squares { bad: None }, 0..10, 4, &limits, |_, _| Ok(()))
             .unwrap();
         assert_eq!(stop, Some(StopReason::TimeLimit));
+    }
+
+    #[test]
+    fn a_share_of_groups_maps_to_its_chunks_even_empty_past_the_end() {
+        // 20 chunks from chunk 5 in groups of 8: chunks 5..13, 13..21, 21..25.
+        let grouping = Grouping::new(8, 8);
+        let chunks = 5..25;
+        assert_eq!(grouping.chunks_of(&chunks, 0..1), 5..13);
+        assert_eq!(grouping.chunks_of(&chunks, 1..3), 13..25);
+        // Four ranks share three groups: the fourth gets 3..3, whose first chunk (29) lies
+        // past the end; its share is empty, not 29..25.
+        assert_eq!(grouping.chunks_of(&chunks, 3..3), 25..25);
+        assert_eq!(grouping.chunks_of(&chunks, 2..2), 21..21);
     }
 
     #[test]
