@@ -78,16 +78,11 @@ use mcint_cli::report::Report;
 use mcint_cli::{checkpoint, ranks};
 use std::io::IsTerminal;
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// Cancelled on SIGINT or SIGTERM: the run stops after its current chunks and reports what it
 /// has (a checkpoint is saved first), and the process exits with status 130.
 static CANCEL: OnceLock<CancelToken> = OnceLock::new();
-
-/// Set on the ranks of an MPI job other than 0: they print nothing, not even the error that
-/// rank 0 prints for all of them.
-static QUIET: AtomicBool = AtomicBool::new(false);
 
 /// What `--help` says the program does.
 const ABOUT: &str = "Integrates Genz families or the Keister function with a chosen sampler and method; reports the estimate, its standard error and the exact value.";
@@ -171,9 +166,6 @@ fn main() {
     let _ = ctrlc::set_handler(move || token.cancel());
     let result = run();
     let cancelled = CANCEL.get().is_some_and(CancelToken::is_cancelled);
-    if result.is_err() && QUIET.load(Ordering::Relaxed) {
-        std::process::exit(2);
-    }
     support::finish(result);
     if cancelled {
         std::process::exit(130);
@@ -212,7 +204,6 @@ fn run() -> Result<(), String> {
     // Lives until the run ends: MPI stays up as long as it.
     let ranks = ranks::Ranks::new(args.has("mpi"))?;
     let spread = ranks.spread;
-    QUIET.store(!spread.is_root(), Ordering::Relaxed);
     let names = match (
         args.get::<String>("integrand", INTEGRAND_NAMES)?,
         args.get::<String>("genz", INTEGRAND_NAMES)?,
