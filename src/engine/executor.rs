@@ -19,6 +19,7 @@ use std::cell::Cell;
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 use rayon::{ThreadPool, ThreadPoolBuilder};
@@ -55,6 +56,20 @@ pub(crate) trait ChunkJob: Sync {
     /// pass in place of the replicate where the method has those): named by the error of a
     /// panic in the chunk.
     fn origin(&self, chunk: u64) -> (u64, u64);
+
+    /// The number of tail tasks of the (non-empty) window `chunks`: work that needs every
+    /// chunk of the window finished (a VEGAS grid's adaptation, one task per axis). The
+    /// window's threads claim them as they run out of chunks, so that none of them goes to
+    /// sleep and has to be woken for that work. Tail tasks run in one process only: over a
+    /// cluster each rank's window is its share of the chunks, and the job does its tail work
+    /// after the exchange. None by default.
+    fn tail_tasks(&self, _chunks: &Range<u64>) -> usize {
+        0
+    }
+
+    /// Runs tail task `task`, once every chunk of the window is done (chunks a limit skipped
+    /// or that failed included); what it computes is the job's to keep.
+    fn run_tail(&self, _task: usize) {}
 }
 
 /// What a chunk's output needs to travel between MPI ranks: serde's traits with the `mpi`
@@ -154,6 +169,15 @@ impl Executor {
             return super::distributed::agreed(cluster, limits.reached());
         }
         Ok(limits.reached())
+    }
+
+    /// Whether the work is spread over the ranks of a cluster.
+    pub(crate) fn spread(&self) -> bool {
+        #[cfg(feature = "mpi")]
+        if self.cluster.is_some() {
+            return true;
+        }
+        false
     }
 
     /// The number of threads.
@@ -285,7 +309,7 @@ impl Executor {
     }
 
     /// The outputs of chunks `chunks`, in order; `None` for the chunks not started because a
-    /// limit was reached.
+    /// limit was reached. The job's tail tasks have run when it returns.
     fn window<J: ChunkJob>(
         &self,
         job: &J,
@@ -298,35 +322,67 @@ impl Executor {
             }
             guarded(job.origin(chunk), || job.run(scratch, chunk, limits))
         };
-        if self.threads == 1 {
-            let mut scratch = job.scratch()?;
-            return chunks.map(|chunk| one(&mut scratch, chunk)).collect();
-        }
         let first = chunks.start;
         let len = usize::try_from(chunks.end - first).map_err(|_| Error::IndexOutOfRange {
             what: "chunks in one window",
             limit: usize::MAX as u64,
         })?;
+        let tails = if self.spread() || chunks.is_empty() {
+            0
+        } else {
+            job.tail_tasks(&chunks)
+        };
+        // A panic in a tail task is reported as one in the window's last chunk.
+        let last = chunks.end.saturating_sub(1);
+        let tail = |task| {
+            guarded(job.origin(last), || {
+                job.run_tail(task);
+                Ok(())
+            })
+        };
+        if self.threads == 1 {
+            let mut scratch = job.scratch()?;
+            let outputs = chunks.map(|chunk| one(&mut scratch, chunk)).collect();
+            (0..tails).try_for_each(tail)?;
+            return outputs;
+        }
         // Each thread claims the next chunk when it is free, so a thread that wakes late takes
         // less of the window instead of an even share; outputs go back to chunk order after.
+        // A thread out of chunks waits, spinning a little, for the window's last chunks and
+        // then claims tail tasks; one that waits longer gives up (the thread of a last chunk
+        // may be waiting on it, in nested parallel work) and the tasks left run here after.
         let next = AtomicUsize::new(0);
+        let done = AtomicUsize::new(0);
+        let next_tail = AtomicUsize::new(0);
         let claim = |_| -> Result<Claimed<J::Output>> {
             let mut scratch = job.scratch()?;
             let mut mine = Vec::new();
             loop {
                 let offset = next.fetch_add(1, Ordering::Relaxed);
                 if offset >= len {
-                    return Ok(mine);
+                    break;
                 }
                 mine.push((offset, one(&mut scratch, first + offset as u64)));
+                done.fetch_add(1, Ordering::Release);
             }
+            if tails > 0 && awaited(|| done.load(Ordering::Acquire) == len) {
+                loop {
+                    let task = next_tail.fetch_add(1, Ordering::Relaxed);
+                    if task >= tails {
+                        break;
+                    }
+                    tail(task)?;
+                }
+            }
+            Ok(mine)
         };
         let claimed: Vec<_> = self.install(|| {
-            (0..self.threads.min(len))
+            (0..self.threads.min(len.max(tails)))
                 .into_par_iter()
                 .map(claim)
                 .collect()
         });
+        (next_tail.load(Ordering::Relaxed).min(tails)..tails).try_for_each(tail)?;
         let mut outputs: Vec<Option<Result<Option<J::Output>>>> = (0..len).map(|_| None).collect();
         for thread in claimed {
             for (offset, output) in thread? {
@@ -415,6 +471,27 @@ impl Drop for RunScope {
             pool.broadcast(|_| release_caches());
         }
     }
+}
+
+/// How long a thread out of chunks waits for a window's last chunks before it leaves the tail
+/// tasks to others: about the time of a cheap integrand's chunk.
+const TAIL_WAIT: Duration = Duration::from_micros(500);
+
+/// Whether `ready` became true within [`TAIL_WAIT`], spinning then yielding while it waits.
+fn awaited(ready: impl Fn() -> bool) -> bool {
+    let start = Instant::now();
+    let mut spins = 0u32;
+    while !ready() {
+        if spins < 1 << 10 {
+            std::hint::spin_loop();
+            spins += 1;
+        } else if start.elapsed() > TAIL_WAIT {
+            return false;
+        } else {
+            std::thread::yield_now();
+        }
+    }
+    true
 }
 
 /// The pool of `threads` workers, built on first use and kept for the process (one per
@@ -577,6 +654,84 @@ mod tests {
             .map(|r| inner_on_pool.push(r))
             .unwrap();
         assert_eq!(inner_on_pool, vec![(285, true)]);
+    }
+
+    /// Chunks that count themselves done (some with nested parallel work) and tail tasks
+    /// that record, per window, what they found done.
+    struct WithTails {
+        executor: Executor,
+        done: AtomicUsize,
+        seen: Mutex<Vec<(u64, usize, usize)>>,
+        window_end: AtomicUsize,
+    }
+
+    impl ChunkJob for WithTails {
+        type Scratch = ();
+        type Output = u64;
+
+        fn scratch(&self) -> Result<()> {
+            Ok(())
+        }
+
+        fn run(&self, _: &mut (), chunk: u64, _: &Limits) -> Result<Option<u64>> {
+            // Every third chunk splits its work with `join`: a thread waiting there may pick
+            // up another thread's job, which must not wait for this chunk forever.
+            let work = |n: u64| (0..n * 1000).fold(0u64, |a, i| a.wrapping_add(i * i));
+            let value = if chunk.is_multiple_of(3) {
+                let (a, b) = self
+                    .executor
+                    .join((0, chunk), || Ok(work(chunk)), || Ok(work(3)));
+                a? ^ b?
+            } else {
+                work(chunk)
+            };
+            self.done.fetch_add(1, Ordering::SeqCst);
+            Ok(Some(value))
+        }
+
+        fn origin(&self, chunk: u64) -> (u64, u64) {
+            (0, chunk)
+        }
+
+        fn tail_tasks(&self, chunks: &Range<u64>) -> usize {
+            self.window_end.store(chunks.end as usize, Ordering::SeqCst);
+            3
+        }
+
+        fn run_tail(&self, task: usize) {
+            let end = self.window_end.load(Ordering::SeqCst) as u64;
+            let done = self.done.load(Ordering::SeqCst);
+            self.seen.lock().unwrap().push((end, task, done));
+        }
+    }
+
+    #[test]
+    fn tail_tasks_run_once_each_after_their_window() {
+        for threads in [1, 2, 3, 8] {
+            let executor = Executor::new(Some(threads)).unwrap();
+            let job = WithTails {
+                executor,
+                done: AtomicUsize::new(0),
+                seen: Mutex::new(Vec::new()),
+                window_end: AtomicUsize::new(0),
+            };
+            let mut folded = 0;
+            executor
+                .run(&job, 0..40, 16, &Limits::default(), |_, _| {
+                    folded += 1;
+                    Ok(())
+                })
+                .unwrap();
+            assert_eq!(folded, 40);
+            let mut seen = job.seen.into_inner().unwrap();
+            seen.sort();
+            // Windows 0..16, 16..32 and 32..40: each tail task once, every chunk done.
+            let expected: Vec<(u64, usize, usize)> = [16, 32, 40]
+                .into_iter()
+                .flat_map(|end| (0..3).map(move |task| (end, task, end as usize)))
+                .collect();
+            assert_eq!(seen, expected, "{threads} threads");
+        }
     }
 
     #[test]

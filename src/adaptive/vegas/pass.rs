@@ -12,13 +12,15 @@
 use super::integrand::Integrand;
 use super::moments::{CubeMoments, CubeSums, CubeTotals};
 use super::strata::{Allocation, ChunkStart, Strata};
-use super::training::{GroupTraining, SpareTraining};
+use super::training::{GroupTraining, SpareTraining, TrainingSlots};
 use crate::adaptive::VegasGrid;
+use crate::adaptive::vegas_grid::increment_averages;
 use crate::engine::{ChunkJob, Executor, Grouping, Limits};
 use crate::error::Result;
 use crate::points::Points;
 use crate::sampler::Sampler;
 use crate::stats::StopReason;
+use std::sync::OnceLock;
 
 /// Coordinates drawn at once, at most (about): a block of a high dimension is a few points,
 /// so that limits are checked every few milliseconds whatever the dimension.
@@ -49,6 +51,39 @@ pub(super) struct Pass<'a, I> {
     pub(super) weights: &'a [f64],
     /// Training arrays for the chunks, reused from iteration to iteration.
     pub(super) spare: &'a SpareTraining,
+    /// In one process: where the chunks leave their training arrays and the grid's new
+    /// nodes, computed as the iteration's tail tasks. `None` over MPI ranks, where the
+    /// arrays travel with the chunks' outputs and the grid adapts after the exchange.
+    pub(super) local: Option<&'a LocalAdaptation>,
+}
+
+/// The grid's adaptation at the end of an iteration in one process: the chunks' training
+/// arrays, the damping settings, and each axis's new nodes once its tail task has run.
+pub(super) struct LocalAdaptation {
+    pub(super) slots: TrainingSlots,
+    pub(super) alpha: f64,
+    pub(super) floor: f64,
+    /// Per axis, the new nodes (`None` inside when the axis stays put).
+    pub(super) nodes: Vec<OnceLock<Option<Vec<f64>>>>,
+}
+
+impl LocalAdaptation {
+    /// Slots for an iteration of `chunks` chunks on a grid of `dims` axes.
+    pub(super) fn new(chunks: usize, dims: usize, alpha: f64, floor: f64) -> LocalAdaptation {
+        LocalAdaptation {
+            slots: TrainingSlots::new(chunks),
+            alpha,
+            floor,
+            nodes: (0..dims).map(|_| OnceLock::new()).collect(),
+        }
+    }
+
+    /// Axis `axis`'s new nodes from the summed training data of every chunk (`None` when
+    /// the axis stays put).
+    pub(super) fn axis_nodes(&self, grid: &VegasGrid, axis: usize) -> Option<Vec<f64>> {
+        let pairs = self.slots.summed(GROUP as usize, grid.training_range(axis));
+        grid.axis_nodes(axis, &increment_averages(&pairs), self.alpha, self.floor)
+    }
 }
 
 /// The iteration's sums, built chunk by chunk in order: per output, and per pair of outputs
@@ -155,14 +190,42 @@ impl<I: Integrand> ChunkJob for Pass<'_, I> {
             &mut training.values,
             limits,
         )?;
-        Ok(finished.then(|| ChunkOutput {
-            pieces: vec![piece],
-            training: GroupTraining(vec![training]),
+        Ok(finished.then(|| {
+            let training = match self.local {
+                Some(local) => {
+                    local.slots.put(chunk as usize, training);
+                    GroupTraining::default()
+                }
+                None => GroupTraining(vec![training]),
+            };
+            ChunkOutput {
+                pieces: vec![piece],
+                training,
+            }
         }))
     }
 
     fn origin(&self, chunk: u64) -> (u64, u64) {
         (self.iteration, self.chunks[chunk as usize].index)
+    }
+
+    /// One task per axis after the iteration's last chunk, in one process.
+    fn tail_tasks(&self, chunks: &std::ops::Range<u64>) -> usize {
+        let last_window = chunks.end == self.chunks.len() as u64;
+        match self.local {
+            Some(_) if last_window => self.grid.dims(),
+            _ => 0,
+        }
+    }
+
+    /// Adapts axis `axis` of the grid when every chunk left its training data (an iteration
+    /// that a limit cut short is discarded, its grid unchanged).
+    fn run_tail(&self, axis: usize) {
+        if let Some(local) = self.local
+            && local.slots.complete()
+        {
+            let _ = local.nodes[axis].set(local.axis_nodes(self.grid, axis));
+        }
     }
 }
 

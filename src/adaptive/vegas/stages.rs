@@ -5,7 +5,7 @@
 use super::combination::VectorCombination;
 use super::growth::{GROWTH, Growth, Step};
 use super::integrand::Integrand;
-use super::pass::Pass;
+use super::pass::{LocalAdaptation, Pass};
 use super::strata::{ALLOCATION_SAFETY, Allocation, ChunkStart, Strata, plan_chunks};
 use super::training::{GroupTraining, SpareTraining, summed};
 use super::{Vegas, output_weights};
@@ -89,6 +89,10 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
         limits: &Limits,
         progress: &mut dyn FnMut(u64),
     ) -> Result<StageEnd> {
+        let local = (!executor.spread()).then(|| {
+            let (alpha, floor) = (self.vegas.alpha, self.vegas.density_floor);
+            LocalAdaptation::new(self.chunks.len(), self.grid.dims(), alpha, floor)
+        });
         let pass = Pass {
             f: self.f,
             weights: &self.weights,
@@ -107,6 +111,7 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
             beta: self.vegas.beta,
             allocating: self.strata.allocation_budget.is_some(),
             spare: &self.spare,
+            local: local.as_ref(),
         };
         let mut totals = match pass.run(executor, limits, &mut self.next_sigf, progress)? {
             Ok(totals) => totals,
@@ -136,7 +141,10 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
         let measured = self.k >= self.vegas.warmup;
         self.k += 1;
         self.spent += self.total;
-        self.adapt(std::mem::take(&mut totals.training), executor);
+        match local {
+            Some(local) => self.adapt_locally(local),
+            None => self.adapt(std::mem::take(&mut totals.training), executor),
+        }
         if self.allocating() {
             std::mem::swap(&mut self.sigf, &mut self.next_sigf);
             self.sum_sigf = self.sigf.iter().sum();
@@ -280,6 +288,22 @@ impl<F, I> Iterations<'_, F, I> {
             }
         }
         self.spare.give(groups);
+    }
+
+    /// Moves the grid to the nodes the iteration's tail tasks computed (see `Pass::run_tail`),
+    /// computing here the nodes of any axis whose task did not run. The arrays then go back to
+    /// the spares.
+    fn adapt_locally(&mut self, mut local: LocalAdaptation) {
+        for axis in 0..self.grid.dims() {
+            let nodes = match local.nodes[axis].take() {
+                Some(nodes) => nodes,
+                None => local.axis_nodes(&self.grid, axis),
+            };
+            if let Some(nodes) = nodes {
+                self.grid.set_axis_nodes(axis, &nodes);
+            }
+        }
+        local.slots.give_back(&self.spare);
     }
 
     /// The combined estimate of the iterations since the last restart.

@@ -10,7 +10,7 @@
 //! Over MPI, a group's arrays travel as their sum, computed in the same order, so every rank
 //! sums the same values in the same order as one process.
 
-use std::sync::{Mutex, PoisonError};
+use std::sync::{Mutex, OnceLock, PoisonError};
 
 /// One chunk's training data, with the thread that filled it (its reuse stays there).
 pub(super) struct TrainingArray {
@@ -28,22 +28,26 @@ impl GroupTraining {
     pub(super) fn append(&mut self, next: &mut GroupTraining) {
         self.0.append(&mut next.0);
     }
+}
 
-    /// The group's sum over `range` into `sum`: the arrays added in chunk order; `false`
-    /// (and `sum` untouched) for a group without arrays.
-    fn sum_into(&self, range: std::ops::Range<usize>, sum: &mut [f64]) -> bool {
-        let mut arrays = self.0.iter();
-        let Some(first) = arrays.next() else {
-            return false;
-        };
-        sum.copy_from_slice(&first.values[range.clone()]);
-        for array in arrays {
-            for (s, v) in sum.iter_mut().zip(&array.values[range.clone()]) {
-                *s += v;
-            }
+/// The sum over `range` of `arrays` into `sum`: the arrays added in order; `false` (and
+/// `sum` untouched) without arrays.
+fn sum_into<'a>(
+    arrays: impl IntoIterator<Item = &'a TrainingArray>,
+    range: std::ops::Range<usize>,
+    sum: &mut [f64],
+) -> bool {
+    let mut arrays = arrays.into_iter();
+    let Some(first) = arrays.next() else {
+        return false;
+    };
+    sum.copy_from_slice(&first.values[range.clone()]);
+    for array in arrays {
+        for (s, v) in sum.iter_mut().zip(&array.values[range.clone()]) {
+            *s += v;
         }
-        true
     }
+    true
 }
 
 /// Sums `groups` of training data element by element over `range` (one axis): each group's
@@ -51,16 +55,66 @@ impl GroupTraining {
 /// arrives as its arrays or as their sum from another rank. (Whole slices at a time, so the
 /// additions vectorize; each element is still summed in that order.)
 pub(super) fn summed(groups: &[GroupTraining], range: std::ops::Range<usize>) -> Vec<f64> {
+    summed_over(groups.iter().map(|g| &g.0), range)
+}
+
+/// [`summed`] over groups given as their arrays.
+fn summed_over<'a, G: IntoIterator<Item = &'a TrainingArray>>(
+    groups: impl Iterator<Item = G>,
+    range: std::ops::Range<usize>,
+) -> Vec<f64> {
     let mut total = vec![0.0; range.len()];
     let mut group_sum = vec![0.0; range.len()];
     for group in groups {
-        if group.sum_into(range.clone(), &mut group_sum) {
+        if sum_into(group, range.clone(), &mut group_sum) {
             for (t, s) in total.iter_mut().zip(&group_sum) {
                 *t += s;
             }
         }
     }
     total
+}
+
+/// The training arrays of an iteration's chunks, each put in its chunk's slot by the thread
+/// that ran it. In one process the grid adapts from them as soon as the iteration's last
+/// chunk is done, on the threads that ran the chunks (see `Pass::run_tail`), with the same
+/// sums as [`summed`] over groups of the same chunks.
+pub(super) struct TrainingSlots(Vec<OnceLock<TrainingArray>>);
+
+impl TrainingSlots {
+    /// Empty slots for `chunks` chunks.
+    pub(super) fn new(chunks: usize) -> TrainingSlots {
+        TrainingSlots((0..chunks).map(|_| OnceLock::new()).collect())
+    }
+
+    /// Keeps chunk `chunk`'s array.
+    pub(super) fn put(&self, chunk: usize, array: TrainingArray) {
+        if let Some(slot) = self.0.get(chunk) {
+            // Each chunk runs once an iteration; a second array could only be a repeat.
+            let _ = slot.set(array);
+        }
+    }
+
+    /// Whether every chunk has put its array.
+    pub(super) fn complete(&self) -> bool {
+        self.0.iter().all(|slot| slot.get().is_some())
+    }
+
+    /// The sums over `range` of the arrays, in groups of `group` chunks (see [`summed`]).
+    pub(super) fn summed(&self, group: usize, range: std::ops::Range<usize>) -> Vec<f64> {
+        summed_over(
+            self.0
+                .chunks(group)
+                .map(|g| g.iter().filter_map(OnceLock::get)),
+            range,
+        )
+    }
+
+    /// Gives the arrays back to `spare`.
+    pub(super) fn give_back(self, spare: &SpareTraining) {
+        let mut kept = spare.0.lock().unwrap_or_else(PoisonError::into_inner);
+        kept.extend(self.0.into_iter().filter_map(OnceLock::into_inner));
+    }
 }
 
 /// Training arrays kept for reuse, each by the thread that filled it.
@@ -110,7 +164,7 @@ mod transfer {
         fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
             let len = self.0.first().map_or(0, |a| a.values.len());
             let mut sum = vec![0.0; len];
-            self.sum_into(0..len, &mut sum);
+            super::sum_into(&self.0, 0..len, &mut sum);
             let bytes: Vec<u8> = sum.iter().flat_map(|v| v.to_le_bytes()).collect();
             s.serialize_bytes(&bytes)
         }
