@@ -33,7 +33,8 @@ pub enum StopReason {
     /// their size had doubled four times (or, where it could not grow, after twice the
     /// evaluations at which the interval would otherwise have met the tolerance): their error
     /// bars are too small, and more iterations would not make the interval honest (VEGAS). The
-    /// run is not `converged`. The CLI calls it `disagreement`.
+    /// run is not `converged`, and its standard error is the iterations' scatter (see the
+    /// warning). The CLI calls it `disagreement`.
     IterationsDisagree,
     /// A multilevel run reached its deepest level allowed with the bias estimate still above
     /// its share of the target ([`Warning::BiasAboveTarget`](crate::stats::Warning::BiasAboveTarget)):

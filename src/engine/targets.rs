@@ -138,8 +138,10 @@ impl<'a> Targets<'a> {
     /// Records how the run ended on its final estimate: per output, whether its own target
     /// (or, without one, every target) was met, and a warning when it stopped on a limit. A
     /// run that stopped because its iterations disagree met none: its intervals cannot be
-    /// trusted, however narrow.
+    /// trusted, however narrow. Outputs whose iterations disagree get intervals as wide as
+    /// the iterations' scatter (see `VectorEstimate::widen_where_iterations_disagree`).
     pub(crate) fn finish(&self, run: &mut VectorEstimate, stop: StopReason) {
+        run.widen_where_iterations_disagree();
         let trusted = stop != StopReason::IterationsDisagree;
         let all = trusted && self.met(run);
         let own: Vec<bool> = self

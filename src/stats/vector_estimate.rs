@@ -5,6 +5,7 @@ use super::accumulator::{Accumulator, scale_for};
 use super::covariance::CovarianceAccumulator;
 use super::derived::Derived;
 use super::estimate::Estimate;
+use super::warning::DISAGREEMENT_Q;
 use crate::error::{Error, Result};
 use crate::stop_reason::StopReason;
 
@@ -235,6 +236,42 @@ impl VectorEstimate {
         }
     }
 
+    /// Measures the error of each output whose combined iterations disagree (`q_value` below
+    /// [`DISAGREEMENT_Q`]) by their scatter rather than by their own variances, which the
+    /// disagreement shows to be too small: its standard error times `sqrt(chi^2/dof)` (the
+    /// Birge ratio), with the Student-t quantiles of the iterations' degrees of freedom. The
+    /// covariance of the outputs follows. Outputs whose iterations agree are unchanged.
+    pub(crate) fn widen_where_iterations_disagree(&mut self) {
+        let factors: Vec<f64> = self
+            .outputs
+            .iter()
+            .map(|e| match (e.chi2_dof, e.q_value) {
+                (Some(chi2_dof), Some(q)) if q < DISAGREEMENT_Q && chi2_dof > 1.0 => {
+                    chi2_dof.sqrt()
+                }
+                _ => 1.0,
+            })
+            .collect();
+        if factors.iter().all(|&f| f == 1.0) {
+            return;
+        }
+        for (output, &factor) in self.outputs.iter_mut().zip(&factors) {
+            if factor > 1.0 {
+                output.std_error = output.std_error.map(|s| s * factor);
+                output.dof = Some(output.iterations.saturating_sub(1).max(1) as f64);
+            }
+        }
+        let m = self.len();
+        if let Some(matrix) = self.covariance_matrix.as_mut() {
+            for (j, row) in matrix.chunks_exact_mut(m).enumerate() {
+                for (c, factor) in row.iter_mut().zip(&factors) {
+                    *c *= factors[j] * factor;
+                }
+            }
+        }
+        self.sync_diagonal();
+    }
+
     /// Multiplies every standard error by `factor` (and the covariance by its square).
     pub(crate) fn inflate(&mut self, factor: f64) {
         for output in &mut self.outputs {
@@ -278,5 +315,34 @@ impl VectorEstimate {
             });
         }
         Ok(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn outputs_whose_iterations_disagree_get_the_scatter_of_their_iterations() {
+        // Two outputs with standard errors 1 and 2 and covariance 0.5; the first's three
+        // iterations disagree with chi^2/dof = 4 (a Birge ratio of 2).
+        let mut first = Estimate::from_replicates(&[0.0, 2.0], 1).unwrap();
+        let second = Estimate::from_replicates(&[0.0, 4.0], 1).unwrap();
+        first.chi2_dof = Some(4.0);
+        first.q_value = Some(DISAGREEMENT_Q / 2.0);
+        first.iterations = 3;
+        let mut run =
+            VectorEstimate::assemble(vec![first, second.clone()], Some(vec![0.0, 0.5, 0.5, 0.0]));
+        run.widen_where_iterations_disagree();
+        assert_eq!(run.outputs[0].std_error, Some(2.0));
+        assert_eq!(run.outputs[0].dof, Some(2.0));
+        assert_eq!(run.outputs[1], second);
+        assert_eq!(run.covariance_matrix, Some(vec![4.0, 1.0, 1.0, 4.0]));
+        // Agreeing iterations (a larger Q) are left alone.
+        let mut agreeing = run.clone();
+        agreeing.outputs[0].q_value = Some(DISAGREEMENT_Q * 2.0);
+        let before = agreeing.clone();
+        agreeing.widen_where_iterations_disagree();
+        assert_eq!(agreeing, before);
     }
 }

@@ -92,7 +92,9 @@ pub enum Warning {
     /// their agreement this large or larger has probability `q_value`, below
     /// [`DISAGREEMENT_Q`], if their variances are right. Some iterations' variances are then
     /// underestimated, or their estimates drift (the grid still moving), and the combined
-    /// estimate can sit many standard errors from the truth. Causes seen: a discontinuity the
+    /// estimate can sit many of those standard errors from the truth: the standard error
+    /// reported is theirs times `sqrt(chi2_dof)`, the iterations' scatter, with Student-t
+    /// quantiles of `iterations - 1` degrees of freedom. Causes seen: a discontinuity the
     /// grid squeezes into a sliver most iterations miss; a narrow peak that iterations of too
     /// few points find only now and then; a grid still adapting when the combined iterations
     /// began.
@@ -229,7 +231,8 @@ impl fmt::Display for Warning {
                 f,
                 "the {iterations} combined iterations disagree (chi2/dof {chi2_dof:.2}, \
                  Q = {q_value:.1e}): their variances are too small or their estimates drift, so \
-                 the error bar is too small; possible causes: a discontinuity or a narrow peak \
+                 the error bar given is their scatter, sqrt(chi2/dof) times wider; possible \
+                 causes: a discontinuity or a narrow peak \
                  that most iterations of this size miss (more evaluations per iteration, or \
                  MISER or randomized QMC, which need no grid), or a grid still adapting (more \
                  warm-up iterations)"
