@@ -39,7 +39,8 @@
 //! before the exchange) and then axis by axis in group order, and their hypercube sums folded
 //! strictly in order ([`pass`]), so sums, training data and allocations, and hence the
 //! result, are bit-identical for any number of threads or ranks. The driver runs on a
-//! thread of the pool, and each axis of the grid adapts on its own thread.
+//! thread of the pool, and in one process each axis of the grid adapts as a tail task of the
+//! iteration's last window, on whichever thread is out of chunks first.
 //!
 //! With several threads, and non-finite values skipped rather than fatal, a hypercube's mean
 //! is over its finite values only (the skipped points are counted in the estimate).

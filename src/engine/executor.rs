@@ -412,11 +412,7 @@ impl Executor {
     /// on the calling thread with one thread, or over a cluster, whose messages must all leave
     /// from the thread that initialized MPI.
     pub(crate) fn on_pool<R: Send>(&self, op: impl FnOnce() -> R + Send) -> R {
-        #[cfg(feature = "mpi")]
-        if self.cluster.is_some() {
-            return op();
-        }
-        if self.threads == 1 {
+        if self.spread() || self.threads == 1 {
             return op();
         }
         self.install(op)

@@ -112,8 +112,7 @@ impl TrainingSlots {
 
     /// Gives the arrays back to `spare`.
     pub(super) fn give_back(self, spare: &SpareTraining) {
-        let mut kept = spare.0.lock().unwrap_or_else(PoisonError::into_inner);
-        kept.extend(self.0.into_iter().filter_map(OnceLock::into_inner));
+        spare.keep(self.0.into_iter().filter_map(OnceLock::into_inner));
     }
 }
 
@@ -147,8 +146,13 @@ impl SpareTraining {
 
     /// Keeps the arrays of `groups` for later [`take`](Self::take)s.
     pub(super) fn give(&self, groups: Vec<GroupTraining>) {
+        self.keep(groups.into_iter().flat_map(|g| g.0));
+    }
+
+    /// Keeps `arrays` for later [`take`](Self::take)s.
+    fn keep(&self, arrays: impl IntoIterator<Item = TrainingArray>) {
         let mut spare = self.0.lock().unwrap_or_else(PoisonError::into_inner);
-        spare.extend(groups.into_iter().flat_map(|g| g.0));
+        spare.extend(arrays);
     }
 }
 
