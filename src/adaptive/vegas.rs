@@ -310,8 +310,10 @@ impl<F> Vegas<F> {
     /// increment that straddles a jump sees the nonzero side so rarely that it keeps widening,
     /// and every iteration then misses the same part of the integral while agreeing with the
     /// others, so a run claims a tolerance that its interval does not cover. The floor bounds
-    /// every increment's width by about `1 / floor` times the average; grids that never get
-    /// that thin are unchanged.
+    /// every increment's width by about `1 / floor` times the average, and (with any floor
+    /// above 0) the density falls by at most a factor 8 from one increment to the next, so
+    /// that no increment left wide straddles a jump; grids that never get that thin or that
+    /// steep are unchanged.
     ///
     /// ```
     /// use mcint::{adaptive::Vegas, pdf::UniformBox};

@@ -342,14 +342,17 @@ fn ninety_five_percent_intervals_cover_the_exact_value_about_95_percent_of_the_t
     assert!((181..=198).contains(&covers), "{covers} covers out of 200");
 }
 
-/// A discontinuity that the grid squeezes into a sliver most iterations miss (the 1-D Genz
-/// discontinuous function) gives iterations whose variances are far too small. Their `chi^2`
-/// disagreement warns, and a run to a tolerance does not claim it met on them: before that
-/// check (and the first iteration's against the warm-up iterations), VEGAS+ claimed an
-/// absolute tolerance of 1e-4 here after one iteration, 640 standard errors from the exact
-/// value; and it spent its whole evaluation limit (2^30 evaluations by default). A run to a
-/// tolerance now grows its iterations while they disagree (`vegas/growth.rs`), and stops on
-/// `StopReason::IterationsDisagree` when four doublings did not make them agree.
+/// A jump that iterations of 1000 points resolve in some iterations and miss in others (the
+/// 1-D Genz discontinuous function, VEGAS+'s hypercube across the jump with two or three
+/// points) gives iterations whose variances are far too small in most of them. Their
+/// `chi^2` disagreement warns, and a run to a tolerance does not claim it met on them:
+/// before that check (and the first iteration's against the warm-up iterations), VEGAS+
+/// claimed an absolute tolerance of 1e-4 here after one iteration, 640 standard errors from
+/// the exact value; and it spent its whole evaluation limit (2^30 evaluations by default). A
+/// run to a tolerance now grows its iterations while they disagree (`vegas/growth.rs`), and
+/// stops on `StopReason::IterationsDisagree` when four doublings did not make them agree.
+/// How often the claims that remain cover is `vegas_peaks`'s to check, over 200 seeds: two
+/// iterations that both miss the jump still agree, and about one claim in fourteen misses.
 fn disagree_warning(w: &Warning) -> bool {
     matches!(w, Warning::IterationsDisagree { .. })
 }
@@ -358,72 +361,89 @@ fn disagree_warning(w: &Warning) -> bool {
 fn iterations_that_disagree_warn_and_meet_no_tolerance() {
     let g = Genz::with_defaults(GenzFamily::Discontinuous, 1).unwrap();
     let disagree = |e: &Estimate| e.warnings.iter().any(disagree_warning);
+    let seeds = 0..5u64;
+    let mut warned = 0;
+    let mut stopped_on_disagreement = 0;
     for stratified in [false, true] {
-        let fixed = genz_run(&g, stratified, 1000, 0);
-        assert!(
-            fixed.q_value.unwrap() < DISAGREEMENT_Q && disagree(&fixed),
-            "{fixed:?}"
-        );
-        // The warning says what the run saw, and offers causes rather than asserting one.
-        let warning = fixed.warnings.iter().find(|w| disagree_warning(w)).unwrap();
-        assert!(
-            matches!(warning, Warning::IterationsDisagree { iterations, .. } if *iterations == fixed.iterations),
-            "{warning:?}"
-        );
-        let text = warning.to_string();
-        let seen = format!("the {} combined iterations disagree", fixed.iterations);
-        assert!(
-            text.contains(&seen) && text.contains("Q = ") && text.contains("possible causes"),
-            "{text}"
-        );
-        let limit = 1 << 22;
-        for samples in [Some(1000), None] {
-            let vegas = Vegas::new(|x: &[f64]| g.eval(x), UniformBox::unit(1).unwrap())
-                .stratified(stratified)
-                .iterations(100_000)
-                .tolerance(
-                    Tolerance::absolute(1e-4)
-                        .unwrap()
-                        .max_evaluations(limit)
-                        .unwrap(),
-                );
-            let e = match samples {
-                Some(n) => vegas.samples(n),
-                None => vegas,
-            }
-            .run()
-            .unwrap();
-            // A claimed tolerance is honest (within 4 standard errors); a run that does not
-            // claim it says why.
-            let z = (e.mean - g.exact()).abs() / e.std_error.unwrap();
-            assert!(e.converged == Some(false) || z < 4.0, "{e:?}");
-            if e.converged == Some(false) {
+        for seed in seeds.clone() {
+            // Ten fixed iterations warn exactly when their Q says they disagree, and the
+            // warning says what the run saw, offering causes rather than asserting one.
+            let fixed = genz_run(&g, stratified, 1000, seed);
+            assert_eq!(
+                fixed.q_value.unwrap() < DISAGREEMENT_Q,
+                disagree(&fixed),
+                "{fixed:?}"
+            );
+            if let Some(warning) = fixed.warnings.iter().find(|w| disagree_warning(w)) {
+                warned += 1;
                 assert!(
-                    e.warnings
-                        .iter()
-                        .any(|w| matches!(w, Warning::ToleranceNotMet { stop } if *stop == e.stop)),
-                    "{e:?}"
+                    matches!(warning, Warning::IterationsDisagree { iterations, .. } if *iterations == fixed.iterations),
+                    "{warning:?}"
+                );
+                let text = warning.to_string();
+                let seen = format!("the {} combined iterations disagree", fixed.iterations);
+                assert!(
+                    text.contains(&seen)
+                        && text.contains("Q = ")
+                        && text.contains("possible causes"),
+                    "{text}"
                 );
             }
-            if stratified {
-                // VEGAS+ with 1000 points an iteration keeps disagreeing (chi^2/dof in the
-                // millions) as it grows, and stops on that; with 10,000 its iterations agree
-                // once grown to about 145,000 points, and it meets the tolerance (honestly,
-                // as checked above). Both far below the limit.
-                let expected = match samples {
-                    Some(_) => StopReason::IterationsDisagree,
-                    None => StopReason::ToleranceMet,
-                };
-                assert_eq!(e.stop, expected, "{e:?}");
-                assert!(e.evaluations < limit / 4, "{e:?}");
-            } else {
-                // Classic VEGAS, whose density floor keeps the region beyond the jump
-                // sampled, agrees once its iterations grew (to 64,000 and 128,000 points):
-                // it meets the tolerance or reaches the limit with an interval that covers.
-                assert!(e.iterations > 1 && e.n > 16 * e.iterations * 1000, "{e:?}");
+            let limit = 1 << 22;
+            for samples in [Some(1000), None] {
+                let vegas = Vegas::new(|x: &[f64]| g.eval(x), UniformBox::unit(1).unwrap())
+                    .stratified(stratified)
+                    .seed(seed)
+                    .iterations(100_000)
+                    .tolerance(
+                        Tolerance::absolute(1e-4)
+                            .unwrap()
+                            .max_evaluations(limit)
+                            .unwrap(),
+                    );
+                let e = match samples {
+                    Some(n) => vegas.samples(n),
+                    None => vegas,
+                }
+                .run()
+                .unwrap();
+                // A run that does not claim the tolerance says why.
+                if e.converged == Some(false) {
+                    assert!(
+                        e.warnings.iter().any(
+                            |w| matches!(w, Warning::ToleranceNotMet { stop } if *stop == e.stop)
+                        ),
+                        "{e:?}"
+                    );
+                }
+                if stratified {
+                    // VEGAS+ meets the tolerance or stops on disagreement, far below the
+                    // limit; with 1000 points an iteration, mostly the latter.
+                    assert!(
+                        matches!(
+                            e.stop,
+                            StopReason::ToleranceMet | StopReason::IterationsDisagree
+                        ),
+                        "{e:?}"
+                    );
+                    assert!(e.evaluations < limit / 4, "{e:?}");
+                    stopped_on_disagreement +=
+                        u32::from(samples.is_some() && e.stop == StopReason::IterationsDisagree);
+                } else {
+                    // Classic VEGAS, whose density floor keeps the region beyond the jump
+                    // sampled, grows its iterations (to 64,000 and 128,000 points) and meets
+                    // the tolerance or reaches the limit.
+                    assert!(e.iterations > 1 && e.n > 16 * e.iterations * 1000, "{e:?}");
+                }
             }
         }
     }
+    assert!(warned > 0, "no fixed run warned");
+    assert!(
+        u64::from(stopped_on_disagreement) * 2 > seeds.end,
+        "{stopped_on_disagreement} of {} VEGAS+ runs stopped on disagreement",
+        seeds.end
+    );
 }
 
 /// Iterations with honest variances (smooth integrands) warn of disagreement in about 1% of
