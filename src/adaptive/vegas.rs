@@ -77,7 +77,7 @@ const MIN_SAMPLES: u64 = 50;
 /// The lowest density, as a fraction of the uniform one, that the grid keeps on any axis:
 /// without it, runs on discontinuous integrands claimed tolerances their intervals missed
 /// (docs/measurements.md); grids that never get that thin are unchanged to the bit.
-const DEFAULT_DENSITY_FLOOR: f64 = 0.005;
+const DEFAULT_DENSITY_FLOOR: f64 = 0.001;
 /// Grid increments are capped at one per this many evaluations (as `vegas` does), so that
 /// every increment sees some points in each iteration.
 const EVALUATIONS_PER_INCREMENT: u64 = 10;
@@ -93,7 +93,7 @@ const LARGEST_ITERATION: u64 = 1 << 32;
 /// iterations (they train the grid and the allocation and are then discarded, as `vegas`
 /// users do with a separate training call) followed by 10 iterations that are combined, 1000
 /// grid increments per axis at most, `alpha = 0.5`, a
-/// [`density_floor`](Self::density_floor) of 0.005, adaptive stratification on with
+/// [`density_floor`](Self::density_floor) of 0.001, adaptive stratification on with
 /// `beta = 0.75`, independent points with seed 0, all available threads.
 ///
 /// The estimate is the combination of the iterations weighted by the inverse of the variance of the
@@ -304,7 +304,7 @@ impl<F> Vegas<F> {
     }
 
     /// The lowest density the grid keeps on each axis, as a fraction of the uniform density
-    /// (in `[0, 1)`; default 0.005; 0 gives the classic grid, as in `vegas`).
+    /// (in `[0, 1)`; default 0.001; 0 gives the classic grid, as in `vegas`).
     ///
     /// Without a floor the grid can starve a region that holds part of the integral: an
     /// increment that straddles a jump sees the nonzero side so rarely that it keeps widening,

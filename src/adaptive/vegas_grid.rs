@@ -360,7 +360,7 @@ pub(crate) fn check_density_floor(floor: f64) -> Result<()> {
         return Err(Error::invalid(
             "density_floor",
             floor,
-            "a fraction of the uniform density in [0, 1) (0 is classic VEGAS; default 0.005)",
+            "a fraction of the uniform density in [0, 1) (0 is classic VEGAS; default 0.001)",
         ));
     }
     Ok(())
