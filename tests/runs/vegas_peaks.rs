@@ -21,10 +21,12 @@
 //! the grid's density was graded (`VegasGrid`'s `MAX_DENSITY_RATIO`): a wide increment beyond
 //! the jump straddled it with a sliver that most runs never hit.
 //!
-//! Not here, because it fails: two Gaussians (`a_i = 10`) at `u` and `1 - u`. Classic
-//! VEGAS's separable grid settles on one of them and loses the other: 198 of 200 runs
-//! claimed `1e-3` half the exact value off, with agreeing iterations. VEGAS+, whose
-//! hypercubes all keep points, covered 177 and refused 14 (median 9.7 M evaluations).
+//! Two Gaussians (`a_i = 10`) at `u` and `1 - u` are here for VEGAS+ only, over 50 seeds
+//! (each run takes about 10^7 evaluations): it covered 177 and refused 14 of 200 before the
+//! grid was graded, 47 of 50 since. Classic VEGAS fails there: its separable grid settles on
+//! one peak and loses the other, and 198 of 200 runs claimed `1e-3` half the exact value off,
+//! with agreeing iterations. So does Lepage's `vegas` with 10^4 and 10^5 points an iteration
+//! (`benches/peers_python/vegas_peers.py`).
 
 use crate::common::{REQUIRED, SEEDS};
 use mcint::adaptive::Vegas;
@@ -54,10 +56,11 @@ fn check(
     exact: f64,
     stratified: bool,
 ) {
-    check_with(name, dims, f, exact, stratified, None);
+    check_with(name, dims, f, exact, stratified, None, (SEEDS, REQUIRED));
 }
 
-/// [`check`] with `samples` evaluations per iteration (`None`: the default).
+/// [`check`] with `samples` evaluations per iteration (`None`: the default), over `seeds`
+/// seeds of which `required` must cover.
 fn check_with(
     name: &str,
     dims: usize,
@@ -65,6 +68,7 @@ fn check_with(
     exact: f64,
     stratified: bool,
     samples: Option<u64>,
+    (seeds, required): (u64, u64),
 ) {
     let method = if stratified { "VEGAS+" } else { "VEGAS" };
     let tolerance = Tolerance::relative(RELATIVE).unwrap();
@@ -72,7 +76,7 @@ fn check_with(
     let mut claimed_misses = 0;
     let mut disagreeing = 0;
     let mut evaluations = Vec::new();
-    for seed in 0..SEEDS {
+    for seed in 0..seeds {
         let vegas = Vegas::new(f, UniformBox::unit(dims).unwrap())
             .stratified(stratified)
             .iterations(100_000)
@@ -105,13 +109,13 @@ fn check_with(
     let median = evaluations[evaluations.len() / 2];
     let most = *evaluations.last().unwrap();
     eprintln!(
-        "{method} {name}: covered {covered} of {SEEDS}, {disagreeing} stopped on disagreement, \
+        "{method} {name}: covered {covered} of {seeds}, {disagreeing} stopped on disagreement, \
          {claimed_misses} claimed the tolerance and missed, evaluations median {median}, most \
          {most}"
     );
     assert!(
-        covered >= REQUIRED,
-        "{method} {name}: covered {covered} of {SEEDS}"
+        covered >= required,
+        "{method} {name}: covered {covered} of {seeds}"
     );
     assert!(
         most <= MOST_OVER_MEDIAN * median,
@@ -176,7 +180,16 @@ fn vegas_plus_covers_a_step_or_says_its_iterations_disagree() {
 fn vegas_plus_covers_a_step_in_small_iterations_or_says_its_iterations_disagree() {
     let g = Genz::with_defaults(GenzFamily::Discontinuous, 1).unwrap();
     let f = |x: &[f64]| g.eval(x);
-    check_with("1-D step, n = 1000", 1, &f, g.exact(), true, Some(1000));
+    let cases = (SEEDS, REQUIRED);
+    check_with(
+        "1-D step, n = 1000",
+        1,
+        &f,
+        g.exact(),
+        true,
+        Some(1000),
+        cases,
+    );
 }
 
 /// The customary discontinuous family (Genz `discontinuous`, default `a` and `u`).
@@ -204,4 +217,18 @@ fn vegas_covers_the_discontinuous_family_in_10_d() {
 #[test]
 fn vegas_plus_covers_the_discontinuous_family_in_10_d() {
     discontinuous(10, true);
+}
+
+/// Two Gaussians (`a_i = 10`) at `u` and `1 - u`, over 50 seeds: each run takes about 10^7
+/// evaluations. At least 45 must cover (1.3 binomial deviations below the 47.5 of an exact
+/// 95% interval, as 186 of 200). Classic VEGAS is not here (see above).
+#[test]
+fn vegas_plus_covers_two_peaks() {
+    let u = U.to_vec();
+    let mirrored: Vec<f64> = U.iter().map(|u| 1.0 - u).collect();
+    let first = genz(GenzFamily::Gaussian, &[10.0; DIMS], &u);
+    let second = genz(GenzFamily::Gaussian, &[10.0; DIMS], &mirrored);
+    let f = |x: &[f64]| first.eval(x) + second.eval(x);
+    let exact = first.exact() + second.exact();
+    check_with("8-D two peaks", DIMS, &f, exact, true, None, (50, 45));
 }
