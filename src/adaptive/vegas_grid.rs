@@ -447,7 +447,7 @@ fn grade_density(widths: &[f64], weights: &mut [f64], ratio: f64) {
         weights[i] = weights[i].max(least);
     }
     // Raising an increment from the right never breaks the bound with its right neighbour.
-    for i in (0..n - 1).rev() {
+    for i in (0..n.saturating_sub(1)).rev() {
         let least = weights[i + 1] / widths[i + 1] * widths[i] / ratio;
         weights[i] = weights[i].max(least);
     }

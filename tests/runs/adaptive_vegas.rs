@@ -352,7 +352,7 @@ fn ninety_five_percent_intervals_cover_the_exact_value_about_95_percent_of_the_t
 /// run to a tolerance now grows its iterations while they disagree (`vegas/growth.rs`), and
 /// stops on `StopReason::IterationsDisagree` when four doublings did not make them agree.
 /// How often the claims that remain cover is `vegas_peaks`'s to check, over 200 seeds: two
-/// iterations that both miss the jump still agree, and about one claim in fourteen misses.
+/// iterations that both miss the jump still agree, and about one claim in ten misses.
 fn disagree_warning(w: &Warning) -> bool {
     matches!(w, Warning::IterationsDisagree { .. })
 }

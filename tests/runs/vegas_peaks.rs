@@ -11,11 +11,12 @@
 //!
 //! A run whose iterations keep disagreeing stops with `StopReason::IterationsDisagree` (and
 //! says the tolerance was not met); each test prints how many did. Its interval is then as
-//! wide as its iterations' scatter: on a 1-D step (Genz `discontinuous`), where VEGAS+ stops
-//! so in about two runs of three, those intervals covered 12 of every 20 while they were
+//! wide as its iterations' scatter: on a 1-D step (Genz `discontinuous`), where VEGAS+ stopped
+//! so in about two runs of three (one in five since the grid is graded), those intervals
+//! covered 12 of every 20 while they were
 //! built from the iterations' own variances, standard errors of 1e-8 against errors of 4e-4.
 //! With iterations of 1000 points, about half the VEGAS+ runs stop so, and about one claim
-//! in fourteen misses: its two last iterations both missed the jump and agree.
+//! in ten misses: its two last iterations both missed the jump and agree.
 //!
 //! The discontinuous family covered 142 (VEGAS) and about 160 (VEGAS+) of 200 in 5-D before
 //! the grid's density was graded (`VegasGrid`'s `MAX_DENSITY_RATIO`): a wide increment beyond

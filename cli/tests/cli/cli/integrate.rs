@@ -71,7 +71,7 @@ fn integrate_reports_a_vegas_run_that_keeps_disagreeing() {
             "--max-evals",
             "4194304",
             // About half the seeds stop on disagreement here, most others claim honestly;
-            // seed 0 is one of the few (7 of 200 at `--tol-rel 1e-3` in `vegas_peaks`) whose
+            // seed 0 is one of the few (10 of 200 at `--tol-rel 1e-3` in `vegas_peaks`) whose
             // last two iterations both miss the jump, agree, and claim.
             "--seed",
             "1",
