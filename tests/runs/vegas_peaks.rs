@@ -1,8 +1,8 @@
 //! VEGAS and VEGAS+ to a tolerance on sharp peaks in 8-D, on steps in 1-D and on the
 //! discontinuous family in 5-D and 10-D: their intervals cover the exact value in at least
-//! 186 of 200 seeds (1.3 binomial deviations below the 190 of an exact 95%
-//! interval, as in `adaptive_tolerance`), and no run spends more than 50 times the median
-//! evaluations of the case before it stops.
+//! 186 of 200 seeds (1.3 binomial deviations below the 190 of an exact 95% interval, as in
+//! `adaptive_tolerance`), and no run spends more than 50 times the median evaluations of the
+//! case before it stops.
 //!
 //! The peaks are about 1/30 wide per axis (Genz `a_i` from 20 to 40) and off-centre. Before
 //! the iterations grew on disagreement (`vegas/growth.rs`), iterations of `10^4` points
@@ -13,10 +13,10 @@
 //! says the tolerance was not met); each test prints how many did. Its interval is then as
 //! wide as its iterations' scatter: on a 1-D step (Genz `discontinuous`), where VEGAS+ stopped
 //! so in about two runs of three (one in five since the grid is graded), those intervals
-//! covered 12 of every 20 while they were
-//! built from the iterations' own variances, standard errors of 1e-8 against errors of 4e-4.
-//! With iterations of 1000 points, about half the VEGAS+ runs stop so, and about one claim
-//! in ten misses: its two last iterations both missed the jump and agree.
+//! covered 12 of every 20 while they were built from the iterations' own variances, standard
+//! errors of 1e-8 against errors of 4e-4. With iterations of 1000 points, about half the
+//! VEGAS+ runs stop so, and about one claim in ten misses: its two last iterations both
+//! missed the jump and agree.
 //!
 //! The discontinuous family covered 142 (VEGAS) and about 160 (VEGAS+) of 200 in 5-D before
 //! the grid's density was graded (`VegasGrid`'s `MAX_DENSITY_RATIO`): a wide increment beyond
@@ -181,16 +181,8 @@ fn vegas_plus_covers_a_step_or_says_its_iterations_disagree() {
 fn vegas_plus_covers_a_step_in_small_iterations_or_says_its_iterations_disagree() {
     let g = Genz::with_defaults(GenzFamily::Discontinuous, 1).unwrap();
     let f = |x: &[f64]| g.eval(x);
-    let cases = (SEEDS, REQUIRED);
-    check_with(
-        "1-D step, n = 1000",
-        1,
-        &f,
-        g.exact(),
-        true,
-        Some(1000),
-        cases,
-    );
+    let name = "1-D step, n = 1000";
+    check_with(name, 1, &f, g.exact(), true, Some(1000), (SEEDS, REQUIRED));
 }
 
 /// The customary discontinuous family (Genz `discontinuous`, default `a` and `u`).
