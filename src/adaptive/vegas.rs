@@ -123,7 +123,8 @@ const LARGEST_ITERATION: u64 = 1 << 32;
 /// Iterations that disagree (`Q` below [`DISAGREEMENT_Q`](crate::stats::DISAGREEMENT_Q)) have
 /// underestimated variances, and meet no tolerance; the first combined iteration, which has no
 /// `Q` yet, must agree in the same sense with the warm-up iterations, whose estimates are as
-/// unbiased and whose variances are as honest (without a warm-up it is not checked).
+/// unbiased and whose variances are as honest, but for the first of several, drawn before the
+/// grid adapted (without a warm-up it is not checked).
 ///
 /// A run to a tolerance also chooses its iteration size, starting from
 /// [`samples`](Self::samples): it doubles it when its iterations disagree (setting the earlier
