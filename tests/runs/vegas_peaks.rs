@@ -216,7 +216,7 @@ fn vegas_plus_covers_the_discontinuous_family_in_10_d() {
 /// evaluations. At least 45 must cover (1.3 binomial deviations below the 47.5 of an exact
 /// 95% interval, as 186 of 200). Classic VEGAS is not here (see above). These seeds flatter
 /// VEGAS+: over seeds 1000-1149, one run in ten lost a peak and claimed half the integral
-/// (docs/measurements.md), so this test guards against regressions, not for the 95%.
+/// (docs/measurements.md), so this test guards against regressions rather than showing 95%.
 #[test]
 fn vegas_plus_covers_two_peaks() {
     let u = U.to_vec();
