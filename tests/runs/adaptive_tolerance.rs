@@ -12,8 +12,8 @@
 //! discontinuous family: its grid squeezed the jump into a sliver that most iterations
 //! missed, so the per-iteration variances were underestimated and the combination drifted
 //! (the Python `vegas` package does the same); it covered 185 of 200, one below the bound.
-//! With the grid's density floor (`Vegas::density_floor`) and its grading it covers 192, and
-//! VEGAS+ 191 (190 before). Corner peak and discontinuous use `a` rescaled to sum 2.5, as in
+//! With the grid's density floor (`Vegas::density_floor`) and its grading it covers 191, and
+//! VEGAS+ 190. Corner peak and discontinuous use `a` rescaled to sum 2.5, as in
 //! the Integrator's test, for the same reason (heavy tails with the customary `a`).
 
 use crate::common::{REQUIRED, SEEDS};

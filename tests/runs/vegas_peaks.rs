@@ -24,7 +24,8 @@
 //!
 //! Two Gaussians (`a_i = 10`) at `u` and `1 - u` are here for VEGAS+ only, over 50 seeds
 //! (each run takes about 10^7 evaluations): it covered 177 and refused 14 of 200 before the
-//! grid was graded, 47 of 50 since. Classic VEGAS fails there: its separable grid settles on
+//! grid was graded, 45 of 50 since (47 before the first warm-up iteration left the
+//! first iteration's check). Classic VEGAS fails there: its separable grid settles on
 //! one peak and loses the other, and 198 of 200 runs claimed `1e-3` half the exact value off,
 //! with agreeing iterations. So does Lepage's `vegas` with 10^4 and 10^5 points an iteration
 //! (`benches/peers_python/vegas_peers.py`).
