@@ -231,6 +231,12 @@ impl<F> Vegas<F> {
     /// leaves a few unused); without, exactly `N`. A run to a tolerance starts with `N` and
     /// may grow it (see [`Vegas`]).
     ///
+    /// Choose `N` for the integrand's hardest feature: the grid and the allocation move on
+    /// each iteration's points, so a peak that a few iterations in a row miss loses its share
+    /// of both for good, and nothing the run sees afterwards tells. With several separated
+    /// peaks in many dimensions, `10_000` loses one now and then (two Gaussians in 8-D:
+    /// `docs/measurements.md`); larger iterations keep them, at a price on a single peak.
+    ///
     /// ```
     /// use mcint::{adaptive::Vegas, pdf::UniformBox};
     /// let e = Vegas::new(|x: &[f64]| x[0], UniformBox::unit(1).unwrap())
