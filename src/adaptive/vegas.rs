@@ -20,7 +20,11 @@
 //! `neval_frac = 0.75`). With `beta = 1` this is Neyman's optimal allocation; `beta < 1`
 //! tempers it against noisy estimates of `sigma_h` (Lepage 2021, section 3). The package
 //! feeds its allocation the hypercube's error `sigma_h^2 / n_h` rather than `sigma_h^2`,
-//! which tempers it further; here `sigma_h^beta` follows the paper. With stratification off
+//! which tempers it further: once the allocation settles, `n_h ∝ sigma_h^(beta / (1 + beta /
+//! 2))`, `sigma_h^0.55` at its default `beta = 0.75`. Here `sigma_h^beta` follows the paper,
+//! with a default `beta = 0.5` close to the package's settled exponent: an allocation that
+//! follows `sigma_h` harder starves a hypercube whose peak an iteration happened to miss,
+//! and with it the grid's increments there (`docs/measurements.md`). With stratification off
 //! this is classic VEGAS: one hypercube, importance sampling through the grid alone.
 //!
 //! Every iteration's points are new (the next unused indices of an independent sampler, pass
@@ -94,7 +98,7 @@ const LARGEST_ITERATION: u64 = 1 << 32;
 /// users do with a separate training call) followed by 10 iterations that are combined, 1000
 /// grid increments per axis at most, `alpha = 0.5`, a
 /// [`density_floor`](Self::density_floor) of 0.001, adaptive stratification on with
-/// `beta = 0.75`, independent points with seed 0, all available threads.
+/// `beta = 0.5`, independent points with seed 0, all available threads.
 ///
 /// The estimate is the combination of the iterations weighted by the inverse of the variance of the
 /// iteration before each, and its standard error that of this weighted mean (basis
@@ -214,7 +218,7 @@ impl<F> Vegas<F> {
             alpha: 0.5,
             density_floor: DEFAULT_DENSITY_FLOOR,
             stratified: true,
-            beta: 0.75,
+            beta: 0.5,
         }
     }
 
@@ -234,8 +238,8 @@ impl<F> Vegas<F> {
     /// Choose `N` for the integrand's hardest feature: the grid and the allocation move on
     /// each iteration's points, so a peak that a few iterations in a row miss loses its share
     /// of both for good, and nothing the run sees afterwards tells. With several separated
-    /// peaks in many dimensions, `10_000` loses one now and then (two Gaussians in 8-D:
-    /// `docs/measurements.md`); larger iterations keep them, at a price on a single peak.
+    /// peaks in many dimensions, larger iterations make such a streak rarer, at a price on a
+    /// single peak (two Gaussians in 8-D: `docs/measurements.md`).
     ///
     /// ```
     /// use mcint::{adaptive::Vegas, pdf::UniformBox};
@@ -349,7 +353,7 @@ impl<F> Vegas<F> {
     }
 
     /// Damping exponent of the allocation of points to hypercubes, `n_h ∝ sigma_h^beta`
-    /// (in `[0, 1]`; default 0.75; 1 is the theoretical optimum, 0 gives fixed uniform
+    /// (in `[0, 1]`; default 0.5; 1 is the theoretical optimum, 0 gives fixed uniform
     /// stratification). Used only with stratification on.
     ///
     /// ```
@@ -471,7 +475,7 @@ impl<F> Vegas<F> {
             return Err(Error::invalid(
                 "beta",
                 self.beta,
-                "a damping exponent in [0, 1] (VEGAS+ uses 0.75)",
+                "a damping exponent in [0, 1] (default 0.5)",
             ));
         }
         require_randomized(sampler, "every iteration needs new points")?;
