@@ -58,7 +58,7 @@ fn run() -> Result<(), String> {
             let ishigami = Ishigami::new(7.0, 0.1).map_err(|e| e.to_string())?;
             let exact = ishigami.exact_indices();
             let f = move |u: &[f64]| {
-                let x: Vec<f64> = u.iter().map(|v| PI * (2.0 * v - 1.0)).collect();
+                let x: [f64; D] = std::array::from_fn(|i| PI * (2.0 * u[i] - 1.0));
                 ishigami.eval(&x)
             };
             (Box::new(f), exact.first_order, exact.total)
