@@ -113,8 +113,13 @@ impl Cluster {
     /// This rank's share of `chunks`: contiguous, in rank order, sizes differing by at most
     /// one (empty when there are more ranks than chunks).
     pub(crate) fn share(&self, chunks: Range<u64>) -> Range<u64> {
+        self.share_of(self.rank, chunks)
+    }
+
+    /// The share of `chunks` of rank `rank` (see [`share`](Self::share)).
+    pub(crate) fn share_of(&self, rank: usize, chunks: Range<u64>) -> Range<u64> {
         let len = chunks.end - chunks.start;
-        let (size, rank) = (self.size as u64, self.rank as u64);
+        let (size, rank) = (self.size as u64, rank as u64);
         let bound = |r: u64| chunks.start + r * (len / size) + r.min(len % size);
         bound(rank)..bound(rank + 1)
     }

@@ -120,9 +120,9 @@ impl Failure {
     }
 }
 
-/// The outputs of the work units `units` (chunks, or groups of them) in order, each rank of
-/// `cluster` computing its share with `local`, with the limit the first stopped rank
-/// reached; the first error in unit order (that of the lowest failed rank) on every rank.
+/// Each rank's share of the chunks `units`, with the outputs `local` computed from it on that
+/// rank, in rank order, and the limit the first stopped rank reached; the first error in
+/// chunk order (that of the lowest failed rank) on every rank.
 pub(super) fn gathered<T: Transfer>(
     cluster: Cluster,
     units: Range<u64>,
@@ -144,7 +144,7 @@ pub(super) fn gathered<T: Transfer>(
         ))))
     });
     let message = message.unwrap_or_default();
-    let mut outputs = Vec::with_capacity((units.end - units.start) as usize);
+    let mut shares = Vec::with_capacity(cluster.size());
     let mut stop = None;
     for (rank, bytes) in cluster.all_gather(&message)?.iter().enumerate() {
         match ciborium::from_reader::<Share<T>, _>(&bytes[..]) {
@@ -153,7 +153,7 @@ pub(super) fn gathered<T: Transfer>(
                 stop: their_stop,
             }) => {
                 stop = stop.or(their_stop);
-                outputs.extend(theirs);
+                shares.push((cluster.share_of(rank, units.clone()), theirs));
             }
             Ok(Share::Failed(failure)) => return Err(failure.into_error(rank)),
             Err(e) => {
@@ -164,7 +164,7 @@ pub(super) fn gathered<T: Transfer>(
             }
         }
     }
-    Ok((outputs, stop))
+    Ok((shares, stop))
 }
 
 /// `value` in CBOR, exact for every float (NaN and infinities included).

@@ -85,9 +85,10 @@ pub(crate) trait Transfer {}
 #[cfg(not(feature = "mpi"))]
 impl<T> Transfer for T {}
 
-/// The outputs of a window of chunks in chunk order (`None` for the chunks a limit skipped)
-/// and the limit reached, if one was.
-pub(super) type WindowOutputs<T> = (Vec<Option<T>>, Option<StopReason>);
+/// The outputs of a window of work units, as each share of it (one per MPI rank, or the whole
+/// window in one process) with that share's outputs in order (`None` where a limit skipped
+/// work), and the limit reached, if one was.
+pub(super) type WindowOutputs<T> = (Vec<(Range<u64>, Vec<Option<T>>)>, Option<StopReason>);
 
 /// The chunks one thread ran in a window, as `(offset in the window, output)`.
 type Claimed<T> = Vec<(usize, Result<Option<T>>)>;
@@ -214,9 +215,13 @@ impl Executor {
     /// [`run`](Self::run) with the outputs of each group of `grouping.chunks` consecutive
     /// chunks (counted from `chunks.start`) merged into one, left to right, before `fold`
     /// gets it with the group's first chunk. Groups are fixed by chunk numbers alone, so the
-    /// merged outputs have the same bits for any thread or rank count. Over a cluster each
-    /// rank merges its own groups before the exchange, which then carries one output per
-    /// group.
+    /// merged outputs have the same bits for any thread or rank count. Over a cluster the
+    /// ranks share each window by chunks, evenly (shares of whole groups would leave one rank
+    /// idle for a group's time in every window that has an odd number of them); each rank
+    /// merges the chunks it ran group by group before the exchange, and a group split between
+    /// two ranks is merged after it, left to right as in one process: a job whose output
+    /// travels shortened (VEGAS's training data, as their sum) must send the part that
+    /// continues a group as it is.
     pub(crate) fn run_grouped<J: ChunkJob>(
         &self,
         job: &J,
@@ -228,9 +233,14 @@ impl Executor {
     ) -> Result<Option<StopReason>> {
         let size = grouping.chunks;
         let groups = (chunks.end.saturating_sub(chunks.start)).div_ceil(size);
-        let local = |groups: Range<u64>| {
-            let outputs = self.window(job, grouping.chunks_of(&chunks, groups), limits)?;
-            Ok(Executor::merged(outputs, size, &merge))
+        let local = |share: Range<u64>| {
+            let outputs = self.window(job, share.clone(), limits)?;
+            Ok(Executor::merged(
+                outputs,
+                share.start - chunks.start,
+                size,
+                &merge,
+            ))
         };
         let mut start = 0;
         while start < groups {
@@ -238,7 +248,9 @@ impl Executor {
                 return Ok(Some(reason));
             }
             let end = start.saturating_add(grouping.window).min(groups);
-            let (outputs, stop) = self.outputs(start..end, &local, limits)?;
+            let window = grouping.chunks_of(&chunks, start..end);
+            let (shares, stop) = self.outputs(window, &local, limits)?;
+            let outputs = Executor::joined(shares, chunks.start, size, &merge);
             for (group, output) in (start..end).zip(outputs) {
                 match output {
                     Some(output) => fold(grouping.first_chunk(&chunks, group), output)?,
@@ -250,17 +262,26 @@ impl Executor {
         Ok(None)
     }
 
-    /// `outputs` merged by groups of `size` in order; `None` for a group with a chunk a
-    /// limit skipped. Merging is meant to be cheap against the chunks' work (an addition of
-    /// arrays), so it is done here rather than handed to other threads.
-    fn merged<T>(outputs: Vec<Option<T>>, size: u64, merge: &impl Fn(&mut T, T)) -> Vec<Option<T>> {
+    /// The `outputs` of consecutive chunks, from `offset` chunks after the run's first on,
+    /// merged in order by the groups of `size` they fall in (the first and last group may be
+    /// parts); `None` for a group with a chunk a limit skipped. Merging is meant to be cheap
+    /// against the chunks' work (an addition of arrays), so it is done here rather than
+    /// handed to other threads.
+    fn merged<T>(
+        outputs: Vec<Option<T>>,
+        offset: u64,
+        size: u64,
+        merge: &impl Fn(&mut T, T),
+    ) -> Vec<Option<T>> {
         if size == 1 {
             return outputs;
         }
         let mut outputs = outputs.into_iter();
         let mut groups = Vec::new();
+        let mut take = size - offset % size;
         loop {
-            let mut group = outputs.by_ref().take(size as usize);
+            let mut group = outputs.by_ref().take(take as usize);
+            take = size;
             let Some(first) = group.next() else {
                 break;
             };
@@ -277,6 +298,36 @@ impl Executor {
         groups
     }
 
+    /// The groups of a window, in order, from each share's [`merged`](Self::merged) outputs:
+    /// a group split between two shares is the first share's part merged with the second's
+    /// (`None` if either is). `first` is the run's first chunk.
+    fn joined<T>(
+        shares: Vec<(Range<u64>, Vec<Option<T>>)>,
+        first: u64,
+        size: u64,
+        merge: &impl Fn(&mut T, T),
+    ) -> Vec<Option<T>> {
+        let mut groups: Vec<(u64, Option<T>)> = Vec::new();
+        for (share, parts) in shares {
+            let first_group = (share.start - first) / size;
+            for (group, part) in (first_group..).zip(parts) {
+                match groups.last_mut() {
+                    Some((last, joined)) if *last == group => {
+                        *joined = match (joined.take(), part) {
+                            (Some(mut joined), Some(part)) => {
+                                merge(&mut joined, part);
+                                Some(joined)
+                            }
+                            _ => None,
+                        };
+                    }
+                    _ => groups.push((group, part)),
+                }
+            }
+        }
+        groups.into_iter().map(|(_, output)| output).collect()
+    }
+
     /// `f` of each of `items`, in order, computed in parallel where threads allow: for work
     /// that splits into independent pieces (the axes of a grid), whose results do not depend
     /// on the thread count.
@@ -291,9 +342,9 @@ impl Executor {
         self.install(|| items.into_par_iter().map(&f).collect())
     }
 
-    /// The outputs of the work units `units` (chunks, or groups of them) in order (`None` for
-    /// those a limit skipped), and the limit reached if one was: computed here by `local`, or
-    /// by the ranks of the cluster, each on its share, and gathered.
+    /// The outputs `local` computes from the chunks `units` (`None` for work a limit
+    /// skipped), and the limit reached if one was: computed here from the whole range, or by
+    /// the ranks of the cluster, each from its share, and gathered, share by share.
     fn outputs<T: Send + Transfer>(
         &self,
         units: Range<u64>,
@@ -304,8 +355,8 @@ impl Executor {
         if let Some(cluster) = self.cluster {
             return super::distributed::gathered(cluster, units, local, limits);
         }
-        let outputs = local(units)?;
-        Ok((outputs, limits.reached()))
+        let outputs = local(units.clone())?;
+        Ok((vec![(units, outputs)], limits.reached()))
     }
 
     /// The outputs of chunks `chunks`, in order; `None` for the chunks not started because a
@@ -766,10 +817,42 @@ mod tests {
         let chunks = 5..25;
         assert_eq!(grouping.chunks_of(&chunks, 0..1), 5..13);
         assert_eq!(grouping.chunks_of(&chunks, 1..3), 13..25);
-        // Four ranks share three groups: the fourth gets 3..3, whose first chunk (29) lies
-        // past the end; its share is empty, not 29..25.
+        // Past the last group the first chunk (29) lies past the end: clamped, not 29..25.
         assert_eq!(grouping.chunks_of(&chunks, 3..3), 25..25);
         assert_eq!(grouping.chunks_of(&chunks, 2..2), 21..21);
+    }
+
+    #[test]
+    fn groups_split_between_shares_join_as_in_one_process() {
+        // 20 chunks from chunk 5 in groups of 8, each output the list of its chunks, so a
+        // merge out of order or a chunk merged twice shows.
+        let merge = |a: &mut Vec<u64>, b: Vec<u64>| a.extend(b);
+        let (first, size) = (5, 8);
+        let outputs = |range: Range<u64>, skip: Option<u64>| -> Vec<Option<Vec<u64>>> {
+            range.map(|c| (Some(c) != skip).then(|| vec![c])).collect()
+        };
+        for skip in [None, Some(12), Some(13), Some(20)] {
+            let whole = Executor::merged(outputs(5..25, skip), 0, size, &merge);
+            for cuts in [vec![], vec![15], vec![12, 13], vec![6, 7, 13, 21, 24, 25]] {
+                let bounds: Vec<u64> = [5].into_iter().chain(cuts).chain([25]).collect();
+                let shares = bounds
+                    .windows(2)
+                    .map(|w| {
+                        let parts =
+                            Executor::merged(outputs(w[0]..w[1], skip), w[0] - first, size, &merge);
+                        (w[0]..w[1], parts)
+                    })
+                    .collect();
+                let joined = Executor::joined(shares, first, size, &merge);
+                assert_eq!(joined, whole, "cuts at {bounds:?}, chunk {skip:?} skipped");
+            }
+        }
+        let whole = Executor::merged(outputs(5..25, None), 0, size, &merge);
+        assert_eq!(whole[2], Some(vec![21, 22, 23, 24]));
+        assert_eq!(
+            Executor::merged(outputs(5..25, Some(13)), 0, size, &merge)[1],
+            None
+        );
     }
 
     #[test]

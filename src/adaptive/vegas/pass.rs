@@ -2,8 +2,9 @@
 //! points through the grid, evaluates them and sums them per hypercube. The chunks' grid
 //! training data are summed in fixed groups of [`GROUP`] chunks and then over the groups in
 //! order (see `training`: on each MPI rank before the exchange, which then carries one array
-//! per group), and the hypercube sums are folded in chunk order, so sums, training data and
-//! allocations (and hence the result) are bit-identical for any number of threads or ranks.
+//! per group, or the arrays of a group's later part where two ranks split it), and the
+//! hypercube sums are folded in chunk order, so sums, training data and allocations (and hence
+//! the result) are bit-identical for any number of threads or ranks.
 //!
 //! An integrand with several outputs gets every output's sums per hypercube, and the sums of
 //! the products of each pair for their covariance; a point with any non-finite output is left
@@ -196,7 +197,7 @@ impl<I: Integrand> ChunkJob for Pass<'_, I> {
                     local.slots.put(chunk as usize, training);
                     GroupTraining::default()
                 }
-                None => GroupTraining(vec![training]),
+                None => GroupTraining::of_chunk(training, chunk.is_multiple_of(GROUP)),
             };
             ChunkOutput {
                 pieces: vec![piece],

@@ -8,7 +8,8 @@
 //! one thread and then by another would cross between the cores' caches each time (an array
 //! zeroed by the thread that folded it cost the next chunk 10-45% of its time on two threads).
 //! Over MPI, a group's arrays travel as their sum, computed in the same order, so every rank
-//! sums the same values in the same order as one process.
+//! sums the same values in the same order as one process; where ranks split a group, the
+//! arrays of its later part travel as they are, to be added to the first part's sum in order.
 
 use std::sync::{Mutex, OnceLock, PoisonError};
 
@@ -19,14 +20,28 @@ pub(super) struct TrainingArray {
     pub(super) values: Vec<f64>,
 }
 
-/// The training arrays of a group of consecutive chunks, in chunk order.
+/// The training arrays of a group of consecutive chunks, or of a part of one, in chunk order.
 #[derive(Default)]
-pub(super) struct GroupTraining(pub(super) Vec<TrainingArray>);
+pub(super) struct GroupTraining {
+    arrays: Vec<TrainingArray>,
+    /// Whether the arrays begin with the group's first chunk, so that they may travel as
+    /// their sum (the later part of a group split between ranks may not).
+    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+    starts_group: bool,
+}
 
 impl GroupTraining {
+    /// The array of one chunk, the first of its group or not.
+    pub(super) fn of_chunk(array: TrainingArray, starts_group: bool) -> GroupTraining {
+        GroupTraining {
+            arrays: vec![array],
+            starts_group,
+        }
+    }
+
     /// Appends the arrays of the group's next chunks.
     pub(super) fn append(&mut self, next: &mut GroupTraining) {
-        self.0.append(&mut next.0);
+        self.arrays.append(&mut next.arrays);
     }
 }
 
@@ -55,7 +70,7 @@ fn sum_into<'a>(
 /// arrives as its arrays or as their sum from another rank. (Whole slices at a time, so the
 /// additions vectorize; each element is still summed in that order.)
 pub(super) fn summed(groups: &[GroupTraining], range: std::ops::Range<usize>) -> Vec<f64> {
-    summed_over(groups.iter().map(|g| &g.0), range)
+    summed_over(groups.iter().map(|g| &g.arrays), range)
 }
 
 /// [`summed`] over groups given as their arrays.
@@ -146,7 +161,7 @@ impl SpareTraining {
 
     /// Keeps the arrays of `groups` for later [`take`](Self::take)s.
     pub(super) fn give(&self, groups: Vec<GroupTraining>) {
-        self.keep(groups.into_iter().flat_map(|g| g.0));
+        self.keep(groups.into_iter().flat_map(|g| g.arrays));
     }
 
     /// Keeps `arrays` for later [`take`](Self::take)s.
@@ -158,6 +173,8 @@ impl SpareTraining {
 
 /// A group's training data travel between ranks as the bytes of their sum: exact, summed in
 /// the order one process sums them, and far cheaper to encode than one CBOR float at a time.
+/// The later part of a group split between ranks travels as its arrays, whose sum must go on
+/// from the first part's.
 #[cfg(feature = "mpi")]
 mod transfer {
     use super::{GroupTraining, TrainingArray};
@@ -166,27 +183,61 @@ mod transfer {
 
     impl Serialize for GroupTraining {
         fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-            let len = self.0.first().map_or(0, |a| a.values.len());
-            let mut sum = vec![0.0; len];
-            super::sum_into(&self.0, 0..len, &mut sum);
-            let bytes: Vec<u8> = sum.iter().flat_map(|v| v.to_le_bytes()).collect();
+            let sum = match self.arrays.first() {
+                Some(first) if self.starts_group => {
+                    let mut sum = vec![0.0; first.values.len()];
+                    super::sum_into(&self.arrays, 0..sum.len(), &mut sum);
+                    Some(sum)
+                }
+                _ => None,
+            };
+            let arrays: Vec<AsBytes> = match &sum {
+                Some(sum) => vec![AsBytes(sum)],
+                None => self.arrays.iter().map(|a| AsBytes(&a.values)).collect(),
+            };
+            (self.starts_group, arrays).serialize(s)
+        }
+    }
+
+    /// Floats to send, as the bytes of their little-endian values.
+    struct AsBytes<'a>(&'a [f64]);
+
+    impl Serialize for AsBytes<'_> {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            let bytes: Vec<u8> = self.0.iter().flat_map(|v| v.to_le_bytes()).collect();
             s.serialize_bytes(&bytes)
         }
     }
 
     impl<'de> Deserialize<'de> for GroupTraining {
         fn deserialize<D: Deserializer<'de>>(d: D) -> Result<GroupTraining, D::Error> {
-            let values = d.deserialize_byte_buf(Floats)?;
-            Ok(GroupTraining(vec![TrainingArray {
-                filled_by: None,
-                values,
-            }]))
+            let (starts_group, arrays) = <(bool, Vec<Floats>)>::deserialize(d)?;
+            let arrays = arrays
+                .into_iter()
+                .map(|Floats(values)| TrainingArray {
+                    filled_by: None,
+                    values,
+                })
+                .collect();
+            Ok(GroupTraining {
+                arrays,
+                starts_group,
+            })
         }
     }
 
-    struct Floats;
+    /// Floats received as the bytes of their little-endian values.
+    struct Floats(Vec<f64>);
 
-    impl<'de> Visitor<'de> for Floats {
+    impl<'de> Deserialize<'de> for Floats {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Floats, D::Error> {
+            d.deserialize_byte_buf(FloatsVisitor).map(Floats)
+        }
+    }
+
+    struct FloatsVisitor;
+
+    impl<'de> Visitor<'de> for FloatsVisitor {
         type Value = Vec<f64>;
 
         fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
@@ -225,16 +276,21 @@ mod transfer {
 mod tests {
     use super::*;
 
-    fn group(arrays: &[&[f64]]) -> GroupTraining {
-        GroupTraining(
-            arrays
+    fn part(arrays: &[&[f64]], starts_group: bool) -> GroupTraining {
+        GroupTraining {
+            arrays: arrays
                 .iter()
                 .map(|v| TrainingArray {
                     filled_by: None,
                     values: v.to_vec(),
                 })
                 .collect(),
-        )
+            starts_group,
+        }
+    }
+
+    fn group(arrays: &[&[f64]]) -> GroupTraining {
+        part(arrays, true)
     }
 
     #[test]
@@ -253,7 +309,7 @@ mod tests {
         assert_eq!(a.values, [0.0; 4]);
         a.values[2] = 7.0;
         let address = a.values.as_ptr();
-        spare.give(vec![GroupTraining(vec![a])]);
+        spare.give(vec![GroupTraining::of_chunk(a, true)]);
         let again = spare.take(4);
         assert_eq!(again.values, [0.0; 4]);
         assert_eq!(again.values.as_ptr(), address);
@@ -269,12 +325,44 @@ mod tests {
             group(&[&[1e16, 0.1], &[1.0, 0.2]]),
             group(&[&[1.0, 0.3], &[1.0, 1e-17]]),
         ];
-        let mut bytes = Vec::new();
-        ciborium::into_writer(&local[1], &mut bytes).unwrap();
-        let sent: GroupTraining = ciborium::from_reader(&bytes[..]).unwrap();
-        assert_eq!(sent.0.len(), 1);
+        let sent = sent(&local[1]);
+        assert_eq!(sent.arrays.len(), 1);
         let arrived = [group(&[&[1e16, 0.1], &[1.0, 0.2]]), sent];
-        let bits = |v: Vec<f64>| v.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
         assert_eq!(bits(summed(&local, 0..2)), bits(summed(&arrived, 0..2)));
+    }
+
+    /// A group split between two ranks: its first part travels as a sum, its later part as
+    /// arrays, and joined they sum to the bits of one process.
+    #[cfg(feature = "mpi")]
+    #[test]
+    fn a_group_split_between_ranks_gives_the_same_total() {
+        let whole = [group(&[
+            &[1.0, 0.1],
+            &[1e16, 0.2],
+            &[1.0, 0.3],
+            &[1.0, 1e-17],
+        ])];
+        let mut first = sent(&group(&[&[1.0, 0.1], &[1e16, 0.2]]));
+        let mut later = sent(&part(&[&[1.0, 0.3], &[1.0, 1e-17]], false));
+        assert_eq!((first.arrays.len(), later.arrays.len()), (1, 2));
+        first.append(&mut later);
+        assert_eq!(bits(summed(&whole, 0..2)), bits(summed(&[first], 0..2)));
+        // Had the later part travelled as its sum, 1e16 + (1 + 1) would keep both ones.
+        let mut both = sent(&group(&[&[1.0, 0.3], &[1.0, 1e-17]]));
+        let mut first = sent(&group(&[&[1.0, 0.1], &[1e16, 0.2]]));
+        first.append(&mut both);
+        assert_ne!(bits(summed(&whole, 0..1)), bits(summed(&[first], 0..1)));
+    }
+
+    #[cfg(feature = "mpi")]
+    fn sent(part: &GroupTraining) -> GroupTraining {
+        let mut bytes = Vec::new();
+        ciborium::into_writer(part, &mut bytes).unwrap();
+        ciborium::from_reader(&bytes[..]).unwrap()
+    }
+
+    #[cfg(feature = "mpi")]
+    fn bits(v: Vec<f64>) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
     }
 }
