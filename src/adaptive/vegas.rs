@@ -340,7 +340,10 @@ impl<F> Vegas<F> {
     }
 
     /// Adaptive stratification (VEGAS+) on or off (default on). Off gives classic VEGAS:
-    /// importance sampling through the grid alone.
+    /// importance sampling through the grid alone, whose separable grid can settle on one of
+    /// several peaks that do not line up with the axes and then claim a part of the integral
+    /// with agreeing iterations ([`crate::guide::error_bars`] shows two peaks on a diagonal);
+    /// keep it on where the integrand may have such peaks.
     ///
     /// ```
     /// use mcint::{adaptive::Vegas, pdf::UniformBox};
