@@ -248,7 +248,9 @@ impl fmt::Display for Warning {
                 target,
             } => write!(
                 f,
-                "the bias estimate {bias:.3e} is above its target {target:.3e} at level                  {level}, the deepest allowed: allow more levels (max_level) or use a scheme of                  higher weak order"
+                "the bias estimate {bias:.3e} is above its target {target:.3e} at level \
+                 {level}, the deepest allowed: allow more levels (max_level) or use a scheme of \
+                 higher weak order"
             ),
         }
     }

@@ -463,6 +463,10 @@ fn limits_stop_a_run_with_the_estimate_so_far() {
         .unwrap();
     assert_eq!(deep.stop, StopReason::MaxLevel);
     assert_eq!(deep.warnings[0].kind(), "bias-above-target");
+    // One sentence, without the run of spaces a lost line continuation once left in it.
+    let text = deep.warnings[0].to_string();
+    assert!(text.contains("at level 2, the deepest allowed"), "{text}");
+    assert!(!text.contains("  "), "{text}");
 }
 
 /// A run cancelled midway (by its own progress callback, after about half its cost) and
