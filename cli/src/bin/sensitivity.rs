@@ -5,8 +5,8 @@
 //! ```text
 //! cargo run --release --bin sensitivity -- --function ishigami [--a A] [--b B]
 //! cargo run --release --bin sensitivity -- --function sobol-g [--weights W1,W2,...|--dims D]
-//!     [--n N] [--replicates R] [--second-order] [--tol-abs T] [--seed S] [--threads T]
-//!     [--time-limit SECONDS] [--json] [--mpi]
+//!     [--n N] [--replicates R] [--second-order] [--tol-abs T [--max-evals N]] [--seed S]
+//!     [--threads T] [--time-limit SECONDS] [--json] [--mpi]
 //! ```
 //! `ishigami` is `sin x1 + a sin^2 x2 + b x3^4 sin x1` on `[-pi, pi]^3` (default `a = 7`,
 //! `b = 0.1`); `sobol-g` is the g-function on `[0, 1]^D` with the given weights, or with those
@@ -14,7 +14,8 @@
 //! (default 6). The run integrates the pick-freeze design over `--replicates` independent
 //! LMS-scrambled Sobol' sequences (default 8; 1 gives one sequence, more accurate, with no
 //! error bar) of `--n` points each (default 8192; powers of two keep each net balanced);
-//! `--tol-abs T` instead runs until every index's 95% half-width is at most `T`.
+//! `--tol-abs T` instead runs until every index's 95% half-width is at most `T`, or until
+//! `--max-evals` points of the design (default 2^30).
 //!
 //! The report gives `evaluations` (points) and `model_evaluations` (`evaluations` times the
 //! model runs per point: `D + 2`, or `2 D + 2` with second order).
@@ -86,6 +87,12 @@ const SPEC: support::Spec = &[
         "run until every index's 95% half-width is at most this, > 0 (--n is then the first \
          stage; needs --replicates >= 2)",
     ),
+    (
+        "max-evals",
+        true,
+        "limit of a run to --tol-abs, in points of the design as `evaluations` counts them \
+         (default 2^30)",
+    ),
     support::SEED,
     support::THREADS,
     support::TIME_LIMIT,
@@ -139,6 +146,7 @@ struct Settings {
     replicates: u64,
     second_order: bool,
     tolerance: Option<f64>,
+    max_evals: Option<u64>,
     seed: u64,
     threads: Option<usize>,
     deadline: Option<std::time::Instant>,
@@ -188,12 +196,17 @@ impl Settings {
                 );
             }
         }
+        let max_evals: Option<u64> = args.get("max-evals", "a whole number of points >= 1")?;
+        if max_evals.is_some() && tolerance.is_none() {
+            return Err("--max-evals limits a run to a tolerance: give --tol-abs too".into());
+        }
         Ok(Settings {
             model,
             n,
             replicates,
             second_order: args.has("second-order"),
             tolerance,
+            max_evals,
             seed: args.get("seed", "a whole number")?.unwrap_or(0),
             threads: args.get("threads", "a whole number of threads >= 1")?,
             deadline: args.deadline()?,
@@ -287,7 +300,11 @@ fn analyse(settings: Settings, spread: Spread) -> Result<Report, String> {
         .replicates(settings.replicates)
         .second_order(settings.second_order);
     if let Some(t) = settings.tolerance {
-        design = design.tolerance(Tolerance::absolute(t).map_err(text)?);
+        let mut tolerance = Tolerance::absolute(t).map_err(text)?;
+        if let Some(limit) = settings.max_evals {
+            tolerance = tolerance.max_evaluations(limit).map_err(text)?;
+        }
+        design = design.tolerance(tolerance);
     }
     let model = settings.model.clone();
     let mut integrator = design

@@ -210,6 +210,16 @@ fn bad_input_is_a_one_line_error_with_exit_code_2() {
         "--replicates >= 2",
     );
     assert_usage_error(&["--function", "ishigami", "--tol-abs", "-1"], "> 0");
+    assert_usage_error(
+        &["--function", "ishigami", "--max-evals", "100000"],
+        "give --tol-abs too",
+    );
+    let limited = ["--function", "ishigami", "--tol-abs", "1e-3", "--max-evals"];
+    assert_usage_error(&[&limited[..], &["0"]].concat(), "at least 1");
+    assert_usage_error(
+        &[&limited[..], &["1000"]].concat(),
+        "at least 65536 evaluations (8 replicates of 8192 points)",
+    );
     assert_usage_error(&["--function", "ishigami", "--weights", "1,2,3"], "sobol-g");
     assert_usage_error(&["--function", "sobol-g", "--b", "0.2"], "ishigami");
     assert_usage_error(&["--function", "sobol-g", "--weights", "1,-2"], ">= 0");
@@ -250,6 +260,7 @@ fn help_lists_every_flag() {
         "--weights",
         "--second-order",
         "--tol-abs",
+        "--max-evals",
         "--threads",
         "--mpi",
     ] {
@@ -358,4 +369,38 @@ fn a_tolerance_run_meets_it_on_every_index() {
     }
     let json_free = json_run(&["--function", "ishigami"]);
     assert!(json_free["converged"].is_null());
+}
+
+/// `--max-evals` ends a run to an unreachable tolerance at that many points, and says so.
+#[test]
+fn a_tolerance_run_stops_at_max_evals() {
+    let args = [
+        "--function",
+        "ishigami",
+        "--tol-abs",
+        "1e-9",
+        "--n",
+        "1024",
+        "--max-evals",
+        "40000",
+        "--json",
+    ];
+    let out = run("sensitivity", &args);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("before meeting the tolerance"),
+        "{}",
+        stderr(&out)
+    );
+    let report: Value = serde_json::from_str(&stdout(&out)).expect("one JSON object");
+    assert_eq!(report["converged"], false);
+    assert_eq!(report["stop"], "max evaluations");
+    let evaluations = report["evaluations"].as_u64().unwrap();
+    assert!((8192..=40000).contains(&evaluations), "{evaluations}");
+    assert_eq!(report["model_evaluations"].as_u64(), Some(5 * evaluations));
+    let warnings = report["warnings"].as_array().unwrap();
+    assert!(
+        warnings.iter().any(|w| w["kind"] == "tolerance-not-met"),
+        "{warnings:?}"
+    );
 }
