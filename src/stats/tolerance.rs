@@ -42,10 +42,15 @@ impl Tolerance {
         Self::new(Some(abs), None)
     }
 
-    /// Stop when the 95% half-width is at most `rel * |mean|` (`rel` finite, `> 0`).
+    /// Stop when the 95% half-width is at most `rel * |mean|` (`rel` finite and at least
+    /// `f64::EPSILON`: no error bar, which never falls below the bound on the mean's rounding
+    /// error, gets smaller than that, so a smaller `rel` would only spend the whole budget).
     ///
     /// ```
-    /// assert!(mcint::stats::Tolerance::relative(0.0).is_err());
+    /// use mcint::stats::Tolerance;
+    /// assert!(Tolerance::relative(0.0).is_err());
+    /// assert!(Tolerance::relative(1e-20).is_err());
+    /// assert!(Tolerance::relative(1e-15).is_ok());
     /// ```
     pub fn relative(rel: f64) -> Result<Self> {
         Self::new(None, Some(rel))
@@ -66,6 +71,16 @@ impl Tolerance {
             {
                 return Err(Error::invalid(name, v, "a finite tolerance > 0"));
             }
+        }
+        if let Some(v) = rel
+            && v < f64::EPSILON
+        {
+            return Err(Error::invalid(
+                "tol_rel",
+                format!("{v:e}"),
+                "a relative tolerance of at least 2.2e-16 (f64::EPSILON): no error bar gets \
+                 smaller than the mean's rounding",
+            ));
         }
         if abs.is_none() && rel.is_none() {
             return Err(Error::invalid(
