@@ -89,6 +89,7 @@ def sobol_indices(
     replicates: Optional[int] = None,
     rtol: Optional[float] = None,
     atol: Optional[float] = None,
+    max_evals: Optional[int] = None,
     time_limit: Optional[float] = None,
     seed: int = 0,
     threads: Optional[int] = None,

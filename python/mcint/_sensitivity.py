@@ -20,6 +20,7 @@ def sobol_indices(
     replicates=None,
     rtol=None,
     atol=None,
+    max_evals=None,
     time_limit=None,
     seed=None,
     threads=None,
@@ -35,7 +36,8 @@ def sobol_indices(
     returns ``(n,)``, or ``(n, m)`` for ``m`` outputs with indices for each. The factors
     are the inputs (the law's canonical coordinates; for a correlated Gaussian, those of its
     Cholesky ordering), or ``groups`` of them (lists of input indices). With ``rtol`` or
-    ``atol`` the run grows until every index's 95% interval is that narrow.
+    ``atol`` the run grows until every index's 95% interval is that narrow, or until
+    ``max_evals`` design points (default 2**30).
 
     Returns a :class:`SensitivityResult`.
 
@@ -65,6 +67,7 @@ def sobol_indices(
         replicates=_whole("replicates", replicates, 1),
         rtol=_relative_tolerance(rtol),
         atol=_positive("atol", atol),
+        max_evals=_whole("max_evals", max_evals, 1),
         time_limit=_positive("time_limit", time_limit),
         seed=seed_int,
         threads=_whole("threads", threads, 1),

@@ -120,7 +120,7 @@ impl SensitivityRun {
 #[pyfunction]
 #[pyo3(signature = (
     f, measure, outputs, *, groups=None, second_order=false, n=None, replicates=None,
-    rtol=None, atol=None, time_limit=None, seed=0, threads=None
+    rtol=None, atol=None, max_evals=None, time_limit=None, seed=0, threads=None
 ))]
 #[allow(
     clippy::too_many_arguments,
@@ -137,6 +137,7 @@ pub fn sobol_indices(
     replicates: Option<u64>,
     rtol: Option<f64>,
     atol: Option<f64>,
+    max_evals: Option<u64>,
     time_limit: Option<f64>,
     seed: u64,
     threads: Option<usize>,
@@ -154,7 +155,16 @@ pub fn sobol_indices(
         design = design.replicates(r);
     }
     if rtol.is_some() || atol.is_some() {
-        design = design.tolerance(Tolerance::new(atol, rtol).map_err(to_py)?);
+        let mut tolerance = Tolerance::new(atol, rtol).map_err(to_py)?;
+        if let Some(limit) = max_evals {
+            tolerance = tolerance.max_evaluations(limit).map_err(to_py)?;
+        }
+        design = design.tolerance(tolerance);
+    } else if max_evals.is_some() {
+        return Err(PyValueError::new_err(
+            "max_evals limits a run to a tolerance: give rtol or atol with it (a fixed run \
+             spends n design points)",
+        ));
     }
     let cancel = CancelToken::new();
     let model = Arc::new(PyIntegrand::new(f, outputs, None, cancel.clone()));

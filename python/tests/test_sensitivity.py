@@ -77,6 +77,9 @@ def test_an_exception_in_the_model_propagates():
         (dict(n=1001), ValueError, "multiple"),
         (dict(replicates=0), ValueError, "replicates"),
         (dict(rtol=0.0), ValueError, "rtol"),
+        (dict(rtol=1e-20), ValueError, "rtol = 1e-20"),
+        (dict(max_evals=1 << 14), ValueError, "rtol or atol"),
+        (dict(atol=1e-3, max_evals=0), ValueError, "max_evals"),
         (dict(f=lambda x: np.ones(len(x))), ValueError, "variance"),
         (dict(f=lambda x: x.ravel()), ValueError, "shape"),
     ],
@@ -86,3 +89,12 @@ def test_bad_input_is_a_clear_error(kwargs, error, words):
     args.update(kwargs)
     with pytest.raises(error, match=words):
         mcint.sobol_indices(**args)
+
+
+def test_an_unreachable_tolerance_stops_at_max_evals():
+    r = mcint.sobol_indices(ishigami, CUBE, n=1 << 10, atol=1e-9, max_evals=1 << 14, seed=0)
+    assert r.converged is False
+    assert r.stop_reason == "max evaluations"
+    assert 1 << 10 <= r.points <= 1 << 14
+    assert r.model_evaluations == 5 * r.points
+    assert any(w.kind == "tolerance-not-met" for w in r.warnings)
