@@ -198,8 +198,13 @@ class Engine(_Base):
 
     def random_base2(self, m):
         """``2**m`` points; the total drawn must stay a power of 2 (balance)."""
-        if isinstance(m, (bool, np.bool_)) or not isinstance(m, (int, np.integer)) or m < 0:
-            raise ValueError(f"invalid m = {m!r}: expected an integer >= 0")
+        # Bounded before 2**m is formed: Python would compute 2**(10**30) for ever.
+        if (
+            isinstance(m, (bool, np.bool_))
+            or not isinstance(m, (int, np.integer))
+            or not 0 <= m <= 62
+        ):
+            raise ValueError(f"invalid m = {m!r}: expected an integer from 0 to 62")
         n = 2 ** int(m)
         total = self.num_generated + n
         if total & (total - 1):

@@ -141,6 +141,8 @@ def test_seeds_as_numpy_gives_them():
         (lambda: mq.Engine("sobel", 2), ValueError, "sobol"),
         (lambda: mq.Sobol(2).random(-1), ValueError, "n = -1"),
         (lambda: mq.Sobol(2).random_base2(-2), ValueError, "m = -2"),
+        # Refused before 2**m is formed (which would not finish).
+        (lambda: mq.Halton(2).random_base2(10**30), ValueError, "0 to 62"),
         (lambda: mq.Jittered(2, seed=1).random(10), ValueError, "10"),
         (lambda: mq.LatinHypercube(2, scramble="owen"), ValueError, "built in"),
         (lambda: mq.LatinHypercube(2, scramble=False), ValueError, "built in"),
