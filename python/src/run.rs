@@ -111,20 +111,7 @@ pub fn integrate_box(
         None => UniformBox::new(lower, upper),
     }
     .map_err(to_py)?;
-    let tolerance = match (rtol, atol) {
-        (None, None) => None,
-        _ => Some(Tolerance::new(atol, rtol).map_err(to_py)?),
-    };
-    let tolerance = match (tolerance, max_evals) {
-        (Some(t), Some(m)) => Some(t.max_evaluations(m).map_err(to_py)?),
-        (None, Some(_)) => {
-            return Err(PyValueError::new_err(
-                "max_evals limits a run to a tolerance: give rtol or atol with it (a fixed \
-                 run spends n points per replicate)",
-            ));
-        }
-        (t, None) => t,
-    };
+    let tolerance = tolerance(rtol, atol, max_evals, "n points per replicate")?;
     let time_limit = time_limit.map(duration).transpose()?;
     if let Some((i, j)) = ratio
         && (i >= outputs || j >= outputs || i == j)
@@ -162,6 +149,30 @@ pub fn integrate_box(
         None => None,
     };
     Ok(RunResult::new(run, ratio))
+}
+
+/// The tolerance of the keywords `rtol`, `atol` and `max_evals` (`None` without `rtol` and
+/// `atol`, where `max_evals` is refused: a fixed run spends `fixed`).
+pub fn tolerance(
+    rtol: Option<f64>,
+    atol: Option<f64>,
+    max_evals: Option<u64>,
+    fixed: &str,
+) -> PyResult<Option<Tolerance>> {
+    match (rtol.or(atol), max_evals) {
+        (None, None) => Ok(None),
+        (None, Some(_)) => Err(PyValueError::new_err(format!(
+            "max_evals limits a run to a tolerance: give rtol or atol with it (a fixed run \
+             spends {fixed})"
+        ))),
+        (Some(_), limit) => {
+            let tolerance = Tolerance::new(atol, rtol).map_err(to_py)?;
+            match limit {
+                Some(m) => Ok(Some(tolerance.max_evaluations(m).map_err(to_py)?)),
+                None => Ok(Some(tolerance)),
+            }
+        }
+    }
 }
 
 /// `time_limit` seconds as a duration: finite and above 0.

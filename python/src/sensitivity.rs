@@ -5,7 +5,6 @@ use std::sync::Arc;
 
 use mcint::measure::Measure;
 use mcint::sensitivity::{Indices, SobolDesign};
-use mcint::stats::Tolerance;
 use mcint::{CancelToken, Estimate};
 use pyo3::exceptions::{PyIndexError, PyValueError};
 use pyo3::prelude::*;
@@ -14,7 +13,7 @@ use pyo3::types::{PyDict, PyList};
 use crate::errors::to_py;
 use crate::integrand::PyIntegrand;
 use crate::measure::MeasureSpec;
-use crate::run::{duration, run_watching_signals};
+use crate::run::{duration, run_watching_signals, tolerance};
 
 /// A shared measure as the design's input law.
 struct Shared(Arc<dyn Measure>);
@@ -154,17 +153,8 @@ pub fn sobol_indices(
     if let Some(r) = replicates {
         design = design.replicates(r);
     }
-    if rtol.is_some() || atol.is_some() {
-        let mut tolerance = Tolerance::new(atol, rtol).map_err(to_py)?;
-        if let Some(limit) = max_evals {
-            tolerance = tolerance.max_evaluations(limit).map_err(to_py)?;
-        }
+    if let Some(tolerance) = tolerance(rtol, atol, max_evals, "n design points")? {
         design = design.tolerance(tolerance);
-    } else if max_evals.is_some() {
-        return Err(PyValueError::new_err(
-            "max_evals limits a run to a tolerance: give rtol or atol with it (a fixed run \
-             spends n design points)",
-        ));
     }
     let cancel = CancelToken::new();
     let model = Arc::new(PyIntegrand::new(f, outputs, None, cancel.clone()));

@@ -13,8 +13,9 @@
 //! missed, so the per-iteration variances were underestimated and the combination drifted
 //! (the Python `vegas` package does the same); it covered 185 of 200, one below the bound.
 //! With the grid's density floor (`Vegas::density_floor`) and its grading it covers 191, and
-//! VEGAS+ 192 (190 with the allocation exponent `beta` at 0.75). Corner peak and discontinuous use `a` rescaled to sum 2.5, as in
-//! the Integrator's test, for the same reason (heavy tails with the customary `a`).
+//! VEGAS+ 192 (190 with the allocation exponent `beta` at 0.75). Corner peak and
+//! discontinuous use `a` rescaled to sum 2.5, as in the Integrator's test, for the same reason
+//! (heavy tails with the customary `a`).
 
 use crate::common::{REQUIRED, SEEDS};
 use mcint::adaptive::{Miser, Vegas};
