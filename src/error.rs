@@ -124,6 +124,52 @@ impl Error {
             allowed: allowed.into(),
         }
     }
+
+    /// The message, with the parameter names of an [`Error::InvalidParameter`] spelled as a
+    /// front end spells them: each word of the name found in `spellings` as `(library name,
+    /// front end's name)` is replaced, so that a program can say `--n` where the library says
+    /// `samples` (other errors name no parameter and read as [`Display`](fmt::Display)).
+    ///
+    /// ```
+    /// let e = mcint::Error::invalid("samples x replicates", 0, "at least 1 evaluation");
+    /// let names = [("samples", "--n"), ("replicates", "--replicates")];
+    /// assert_eq!(
+    ///     e.message_with_names(&names),
+    ///     "invalid --n x --replicates = 0: expected at least 1 evaluation"
+    /// );
+    /// ```
+    pub fn message_with_names(&self, spellings: &[(&str, &str)]) -> String {
+        let Error::InvalidParameter {
+            name,
+            value,
+            allowed,
+        } = self
+        else {
+            return self.to_string();
+        };
+        let mut spelled = String::with_capacity(name.len());
+        let mut rest: &str = name;
+        while let Some(start) = rest.find(is_name_char) {
+            let (before, word_on) = rest.split_at(start);
+            let end = word_on.find(|c| !is_name_char(c)).unwrap_or(word_on.len());
+            let (word, after) = word_on.split_at(end);
+            spelled.push_str(before);
+            spelled.push_str(
+                spellings
+                    .iter()
+                    .find(|(library, _)| *library == word)
+                    .map_or(word, |(_, front)| front),
+            );
+            rest = after;
+        }
+        spelled.push_str(rest);
+        format!("invalid {spelled} = {value}: expected {allowed}")
+    }
+}
+
+/// Whether `c` belongs to a parameter's name (`tol_rel`, `samples`).
+fn is_name_char(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '_'
 }
 
 /// The value of `all` whose `name_of` is `name`, or an error for the setting `what` that lists

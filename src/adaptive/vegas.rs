@@ -527,9 +527,28 @@ impl<F> Vegas<F> {
             }
         };
         if total_iterations.checked_mul(stride).is_none() {
-            return Err(Error::IndexOutOfRange {
-                what: "sample index of the last iteration",
-                limit: u64::MAX,
+            // Iteration i draws sample indices from i x stride on.
+            return Err(if stride == n {
+                Error::invalid(
+                    "samples",
+                    n,
+                    format!(
+                        "at most {} per iteration, so that the sample indices of \
+                         {total_iterations} iterations fit in 64 bits",
+                        u64::MAX / total_iterations
+                    ),
+                )
+            } else {
+                Error::invalid(
+                    "warmup + iterations",
+                    total_iterations,
+                    format!(
+                        "at most {} iterations of the {} sampler's passes of {stride} \
+                         points, so that their sample indices fit in 64 bits",
+                        u64::MAX / stride,
+                        sampler.name()
+                    ),
+                )
             });
         }
         let planned = match limit {
@@ -545,8 +564,9 @@ impl<F> Vegas<F> {
                     "max_evals",
                     t.evaluation_limit(),
                     format!(
-                        "at least (warmup + 1) x samples = {needed}, so that \
-                         one iteration after the warm-up fits"
+                        "at least {needed} ({} warm-up iterations and one more, of {n} \
+                         points each), so that one iteration after the warm-up fits",
+                        self.warmup
                     ),
                 ));
             }

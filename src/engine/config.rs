@@ -121,8 +121,8 @@ impl RunConfig {
             what,
             format!("{evaluations} evaluations"),
             format!(
-                "at most 2^52 = {MAX_UNTIMED_EVALUATIONS} evaluations without a time limit (set \
-                 time_limit to run longer on purpose)"
+                "at most 2^52 = {MAX_UNTIMED_EVALUATIONS} evaluations without a time limit (a \
+                 run with one may go further on purpose)"
             ),
         ))
     }
