@@ -71,6 +71,53 @@ pub const MAX_EVALS: Flag = (
     "evaluation limit of a run to a tolerance (default 2^30)",
 );
 
+/// The library's names of a run's settings as the programs' flags spell them.
+pub const FLAG_NAMES: &[(&str, &str)] = &[
+    ("samples", "--n"),
+    ("points", "--n"),
+    ("dims", "--dims"),
+    ("d", "--dims"),
+    ("a", "--a"),
+    ("b", "--b"),
+    ("u", "--u"),
+    ("sampler", "--sampler"),
+    ("scramble", "--scramble"),
+    ("strength", "--strength"),
+    ("replicates", "--replicates"),
+    ("threads", "--threads"),
+    ("seed", "--seed"),
+    ("tol_abs", "--tol-abs"),
+    ("tol_rel", "--tol-rel"),
+    ("max_evals", "--max-evals"),
+];
+
+/// A library error as one line that names the flag behind a bad setting (`--n`, where the
+/// library says `samples`).
+pub fn flag_error(error: mcint::Error) -> String {
+    error.message_with_names(FLAG_NAMES)
+}
+
+/// [`flag_error`] for a program whose flags are `spec`: names first as `own` spells them,
+/// then as [`FLAG_NAMES`] does, and a setting the library spells like one of `spec`'s flags
+/// (`s0` for `--s0`) by that flag.
+pub fn spec_error(spec: Spec, own: &[(&str, &str)], error: mcint::Error) -> String {
+    let alike: Vec<(String, String)> = spec
+        .iter()
+        .map(|&(flag, _, _)| (flag.replace('-', "_"), format!("--{flag}")))
+        .collect();
+    let names: Vec<(&str, &str)> = own
+        .iter()
+        .chain(FLAG_NAMES)
+        .copied()
+        .chain(
+            alike
+                .iter()
+                .map(|(library, flag)| (&library[..], &flag[..])),
+        )
+        .collect();
+    error.message_with_names(&names)
+}
+
 impl Args {
     /// Parses the process arguments against `spec` with clap: `--help` prints the program's
     /// `about` line and its flags and exits; unknown flags, missing values, repeated flags and
@@ -188,7 +235,7 @@ impl Args {
     /// The `--scramble` choice, or the sampler kind's default randomization.
     pub fn scramble_for(&self, kind: SamplerKind) -> Result<Scramble, String> {
         match self.values.get("scramble") {
-            Some(text) => text.parse::<Scramble>().map_err(|e| e.to_string()),
+            Some(text) => text.parse::<Scramble>().map_err(flag_error),
             None => Ok(kind.default_scramble()),
         }
     }

@@ -118,13 +118,13 @@ pub fn run(
                 return integrator
                     .finish(&part)
                     .map(Some)
-                    .map_err(|e| e.to_string());
+                    .map_err(crate::args::flag_error);
             }
             part
         }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             fresh = true;
-            let first = integrator.run_part(0..1).map_err(|e| e.to_string())?;
+            let first = integrator.run_part(0..1).map_err(crate::args::flag_error)?;
             save(settings, &first)?;
             first
         }
@@ -181,7 +181,7 @@ pub fn run(
     integrator
         .finish(&part)
         .map(Some)
-        .map_err(|e| e.to_string())
+        .map_err(crate::args::flag_error)
 }
 
 /// The text of the checkpoint `path`, or `None` when there is none yet: a path that is not a

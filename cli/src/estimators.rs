@@ -69,7 +69,7 @@ pub struct Built {
 
 /// The uniform estimator (A.14) of any test function over the unit cube.
 pub fn uniform(f: &(impl TestFunction + Clone + 'static)) -> Result<Built, String> {
-    let cube = UniformBox::unit(f.dims()).map_err(|e| e.to_string())?;
+    let cube = UniformBox::unit(f.dims()).map_err(crate::args::flag_error)?;
     let f = f.clone();
     Ok(Built {
         // A block at a time: the Genz families' exp and cos are vectorized.
@@ -90,7 +90,7 @@ pub fn build(kind: EstimatorKind, f: &Genz, seed: u64) -> Result<Built, String> 
         let f = Arc::clone(&f);
         move |x: &[f64]| f.eval(x)
     };
-    let cube = UniformBox::unit(dims).map_err(|e| e.to_string())?;
+    let cube = UniformBox::unit(dims).map_err(crate::args::flag_error)?;
     Ok(match kind {
         EstimatorKind::Uniform => return uniform(f.as_ref()),
         EstimatorKind::Importance => {
@@ -106,7 +106,7 @@ pub fn build(kind: EstimatorKind, f: &Genz, seed: u64) -> Result<Built, String> 
             let techniques: Vec<(Box<dyn Pdf>, usize)> =
                 vec![(Box::new(cube), 1), (Box::new(proposal), 1)];
             let mis = MultiSampleMis::new(eval, techniques, MisHeuristic::Balance)
-                .map_err(|e| e.to_string())?;
+                .map_err(crate::args::flag_error)?;
             Built {
                 estimator: Box::new(mis),
                 evaluations_per_contribution: 2,
@@ -118,8 +118,8 @@ pub fn build(kind: EstimatorKind, f: &Genz, seed: u64) -> Result<Built, String> 
         }
         EstimatorKind::Control => {
             let control = linear_control(&f, seed)?;
-            let cv =
-                FixedControlVariate::new(eval, control, 0.0, cube).map_err(|e| e.to_string())?;
+            let cv = FixedControlVariate::new(eval, control, 0.0, cube)
+                .map_err(crate::args::flag_error)?;
             Built {
                 estimator: Box::new(cv),
                 evaluations_per_contribution: 1,
@@ -142,7 +142,7 @@ fn proposal(f: &Genz) -> Result<(ProductPdf, &'static str), String> {
             // exp(-a^2 (x - u)^2) is a normal density with sd 1 / (a sqrt 2): exact.
             for i in 0..dims {
                 let p = TruncatedNormal::new(u[i], 1.0 / (a[i] * SQRT_2), 0.0, 1.0)
-                    .map_err(|e| e.to_string())?;
+                    .map_err(crate::args::flag_error)?;
                 factors.push(Box::new(p));
             }
             "truncated normals proportional to f"
@@ -195,7 +195,10 @@ fn proposal(f: &Genz) -> Result<(ProductPdf, &'static str), String> {
             );
         }
     };
-    Ok((ProductPdf::new(factors).map_err(|e| e.to_string())?, what))
+    Ok((
+        ProductPdf::new(factors).map_err(crate::args::flag_error)?,
+        what,
+    ))
 }
 
 /// A piecewise-linear density through `phi` at evenly spaced breakpoints on `[lo, hi]` plus
@@ -214,7 +217,7 @@ fn table(
     xs.dedup();
     let values: Vec<f64> = xs.iter().map(|&x| phi(x)).collect();
     Ok(Box::new(
-        PiecewiseLinear1d::new(&xs, &values).map_err(|e| e.to_string())?,
+        PiecewiseLinear1d::new(&xs, &values).map_err(crate::args::flag_error)?,
     ))
 }
 
@@ -228,12 +231,12 @@ fn linear_control(
     seed: u64,
 ) -> Result<impl Fn(&[f64]) -> f64 + Send + Sync + use<>, String> {
     let dims = f.a().len();
-    let pilot = Independent::new(dims, seed ^ PILOT_SEED_SALT).map_err(|e| e.to_string())?;
+    let pilot = Independent::new(dims, seed ^ PILOT_SEED_SALT).map_err(crate::args::flag_error)?;
     let mut x = vec![0.0; dims];
     let mut mean_f = 0.0;
     let mut sums = vec![0.0; dims];
     for i in 0..PILOT_POINTS {
-        pilot.point(i, &mut x).map_err(|e| e.to_string())?;
+        pilot.point(i, &mut x).map_err(crate::args::flag_error)?;
         let value = f.eval(&x);
         mean_f += value;
         for (s, xi) in sums.iter_mut().zip(&x) {

@@ -29,11 +29,11 @@ impl Named {
         if name == "keister" {
             return Keister::new(dims)
                 .map(Named::Keister)
-                .map_err(|e| e.to_string());
+                .map_err(crate::args::flag_error);
         }
         let family: GenzFamily = name
             .parse()
-            .map_err(|_| format!("invalid integrand '{name}': expected {INTEGRAND_NAMES}"))?;
+            .map_err(|_| format!("invalid --integrand '{name}': expected {INTEGRAND_NAMES}"))?;
         match (args.list("a")?, args.list("u")?) {
             (None, None) => Genz::with_defaults(family, dims),
             (a, u) => {
@@ -47,7 +47,8 @@ impl Named {
                         ));
                     }
                 }
-                let defaults = Genz::with_defaults(family, dims).map_err(|e| e.to_string())?;
+                let defaults =
+                    Genz::with_defaults(family, dims).map_err(crate::args::flag_error)?;
                 Genz::new(
                     family,
                     a.unwrap_or_else(|| defaults.a().to_vec()),
@@ -56,7 +57,7 @@ impl Named {
             }
         }
         .map(Named::Genz)
-        .map_err(|e| e.to_string())
+        .map_err(crate::args::flag_error)
     }
 
     /// The Genz function, if this is one.

@@ -141,7 +141,7 @@ fn vector_integrator<'a>(
     let functions = setup.functions;
     let (n, replicates, tolerance) = integrator_budget(&setup);
     let integrand = move |x: &[f64], out: &mut [f64]| evaluate_all(functions, x, out);
-    let cube = UniformBox::unit(functions[0].dims()).map_err(|e| e.to_string())?;
+    let cube = UniformBox::unit(functions[0].dims()).map_err(crate::args::flag_error)?;
     let integrator =
         Integrator::over_box_vector(functions.len(), integrand, cube).label(setup.label.clone());
     let ratio = setup.ratio;
@@ -183,7 +183,7 @@ fn vegas<'a>(setup: Setup<'a>, vector: bool) -> Result<Box<dyn Run + 'a>, String
         ));
     }
     let functions = setup.functions;
-    let cube = UniformBox::unit(functions[0].dims()).map_err(|e| e.to_string())?;
+    let cube = UniformBox::unit(functions[0].dims()).map_err(crate::args::flag_error)?;
     let stratified = setup.method == Method::VegasPlus;
     let (n, tolerance, ratio) = (setup.n, setup.tolerance, setup.ratio);
     if vector {
@@ -219,7 +219,7 @@ fn vegas<'a>(setup: Setup<'a>, vector: bool) -> Result<Box<dyn Run + 'a>, String
 fn adaptive<'a>(setup: Setup<'a>) -> Result<Box<dyn Run + 'a>, String> {
     let f = &setup.functions[0];
     let integrand = move |x: &[f64]| f.eval(x);
-    let domain = UniformBox::unit(f.dims()).map_err(|e| e.to_string())?;
+    let domain = UniformBox::unit(f.dims()).map_err(crate::args::flag_error)?;
     let (n, replicates, tolerance) = (setup.n, setup.replicates, setup.tolerance);
     match setup.method {
         Method::Miser => {

@@ -60,7 +60,7 @@ impl Ranks {
             let (universe, _) =
                 mcint::mpi::initialize_with_threading(mcint::mpi::Threading::Funneled)
                     .ok_or("MPI was already initialized in this process")?;
-            let cluster = mcint::Cluster::world().map_err(|e| e.to_string())?;
+            let cluster = mcint::Cluster::world().map_err(crate::args::flag_error)?;
             Ok(Ranks {
                 _universe: Some(universe),
                 spread: Spread {

@@ -167,7 +167,9 @@ impl Report<'_> {
         self.ratio.map(|(i, j)| {
             let exact = self.functions[i].exact() / self.functions[j].exact();
             let estimate = self.run.derived(&Derived::ratio(i, j));
-            estimate.map(|e| (e, exact)).map_err(|e| e.to_string())
+            estimate
+                .map(|e| (e, exact))
+                .map_err(crate::args::flag_error)
         })
     }
 

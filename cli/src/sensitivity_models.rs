@@ -24,7 +24,7 @@ pub const SALTELLI_2010_A: [f64; 6] = [0.0, 0.5, 3.0, 9.0, 99.0, 99.0];
 impl Model {
     /// Ishigami with parameters `a` and `b`.
     pub fn ishigami(a: f64, b: f64) -> Result<Model, String> {
-        let model = Ishigami::new(a, b).map_err(|e| e.to_string())?;
+        let model = Ishigami::new(a, b).map_err(crate::args::flag_error)?;
         Ok(Model::Ishigami { a, b, model })
     }
 
@@ -32,7 +32,7 @@ impl Model {
     pub fn sobol_g(a: Vec<f64>) -> Result<Model, String> {
         SobolGFunction::new(a)
             .map(Model::SobolG)
-            .map_err(|e| e.to_string())
+            .map_err(crate::args::flag_error)
     }
 
     /// The g-function on `d` inputs with the weights of [`SALTELLI_2010_A`].

@@ -165,10 +165,10 @@ fn run() -> Result<(), String> {
         }
         (None, None) => None,
         (Some(rel), limit) => {
-            let t = Tolerance::relative(rel).map_err(|e| e.to_string())?;
+            let t = Tolerance::relative(rel).map_err(flag_error)?;
             let limit = limit.or(table.then_some(1 << 24));
             Some(match limit {
-                Some(n) => t.max_evaluations(n).map_err(|e| e.to_string())?,
+                Some(n) => t.max_evaluations(n).map_err(flag_error)?,
                 None => t,
             })
         }
@@ -185,7 +185,7 @@ fn run() -> Result<(), String> {
         return print_table(&contract, &budget);
     }
     let started = Instant::now();
-    let estimate = price(&contract, choice, &budget).map_err(|e| e.to_string())?;
+    let estimate = price(&contract, choice, &budget).map_err(flag_error)?;
     let seconds = started.elapsed().as_secs_f64();
     for warning in &estimate.warnings {
         note!("warning: {warning}");
@@ -193,7 +193,7 @@ fn run() -> Result<(), String> {
     let exact = if choice.arithmetic {
         None
     } else {
-        Some(contract.geometric_price().map_err(|e| e.to_string())?)
+        Some(contract.geometric_price().map_err(flag_error)?)
     };
     if args.has("json") {
         let json = serde_json::json!({
@@ -298,9 +298,7 @@ fn contract(args: &Args) -> Result<Contract, String> {
         ));
     }
     // The model checks s0 and sigma.
-    contract
-        .paths(Construction::Standard)
-        .map_err(|e| e.to_string())?;
+    contract.paths(Construction::Standard).map_err(flag_error)?;
     Ok(contract)
 }
 
@@ -322,6 +320,12 @@ fn construction_name(c: Construction) -> &'static str {
         Construction::Bridge => "bridge",
         Construction::Pca => "pca",
     }
+}
+
+/// A library error as one line naming the flags behind the bad setting.
+fn flag_error(error: mcint::Error) -> String {
+    let times = ("times", "monitoring times from --maturity and --dates");
+    support::spec_error(SPEC, &[times], error)
 }
 
 /// The price by one run of the Integrator.
@@ -383,7 +387,7 @@ fn print_table(contract: &Contract, budget: &Budget) -> Result<(), String> {
         Construction::Bridge,
         Construction::Pca,
     ] {
-        contract.paths(construction).map_err(|e| e.to_string())?;
+        contract.paths(construction).map_err(flag_error)?;
     }
     say!(
         "arithmetic Asian call, {} dates: evaluations to a 95% half-width of {} x price (limit {})",
@@ -422,7 +426,7 @@ fn print_table(contract: &Contract, budget: &Budget) -> Result<(), String> {
                     Ok(e) if e.stop == StopReason::TimeLimit => "time limit".to_string(),
                     Ok(_) => format!("> {}", tolerance.evaluation_limit()),
                     Err(mcint::Error::Interrupted { .. }) => "time limit".to_string(),
-                    Err(e) => return Err(e.to_string()),
+                    Err(e) => return Err(flag_error(e)),
                 });
             }
             say!(

@@ -82,7 +82,9 @@ fn cases() -> Result<Vec<Case>, String> {
     for family in [GenzFamily::Gaussian, GenzFamily::Oscillatory] {
         cases.push(Case {
             name: format!("genz-{family}-{GENZ_DIMS}d"),
-            function: Box::new(Genz::with_defaults(family, GENZ_DIMS).map_err(|e| e.to_string())?),
+            function: Box::new(
+                Genz::with_defaults(family, GENZ_DIMS).map_err(support::flag_error)?,
+            ),
             samplers: vec![
                 SamplerKind::Independent,
                 SamplerKind::Latin,

@@ -201,8 +201,8 @@ fn strata_of(kind: SamplerKind, n: u64) -> Option<plot::Strata> {
 
 fn draw_sampler(kind: SamplerKind, settings: &Settings, out: &Path) -> Result<Row, String> {
     let (sampler, n) = build(kind, settings.n, settings.seed)?;
-    let mut points = Points::new(2, n as usize).map_err(|e| e.to_string())?;
-    sampler.fill(0, &mut points).map_err(|e| e.to_string())?;
+    let mut points = Points::new(2, n as usize).map_err(support::flag_error)?;
+    sampler.fill(0, &mut points).map_err(support::flag_error)?;
     let xy: Vec<(f64, f64)> = points
         .column(0)
         .iter()
@@ -256,10 +256,10 @@ fn draw_sampler(kind: SamplerKind, settings: &Settings, out: &Path) -> Result<Ro
         },
         l2_star: Discrepancy::L2Star
             .root(&points)
-            .map_err(|e| e.to_string())?,
+            .map_err(support::flag_error)?,
         centered_l2: Discrepancy::Centered
             .root(&points)
-            .map_err(|e| e.to_string())?,
+            .map_err(support::flag_error)?,
         low_frequency_power,
     })
 }

@@ -261,7 +261,7 @@ fn run() -> Result<(), String> {
         .get::<String>("method", METHOD_NAMES)?
         .map_or(Ok(Method::Plain), |name| parse_method(&name))?;
     let kind: SamplerKind = match args.get::<String>("sampler", "a sampler name")? {
-        Some(name) => name.parse().map_err(|e: mcint::Error| e.to_string())?,
+        Some(name) => name.parse().map_err(support::flag_error)?,
         None => method.default_sampler(),
     };
     let tolerance = tolerance_from(&args)?;
@@ -290,10 +290,11 @@ fn run() -> Result<(), String> {
     let sampler = kind
         .build_with(canonical_dims, n, scramble, strength, seed)
         .map_err(|e| match canonical_dims == dims {
-            true => e.to_string(),
+            true => support::flag_error(e),
             false => format!(
-                "{e} (the sampler draws {canonical_dims} coordinates a point for --dims {dims} \
+                "{} (the sampler draws {canonical_dims} coordinates a point for --dims {dims} \
                  with --estimator {})",
+                support::flag_error(e),
                 estimator_kind.name()
             ),
         })?;
@@ -349,7 +350,7 @@ fn run() -> Result<(), String> {
     let run = match checkpoint {
         None => methods::build(setup)?
             .run_vector()
-            .map_err(|e| e.to_string())?,
+            .map_err(support::flag_error)?,
         Some(settings) => {
             let integrator = methods::build_checkpointed(setup)?;
             match checkpoint::run(&*integrator, &settings, &cancel_token())? {
@@ -432,11 +433,11 @@ fn tolerance_from(args: &Args) -> Result<Option<Tolerance>, String> {
             None => Ok(None),
         };
     }
-    let mut tolerance = Tolerance::new(abs, rel).map_err(|e| e.to_string())?;
+    let mut tolerance = Tolerance::new(abs, rel).map_err(support::flag_error)?;
     if let Some(limit) = max_evals {
         tolerance = tolerance
             .max_evaluations(limit)
-            .map_err(|e| e.to_string())?;
+            .map_err(support::flag_error)?;
     }
     Ok(Some(tolerance))
 }

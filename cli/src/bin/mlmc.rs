@@ -156,7 +156,7 @@ struct Settings {
 
 fn run() -> Result<(), String> {
     let args = Args::parse(ABOUT, SPEC)?;
-    let text = |e: mcint::Error| e.to_string();
+    let text = |e| support::spec_error(SPEC, &[], e);
     let get = |name: &str, default: f64, what: &str| -> Result<f64, String> {
         Ok(args.get(name, what)?.unwrap_or(default))
     };

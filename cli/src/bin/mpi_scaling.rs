@@ -81,7 +81,7 @@ fn run() -> Result<(), String> {
     }
     let (_universe, _) = mcint::mpi::initialize_with_threading(mcint::mpi::Threading::Funneled)
         .ok_or("MPI was already initialized")?;
-    let cluster = Cluster::world().map_err(|e| e.to_string())?;
+    let cluster = Cluster::world().map_err(support::flag_error)?;
     let world = mcint::mpi::topology::SimpleCommunicator::world();
 
     // Rank 0 calibrates the integrand's rounds; every rank uses its count.
@@ -122,12 +122,12 @@ fn run() -> Result<(), String> {
     world.barrier();
     let start = Instant::now();
     let estimate = match stratified {
-        None => Integrator::over_box(f, UniformBox::unit(2).map_err(|e| e.to_string())?)
+        None => Integrator::over_box(f, UniformBox::unit(2).map_err(support::flag_error)?)
             .samples(points)
             .threads(threads)
             .cluster(cluster)
             .run(),
-        Some(stratified) => Vegas::new(f, UniformBox::unit(4).map_err(|e| e.to_string())?)
+        Some(stratified) => Vegas::new(f, UniformBox::unit(4).map_err(support::flag_error)?)
             .stratified(stratified)
             .samples((points / 15).max(50))
             .warmup(5)
@@ -136,7 +136,7 @@ fn run() -> Result<(), String> {
             .cluster(cluster)
             .run(),
     }
-    .map_err(|e| e.to_string())?;
+    .map_err(|e| e.message_with_names(&[("samples", "--points"), ("threads", "--threads")]))?;
     let seconds = start.elapsed().as_secs_f64();
     if cluster.is_root() {
         say!(

@@ -135,12 +135,12 @@ fn run() -> Result<(), String> {
     if gaussian.is_some() && image {
         return Err("--measure writes numbers: use --format csv, bin or sum".into());
     }
-    let kind: SamplerKind = name.parse().map_err(|e: mcint::Error| e.to_string())?;
+    let kind: SamplerKind = name.parse().map_err(support::flag_error)?;
     let scramble = args.scramble_for(kind)?;
     let strength: Option<u32> = args.get("strength", "a whole number >= 1 (oa-bush)")?;
     let sampler = kind
         .build_with(dims, n, scramble, strength, seed)
-        .map_err(|e| e.to_string())?;
+        .map_err(support::flag_error)?;
     let pass_length = match sampler.passes() {
         PassKind::Independent => n,
         PassKind::Fixed { size } => size,
@@ -197,7 +197,7 @@ fn run() -> Result<(), String> {
     let block_len = (BLOCK_VALUES / dims as u64).clamp(256, 4096);
     // A whole block is allocated up front: a dimension beyond what memory holds is refused
     // here, before anything is written.
-    let mut block = Points::new(dims, (n.min(block_len)) as usize).map_err(|e| e.to_string())?;
+    let mut block = Points::new(dims, (n.min(block_len)) as usize).map_err(support::flag_error)?;
     let mut sums = vec![0.0f64; dims];
     let mut written = 0u64;
     while written < n {
@@ -205,7 +205,7 @@ fn run() -> Result<(), String> {
         block.set_len(len as usize);
         sampler
             .fill(start + written, &mut block)
-            .map_err(|e| e.to_string())?;
+            .map_err(support::flag_error)?;
         if let Some(g) = &gaussian {
             map_block(g, &mut block);
         }
@@ -278,7 +278,7 @@ fn gaussian(args: &Args, dims: usize) -> Result<Option<Gaussian>, String> {
     };
     Gaussian::new(mean, covariance, factorization)
         .map(Some)
-        .map_err(|e| e.to_string())
+        .map_err(support::flag_error)
 }
 
 /// A `dims x dims` matrix from a text file: rows of numbers separated by commas or spaces.
@@ -341,8 +341,10 @@ fn collect_columns(
     n: u64,
     dims: usize,
 ) -> Result<Vec<Vec<f64>>, String> {
-    let mut block = Points::new(dims, n as usize).map_err(|e| e.to_string())?;
-    sampler.fill(start, &mut block).map_err(|e| e.to_string())?;
+    let mut block = Points::new(dims, n as usize).map_err(support::flag_error)?;
+    sampler
+        .fill(start, &mut block)
+        .map_err(support::flag_error)?;
     Ok((0..dims).map(|d| block.column(d).to_vec()).collect())
 }
 

@@ -89,14 +89,19 @@ fn run() -> Result<String, String> {
         Choice::Star => quality::star_discrepancy(&points),
         Choice::TValue => return t_value(&points),
     };
-    value.map(|v| format!("{v:?}")).map_err(|e| e.to_string())
+    value.map(|v| format!("{v:?}")).map_err(about_input)
+}
+
+/// A library error about the points as one line that says they come from `--input`.
+fn about_input(error: mcint::Error) -> String {
+    error.message_with_names(&[("dims", "dimension of the --input points")])
 }
 
 /// The t-value of a base-2 net (the smallest `t` for which the set is a `(t, m, d)`-net).
 fn t_value(points: &Points) -> Result<String, String> {
     quality::t_value(points)
         .map(|t| t.to_string())
-        .map_err(|e| e.to_string())
+        .map_err(about_input)
 }
 
 /// Reads a CSV file of points (one per line, comma-separated coordinates in `[0, 1]`).

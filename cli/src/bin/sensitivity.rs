@@ -293,10 +293,16 @@ struct Report {
 
 /// Runs the library's design on the model and pairs every index with its exact value.
 fn analyse(settings: Settings, spread: Spread) -> Result<Report, String> {
-    let text = |e: mcint::Error| e.to_string();
+    // The design's points are `--n` per replicate times `--replicates`.
+    let text = |e| support::spec_error(SPEC, &[("points", "--n x --replicates")], e);
     let mut design = SobolDesign::new(settings.model.inputs())
         .map_err(text)?
-        .points(settings.n.saturating_mul(settings.replicates))
+        .points(settings.n.checked_mul(settings.replicates).ok_or_else(|| {
+            format!(
+                "invalid --n {}: expected --n x --replicates below 2^64 points",
+                settings.n
+            )
+        })?)
         .replicates(settings.replicates)
         .second_order(settings.second_order);
     if let Some(t) = settings.tolerance {

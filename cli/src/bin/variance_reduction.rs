@@ -71,7 +71,7 @@ fn run() -> Result<(), String> {
             );
             Ok(())
         }
-        other => other.map_err(|e| e.to_string()),
+        other => other.map_err(support::flag_error),
     }
 }
 

@@ -2,7 +2,8 @@
 //! generator (valid flags with modest values, mixed with values outside each flag's domain,
 //! junk, unknown and repeated flags, stray arguments), each run with stdout read, closed and
 //! full (in turn). No run may panic, abort, hang (the guard kills it after 30 s), print more
-//! than one error line, or exit with success after printing NaN or an infinity.
+//! than one error line, name a bad setting by the library's name instead of its flag, or exit
+//! with success after printing NaN or an infinity.
 //!
 //! Values that are valid but large (a study of hours the user asked for) are not bad input
 //! and are not generated: size pools hold modest valid values and invalid ones, and the
@@ -569,6 +570,14 @@ fn check(name: &str, args: &[String], mode: Stdout, dir: &Path) -> Result<i32, S
     let error_lines = stderr.lines().filter(|l| !l.starts_with("warning")).count();
     if code == 2 && error_lines != 1 {
         return Err(format!("{error_lines} error lines: {stderr}"));
+    }
+    // A bad setting is named as the user typed it: a flag, not the library's parameter
+    // (`invalid tol_rel = ...`).
+    if let Some(named) = stderr.split("error: invalid ").nth(1)
+        && let Some((name, _)) = named.split_once(" = ")
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+    {
+        return Err(format!("a library parameter named, not its flag: {stderr}"));
     }
     let binary = args.iter().any(|a| a == "bin" || a == "png");
     if code == 0 && !binary {

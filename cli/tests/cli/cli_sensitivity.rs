@@ -215,7 +215,11 @@ fn bad_input_is_a_one_line_error_with_exit_code_2() {
         "give --tol-abs too",
     );
     let limited = ["--function", "ishigami", "--tol-abs", "1e-3", "--max-evals"];
-    assert_usage_error(&[&limited[..], &["0"]].concat(), "at least 1");
+    assert_usage_error(&[&limited[..], &["0"]].concat(), "invalid --max-evals = 0");
+    assert_usage_error(
+        &["--function", "ishigami", "--n", "18446744073709551615"],
+        "--n x --replicates below 2^64",
+    );
     assert_usage_error(
         &[&limited[..], &["1000"]].concat(),
         "at least 65536 evaluations (8 replicates of 8192 points)",

@@ -379,7 +379,7 @@ fn integrate_rejects_bad_methods_and_tolerances() {
     );
     assert_one_line_error(
         &with(&["--method", "miser", "--replicates", "0"]),
-        "replicates",
+        "--replicates",
     );
     assert_one_line_error(
         &with(&[
@@ -392,12 +392,15 @@ fn integrate_rejects_bad_methods_and_tolerances() {
         ]),
         "sampler",
     );
-    assert_one_line_error(&with(&["--tol-abs", "-1"]), "tol");
+    assert_one_line_error(&with(&["--tol-abs", "-1"]), "--tol-abs");
+    // Settings the library checks are named by their flags.
+    assert_one_line_error(&with(&["--tol-rel", "1e-20"]), "invalid --tol-rel");
+    assert_one_line_error(&with(&["--method", "vegas", "--n", "3"]), "invalid --n");
     assert_one_line_error(&with(&["--tol-rel", "abc"]), "--tol-rel");
     assert_one_line_error(&with(&["--max-evals", "1000"]), "--tol-abs");
     assert_one_line_error(
         &with(&["--tol-abs", "1e-3", "--max-evals", "10"]),
-        "max_evals",
+        "--max-evals",
     );
     assert_one_line_error(
         &with(&["--method", "rqmc", "--sampler", "independent"]),
