@@ -4,9 +4,9 @@ use pyo3::PyErr;
 use pyo3::exceptions::{PyFloatingPointError, PyRuntimeError, PyValueError};
 
 /// A library error as the exception a Python user expects: bad parameters are a
-/// `ValueError` carrying the library's message (what was given and what is allowed); an
-/// integrand that returned NaN or an infinity is a `FloatingPointError`; a run that could
-/// not finish is a `RuntimeError`.
+/// `ValueError` carrying the library's message (what was given and what is allowed) with the
+/// keyword's name; an integrand that returned NaN or an infinity is a `FloatingPointError`;
+/// a run that could not finish is a `RuntimeError`.
 pub fn to_py(error: mcint::Error) -> PyErr {
     match error {
         mcint::Error::NonFiniteContribution { .. } => {
@@ -15,6 +15,15 @@ pub fn to_py(error: mcint::Error) -> PyErr {
         mcint::Error::Interrupted { .. } | mcint::Error::IntegrandPanicked { .. } => {
             PyRuntimeError::new_err(error.to_string())
         }
-        _ => PyValueError::new_err(error.to_string()),
+        _ => PyValueError::new_err(error.message_with_names(KEYWORD_NAMES)),
     }
 }
+
+/// The library's names of a run's settings as the keyword arguments spell them (the others
+/// are spelled alike).
+const KEYWORD_NAMES: &[(&str, &str)] = &[
+    ("samples", "n"),
+    ("points", "n"),
+    ("tol_abs", "atol"),
+    ("tol_rel", "rtol"),
+];

@@ -195,6 +195,7 @@ def test_non_finite_values_are_a_floating_point_error():
         (dict(atol=np.nan), ValueError, "atol"),
         (dict(rtol="small"), TypeError, "number"),
         (dict(n=0), ValueError, "n = 0"),
+        (dict(method="vegas", n=3), ValueError, "invalid n = 3: expected at least 50"),
         (dict(n=1.5), TypeError, "whole number"),
         (dict(threads=0), ValueError, "threads"),
         (dict(max_evals=1000), ValueError, "rtol or atol"),
