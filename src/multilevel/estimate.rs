@@ -44,13 +44,17 @@ pub struct LevelSummary {
 /// The result of a multilevel run (or a survey of its levels).
 ///
 /// ```
-/// use mcint::multilevel::{Multilevel, Payoff, Scheme, Sde, SdeLevels};
+/// use mcint::multilevel::{Multilevel, MultilevelEstimate, Payoff, Scheme, Sde, SdeLevels};
 /// let gbm = Sde::gbm(100.0, 0.05, 0.2).unwrap();
 /// let levels = SdeLevels::new(gbm, Scheme::Milstein, Payoff::european_call(100.0).unwrap(), 1.0).unwrap();
 /// let run = Multilevel::new(levels).rmse(0.1).seed(3).run().unwrap();
 /// assert!(run.converged && run.std_error <= 0.1 / 2f64.sqrt() && run.bias <= 0.1 / 2f64.sqrt());
 /// assert!(run.cost < run.standard_mc_cost);
 /// println!("{run}");
+/// // The precision is the estimate's decimals; far from 1 they follow an exponent.
+/// assert!(format!("{run:.2}").starts_with(&format!("{:.2} ± ", run.estimate)));
+/// let huge = MultilevelEstimate { estimate: 1e140, ..run };
+/// assert!(huge.to_string().starts_with("1.000000e140 ± "));
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct MultilevelEstimate {
@@ -94,15 +98,21 @@ pub struct MultilevelEstimate {
 
 impl fmt::Display for MultilevelEstimate {
     /// The estimate, its error budget, the rates and the costs, then a line per level; the
-    /// precision (default 6 significant digits) applies to the estimate.
+    /// precision (default 6 decimals, after the point of an exponent for magnitudes outside
+    /// `1e-4` to `1e15`) applies to the estimate.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let digits = f.precision().unwrap_or(6);
+        let x = self.estimate;
+        let estimate = if x == 0.0 || (1e-4..1e15).contains(&x.abs()) {
+            format!("{x:.digits$}")
+        } else {
+            format!("{x:.digits$e}")
+        };
         writeln!(
             f,
-            "{:.*} ± {:.2e} (standard error), bias ≈ {:.2e}, RMSE ≈ {:.2e}{}; {} levels, alpha {:.2}, beta {:.2}, gamma {:.2} (M = {}); cost {:.3e}, standard MC \
+            "{} ± {:.2e} (standard error), bias ≈ {:.2e}, RMSE ≈ {:.2e}{}; {} levels, alpha {:.2}, beta {:.2}, gamma {:.2} (M = {}); cost {:.3e}, standard MC \
              {:.3e}; stop: {:?}{}",
-            digits,
-            self.estimate,
+            estimate,
             self.std_error,
             self.bias,
             self.rmse,

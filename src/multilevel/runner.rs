@@ -960,6 +960,14 @@ impl Stats {
         let pooled: Vec<LevelSums> = levels.iter().map(pooled_of).collect();
         let mut mean: Vec<f64> = pooled.iter().map(|p| p.difference.mean().abs()).collect();
         let mut variance: Vec<f64> = pooled.iter().map(|p| p.difference.variance()).collect();
+        // A variance that overflowed (samples above about 1e150 square past f64) would leave
+        // the allocation blind, spending the whole cost limit on infinite error bars.
+        if let Some(&value) = variance.iter().find(|v| !v.is_finite()) {
+            return Err(Error::Overflow {
+                what: "variance of a level's samples",
+                value,
+            });
+        }
         let cost = (0..levels.len())
             .map(|l| run.level_cost(l))
             .collect::<Result<Vec<f64>>>()?;

@@ -408,6 +408,19 @@ fn bad_input_and_broken_models_are_errors() {
             .max_level(20))
         .contains("fit the sampler")
     );
+    // Prices near 1e200 square past f64: the first variances overflow, and the run says so
+    // instead of spending its cost limit on infinite error bars.
+    let huge = SdeLevels::new(
+        Sde::gbm(1e200, RATE, SIGMA).unwrap(),
+        Scheme::Milstein,
+        Payoff::european_call(STRIKE).unwrap(),
+        1.0,
+    )
+    .unwrap();
+    assert!(matches!(
+        Multilevel::new(huge).rmse(0.01).run(),
+        Err(Error::Overflow { value, .. }) if value == f64::INFINITY
+    ));
     assert!(Multilevel::new(levels()).survey(0, 100).is_err());
     assert!(Multilevel::new(levels()).survey(3, 1).is_err());
     assert!(
