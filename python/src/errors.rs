@@ -8,6 +8,12 @@ use pyo3::exceptions::{PyFloatingPointError, PyRuntimeError, PyValueError};
 /// keyword's name; an integrand that returned NaN or an infinity is a `FloatingPointError`;
 /// a run that could not finish is a `RuntimeError`.
 pub fn to_py(error: mcint::Error) -> PyErr {
+    to_py_naming(error, &[])
+}
+
+/// [`to_py`] for a function whose keywords spell some of the library's names its own way
+/// (`own`, looked up first: `d` for `dims` in the `qmc` engines).
+pub fn to_py_naming(error: mcint::Error, own: &[(&str, &str)]) -> PyErr {
     match error {
         mcint::Error::NonFiniteContribution { .. } => {
             PyFloatingPointError::new_err(error.to_string())
@@ -15,7 +21,7 @@ pub fn to_py(error: mcint::Error) -> PyErr {
         mcint::Error::Interrupted { .. } | mcint::Error::IntegrandPanicked { .. } => {
             PyRuntimeError::new_err(error.to_string())
         }
-        _ => PyValueError::new_err(error.message_with_names(KEYWORD_NAMES)),
+        _ => PyValueError::new_err(error.message_with_names(&[own, KEYWORD_NAMES].concat())),
     }
 }
 

@@ -6,7 +6,7 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::errors::to_py;
+use crate::errors::{to_py, to_py_naming};
 
 /// A sampler built by name: `kind` (one of `sampler_names()`), `d` dimensions, `size` points
 /// for the samplers whose passes have a fixed size (0 for the sequences), a randomization
@@ -35,7 +35,7 @@ impl PointSet {
         };
         let sampler = kind
             .build_with(d, size, scramble, strength, seed)
-            .map_err(to_py)?;
+            .map_err(|e| to_py_naming(e, &[("dims", "d")]))?;
         Ok(PointSet { sampler })
     }
 
