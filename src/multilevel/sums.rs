@@ -39,7 +39,8 @@ impl LevelSums {
         self.difference.count()
     }
 
-    /// The kurtosis of `Y`, from its power sums (Giles' `mlmc_test`); `None` without variance.
+    /// The kurtosis of `Y`, from its power sums (Giles' `mlmc_test`); `None` without variance,
+    /// or when the fourth powers overflowed (values above about 1e77).
     pub(super) fn kurtosis(&self) -> Option<f64> {
         let n = self.count() as f64;
         let m1 = self.difference.mean();
@@ -47,7 +48,7 @@ impl LevelSums {
         let (m3, m4) = (self.cube / n, self.fourth / n);
         let central4 = m4 - 4.0 * m3 * m1 + 6.0 * m2 * m1 * m1 - 3.0 * m1.powi(4);
         let variance = m2 - m1 * m1;
-        (variance > 0.0).then(|| central4 / (variance * variance))
+        Some(central4 / (variance * variance)).filter(|k| variance > 0.0 && k.is_finite())
     }
 }
 

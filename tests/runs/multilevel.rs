@@ -367,6 +367,36 @@ impl Level for Faulty {
     }
 }
 
+/// Differences near 1e90: their squares fit in f64, their fourth powers do not.
+struct Huge;
+
+impl Level for Huge {
+    fn dims(&self, _: usize) -> usize {
+        1
+    }
+    fn cost(&self, level: usize) -> f64 {
+        (1u64 << level) as f64
+    }
+    fn sample(&self, level: usize, u: &[f64], _: &mut Vec<f64>) -> (f64, f64) {
+        let fine = 1e90 * (u[0] + 1.0);
+        (fine, if level == 0 { 0.0 } else { 0.5 * fine })
+    }
+}
+
+#[test]
+fn a_kurtosis_past_f64_is_left_out_not_nan() {
+    let survey = Multilevel::new(Huge).seed(2).survey(2, 1000).unwrap();
+    assert!(
+        survey.levels.iter().all(|l| l.kurtosis.is_none()),
+        "{survey}"
+    );
+    assert!(
+        survey.levels.iter().all(|l| l.variance.is_finite()),
+        "{survey}"
+    );
+    assert!(!survey.to_string().contains("NaN"), "{survey}");
+}
+
 #[test]
 fn bad_input_and_broken_models_are_errors() {
     let run = |f: Faulty| Multilevel::new(f).rmse(0.01).seed(1).run().unwrap_err();
