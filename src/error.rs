@@ -126,16 +126,22 @@ impl Error {
     }
 
     /// The message, with the parameter names of an [`Error::InvalidParameter`] spelled as a
-    /// front end spells them: each word of the name found in `spellings` as `(library name,
+    /// front end spells them: each word of the name, and each word with an underscore in what
+    /// is allowed (`min_level`: a name, never prose), found in `spellings` as `(library name,
     /// front end's name)` is replaced, so that a program can say `--n` where the library says
     /// `samples` (other errors name no parameter and read as [`Display`](fmt::Display)).
     ///
     /// ```
     /// let e = mcint::Error::invalid("samples x replicates", 0, "at least 1 evaluation");
-    /// let names = [("samples", "--n"), ("replicates", "--replicates")];
+    /// let names = [("samples", "--n"), ("replicates", "--replicates"), ("max_level", "--max")];
     /// assert_eq!(
     ///     e.message_with_names(&names),
     ///     "invalid --n x --replicates = 0: expected at least 1 evaluation"
+    /// );
+    /// let e = mcint::Error::invalid("max_level", 61, "at most 60 (max_level limits samples)");
+    /// assert_eq!(
+    ///     e.message_with_names(&names),
+    ///     "invalid --max = 61: expected at most 60 (--max limits samples)"
     /// );
     /// ```
     pub fn message_with_names(&self, spellings: &[(&str, &str)]) -> String {
@@ -147,24 +153,30 @@ impl Error {
         else {
             return self.to_string();
         };
-        let mut spelled = String::with_capacity(name.len());
-        let mut rest: &str = name;
-        while let Some(start) = rest.find(is_name_char) {
-            let (before, word_on) = rest.split_at(start);
-            let end = word_on.find(|c| !is_name_char(c)).unwrap_or(word_on.len());
-            let (word, after) = word_on.split_at(end);
-            spelled.push_str(before);
-            spelled.push_str(
-                spellings
-                    .iter()
-                    .find(|(library, _)| *library == word)
-                    .map_or(word, |(_, front)| front),
-            );
-            rest = after;
-        }
-        spelled.push_str(rest);
-        format!("invalid {spelled} = {value}: expected {allowed}")
+        let name = respelled(name, spellings, |_| true);
+        let allowed = respelled(allowed, spellings, |word| word.contains('_'));
+        format!("invalid {name} = {value}: expected {allowed}")
     }
+}
+
+/// `text` with each of its words for which `is_name` holds replaced by its spelling in
+/// `spellings`, if it has one.
+fn respelled(text: &str, spellings: &[(&str, &str)], is_name: impl Fn(&str) -> bool) -> String {
+    let mut spelled = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(start) = rest.find(is_name_char) {
+        let (before, word_on) = rest.split_at(start);
+        let end = word_on.find(|c| !is_name_char(c)).unwrap_or(word_on.len());
+        let (word, after) = word_on.split_at(end);
+        spelled.push_str(before);
+        let spelling = spellings
+            .iter()
+            .find(|(library, _)| *library == word && is_name(word));
+        spelled.push_str(spelling.map_or(word, |(_, front)| front));
+        rest = after;
+    }
+    spelled.push_str(rest);
+    spelled
 }
 
 /// Whether `c` belongs to a parameter's name (`tol_rel`, `samples`).

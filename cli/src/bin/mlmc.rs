@@ -4,7 +4,8 @@
 //!
 //! ```text
 //! cargo run --release --bin mlmc -- [--model gbm|heston] [--payoff european|asian|lookback|digital|barrier]
-//!     [--scheme euler|milstein] [--eps E] [--qmc] [--test] [--plot FILE] [--json] ...
+//!     [--scheme euler|milstein] [--eps E] [--min-level L] [--max-level L] [--qmc] [--test]
+//!     [--plot FILE] [--json] ...
 //! ```
 //! `gbm` is `dS = r S dt + sigma S dW` (`--s0`, `--rate`, `--sigma`); `heston` adds the
 //! variance `dv = kappa (theta - v) dt + xi sqrt(v) dW_2` with correlation `rho` (`--v0`,
@@ -93,6 +94,16 @@ const SPEC: support::Spec = &[
         "rho",
         true,
         "heston's correlation, in [-1, 1] (default -0.7)",
+    ),
+    (
+        "min-level",
+        true,
+        "levels 0 to this are sampled from the start, Giles' Lmin, >= 1 (default 2)",
+    ),
+    (
+        "max-level",
+        true,
+        "the deepest level allowed, Giles' Lmax, up to 60 (default 20)",
     ),
     (
         "test",
@@ -253,6 +264,12 @@ fn run() -> Result<(), String> {
         .rmse(eps)
         .qmc(args.has("qmc"))
         .seed(settings.seed);
+    if let Some(level) = args.get("min-level", "a whole number >= 1")? {
+        runner = runner.min_level(level);
+    }
+    if let Some(level) = args.get("max-level", "a whole number up to 60")? {
+        runner = runner.max_level(level);
+    }
     if let Some(threads) = args.get("threads", "a whole number of threads >= 1")? {
         runner = runner.threads(threads);
     }
@@ -308,7 +325,13 @@ fn run() -> Result<(), String> {
     if let Some(path) = args.get::<PathBuf>("plot", "a file name")? {
         draw(&path, survey.as_ref().unwrap_or(&result))?;
     }
-    for warning in &result.warnings {
+    // The library's settings named in a warning (`max_level`) are this program's flags.
+    let warnings: Vec<String> = result
+        .warnings
+        .iter()
+        .map(|w| w.to_string().replace("max_level", "--max-level"))
+        .collect();
+    for warning in &warnings {
         note!("warning: {warning}");
     }
     let exact = settings.exact();
@@ -334,7 +357,7 @@ fn run() -> Result<(), String> {
             "standard_mc_cost": result.standard_mc_cost,
             "converged": result.converged,
             "stop": support::stop_name(result.stop),
-            "warnings": result.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
+            "warnings": warnings,
             "ranks": ranks.spread.size,
         });
         if let Some(survey) = &survey {
@@ -358,11 +381,14 @@ fn run() -> Result<(), String> {
     say!("Multilevel run to RMSE {}:", settings.eps);
     say!("{result}");
     if let Some(exact) = exact {
-        say!(
-            "Black-Scholes {exact:.10}: error {:+.3e} ({:.2} target)",
-            result.estimate - exact,
-            (result.estimate - exact).abs() / settings.eps
-        );
+        let error = result.estimate - exact;
+        let ratio = error.abs() / settings.eps;
+        let ratio = if ratio < 1e6 {
+            format!("{ratio:.2}")
+        } else {
+            format!("{ratio:.2e}")
+        };
+        say!("Black-Scholes {exact:.10}: error {error:+.3e} ({ratio} target)");
     }
     Ok(())
 }

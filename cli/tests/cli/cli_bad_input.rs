@@ -332,6 +332,8 @@ const PROGRAMS: &[Program] = &[
             flag("sigma", &["0.2", "0.4"], &["-0.2", "nan"]),
             flag("maturity", &["1", "0.5"], &["0", "-1"]),
             flag("rho", &["-0.7", "0.3"], &["2", "-1.5"]),
+            flag("min-level", &["1", "3"], &["0", "61"]),
+            flag("max-level", &["3", "6"], &["0", "61", "-1"]),
             flag("test-levels", &["2", "3"], &["0", "21"]),
             flag("test-samples", &["100", "1000"], &["1", "-5"]),
             flag("seed", SEEDS, SEEDS_BAD),

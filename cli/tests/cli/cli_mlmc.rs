@@ -94,6 +94,29 @@ fn other_payoffs_models_and_qmc_run() {
     assert_eq!(heston["converged"], true);
 }
 
+/// `--max-level` caps the levels: a run that needs deeper ones stops there, says so and
+/// names the flag that allows more.
+#[test]
+fn max_level_stops_a_run_and_the_warning_names_the_flag() {
+    let capped = json_run(&["--eps", "0.01", "--max-level", "3"]);
+    assert_eq!(
+        capped["levels"].as_array().map(Vec::len),
+        Some(4),
+        "{capped}"
+    );
+    assert_eq!(
+        (&capped["stop"], &capped["converged"]),
+        (&"max level".into(), &false.into())
+    );
+    let warnings = capped["warnings"].to_string();
+    assert!(warnings.contains("(--max-level)"), "{warnings}");
+    let started = json_run(&["--eps", "0.1", "--min-level", "4"]);
+    assert!(
+        started["levels"].as_array().map_or(0, Vec::len) >= 5,
+        "{started}"
+    );
+}
+
 /// A call far out of the money pays nothing on every sampled path: the run says so instead
 /// of printing a NaN check.
 #[test]
@@ -121,12 +144,18 @@ fn the_plot_is_drawn() {
 
 #[test]
 fn bad_input_is_one_line() {
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 8] = [
         (&["--eps", "0"], "--eps"),
         (&["--model", "heston", "--scheme", "milstein"], "milstein"),
         (&["--payoff", "put"], "--payoff"),
-        (&["--refinement", "1"], "refinement"),
+        (&["--refinement", "1"], "invalid --refinement = 1"),
         (&["--test", "--test-levels", "30"], "--test-levels"),
+        (
+            &["--min-level", "5", "--max-level", "3"],
+            "--min-level <= --max-level",
+        ),
+        (&["--max-level", "61"], "<= 60"),
+        (&["--s0", "1e200"], "overflowed"),
     ];
     for (args, needle) in cases {
         assert_one_line_error(&run("mlmc", args), needle);
