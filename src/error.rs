@@ -288,7 +288,8 @@ impl fmt::Display for Error {
                 f,
                 "the {what} is {value}: a sum behind it overflowed f64 (largest 1.8e308; VEGAS, \
                  two-stage sampling and multilevel runs square the integrand's values, so they \
-                 need values below about 1e150): divide the integrand by a known factor and multiply the result by it"
+                 need values below about 1e150): divide the integrand by a known factor and \
+                 multiply the result by it"
             ),
             Error::Unsupported { operation, reason } => {
                 write!(f, "{operation} is not supported: {reason}")
