@@ -75,6 +75,7 @@ def test_an_exception_in_the_model_propagates():
         (dict(inputs="cube"), TypeError, "measure"),
         (dict(groups=[[0], [7]]), ValueError, "group"),
         (dict(n=1001), ValueError, "invalid n = 1001: expected a positive multiple"),
+        (dict(n=None, replicates=3), ValueError, r"invalid n = 65536 \(the default\)"),
         (dict(replicates=0), ValueError, "replicates"),
         (dict(rtol=0.0), ValueError, "rtol"),
         (dict(rtol=1e-20), ValueError, "rtol = 1e-20"),

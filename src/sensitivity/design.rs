@@ -215,6 +215,9 @@ impl<M: Measure + 'static> SobolDesign<M> {
     /// assert_eq!(run.evaluations, 1 << 12);
     /// let odd = SobolDesign::new(Uniform::unit(2).unwrap()).unwrap().points(1001);
     /// assert!(odd.integrator(|x: &[f64]| x[0]).is_err());
+    /// let three = SobolDesign::new(Uniform::unit(2).unwrap()).unwrap().replicates(3);
+    /// let error = three.integrator(|x: &[f64]| x[0]).err().unwrap().to_string();
+    /// assert!(error.contains("points = 65536 (the default)"), "{error}");
     /// ```
     pub fn points(mut self, points: u64) -> Self {
         self.points = points;
@@ -391,9 +394,15 @@ impl<M: Measure + 'static> SobolDesign<M> {
             ));
         }
         if self.points < replicates || !self.points.is_multiple_of(replicates) {
+            // Said of the default too: a caller who set only the replicates meets it here.
+            let default = if self.points == DEFAULT_POINTS {
+                " (the default)"
+            } else {
+                ""
+            };
             return Err(Error::invalid(
                 "points",
-                self.points,
+                format!("{}{default}", self.points),
                 format!(
                     "a positive multiple of the {replicates} replicates: a power of two such as \
                      {DEFAULT_POINTS} keeps each Sobol' net balanced"
