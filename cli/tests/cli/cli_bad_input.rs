@@ -1,4 +1,4 @@
-//! Generated bad command lines: for every program, 1,000 argument sets from a seeded
+//! Generated bad command lines: for every program, 500 argument sets from a seeded
 //! generator (valid flags with modest values, mixed with values outside each flag's domain,
 //! junk, unknown and repeated flags, stray arguments), each run with stdout read, closed and
 //! full (in turn). No run may panic, abort, hang (the guard kills it after 30 s), print more
