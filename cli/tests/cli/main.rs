@@ -6,7 +6,7 @@
 //! | programs, behaviour | tests |
 //! | --- | --- |
 //! | `points`, `integrate`, `variance_reduction`, `gallery`, `convergence`: output formats, one-line errors | `cli` (`points`, `samplers`, `integrate`, `figures`) |
-//! | every program on 1,000 generated bad command lines | `cli_bad_input` |
+//! | every program on 500 generated bad command lines | `cli_bad_input` |
 //! | `integrate --checkpoint` killed and resumed; the checkpoint file's guards | `cli_checkpoint_kill` |
 //! | bad flags, before any work | `cli_flags` |
 //! | `asian_option`, `points --measure`, `integrate --integrand keister` | `cli_measures` |
