@@ -18,6 +18,16 @@ const LANES: usize = 8;
 /// finite mean and standard error.
 const UNSCALED_LIMIT: f64 = f64::from_bits((1023 + 480) << 52); // 2^480, exactly
 
+/// An accumulator whose values so far are all zero takes a first value below this magnitude
+/// (2^-480) in units of a power of two near it: the squares of the deviations of values below
+/// about `1e-154` underflow, and the standard error with them (values of `1e-200` gave one
+/// `1e-14` of the true one).
+const SMALL_LIMIT: f64 = f64::from_bits((1023 - 480) << 52); // 2^-480, exactly
+
+/// The smallest units, 2^-960: normal, and values down to the least subnormal are then at
+/// least 2^-114 of them.
+const SMALLEST_SCALE: f64 = f64::from_bits((1023 - 960) << 52);
+
 /// The factor by which the scale grows, 2^64: a handful of steps covers the exponent range.
 const SCALE_STEP: f64 = f64::from_bits((1023 + 64) << 52); // 2^64
 
@@ -30,7 +40,9 @@ const SCALE_STEP: f64 = f64::from_bits((1023 + 64) << 52); // 2^64
 /// about `1e144` are accumulated in units of a power of two (exactly, so the bits of results
 /// that need no scaling are unchanged), so that values up to `f64::MAX` keep a mean within
 /// `[min, max]` and a finite standard error; only [`m2`](Self::m2) and
-/// [`variance`](Self::variance), which are squares, may then overflow to infinity.
+/// [`variance`](Self::variance), which are squares, may then overflow to infinity. Values all
+/// below about `1e-145` are accumulated in units near them likewise, so that their standard
+/// error does not underflow (their variance, a square, may).
 ///
 /// ```
 /// use mcint::stats::Accumulator;
@@ -105,6 +117,8 @@ impl Accumulator {
         }
         if y.abs() > UNSCALED_LIMIT * self.scale {
             self.rescale(y.abs());
+        } else if y != 0.0 && y.abs() < SMALL_LIMIT && self.all_zero_so_far() {
+            self.scale = small_scale_for(y.abs()).min(self.scale);
         }
         self.count += 1;
         let k = self.count as f64;
@@ -137,8 +151,17 @@ impl Accumulator {
     /// Expresses `m2` in units of `scale` (at least the current one).
     fn rescale_to(&mut self, scale: f64) {
         let ratio = self.scale / scale;
-        self.m2 *= ratio * ratio;
+        // Skipped for a zero `m2`: a ratio from small units can square to infinity.
+        if self.m2 != 0.0 {
+            self.m2 *= ratio * ratio;
+        }
         self.scale = scale;
+    }
+
+    /// Whether every value so far was zero (or there were none): such an accumulator is exact
+    /// in any units.
+    fn all_zero_so_far(&self) -> bool {
+        self.count == 0 || self.all_zero()
     }
 
     /// Adds every value of a slice: the same statistics as [`push`](Self::push)ing them one
@@ -150,7 +173,8 @@ impl Accumulator {
     /// Chan, Golub & LeVeque (1983) for the rounding of that mean; the slice's summary is then
     /// merged like [`merge`](Self::merge). The two-pass sums are at least as accurate as
     /// Welford's update, and the order of operations is fixed, so the bits do not depend on the
-    /// machine. A slice with values beyond about `1e144` falls back to pushing value by value.
+    /// machine. A slice with values beyond about `1e144`, or all below about `1e-145`, falls back to
+    /// pushing value by value.
     ///
     /// ```
     /// let mut acc = mcint::stats::Accumulator::new();
@@ -204,7 +228,8 @@ impl Accumulator {
         }
         let min = mins.iter().copied().fold(f64::INFINITY, f64::min);
         let max = maxs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        if min.abs().max(max.abs()) > UNSCALED_LIMIT {
+        let largest = min.abs().max(max.abs());
+        if largest > UNSCALED_LIMIT || (largest > 0.0 && largest < SMALL_LIMIT) {
             return None; // values that need a scale are pushed one by one
         }
         let sum: f64 = sums.iter().sum();
@@ -267,10 +292,21 @@ impl Accumulator {
         }
         let (na, nb) = (self.count as f64, other.count as f64);
         let n = na + nb;
-        let scale = self.scale.max(other.scale);
+        // The larger units, unless one side is all zeros, which takes the other's (small) ones.
+        let scale = if other.all_zero_so_far() {
+            self.scale
+        } else if self.all_zero_so_far() {
+            other.scale
+        } else {
+            self.scale.max(other.scale)
+        };
         self.rescale_to(scale);
         let other_ratio = other.scale / scale;
-        let other_m2 = other.m2 * (other_ratio * other_ratio);
+        let other_m2 = if other.m2 == 0.0 {
+            0.0
+        } else {
+            other.m2 * (other_ratio * other_ratio)
+        };
         // In units of `scale`; with scale 1 these are the plain formulas, bit for bit.
         let (mean_s, other_mean_s) = (self.mean / scale, other.mean / scale);
         let delta = other_mean_s - mean_s;
@@ -456,11 +492,26 @@ impl Accumulator {
 }
 
 /// The power of two (1, 2^64, 2^128, ...) in whose units values up to `magnitude` can be
-/// squared and summed without overflow: 1 up to [`UNSCALED_LIMIT`].
+/// squared and summed without overflow: 1 up to [`UNSCALED_LIMIT`]; below [`SMALL_LIMIT`]
+/// (and above 0) a power of 2^-64 near `magnitude`, in whose units the squares of values of
+/// that size do not underflow.
 pub(crate) fn scale_for(magnitude: f64) -> f64 {
+    if magnitude > 0.0 && magnitude < SMALL_LIMIT {
+        return small_scale_for(magnitude);
+    }
     let mut scale = 1.0;
     while magnitude > UNSCALED_LIMIT * scale {
         scale *= SCALE_STEP;
+    }
+    scale
+}
+
+/// The largest power of 2^64 at most `magnitude` (at most 1, at least the normal 2^-960): the
+/// units of an accumulator of small values.
+fn small_scale_for(magnitude: f64) -> f64 {
+    let mut scale = 1.0;
+    while magnitude < scale && scale > SMALLEST_SCALE {
+        scale /= SCALE_STEP;
     }
     scale
 }
@@ -519,8 +570,8 @@ impl TryFrom<AccumulatorState> for Accumulator {
 
     fn try_from(s: AccumulatorState) -> std::result::Result<Self, String> {
         let rounding_ok = s.rounding.is_finite() && s.rounding >= 0.0;
-        // A power of two from 1 up: the only scales an accumulator takes.
-        let scale_ok = s.scale.is_finite() && s.scale >= 1.0 && s.scale.to_bits() << 12 == 0;
+        // A (normal) power of two: the only scales an accumulator takes.
+        let scale_ok = s.scale.is_finite() && s.scale > 0.0 && s.scale.to_bits() << 12 == 0;
         let consistent = rounding_ok
             && scale_ok
             && match (s.count, s.min, s.max) {

@@ -1,7 +1,8 @@
 //! Values up to `f64::MAX`: the Accumulator works in units of a power of two beyond about
 //! 1e144, so means stay within `[min, max]` and standard errors stay finite; every runner
 //! either gives a finite, correct estimate for an integrand of magnitude 1e300 or refuses with
-//! `Error::Overflow`, never NaN or infinity passed off as an estimate.
+//! `Error::Overflow`, never NaN or infinity passed off as an estimate. Values all below about
+//! 1e-145 are accumulated in small units likewise, so that their error bars do not underflow.
 
 use mcint::adaptive::{Miser, TwoStage, Vegas};
 use mcint::pdf::UniformBox;
@@ -52,6 +53,92 @@ fn huge_values_have_the_statistics_of_small_ones_scaled() {
     assert!((se / eb.std_error.unwrap() - 1.0).abs() < 1e-12, "{se}");
 }
 
+/// 2^-1000: values near it have squares far below the least double.
+const TINY: f64 = 9.332636185032189e-302;
+
+#[test]
+fn tiny_values_have_the_statistics_of_ordinary_ones_scaled() {
+    assert_eq!(TINY, 2f64.powi(-1000));
+    let ordinary = values(1000);
+    let mut a = Accumulator::new();
+    let mut b = Accumulator::new();
+    for &u in &ordinary {
+        a.push(u);
+        b.push(u * TINY);
+    }
+    // The same operations in units of a power of two: bit for bit, times 2^-1000. Before
+    // the units, the squares underflowed and the standard error came out 0.
+    assert_eq!(b.mean(), a.mean() * TINY);
+    let (ea, eb) = (a.estimate(), b.estimate());
+    assert_eq!(eb.std_error.unwrap(), ea.std_error.unwrap() * TINY);
+    // Slices, merges (with an all-zero part) and replicate means: the same to rounding.
+    let mut c = Accumulator::new();
+    c.extend(&[0.0; 10]);
+    c.extend(&ordinary[..500].iter().map(|u| u * TINY).collect::<Vec<_>>());
+    let mut d = Accumulator::new();
+    d.extend(&ordinary[500..].iter().map(|u| u * TINY).collect::<Vec<_>>());
+    c.merge(&d);
+    let mut zeros = Accumulator::new();
+    zeros.extend(&[0.0; 10]);
+    let mut with_zeros = a;
+    with_zeros.merge(&zeros);
+    let se = c.estimate().std_error.unwrap();
+    let expected = with_zeros.estimate().std_error.unwrap() * TINY;
+    assert!(
+        (se / expected - 1.0).abs() < 1e-12,
+        "{se:e} vs {expected:e}"
+    );
+    let means: Vec<f64> = ordinary[..8].iter().map(|u| u * TINY).collect();
+    let tiny = Estimate::from_replicates(&means, 1).unwrap();
+    let plain = Estimate::from_replicates(&ordinary[..8], 1).unwrap();
+    assert!((tiny.std_error.unwrap() / (plain.std_error.unwrap() * TINY) - 1.0).abs() < 1e-12);
+    // The units survive a save; the least subnormal keeps normal units.
+    let back: Accumulator = serde_json::from_str(&serde_json::to_string(&b).unwrap()).unwrap();
+    assert_eq!(back, b);
+    let mut least = Accumulator::new();
+    least.extend(&[5e-324, 1e-323, 5e-324]);
+    assert!(least.estimate().std_error.unwrap() > 0.0);
+    assert!(serde_json::from_str::<Accumulator>(&serde_json::to_string(&least).unwrap()).is_ok());
+}
+
+/// Integrands of magnitude 2^-1000: the Integrator's error bars are those of the same
+/// integrand at magnitude 1, scaled (they were 1e-14 of them, the mean's rounding floor);
+/// MISER's allocation reads variances, whose squares may still underflow, so its error bar
+/// can differ, but it stays an error bar.
+#[test]
+fn tiny_integrands_keep_their_error_bars() {
+    let runs = |scale: f64| {
+        let f = move |x: &[f64]| scale * (1.0 + x[0]);
+        let unit = || UniformBox::unit(2).unwrap();
+        let plain = Integrator::over_box(f, unit())
+            .samples(4096)
+            .seed(3)
+            .run()
+            .unwrap();
+        let rqmc = Integrator::over_box(f, unit())
+            .sampler(Sobol::new(2, Scramble::Owen, 3).unwrap())
+            .samples(1024)
+            .replicates(8)
+            .run()
+            .unwrap();
+        let miser = Miser::new(f, unit()).samples(4096).seed(3).run().unwrap();
+        [plain, rqmc, miser].map(|e| (e.mean / scale, e.std_error.unwrap() / scale))
+    };
+    let (ordinary, tiny) = (runs(1.0), runs(TINY));
+    for (method, (a, b)) in ["plain", "rqmc"].iter().zip(ordinary.iter().zip(&tiny)) {
+        assert!(
+            (b.1 / a.1 - 1.0).abs() < 1e-9,
+            "{method}: {b:?} vs {a:?} (relative)"
+        );
+    }
+    let (mean, std_error) = tiny[2];
+    assert!(std_error > 1e-6, "MISER: {std_error:e} (relative)");
+    assert!(
+        (mean - 1.5).abs() < 5.0 * std_error,
+        "MISER: {mean} +- {std_error:e}"
+    );
+}
+
 #[test]
 fn values_at_the_largest_double_keep_a_finite_error_bar() {
     let mut acc = Accumulator::new();
@@ -80,7 +167,7 @@ fn a_scaled_accumulator_survives_a_save() {
     let mut small = Accumulator::new();
     small.extend(&values(100));
     assert!(!serde_json::to_string(&small).unwrap().contains("scale"));
-    // A scale that is not a power of two from 1 up is refused.
+    // A scale that is not a power of two is refused.
     let bad = text.replace("\"scale\":", "\"scale\":3.0,\"x\":");
     assert!(serde_json::from_str::<Accumulator>(&bad).is_err());
 }
