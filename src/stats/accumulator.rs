@@ -148,7 +148,8 @@ impl Accumulator {
         self.rescale_to(scale_for(magnitude).max(self.scale));
     }
 
-    /// Expresses `m2` in units of `scale` (at least the current one).
+    /// Expresses `m2` in units of `scale` (larger ones, or smaller for an all-zero
+    /// accumulator).
     fn rescale_to(&mut self, scale: f64) {
         let ratio = self.scale / scale;
         // Skipped for a zero `m2`: a ratio from small units can square to infinity.
@@ -173,8 +174,8 @@ impl Accumulator {
     /// Chan, Golub & LeVeque (1983) for the rounding of that mean; the slice's summary is then
     /// merged like [`merge`](Self::merge). The two-pass sums are at least as accurate as
     /// Welford's update, and the order of operations is fixed, so the bits do not depend on the
-    /// machine. A slice with values beyond about `1e144`, or all below about `1e-145`, falls back to
-    /// pushing value by value.
+    /// machine. A slice with values beyond about `1e144`, or all below about `1e-145`, falls
+    /// back to pushing value by value.
     ///
     /// ```
     /// let mut acc = mcint::stats::Accumulator::new();
