@@ -174,7 +174,7 @@ def _run(f, lower, upper, probe, spec, method, rtol, atol, n, replicates, max_ev
         method,
         n=_whole("n", n, 1),
         replicates=_whole("replicates", replicates, 1),
-        rtol=_relative_tolerance(rtol),
+        rtol=_positive("rtol", rtol),
         atol=_positive("atol", atol),
         max_evals=_whole("max_evals", max_evals, 1),
         time_limit=_positive("time_limit", time_limit),
@@ -224,17 +224,6 @@ def _whole(name, value, least):
     if value < least:
         raise ValueError(f"invalid {name} = {value}: expected a whole number >= {least}")
     return int(value)
-
-
-def _relative_tolerance(rtol):
-    rtol = _positive("rtol", rtol)
-    # No error bar gets smaller than the rounding of the mean: a smaller rtol is never met.
-    if rtol is not None and rtol < np.finfo(np.float64).eps:
-        raise ValueError(
-            f"invalid rtol = {rtol:g}: expected at least 2.2e-16 (numpy's float64 EPSILON): "
-            "no error bar gets smaller than the mean's rounding"
-        )
-    return rtol
 
 
 def _positive(name, value):

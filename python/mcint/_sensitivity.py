@@ -5,7 +5,7 @@ import numbers
 import numpy as np
 
 from . import _native, _seed
-from ._integrate import _outputs, _positive, _relative_tolerance, _whole
+from ._integrate import _outputs, _positive, _whole
 from ._result import RunWarning
 from .measure import spec_of
 
@@ -65,7 +65,7 @@ def sobol_indices(
         second_order=bool(second_order),
         n=_whole("n", n, 1),
         replicates=_whole("replicates", replicates, 1),
-        rtol=_relative_tolerance(rtol),
+        rtol=_positive("rtol", rtol),
         atol=_positive("atol", atol),
         max_evals=_whole("max_evals", max_evals, 1),
         time_limit=_positive("time_limit", time_limit),

@@ -191,7 +191,11 @@ def test_non_finite_values_are_a_floating_point_error():
         (dict(lower=[1, 0], upper=[0, 1]), ValueError, "lo < hi"),
         (dict(lower=[0, 0], upper=[1, np.inf]), ValueError, "finite"),
         (dict(rtol=-1.0), ValueError, "rtol"),
-        (dict(rtol=1e-20), ValueError, "rtol = 1e-20: expected at least 2.2e-16"),
+        (
+            dict(rtol=1e-20),
+            ValueError,
+            "rtol = 1e-20: expected a relative tolerance of at least 2.2e-16",
+        ),
         (dict(atol=np.nan), ValueError, "atol"),
         (dict(rtol="small"), TypeError, "number"),
         (dict(n=0), ValueError, "n = 0"),
