@@ -26,19 +26,27 @@ fn values(n: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Accumulators of `values` and of `values` times the power of two `factor`, checked to have
+/// the same mean and standard error times `factor`, bit for bit: the same operations in units
+/// of a power of two.
+fn pushed_and_scaled(values: &[f64], factor: f64) -> (Accumulator, Accumulator) {
+    let mut a = Accumulator::new();
+    let mut b = Accumulator::new();
+    for &u in values {
+        a.push(u);
+        b.push(u * factor);
+    }
+    assert_eq!(b.mean(), a.mean() * factor);
+    let (ea, eb) = (a.estimate(), b.estimate());
+    assert_eq!(eb.std_error.unwrap(), ea.std_error.unwrap() * factor);
+    (a, b)
+}
+
 #[test]
 fn huge_values_have_the_statistics_of_small_ones_scaled() {
     let small = values(1000);
-    let mut a = Accumulator::new();
-    let mut b = Accumulator::new();
-    for &u in &small {
-        a.push(u);
-        b.push(u * BIG);
-    }
-    // The same operations in units of a power of two: bit for bit, times 2^1000.
-    assert_eq!(b.mean(), a.mean() * BIG);
-    let (ea, eb) = (a.estimate(), b.estimate());
-    assert_eq!(eb.std_error.unwrap(), ea.std_error.unwrap() * BIG);
+    let (_, b) = pushed_and_scaled(&small, BIG);
+    let eb = b.estimate();
     assert!(b.mean() >= b.min() && b.mean() <= b.max());
     // The squares overflow, and say so with an infinity rather than a negative number.
     assert_eq!(b.m2(), f64::INFINITY);
@@ -60,17 +68,8 @@ const TINY: f64 = 9.332636185032189e-302;
 fn tiny_values_have_the_statistics_of_ordinary_ones_scaled() {
     assert_eq!(TINY, 2f64.powi(-1000));
     let ordinary = values(1000);
-    let mut a = Accumulator::new();
-    let mut b = Accumulator::new();
-    for &u in &ordinary {
-        a.push(u);
-        b.push(u * TINY);
-    }
-    // The same operations in units of a power of two: bit for bit, times 2^-1000. Before
-    // the units, the squares underflowed and the standard error came out 0.
-    assert_eq!(b.mean(), a.mean() * TINY);
-    let (ea, eb) = (a.estimate(), b.estimate());
-    assert_eq!(eb.std_error.unwrap(), ea.std_error.unwrap() * TINY);
+    // Before the small units, the squares underflowed and the standard error came out 0.
+    let (a, b) = pushed_and_scaled(&ordinary, TINY);
     // Slices, merges (with an all-zero part) and replicate means: the same to rounding.
     let mut c = Accumulator::new();
     c.extend(&[0.0; 10]);
