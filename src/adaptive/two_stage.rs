@@ -751,10 +751,13 @@ impl<F: ScalarIntegrand> ChunkJob for StrataJob<'_, '_, F> {
 fn neyman_allocation(pilot: &[Accumulator], main: u64) -> Vec<u64> {
     let strata = pilot.len();
     let free = main - MIN_MAIN * strata as u64;
+    // Standard deviations in common units: those of values near 1e-160 or 1e160 would
+    // underflow or overflow as plain variances.
+    let unit = Accumulator::common_unit(pilot);
     let sigmas: Vec<f64> = pilot
         .iter()
         .map(|a| {
-            let s = a.variance().sqrt();
+            let s = a.variance_in(unit).sqrt();
             if s.is_finite() { s } else { 0.0 }
         })
         .collect();
@@ -796,6 +799,9 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
             "at least two finite values per stratum, even when skipping",
         ));
     }
+    // Variances in common units (a power of two, exact), so that the squares of values near
+    // 1e-160 or 1e160 neither underflow nor overflow; the standard error is scaled back.
+    let unit = Accumulator::common_unit(strata);
     let mut mean = 0.0;
     let mut variance = 0.0;
     let mut dof_denominator = 0.0;
@@ -803,24 +809,36 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
     // Each stratum's own bound, its product with the volume and its share of the sum.
     let per_term = gamma(strata.len() as f64) + UNIT_ROUNDOFF;
     let mut rounding = 0.0;
+    let mut terms = Vec::with_capacity(strata.len());
     for acc in strata {
         let n = acc.count();
         samples += n;
         mean += volume * acc.mean();
         rounding += volume * (acc.rounding_error() + per_term * acc.mean().abs());
-        let v = volume * volume * acc.variance() / n as f64;
+        let v = volume * volume * acc.variance_in(unit) / n as f64;
         variance += v;
         dof_denominator += v * v / (n - 1) as f64;
+        terms.push((v, n));
     }
-    let dof = if dof_denominator > 0.0 {
-        variance * variance / dof_denominator
+    let squared = variance * variance;
+    let dof = if dof_denominator >= f64::MIN_POSITIVE && squared.is_finite() {
+        squared / dof_denominator
+    } else if variance > 0.0 && variance.is_finite() {
+        // The squares left the range of f64 (variances beyond about 1e154, or below 1e-154,
+        // in these units): the same ratio with every term divided by the largest.
+        let largest = terms.iter().fold(0.0, |m, &(v, _)| f64::max(m, v));
+        let (sum, squares) = terms.iter().fold((0.0, 0.0), |(sum, squares), &(v, n)| {
+            let r = v / largest;
+            (sum + r, squares + r * r / (n - 1) as f64)
+        });
+        sum * sum / squares
     } else {
         // No spread anywhere: any dof will do; take the pooled one.
         (samples - strata.len() as u64) as f64
     };
     let mut estimate = Estimate {
         mean,
-        std_error: Some(variance.sqrt()),
+        std_error: Some(variance.sqrt() * unit),
         dof: Some(dof),
         basis: ErrorBasis::PerSample,
         n: samples,

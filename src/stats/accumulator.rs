@@ -369,6 +369,31 @@ impl Accumulator {
         }
     }
 
+    /// The variance in units of `unit` (a power of two), `variance() / unit^2`, taken from the
+    /// scaled sums so that it does not underflow or overflow where that quotient is a normal
+    /// number (NaN with fewer than two values). Bit for bit [`variance`](Self::variance) when
+    /// the units are those of the sums (1 for values from about `1e-145` to `1e144`).
+    pub(crate) fn variance_in(&self, unit: f64) -> f64 {
+        if self.count < 2 {
+            f64::NAN
+        } else {
+            let ratio = self.scale / unit;
+            self.m2 / (self.count - 1) as f64 * ratio * ratio
+        }
+    }
+
+    /// Units in which the variances of all of `accumulators` can be compared and summed
+    /// ([`variance_in`](Self::variance_in)): those of their largest finite value in
+    /// magnitude, a power of two (1 for values from about `1e-145` to `1e144`).
+    pub(crate) fn common_unit(accumulators: &[Accumulator]) -> f64 {
+        let largest = accumulators
+            .iter()
+            .filter(|a| a.count > 0)
+            .map(|a| a.min.abs().max(a.max.abs()))
+            .fold(0.0, f64::max);
+        scale_for(largest)
+    }
+
     /// Smallest finite value (`+inf` when empty).
     ///
     /// ```

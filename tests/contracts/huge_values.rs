@@ -100,10 +100,10 @@ fn tiny_values_have_the_statistics_of_ordinary_ones_scaled() {
     assert!(serde_json::from_str::<Accumulator>(&serde_json::to_string(&least).unwrap()).is_ok());
 }
 
-/// Integrands of magnitude 2^-1000: the Integrator's error bars are those of the same
-/// integrand at magnitude 1, scaled (they were 1e-14 of them, the mean's rounding floor);
-/// MISER's allocation reads variances, whose squares may still underflow, so its error bar
-/// can differ, but it stays an error bar.
+/// Integrands of magnitude 2^-1000: the error bars of the Integrator and of two-stage
+/// sampling are those of the same integrand at magnitude 1, scaled (they were 1e-14 of them,
+/// the mean's rounding floor); MISER's allocation reads variances, whose squares may still
+/// underflow, so its error bar can differ, but it stays an error bar.
 #[test]
 fn tiny_integrands_keep_their_error_bars() {
     let runs = |scale: f64| {
@@ -120,22 +120,51 @@ fn tiny_integrands_keep_their_error_bars() {
             .replicates(8)
             .run()
             .unwrap();
+        let two_stage = TwoStage::new(f, unit(), 4).samples(4096).run().unwrap();
         let miser = Miser::new(f, unit()).samples(4096).seed(3).run().unwrap();
-        [plain, rqmc, miser].map(|e| (e.mean / scale, e.std_error.unwrap() / scale))
+        [plain, rqmc, two_stage, miser].map(|e| (e.mean / scale, e.std_error.unwrap() / scale))
     };
     let (ordinary, tiny) = (runs(1.0), runs(TINY));
-    for (method, (a, b)) in ["plain", "rqmc"].iter().zip(ordinary.iter().zip(&tiny)) {
+    for (method, (a, b)) in ["plain", "rqmc", "two-stage"]
+        .iter()
+        .zip(ordinary.iter().zip(&tiny))
+    {
         assert!(
             (b.1 / a.1 - 1.0).abs() < 1e-9,
             "{method}: {b:?} vs {a:?} (relative)"
         );
     }
-    let (mean, std_error) = tiny[2];
+    let (mean, std_error) = tiny[3];
     assert!(std_error > 1e-6, "MISER: {std_error:e} (relative)");
     assert!(
         (mean - 1.5).abs() < 5.0 * std_error,
         "MISER: {mean} +- {std_error:e}"
     );
+}
+
+/// Two-stage sampling's Welch-Satterthwaite degrees of freedom are a ratio of squared
+/// variances: at magnitudes near 1e-100 those squares underflowed (the pooled count was
+/// given instead), near 1e100 they overflowed (NaN).
+#[test]
+fn two_stage_degrees_of_freedom_do_not_depend_on_the_scale() {
+    let dof = |scale: f64| {
+        let f = move |x: &[f64]| scale * (1.0 + x[0]) * (1.0 + x[1] * x[1]);
+        let e = TwoStage::new(f, UniformBox::unit(2).unwrap(), 4)
+            .samples(4096)
+            .run()
+            .unwrap();
+        e.dof.unwrap()
+    };
+    let ordinary = dof(1.0);
+    // Fewer than the pooled 4096 - 16: the strata's variances differ.
+    assert!(ordinary < 4000.0, "{ordinary}");
+    for exponent in [-1000, -330, 330, 1000] {
+        let scaled = dof(2f64.powi(exponent));
+        assert!(
+            (scaled / ordinary - 1.0).abs() < 1e-9,
+            "2^{exponent}: {scaled} against {ordinary}"
+        );
+    }
 }
 
 #[test]
@@ -213,22 +242,16 @@ fn every_runner_is_honest_about_integrands_near_1e300() {
         .run();
     assert_right(rqmc, "rqmc");
     assert_right(Miser::new(huge, unit()).run(), "miser");
-    // VEGAS and two-stage sampling square values in sums of their own: beyond about 1e150
-    // they refuse with an overflow error (before: VEGAS returned NaN as its estimate, and
-    // two-stage an infinite standard error).
-    for (method, result) in [
-        ("vegas", Vegas::new(huge, unit()).run()),
-        ("two-stage", TwoStage::new(huge, unit(), 4).run()),
-    ] {
-        match result {
-            Err(err @ Error::Overflow { .. }) => {
-                assert!(
-                    err.to_string().contains("overflowed f64"),
-                    "{method}: {err}"
-                );
-            }
-            other => panic!("{method}: expected Error::Overflow, got {other:?}"),
+    // Two-stage sampling sums its strata's variances in the strata's units (it gave an
+    // infinite standard error, then an overflow error).
+    assert_right(TwoStage::new(huge, unit(), 4).run(), "two-stage");
+    // VEGAS squares values in sums of its own: beyond about 1e150 it refuses with an overflow
+    // error (before: it returned NaN as its estimate).
+    match Vegas::new(huge, unit()).run() {
+        Err(err @ Error::Overflow { .. }) => {
+            assert!(err.to_string().contains("overflowed f64"), "vegas: {err}");
         }
+        other => panic!("vegas: expected Error::Overflow, got {other:?}"),
     }
 }
 
