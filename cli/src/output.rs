@@ -25,6 +25,18 @@ macro_rules! note {
     };
 }
 
+/// `x` with `digits` decimals (as `{}` when `None`), in exponent form outside `1e-4..1e15`
+/// so that a price of `1e200` is not two hundred digits.
+pub fn decimals(x: f64, digits: Option<usize>) -> String {
+    let plain = x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs());
+    match (plain, digits) {
+        (true, Some(d)) => format!("{x:.d$}"),
+        (true, None) => format!("{x}"),
+        (false, Some(d)) => format!("{x:.d$e}"),
+        (false, None) => format!("{x:e}"),
+    }
+}
+
 /// Writes `args` and a newline to stdout (see [`say!`](crate::say)).
 pub fn line(args: std::fmt::Arguments) {
     let mut out = std::io::stdout().lock();

@@ -33,6 +33,7 @@ use mcint::stats::{StopReason, Tolerance};
 use mcint::{Estimate, Integrator};
 use mcint_cli::args as support;
 use mcint_cli::asian;
+use mcint_cli::output::decimals;
 use mcint_cli::{note, say};
 use std::time::Instant;
 use support::Args;
@@ -223,11 +224,11 @@ fn run() -> Result<(), String> {
             "geometric"
         },
         contract.dates,
-        contract.s0,
-        contract.strike,
-        contract.rate,
-        contract.sigma,
-        contract.maturity
+        decimals(contract.s0, None),
+        decimals(contract.strike, None),
+        decimals(contract.rate, None),
+        decimals(contract.sigma, None),
+        decimals(contract.maturity, None)
     );
     say!(
         "paths       {} construction, {} points, control {}",
@@ -235,16 +236,17 @@ fn run() -> Result<(), String> {
         choice.sampler.name(),
         if choice.control { "geometric" } else { "none" }
     );
-    say!("price       {:.10}", estimate.mean);
+    say!("price       {}", decimals(estimate.mean, Some(10)));
     match (estimate.std_error, estimate.confidence_interval(0.95)) {
         (Some(se), Ok(Some((lo, hi)))) => {
             say!("std error   {se:.3e}");
-            say!("95% CI      [{lo:.10}, {hi:.10}]");
+            let (lo, hi) = (decimals(lo, Some(10)), decimals(hi, Some(10)));
+            say!("95% CI      [{lo}, {hi}]");
         }
         _ => say!("std error   none"),
     }
     if let Some(exact) = exact {
-        say!("exact       {exact:.10} (closed form)");
+        say!("exact       {} (closed form)", decimals(exact, Some(10)));
     }
     say!("evaluations {}", estimate.evaluations);
     if estimate.stop == StopReason::TimeLimit {

@@ -118,6 +118,57 @@ fn asian_option_help_states_the_defaults_a_plain_run_uses() {
     assert_eq!(report["replicates"], 16);
 }
 
+/// Prices far from 1 keep a readable form: `--s0 1e200` printed a 201-digit price and
+/// interval with ten decimals each.
+#[test]
+fn asian_option_prints_extreme_prices_with_an_exponent() {
+    let out = run(
+        "asian_option",
+        &["--s0", "1e200", "--strike", "1e200", "--n", "1024"],
+    );
+    assert!(out.status.success(), "{}", common::stderr(&out));
+    let text = stdout(&out);
+    let price = text
+        .lines()
+        .find_map(|l| l.strip_prefix("price       "))
+        .unwrap_or_else(|| panic!("a price line in {text}"));
+    // An at-the-money Asian call with these settings is worth a few percent of S0.
+    let value: f64 = price.parse().unwrap_or_else(|_| panic!("{text}"));
+    assert!(
+        price.contains('e') && (1e198..1e199).contains(&value),
+        "{text}"
+    );
+    assert!(text.contains("S0 1e200 K 1e200 "), "{text}");
+    assert!(text.lines().all(|l| l.len() < 80), "{text}");
+    // The closed form of the geometric payoff scales too.
+    let out = run(
+        "asian_option",
+        &[
+            "--payoff",
+            "geometric",
+            "--s0",
+            "1e-200",
+            "--strike",
+            "1e-200",
+            "--n",
+            "1024",
+        ],
+    );
+    let text = stdout(&out);
+    let exact = text
+        .lines()
+        .find_map(|l| {
+            l.strip_suffix(" (closed form)")?
+                .strip_prefix("exact       ")
+        })
+        .unwrap_or_else(|| panic!("an exact line in {text}"));
+    let value: f64 = exact.parse().unwrap_or_else(|_| panic!("{text}"));
+    assert!(
+        exact.contains('e') && (1e-202..1e-201).contains(&value),
+        "{text}"
+    );
+}
+
 #[test]
 fn asian_option_refuses_bad_input() {
     let bad =
