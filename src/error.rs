@@ -79,8 +79,9 @@ pub enum Error {
     },
     /// A result is not representable in `f64`: every contribution was finite, but a sum
     /// behind the estimate or its standard error overflowed. The Integrator, MISER and
-    /// two-stage sampling handle values up to `f64::MAX`; VEGAS and multilevel runs, which
-    /// square values in sums of their own, need values below about `1e150`.
+    /// two-stage sampling handle values up to `f64::MAX`; VEGAS, multilevel runs and the
+    /// covariance of a vector run, which square values in sums of their own, need values
+    /// below about `1e150`.
     Overflow {
         /// What overflowed (for example `"estimate"`).
         what: &'static str,
@@ -286,10 +287,10 @@ impl fmt::Display for Error {
             ),
             Error::Overflow { what, value } => write!(
                 f,
-                "the {what} is {value}: a sum behind it overflowed f64 (largest 1.8e308; VEGAS \
-                 and multilevel runs square the integrand's values, so they need values below \
-                 about 1e150): divide the integrand by a known factor and multiply the result \
-                 by it"
+                "the {what} is {value}: a sum behind it overflowed f64 (largest 1.8e308; VEGAS, \
+                 multilevel runs and the covariance of a vector run square the integrand's \
+                 values, so they need values below about 1e150): divide the integrand by a \
+                 known factor and multiply the result by it"
             ),
             Error::Unsupported { operation, reason } => {
                 write!(f, "{operation} is not supported: {reason}")

@@ -169,6 +169,7 @@ fn drive_here(stages: &mut (dyn Stages + Send), drive: &Drive<'_>) -> Result<Vec
         let Some(estimate) = stages.estimate()? else {
             continue;
         };
+        targets.check_representable(&estimate)?;
         let (judged, met) = targets.judge(estimate);
         match stages.verdict(&judged, met, targets) {
             Verdict::Continue => {}

@@ -85,6 +85,15 @@ impl<'a> Targets<'a> {
         self.limits().and_then(|t| t.time())
     }
 
+    /// An error when a derived quantity's error bar cannot be formed from `run` at all (its
+    /// outputs' variances below what f64 holds: see `Derived`): more points only make them
+    /// smaller, so the run stops at once rather than at its evaluation limit.
+    pub(crate) fn check_representable(&self, run: &VectorEstimate) -> Result<()> {
+        self.derived
+            .iter()
+            .try_for_each(|(quantity, _)| quantity.check_representable(run))
+    }
+
     /// Whether the estimate meets every target.
     pub(crate) fn met(&self, run: &VectorEstimate) -> bool {
         let outputs = self

@@ -11,7 +11,7 @@ use crate::measure::Measure;
 use crate::pdf::UniformBox;
 use crate::points::Points;
 use crate::sampler::{Scramble, Sobol};
-use crate::stats::{Tolerance, VectorEstimate, Warning};
+use crate::stats::{Tolerance, VectorEstimate, Warning, unrepresentable_output};
 
 /// Points of the design unless [`SobolDesign::points`] says otherwise.
 pub const DEFAULT_POINTS: u64 = 1 << 16;
@@ -455,6 +455,14 @@ impl<M: Measure + 'static> SobolDesign<M> {
             ));
         }
         let layout = self.layout(run.outputs.len() / block)?;
+        // The model's values and squares (the first four integrals of each output's block)
+        // are never exactly zero but for a zero model (standard error 0, not refused).
+        let moments = (0..layout.model_outputs).flat_map(|o| (0..4).map(move |k| (o, k)));
+        for (o, k) in moments {
+            if unrepresentable_output(run, [layout.moments(o) + k]).is_some() {
+                return Err(too_small(layout, run, o));
+            }
+        }
         let outputs = (0..layout.model_outputs)
             .map(|o| self.output_indices(layout, run, o))
             .collect::<Result<Vec<_>>>()?;
@@ -517,6 +525,30 @@ impl<M: Measure + 'static> SobolDesign<M> {
             variance,
         })
     }
+}
+
+/// The error for model output `o`, whose values are so small that the design's squares of
+/// them have variances f64 cannot hold (their indices' error bars came out 1e-9 of the true
+/// ones near `1e-80`, and could not be formed at all below).
+fn too_small(layout: Layout, run: &VectorEstimate, o: usize) -> Error {
+    let moments = layout.moments(o);
+    let mean = |k: usize| run.outputs[moments + k].mean.abs();
+    let magnitude = mean(2).max(mean(3)).sqrt().max(mean(0)).max(mean(1));
+    // A power of two near 1 / magnitude (1 for a magnitude of 0: nothing to go by).
+    let factor = if magnitude > 0.0 {
+        2f64.powi(-(magnitude.log2().round() as i32))
+    } else {
+        1.0
+    };
+    Error::invalid(
+        "model output",
+        format!("output {o} of magnitude about {magnitude:.1e}"),
+        format!(
+            "outputs from about 1e-70 up: the design squares the model's values, and the \
+             indices' error bars square those again; multiply the model by a constant such as \
+             {factor:.0e} (its indices do not change)"
+        ),
+    )
 }
 
 /// The design's integrand over `[0,1)^{2k}` (the table of the `layout` module), on blocks

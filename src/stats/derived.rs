@@ -10,6 +10,16 @@ use super::vector_estimate::VectorEstimate;
 use super::warning::Warning;
 use crate::error::{Error, Result};
 
+/// An output weighs in a derived quantity's error bar when its standard error times the
+/// gradient is at least this share (2^-26) of the largest such term: below, its variance adds
+/// less than 2^-52 of the largest.
+const WEIGHS: f64 = 1.0 / (1u64 << 26) as f64;
+
+/// The least variance of an output that a derived quantity's error bar accepts, 2^-990 (about
+/// `1e-298`): a normal number with room to spare, so that what the covariance loses to
+/// subnormal rounding off its diagonal is below 2^-84 of what stands on it.
+const SMALLEST_VARIANCE: f64 = f64::from_bits((1023 - 990) << 52);
+
 type Value = Arc<dyn Fn(&[f64]) -> f64 + Send + Sync>;
 type Gradient = Arc<dyn Fn(&[f64], &mut [f64]) + Send + Sync>;
 
@@ -29,7 +39,9 @@ type Gradient = Arc<dyn Fn(&[f64], &mut [f64]) + Send + Sync>;
 /// error comes from the replicates' covariance, as each output's does.
 ///
 /// A ratio whose denominator's 95% interval contains zero is refused with an error that says
-/// so: neither the ratio nor a first-order error bar means anything there.
+/// so: neither the ratio nor a first-order error bar means anything there. So is a quantity
+/// of outputs whose standard errors are below about `1e-149` ([`Error::Unsupported`]): their
+/// covariances underflow f64, and the integrand needs multiplying by a constant.
 ///
 /// ```
 /// use mcint::{Integrator, pdf::UniformBox, stats::Derived};
@@ -235,9 +247,63 @@ impl Derived {
         }
     }
 
+    /// Refuses a run whose covariance cannot carry this quantity's error bar: an output that
+    /// weighs in it (its standard error times `|dg/dI_k|` at least 2^-26 of the largest such
+    /// term, and at least 2^-495) with a standard error below about `1e-149`, whose square, on the covariance's
+    /// diagonal, and the products off it leave the normal range of f64 (the error bar of a
+    /// ratio came out 2e-10 of the true one, or infinite, for integrands near `1e-160`). When
+    /// the gradient itself cannot be formed (a smooth function's can overflow there), every
+    /// output is checked.
+    pub(crate) fn check_representable(&self, run: &VectorEstimate) -> Result<()> {
+        match self.value_and_gradient(run) {
+            Ok((_, gradient)) => self.underflow_error(run, Some(&gradient)),
+            Err(_) => self.underflow_error(run, None),
+        }
+    }
+
+    /// The error of [`check_representable`](Self::check_representable), given the gradient
+    /// when there is one; `Ok` without one for a ratio (whose own errors say more).
+    fn underflow_error(&self, run: &VectorEstimate, gradient: Option<&[f64]>) -> Result<()> {
+        let found = match gradient {
+            Some(gradient) => {
+                let term = |k: usize| gradient[k].abs() * run.outputs[k].std_error.unwrap_or(0.0);
+                let largest = (0..gradient.len()).map(term).fold(0.0, f64::max);
+                // A term below 2^-495 adds less than 2^-990 to the variance: an index that is
+                // exactly zero (its output's standard error a subnormal rounding floor) has
+                // no error bar to lose.
+                let least = (largest * WEIGHS).max(SMALLEST_VARIANCE.sqrt());
+                let weighs = (0..gradient.len()).filter(|&k| term(k) >= least);
+                unrepresentable_output(run, weighs.collect::<Vec<_>>())
+            }
+            None if matches!(self.kind, Kind::Smooth { .. }) => {
+                unrepresentable_output(run, 0..run.outputs.len())
+            }
+            None => None,
+        };
+        match found {
+            Some((k, std_error)) => Err(Error::Unsupported {
+                operation: "a derived quantity's error bar",
+                reason: format!(
+                    "output {k} has standard error {std_error:e}, whose square (its variance \
+                     in the delta method) is below what f64 keeps to full precision (about \
+                     1e-298): multiply the integrand by a constant that brings its outputs \
+                     nearer 1 (a ratio or a Sobol' index does not change)"
+                ),
+            }),
+            None => Ok(()),
+        }
+    }
+
     /// The estimate of this quantity from `run` (see [`VectorEstimate::derived`]).
     pub(crate) fn estimate(&self, run: &VectorEstimate) -> Result<Estimate> {
-        let (value, gradient) = self.value_and_gradient(run)?;
+        let (value, gradient) = match self.value_and_gradient(run) {
+            Ok(found) => found,
+            Err(err) => {
+                self.underflow_error(run, None)?;
+                return Err(err);
+            }
+        };
+        self.underflow_error(run, Some(&gradient))?;
         let used: Vec<usize> = (0..gradient.len())
             .filter(|&k| gradient[k] != 0.0)
             .collect();
@@ -273,6 +339,20 @@ impl Derived {
         estimate.finalize();
         estimate.checked()
     }
+}
+
+/// The first of the outputs `read` of `run` (with the standard error that disqualifies it)
+/// whose variance is positive but below [`SMALLEST_VARIANCE`], where covariances lose
+/// precision to underflow: no delta-method error bar can be built on it.
+pub(crate) fn unrepresentable_output(
+    run: &VectorEstimate,
+    read: impl IntoIterator<Item = usize>,
+) -> Option<(usize, f64)> {
+    run.covariance_matrix.as_ref()?;
+    read.into_iter().find_map(|k| {
+        let std_error = run.outputs.get(k)?.std_error?;
+        (std_error > 0.0 && std_error * std_error < SMALLEST_VARIANCE).then_some((k, std_error))
+    })
 }
 
 /// `dg/dI_k` by central differences with steps of `eps^(1/3)` relative to each integral (or

@@ -19,6 +19,7 @@ pub use crate::stop_reason::StopReason;
 pub use accumulator::Accumulator;
 pub use covariance::CovarianceAccumulator;
 pub use derived::Derived;
+pub(crate) use derived::unrepresentable_output;
 pub use estimate::{ErrorBasis, Estimate};
 pub use goodness_of_fit::{GoodnessOfFit, chi_square_goodness_of_fit};
 pub use tolerance::Tolerance;

@@ -7,8 +7,9 @@
 use mcint::adaptive::{Miser, TwoStage, Vegas};
 use mcint::pdf::UniformBox;
 use mcint::sampler::{Scramble, Sobol};
-use mcint::stats::{Accumulator, Estimate};
-use mcint::{Error, Integrator};
+use mcint::stats::{Accumulator, Derived, Estimate};
+use mcint::{Error, Integrator, Tolerance};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// 2^1000: scaling by it is exact, so the statistics of `u * BIG` are those of `u` times it.
 const BIG: f64 = 1.0715086071862673e301;
@@ -165,6 +166,77 @@ fn two_stage_degrees_of_freedom_do_not_depend_on_the_scale() {
             "2^{exponent}: {scaled} against {ordinary}"
         );
     }
+}
+
+/// A ratio of two integrals of magnitude `scale`, from 4096 independent points and from 8
+/// Owen-scrambled replicates.
+fn ratios(scale: f64) -> [mcint::Result<Estimate>; 2] {
+    let f = move |x: &[f64], out: &mut [f64]| {
+        out[0] = scale * (1.0 + x[0]);
+        out[1] = scale * (1.0 + x[0] * x[1]);
+    };
+    let unit = || UniformBox::unit(2).unwrap();
+    let plain = Integrator::over_box_vector(2, f, unit())
+        .samples(4096)
+        .seed(1)
+        .run()
+        .unwrap();
+    let rqmc = Integrator::over_box_vector(2, f, unit())
+        .sampler(Sobol::new(2, Scramble::Owen, 1).unwrap())
+        .samples(1024)
+        .replicates(8)
+        .run()
+        .unwrap();
+    [plain, rqmc].map(|run| run.derived(&Derived::ratio(0, 1)))
+}
+
+/// Outputs near 1e-160 have covariances below the normal doubles: a ratio's delta-method
+/// error bar came out 2e-10 of the true one (and infinite near 1e-200). It is refused with an
+/// error that says what to do; at 2^-300 (about 5e-91) it is the ordinary one.
+#[test]
+fn derived_quantities_of_tiny_outputs_are_refused_not_shrunk() {
+    let ordinary = ratios(1.0).map(|r| r.unwrap());
+    let small = ratios(2f64.powi(-300)).map(|r| r.unwrap());
+    for (a, b) in ordinary.iter().zip(&small) {
+        assert!((b.std_error.unwrap() / a.std_error.unwrap() - 1.0).abs() < 1e-9);
+        assert!((b.mean / a.mean - 1.0).abs() < 1e-12);
+    }
+    for exponent in [-540, -700, -1000] {
+        for result in ratios(2f64.powi(exponent)) {
+            match result {
+                Err(err @ Error::Unsupported { .. }) => {
+                    assert!(err.to_string().contains("multiply the integrand"), "{err}");
+                }
+                other => panic!("2^{exponent}: expected Error::Unsupported, got {other:?}"),
+            }
+        }
+    }
+}
+
+/// A run to a tolerance on such a ratio stops at its first estimate with that error instead
+/// of running to its evaluation limit (2^24 evaluations here) on error bars it cannot form.
+#[test]
+fn a_tolerance_on_a_tiny_ratio_stops_at_once() {
+    let calls = AtomicU64::new(0);
+    let tiny = 2f64.powi(-540);
+    let f = |x: &[f64], out: &mut [f64]| {
+        calls.fetch_add(1, Ordering::Relaxed);
+        out[0] = tiny * (1.0 + x[0]);
+        out[1] = tiny * (1.0 + x[0] * x[1]);
+    };
+    let tolerance = Tolerance::relative(1e-6)
+        .unwrap()
+        .max_evaluations(1 << 24)
+        .unwrap();
+    let result = Integrator::over_box_vector(2, f, UniformBox::unit(2).unwrap())
+        .derived_tolerance(Derived::ratio(0, 1), tolerance)
+        .run();
+    assert!(
+        matches!(result, Err(Error::Unsupported { .. })),
+        "{result:?}"
+    );
+    let spent = calls.load(Ordering::Relaxed);
+    assert!(spent < 1 << 20, "{spent} evaluations");
 }
 
 #[test]

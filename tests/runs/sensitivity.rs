@@ -446,3 +446,40 @@ fn a_model_taking_blocks_gives_the_bits_of_the_per_point_model() {
         assert_eq!(indices.outputs.len(), 2);
     }
 }
+
+/// The indices do not depend on the model's scale, but the design squares its values and
+/// the error bars square those again: a model near 1e-80 got error bars 1e-9 of the true
+/// ones. From about 1e-70 up the indices are those of the model at scale 1 (exactly, for a
+/// power of two); below, `indices` refuses with an error that names the output and a factor.
+#[test]
+fn indices_of_a_tiny_model_are_the_same_or_refused() {
+    let ishigami = Ishigami::new(7.0, 0.1).unwrap();
+    let design = SobolDesign::new(ishigami.inputs()).unwrap().points(1 << 12);
+    let indices = |scale: f64| {
+        let run = design
+            .integrator(move |x: &[f64]| scale * ishigami.eval(x))
+            .unwrap()
+            .seed(3)
+            .run()
+            .unwrap();
+        design.indices(&run)
+    };
+    let ordinary = indices(1.0).unwrap();
+    let small = indices(2f64.powi(-200)).unwrap();
+    let pairs = ordinary.first_order().iter().zip(small.first_order());
+    for (a, b) in pairs.chain(ordinary.total().iter().zip(small.total())) {
+        assert!(
+            (a.mean - b.mean).abs() <= 1e-12 * a.mean.abs().max(1.0),
+            "{a:?} {b:?}"
+        );
+        let (sa, sb) = (a.std_error.unwrap(), b.std_error.unwrap());
+        assert!((sb / sa - 1.0).abs() < 1e-9, "{sa:e} {sb:e}");
+    }
+    for exponent in [-266, -700] {
+        let err = indices(2f64.powi(exponent)).unwrap_err().to_string();
+        assert!(
+            err.contains("model output") && err.contains("multiply the model"),
+            "2^{exponent}: {err}"
+        );
+    }
+}
