@@ -9,7 +9,7 @@ use crate::engine::{Executor, Limits, RunConfig, run_settings};
 use crate::error::{Error, Result};
 use crate::hash::hash_words;
 use crate::sampler::{Independent, Sampler, Scramble, Sobol};
-use crate::stats::{StopReason, Warning};
+use crate::stats::{Accumulator, StopReason, Warning};
 
 /// Share of the squared target left to the bias (Giles' `theta`): the sampling variance must
 /// fall below `(1 - theta) eps^2` and the bias below `sqrt(theta) eps`.
@@ -686,6 +686,7 @@ impl<L: Level> Multilevel<L> {
         target: f64,
         bias_stuck: &mut bool,
     ) -> bool {
+        let target = target / stats.unit;
         let variance_share = (1.0 - THETA) * target * target;
         let optimal = |v: &[f64], c: &[f64]| -> Vec<f64> {
             let total: f64 = v.iter().zip(c).map(|(v, c)| (v * c).sqrt()).sum();
@@ -736,6 +737,7 @@ impl<L: Level> Multilevel<L> {
         target: f64,
         initial: u64,
     ) -> Option<StopReason> {
+        let target = target / stats.unit;
         let variance: f64 = stats.mean_variance.iter().sum();
         if variance > (1.0 - THETA) * target * target {
             let worst = (0..levels.len())
@@ -791,7 +793,7 @@ impl<L: Level> Multilevel<L> {
                     samples: pooled.count(),
                     mean: pooled.difference.mean(),
                     variance: pooled.difference.variance(),
-                    std_error: stats.mean_variance[l].sqrt(),
+                    std_error: stats.mean_variance[l].sqrt() * stats.unit,
                     cost: stats.cost[l],
                     fine_mean: pooled.fine.mean(),
                     fine_variance: pooled.fine.variance(),
@@ -801,12 +803,16 @@ impl<L: Level> Multilevel<L> {
             })
             .collect();
         let estimate = summaries.iter().map(|l| l.mean).sum();
-        let std_error = stats.mean_variance.iter().sum::<f64>().sqrt();
+        // In the statistics' units, then scaled back (exact: a power of two).
+        let unit = stats.unit;
+        let std_error_in_units = stats.mean_variance.iter().sum::<f64>().sqrt();
         let deepest = summaries.len() - 1;
-        let sampling_share = target.map_or(std_error * std_error, |t| (1.0 - THETA) * t * t);
+        let sampling_share = target.map_or(std_error_in_units * std_error_in_units, |t| {
+            (1.0 - THETA) * (t / unit) * (t / unit)
+        });
         let fine_cost = self.model.fine_cost(deepest);
         let standard_mc_cost = if sampling_share > 0.0 {
-            summaries[deepest].fine_variance * fine_cost / sampling_share
+            pooled_of(&levels[deepest]).fine.variance_in(unit) * fine_cost / sampling_share
         } else {
             0.0
         };
@@ -815,7 +821,7 @@ impl<L: Level> Multilevel<L> {
         if stop == StopReason::MaxLevel {
             warnings.push(Warning::BiasAboveTarget {
                 level: deepest,
-                bias: stats.bias,
+                bias: stats.bias * unit,
                 target: THETA.sqrt() * target.unwrap_or(f64::NAN),
             });
         }
@@ -830,11 +836,13 @@ impl<L: Level> Multilevel<L> {
         if !converged && target.is_some() && stop != StopReason::MaxLevel {
             warnings.push(Warning::ToleranceNotMet { stop });
         }
+        let rmse_in_units =
+            (std_error_in_units * std_error_in_units + stats.bias * stats.bias).sqrt();
         MultilevelEstimate {
             estimate,
-            std_error,
-            bias: stats.bias,
-            rmse: (std_error * std_error + stats.bias * stats.bias).sqrt(),
+            std_error: std_error_in_units * unit,
+            bias: stats.bias * unit,
+            rmse: rmse_in_units * unit,
             target,
             levels: summaries,
             alpha: stats.alpha,
@@ -925,7 +933,9 @@ impl<L: Level> Multilevel<L> {
 
 /// Samples still to take on a level that wants `wanted` and holds `held`.
 fn extra(wanted: f64, held: u64) -> u64 {
-    if wanted.is_finite() && wanted > held as f64 {
+    // An infinite want (a target so far below the samples' spread that its square underflows)
+    // is more than any cost limit, which then ends the run; NaN wants nothing.
+    if wanted > held as f64 {
         (wanted.min(1e18) as u64).saturating_sub(held)
     } else {
         0
@@ -944,6 +954,10 @@ fn pooled_of(state: &LevelState) -> LevelSums {
 /// What the allocation reads of the levels so far.
 struct Stats {
     m: f64,
+    /// The units (a power of two, 1 for samples from about 1e-145 to 1e144) of the means,
+    /// variances and bias below, so that the squares of samples near 1e-160 or 1e160 neither
+    /// underflow nor overflow.
+    unit: f64,
     /// `V_l` per sample, with Giles' floor for levels too few samples show no variance in.
     variance: Vec<f64>,
     /// The variance of each level's mean.
@@ -958,10 +972,12 @@ struct Stats {
 impl Stats {
     fn of<L: Level>(levels: &[LevelState], m: f64, run: &Multilevel<L>) -> Result<Stats> {
         let pooled: Vec<LevelSums> = levels.iter().map(pooled_of).collect();
-        let mut mean: Vec<f64> = pooled.iter().map(|p| p.difference.mean().abs()).collect();
-        let mut variance: Vec<f64> = pooled.iter().map(|p| p.difference.variance()).collect();
-        // A variance that overflowed (samples above about 1e150 square past f64) would leave
-        // the allocation blind, spending the whole cost limit on infinite error bars.
+        let differences: Vec<Accumulator> = pooled.iter().map(|p| p.difference).collect();
+        let unit = Accumulator::common_unit(&differences);
+        let mut mean: Vec<f64> = differences.iter().map(|d| d.mean().abs() / unit).collect();
+        let mut variance: Vec<f64> = differences.iter().map(|d| d.variance_in(unit)).collect();
+        // A variance that overflowed even in these units would leave the allocation blind,
+        // spending the whole cost limit on infinite error bars.
         if let Some(&value) = variance.iter().find(|v| !v.is_finite()) {
             return Err(Error::Overflow {
                 what: "variance of a level's samples",
@@ -976,10 +992,14 @@ impl Stats {
             .zip(&pooled)
             .map(|(state, p)| {
                 if state.sums.len() == 1 {
-                    p.difference.variance() / p.count() as f64
+                    p.difference.variance_in(unit) / p.count() as f64
                 } else {
                     let r = state.sums.len() as f64;
-                    let means: Vec<f64> = state.sums.iter().map(|s| s.difference.mean()).collect();
+                    let means: Vec<f64> = state
+                        .sums
+                        .iter()
+                        .map(|s| s.difference.mean() / unit)
+                        .collect();
                     let centre = means.iter().sum::<f64>() / r;
                     means.iter().map(|x| (x - centre).powi(2)).sum::<f64>() / (r - 1.0) / r
                 }
@@ -1015,6 +1035,7 @@ impl Stats {
         let bias = extrapolated / (m.powf(decay) - 1.0);
         Ok(Stats {
             m,
+            unit,
             variance,
             mean_variance,
             cost,

@@ -438,19 +438,6 @@ fn bad_input_and_broken_models_are_errors() {
             .max_level(20))
         .contains("fit the sampler")
     );
-    // Prices near 1e200 square past f64: the first variances overflow, and the run says so
-    // instead of spending its cost limit on infinite error bars.
-    let huge = SdeLevels::new(
-        Sde::gbm(1e200, RATE, SIGMA).unwrap(),
-        Scheme::Milstein,
-        Payoff::european_call(STRIKE).unwrap(),
-        1.0,
-    )
-    .unwrap();
-    assert!(matches!(
-        Multilevel::new(huge).rmse(0.01).run(),
-        Err(Error::Overflow { value, .. }) if value == f64::INFINITY
-    ));
     assert!(Multilevel::new(levels()).survey(0, 100).is_err());
     assert!(Multilevel::new(levels()).survey(3, 1).is_err());
     assert!(
@@ -563,4 +550,52 @@ fn checkpoints_resume_to_the_uninterrupted_run() {
             .to_string();
         assert!(err.contains("fingerprint"), "{err}");
     }
+}
+
+/// Prices scaled by 2^664 (about 1e200) or 2^-700 (about 1e-211): Giles' statistics are kept
+/// in units of a power of two near the samples, so the run is the ordinary one scaled (GBM,
+/// Milstein and the call are linear in S0 and K; the accumulators sum values that need units
+/// one by one, so the last digits differ). Before, squares of prices near
+/// 1e200 overflowed (the run ended in `Error::Overflow`), and near 1e-160 the variances
+/// underflowed to 0: a standard error of 0 and a tolerance "met" on no evidence.
+#[test]
+fn prices_far_from_1_give_the_ordinary_run_scaled() {
+    let levels = |factor: f64| {
+        SdeLevels::new(
+            Sde::gbm(S0 * factor, RATE, SIGMA).unwrap(),
+            Scheme::Milstein,
+            Payoff::european_call(STRIKE * factor).unwrap(),
+            1.0,
+        )
+        .unwrap()
+        .discount(discount())
+    };
+    let run = |factor: f64| {
+        Multilevel::new(levels(factor))
+            .rmse(0.05 * factor)
+            .seed(3)
+            .run()
+            .unwrap()
+    };
+    let ordinary = run(1.0);
+    for exponent in [664, -700] {
+        let factor = 2f64.powi(exponent);
+        let scaled = run(factor);
+        let close = |a: f64, b: f64| (a / (b * factor) - 1.0).abs() < 1e-9;
+        assert!(close(scaled.estimate, ordinary.estimate), "2^{exponent}");
+        assert!(close(scaled.std_error, ordinary.std_error), "2^{exponent}");
+        assert!(close(scaled.bias, ordinary.bias), "2^{exponent}");
+        assert_eq!(scaled.cost, ordinary.cost, "2^{exponent}");
+        assert_eq!(scaled.stop, ordinary.stop, "2^{exponent}");
+    }
+    // A target far below such prices' spread: its square underflows in the run's units. The
+    // samples it wants are then more than any cost limit (before, they counted as none, and
+    // the run added levels down to the deepest allowed).
+    let far = Multilevel::new(levels(2f64.powi(664)))
+        .rmse(0.05)
+        .seed(3)
+        .run()
+        .unwrap();
+    assert_eq!(far.stop, StopReason::MaxEvaluations);
+    assert_eq!(far.levels.len(), 3, "{far}");
 }

@@ -36,6 +36,7 @@ use std::path::PathBuf;
 use mcint::multilevel::{Multilevel, MultilevelEstimate, Payoff, Scheme, Sde, SdeLevels};
 use mcint_cli::args::{self as support, Args};
 use mcint_cli::checkpoint;
+use mcint_cli::output::decimals;
 use mcint_cli::plot;
 use mcint_cli::ranks::Ranks;
 use mcint_cli::{note, say};
@@ -378,7 +379,7 @@ fn run() -> Result<(), String> {
         );
         say!("{survey}");
     }
-    say!("Multilevel run to RMSE {}:", settings.eps);
+    say!("Multilevel run to RMSE {}:", decimals(settings.eps, None));
     say!("{result}");
     if let Some(exact) = exact {
         let error = result.estimate - exact;
