@@ -371,8 +371,8 @@ impl Accumulator {
 
     /// The variance in units of `unit` (a power of two), `variance() / unit^2`, taken from the
     /// scaled sums so that it does not underflow or overflow where that quotient is a normal
-    /// number (NaN with fewer than two values). Bit for bit [`variance`](Self::variance) when
-    /// the units are those of the sums (1 for values from about `1e-145` to `1e144`).
+    /// number (NaN with fewer than two values). With `unit` 1 it is
+    /// [`variance`](Self::variance), bit for bit.
     pub(crate) fn variance_in(&self, unit: f64) -> f64 {
         if self.count < 2 {
             f64::NAN

@@ -249,11 +249,11 @@ impl Derived {
 
     /// Refuses a run whose covariance cannot carry this quantity's error bar: an output that
     /// weighs in it (its standard error times `|dg/dI_k|` at least 2^-26 of the largest such
-    /// term, and at least 2^-495) with a standard error below about `1e-149`, whose square, on the covariance's
-    /// diagonal, and the products off it leave the normal range of f64 (the error bar of a
-    /// ratio came out 2e-10 of the true one, or infinite, for integrands near `1e-160`). When
-    /// the gradient itself cannot be formed (a smooth function's can overflow there), every
-    /// output is checked.
+    /// term, and at least 2^-495) with a standard error below about `1e-149`, whose square,
+    /// on the covariance's diagonal, and the products off it leave the normal range of f64
+    /// (the error bar of a ratio came out 2e-10 of the true one, or infinite, for integrands
+    /// near `1e-160`). When the gradient itself cannot be formed (a smooth function's can
+    /// overflow there), every output is checked.
     pub(crate) fn check_representable(&self, run: &VectorEstimate) -> Result<()> {
         match self.value_and_gradient(run) {
             Ok((_, gradient)) => self.underflow_error(run, Some(&gradient)),
