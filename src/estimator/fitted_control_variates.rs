@@ -27,6 +27,12 @@ const DEFAULT_PILOT: u64 = 4096;
 /// this fraction of its own is collinear with them.
 const COLLINEARITY_TOLERANCE: f64 = 1e-10;
 
+/// Controls whose values are all below this magnitude (about `1e-140`) can have co-moments
+/// that underflow to 0 (squares of values below about `1e-154`, summed), and then "constant"
+/// cannot be told from "small". (A co-moment that kept a few bits still gives a coefficient:
+/// a rough one costs variance, never the estimate's honesty.)
+const SMALL_CONTROL: f64 = 1e-140;
+
 type ControlFn<'a> = Box<dyn Fn(&[f64]) -> f64 + Send + Sync + 'a>;
 
 /// `f` sampled from `pdf`, corrected by controls `g_j` with known integrals `G_j`, with
@@ -338,6 +344,19 @@ fn cholesky(total: &CovarianceAccumulator, k: usize) -> Result<Vec<f64>> {
     let mut l = vec![0.0; k * k];
     for j in 0..k {
         let diagonal = total.comoment(1 + j, 1 + j);
+        let mean = total.mean(1 + j);
+        let too_small = diagonal == 0.0 && mean != 0.0 && mean.abs() < SMALL_CONTROL;
+        if too_small || !diagonal.is_finite() {
+            return Err(Error::invalid(
+                "control",
+                format!(
+                    "{j} (mean {mean:e} over the pilot, sum of squared deviations {diagonal:e})"
+                ),
+                "controls whose squares f64 can hold (values from about 1e-160 to 1e150): \
+                 multiply the control and its integral by a constant (the coefficient scales \
+                 with it; the estimate does not change)",
+            ));
+        }
         if diagonal <= 0.0 {
             return Err(Error::invalid(
                 "control",

@@ -342,3 +342,42 @@ fn a_contribution_beyond_the_largest_double_is_an_error_that_says_so() {
     );
     assert!(err.to_string().contains("times the volume"), "{err}");
 }
+
+/// A control of magnitude `scale` on `e^x` of the same magnitude over [0, 1].
+fn with_scaled_control(scale: f64) -> mcint::Result<Estimate> {
+    Integrator::with_controls(
+        move |x: &[f64]| scale * x[0].exp(),
+        UniformBox::unit(1).unwrap(),
+    )
+    .control(move |x: &[f64]| scale * x[0], 0.5 * scale)
+    .samples(20_000)
+    .run()
+}
+
+/// A control whose squares underflow to 0 (values near 1e-200) was called "constant over the
+/// pilot", and one whose squares overflow (near 1e160) "a linear combination of the controls
+/// before it": both false. Each is now an error that says the magnitude is the cause. Near
+/// 1e-120 and 1e100 the run is the ordinary one scaled; near 1e-160 the pilot's subnormal
+/// sums give a rougher coefficient, which still gives an honest estimate.
+#[test]
+fn controls_far_from_1_are_fitted_or_refused_for_their_magnitude() {
+    let ordinary = with_scaled_control(1.0).unwrap();
+    for scale in [2f64.powi(-400), 2f64.powi(330)] {
+        let e = with_scaled_control(scale).unwrap();
+        let mean = e.mean / scale / ordinary.mean;
+        assert!((mean - 1.0).abs() < 1e-12, "{scale:e}: {mean}");
+        let ratio = e.std_error.unwrap() / scale / ordinary.std_error.unwrap();
+        assert!((ratio - 1.0).abs() < 1e-6, "{scale:e}: {ratio}");
+    }
+    let scale = 2f64.powi(-530);
+    let e = with_scaled_control(scale).unwrap();
+    let exact = std::f64::consts::E - 1.0;
+    assert!((e.mean / scale - exact).abs() < 5.0 * e.std_error.unwrap() / scale);
+    for scale in [2f64.powi(-660), 2f64.powi(530), 2f64.powi(1000)] {
+        let err = with_scaled_control(scale).unwrap_err().to_string();
+        assert!(
+            err.contains("squares f64 can hold") && !err.contains("constant over"),
+            "{scale:e}: {err}"
+        );
+    }
+}
