@@ -512,7 +512,7 @@ fn points_needed(targets: &Targets<'_>, folded: &Folded, z_inflated: f64) -> u64
     for (k, t) in targets.outputs.iter().enumerate() {
         if let Some(t) = t {
             let acc = &folded.accumulators[k];
-            needed = needed.max(size(acc.variance().sqrt(), t.target(acc.mean())));
+            needed = needed.max(size(acc.std_dev(), t.target(acc.mean())));
         }
     }
     if !targets.derived.is_empty() {

@@ -782,9 +782,9 @@ impl<L: Level> Multilevel<L> {
                     .then(|| {
                         let previous = pooled_of(&levels[l - 1]).fine;
                         let gap = pooled.difference.mean() - pooled.fine.mean() + previous.mean();
-                        let spread = pooled.difference.variance().sqrt()
-                            + pooled.fine.variance().sqrt()
-                            + previous.variance().sqrt();
+                        let spread = pooled.difference.std_dev()
+                            + pooled.fine.std_dev()
+                            + previous.std_dev();
                         gap.abs() / (3.0 * spread / (pooled.count() as f64).sqrt())
                     })
                     .filter(|c| c.is_finite());

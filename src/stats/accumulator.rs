@@ -382,6 +382,13 @@ impl Accumulator {
         }
     }
 
+    /// The sample standard deviation, `sqrt(variance())`, taken in the sums' units so that it
+    /// is finite and nonzero whenever the values are and differ (NaN with fewer than two
+    /// values); bit for bit `variance().sqrt()` when that neither overflows nor underflows.
+    pub(crate) fn std_dev(&self) -> f64 {
+        self.variance_in(self.scale).sqrt() * self.scale
+    }
+
     /// Units in which the variances of all of `accumulators` can be compared and summed
     /// ([`variance_in`](Self::variance_in)): those of their largest finite value in
     /// magnitude, a power of two (1 for values from about `1e-145` to `1e144`).

@@ -381,3 +381,29 @@ fn controls_far_from_1_are_fitted_or_refused_for_their_magnitude() {
         );
     }
 }
+
+/// A run to a relative tolerance plans its points from the per-sample spread: at 2^1000 that
+/// spread, read as `variance().sqrt()`, was infinite and the run went to its evaluation limit
+/// (2^30 points for a tolerance met at 1.5 x 10^5). It now plans as at magnitude 1.
+#[test]
+fn a_tolerance_run_plans_the_same_points_at_any_magnitude() {
+    let run = |scale: f64| {
+        let f = move |x: &[f64]| scale * (1.0 + x[0] * x[1]);
+        let tolerance = Tolerance::relative(1e-3)
+            .unwrap()
+            .max_evaluations(1 << 26)
+            .unwrap();
+        Integrator::over_box(f, UniformBox::unit(2).unwrap())
+            .tolerance(tolerance)
+            .seed(1)
+            .run()
+            .unwrap()
+    };
+    let ordinary = run(1.0);
+    assert!(ordinary.evaluations < 1 << 20, "{ordinary:?}");
+    for exponent in [1000, -1000] {
+        let scaled = run(2f64.powi(exponent));
+        assert_eq!(scaled.evaluations, ordinary.evaluations, "2^{exponent}");
+        assert_eq!(scaled.converged, Some(true), "2^{exponent}");
+    }
+}
