@@ -273,7 +273,7 @@ impl Derived {
                 // no error bar to lose.
                 let least = (largest * WEIGHS).max(SMALLEST_VARIANCE.sqrt());
                 let weighs = (0..gradient.len()).filter(|&k| term(k) >= least);
-                unrepresentable_output(run, weighs.collect::<Vec<_>>())
+                unrepresentable_output(run, weighs)
             }
             None if matches!(self.kind, Kind::Smooth { .. }) => {
                 unrepresentable_output(run, 0..run.outputs.len())
