@@ -261,6 +261,11 @@ impl Args {
     pub fn has(&self, name: &str) -> bool {
         self.switches.iter().any(|s| s == name)
     }
+
+    /// Whether `--name` was given, with a value or as a switch.
+    pub fn given(&self, name: &str) -> bool {
+        self.values.contains_key(name) || self.has(name)
+    }
 }
 
 /// The digits of the whole number that `text` writes in scientific notation (`1e6`, `2.5E3`,

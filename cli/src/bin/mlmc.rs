@@ -7,9 +7,10 @@
 //!     [--scheme euler|milstein] [--eps E] [--min-level L] [--max-level L] [--qmc] [--test]
 //!     [--plot FILE] [--json] ...
 //! ```
-//! `gbm` is `dS = r S dt + sigma S dW` (`--s0`, `--rate`, `--sigma`); `heston` adds the
-//! variance `dv = kappa (theta - v) dt + xi sqrt(v) dW_2` with correlation `rho` (`--v0`,
-//! `--kappa`, `--theta`, `--xi`, `--rho`; Euler with full truncation). The payoff is
+//! `gbm` is `dS = r S dt + sigma S dW` (`--s0`, `--rate`, `--sigma`); `heston` replaces
+//! `sigma` by the root of the variance `dv = kappa (theta - v) dt + xi sqrt(v) dW_2` with
+//! correlation `rho` (`--v0`, `--kappa`, `--theta`, `--xi`, `--rho`; Euler with full
+//! truncation). A flag of the other model is refused. The payoff is
 //! discounted by `exp(-r T)`; the barrier is a down-and-out call at `--barrier`.
 //!
 //! `--test` first samples `--test-samples` paths of every level up to `--test-levels` and
@@ -194,6 +195,19 @@ fn run() -> Result<(), String> {
     let strike = get("strike", 100.0, "a finite price")?;
     let barrier = get("barrier", 85.0, "a finite price")?;
     let rate = get("rate", 0.05, "a finite rate")?;
+    // A flag of the other model would be ignored: refused, so that no run silently prices
+    // another model than the one the user described.
+    let other_models_flags: &[&str] = match model.as_str() {
+        "gbm" => &["v0", "kappa", "theta", "xi", "rho"],
+        "heston" => &["sigma"],
+        _ => &[],
+    };
+    if let Some(flag) = other_models_flags.iter().find(|f| args.given(f)) {
+        return Err(format!(
+            "--{flag} does not apply to --model {model}: gbm takes --sigma; heston takes --v0, \
+             --kappa, --theta, --xi and --rho"
+        ));
+    }
     let sigma = get("sigma", 0.2, "a volatility >= 0")?;
     let maturity = get("maturity", 1.0, "a time > 0")?;
     let sde = match model.as_str() {

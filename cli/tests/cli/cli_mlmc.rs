@@ -144,7 +144,13 @@ fn the_plot_is_drawn() {
 
 #[test]
 fn bad_input_is_one_line() {
-    let cases: [(&[&str], &str); 7] = [
+    let cases: [(&[&str], &str); 9] = [
+        // A flag of the other model is refused, not silently ignored.
+        (
+            &["--model", "heston", "--sigma", "0.3"],
+            "--sigma does not apply to --model heston",
+        ),
+        (&["--rho", "0.3"], "--rho does not apply to --model gbm"),
         (&["--eps", "0"], "--eps"),
         (&["--model", "heston", "--scheme", "milstein"], "milstein"),
         (&["--payoff", "put"], "--payoff"),
