@@ -391,6 +391,14 @@ fn print_table(contract: &Contract, budget: &Budget) -> Result<(), String> {
     ] {
         contract.paths(construction).map_err(flag_error)?;
     }
+    // Likewise the replicates: the table's quasi-random rows are runs to a tolerance, whose
+    // error bar is the spread of two replicates or more.
+    if let Some(replicates @ 0..=1) = budget.replicates {
+        return Err(format!(
+            "invalid --replicates = {replicates}: expected at least 2 for --table (its runs \
+             to a tolerance take their error bar from the replicates' spread)"
+        ));
+    }
     say!(
         "arithmetic Asian call, {} dates: evaluations to a 95% half-width of {} x price (limit {})",
         contract.dates,

@@ -194,6 +194,10 @@ fn asian_option_refuses_bad_input() {
     let table = run("asian_option", &["--dates", "2000", "--table"]);
     assert_one_line_error(&table, &limit);
     assert!(stdout(&table).is_empty(), "{}", stdout(&table));
+    // The table's quasi-random rows need two replicates: refused before the first row.
+    let table = run("asian_option", &["--table", "--replicates", "1"]);
+    assert_one_line_error(&table, "invalid --replicates = 1: expected at least 2");
+    assert!(stdout(&table).is_empty(), "{}", stdout(&table));
     bad(&["--max-evals", "100"], "give --tol-rel too");
     bad(&["--tol-rel", "0"], "tolerance");
 }
