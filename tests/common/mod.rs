@@ -57,6 +57,36 @@ pub const SEEDS: u64 = 200;
 /// chances small (as `tests/runs/vector_vegas.rs` does), not a lower count on the same seeds.
 pub const REQUIRED: u64 = 186;
 
+/// `run(seed)` for every seed in `0..seeds`, in seed order, on a few threads: coverage studies
+/// of single-threaded runs are independent per seed, and spreading them lets a long study use
+/// the cores that the test harness leaves idle near its end.
+pub fn over_seeds<T: Send>(seeds: u64, run: impl Fn(u64) -> T + Sync) -> Vec<T> {
+    let workers = std::thread::available_parallelism().map_or(1, |n| n.get().min(4));
+    let next = std::sync::atomic::AtomicU64::new(0);
+    let mut results: Vec<(u64, T)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..workers)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut done = Vec::new();
+                    loop {
+                        let seed = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        if seed >= seeds {
+                            break done;
+                        }
+                        done.push((seed, run(seed)));
+                    }
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+            .collect()
+    });
+    results.sort_unstable_by_key(|(seed, _)| *seed);
+    results.into_iter().map(|(_, result)| result).collect()
+}
+
 /// Reject a goodness-of-fit test below this p-value.
 pub const P_REJECT: f64 = 1e-5;
 

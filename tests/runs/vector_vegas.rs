@@ -16,6 +16,7 @@
 //! covers about 94.5%, at which 186 of 200 fails by chance one time in seven (it did, 185,
 //! when `beta` changed), while 922 of 1000 separates 95% from 90% at both ends.
 
+use crate::common::over_seeds;
 use mcint::Error;
 use mcint::adaptive::Vegas;
 use mcint::pdf::UniformBox;
@@ -118,8 +119,10 @@ fn intervals_of_outputs_and_ratio_cover_and_the_ratio_error_is_its_spread() {
         let mut covered = [0u64; 3];
         let mut ratios = Vec::new();
         let mut predicted = 0.0;
-        for seed in 0..COVERAGE_SEEDS {
-            let run = vegas(stratified, seed).run().unwrap();
+        let runs = over_seeds(COVERAGE_SEEDS, |seed| {
+            vegas(stratified, seed).run().unwrap()
+        });
+        for run in runs {
             for (k, e) in run.outputs.iter().enumerate() {
                 let (lo, hi) = e.confidence_interval(0.95).unwrap().unwrap();
                 covered[k] += u64::from(lo <= exact[k] && exact[k] <= hi);

@@ -30,7 +30,7 @@
 //! half the exact value off, with agreeing iterations. So does Lepage's `vegas` with 10^4 and
 //! 10^5 points an iteration (`benches/peers_python/vegas_peers.py`).
 
-use crate::common::{REQUIRED, SEEDS};
+use crate::common::{REQUIRED, SEEDS, over_seeds};
 use mcint::adaptive::Vegas;
 use mcint::pdf::UniformBox;
 use mcint::stats::{StopReason, Tolerance};
@@ -78,19 +78,21 @@ fn check_with(
     let mut claimed_misses = 0;
     let mut disagreeing = 0;
     let mut evaluations = Vec::new();
-    for seed in 0..SEEDS {
+    let estimates = over_seeds(SEEDS, |seed| {
         let vegas = Vegas::new(f, UniformBox::unit(dims).unwrap())
             .stratified(stratified)
             .iterations(100_000)
             .tolerance(tolerance)
             .seed(seed)
             .threads(1);
-        let e = match samples {
+        match samples {
             Some(n) => vegas.samples(n),
             None => vegas,
         }
         .run()
-        .unwrap();
+        .unwrap()
+    });
+    for (seed, e) in estimates.into_iter().enumerate() {
         match e.stop {
             StopReason::ToleranceMet => {
                 assert!(e.half_width(0.95).unwrap().unwrap() <= tolerance.target(e.mean));
