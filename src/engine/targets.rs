@@ -86,8 +86,9 @@ impl<'a> Targets<'a> {
     }
 
     /// An error when a derived quantity's error bar cannot be formed from `run` at all (its
-    /// outputs' variances below what f64 holds: see `Derived`): more points only make them
-    /// smaller, so the run stops at once rather than at its evaluation limit.
+    /// outputs' variances below what f64 holds: see `Derived`), or its function panicked:
+    /// more points would not help, so the run stops at once rather than at its evaluation
+    /// limit.
     pub(crate) fn check_representable(&self, run: &VectorEstimate) -> Result<()> {
         self.derived
             .iter()

@@ -253,10 +253,14 @@ impl Derived {
     /// on the covariance's diagonal, and the products off it leave the normal range of f64
     /// (the error bar of a ratio came out 2e-10 of the true one, or infinite, for integrands
     /// near `1e-160`). When the gradient itself cannot be formed (a smooth function's can
-    /// overflow there), every output is checked.
+    /// overflow there), every output is checked. A panic in a smooth quantity's function is
+    /// returned too: it stops a run to a tolerance at once, as a panic in the integrand does,
+    /// where the other errors (a denominator near zero, a value not yet finite) may pass with
+    /// more points.
     pub(crate) fn check_representable(&self, run: &VectorEstimate) -> Result<()> {
         match self.value_and_gradient(run) {
             Ok((_, gradient)) => self.underflow_error(run, Some(&gradient)),
+            Err(panicked @ Error::IntegrandPanicked { .. }) => Err(panicked),
             Err(_) => self.underflow_error(run, None),
         }
     }

@@ -292,6 +292,33 @@ fn bad_input_is_an_error_that_says_what_is_allowed() {
         matches!(err, Error::IntegrandPanicked { ref message, .. } if message == "no g here"),
         "{err}"
     );
+    // In a run to a tolerance on it, the panic stops the run after its first stage, as one in
+    // the integrand does; it does not read as a tolerance not met yet until the limit.
+    let evaluations = std::sync::atomic::AtomicU64::new(0);
+    let counted = |x: &[f64], out: &mut [f64]| {
+        evaluations.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        three(x, out);
+    };
+    let limit = 1 << 24;
+    let err = Integrator::over_box_vector(3, counted, domain())
+        .derived_tolerance(
+            Derived::smooth(|_: &[f64]| panic!("no g here")),
+            Tolerance::absolute(1e-9)
+                .unwrap()
+                .max_evaluations(limit)
+                .unwrap(),
+        )
+        .run()
+        .unwrap_err();
+    assert!(
+        matches!(err, Error::IntegrandPanicked { ref message, .. } if message == "no g here"),
+        "{err}"
+    );
+    let spent = evaluations.into_inner();
+    assert!(
+        spent < limit / 16,
+        "{spent} evaluations before the panic stopped the run"
+    );
 }
 
 /// A ratio whose denominator's interval contains zero is refused with an error that says so,
