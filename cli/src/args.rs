@@ -196,7 +196,7 @@ impl Args {
             .ok()
             .or_else(|| whole_digits(v)?.parse().ok())
             .map(Some)
-            .ok_or_else(|| format!("invalid --{name} '{v}': expected {what}"))
+            .ok_or_else(|| format!("invalid --{name} = '{v}': expected {what}"))
     }
 
     /// The value of `--name`, which must be present.
@@ -211,7 +211,7 @@ impl Args {
         let path: String = self.require(name, what)?;
         if path.trim().is_empty() {
             return Err(format!(
-                "invalid --{name} '{path}': expected {what}, not a blank path"
+                "invalid --{name} = '{path}': expected {what}, not a blank path"
             ));
         }
         Ok(path.into())
@@ -249,7 +249,7 @@ impl Args {
         };
         if seconds.is_nan() || seconds <= 0.0 {
             return Err(format!(
-                "invalid --time-limit {seconds}: expected a number of seconds > 0"
+                "invalid --time-limit = {seconds}: expected a number of seconds > 0"
             ));
         }
         let limit =

@@ -33,7 +33,7 @@ impl Named {
         }
         let family: GenzFamily = name
             .parse()
-            .map_err(|_| format!("invalid --integrand '{name}': expected {INTEGRAND_NAMES}"))?;
+            .map_err(|_| format!("invalid --integrand = '{name}': expected {INTEGRAND_NAMES}"))?;
         match (args.list("a")?, args.list("u")?) {
             (None, None) => Genz::with_defaults(family, dims),
             (a, u) => {
@@ -118,7 +118,7 @@ impl TestFunction for Named {
 pub fn parse_ratio(text: &str, m: usize) -> Result<(usize, usize), String> {
     let bad = || {
         format!(
-            "invalid --ratio '{text}': expected two output indices I,J below {m} (positions in \
+            "invalid --ratio = '{text}': expected two output indices I,J below {m} (positions in \
              the --integrand list, from 0), I != J"
         )
     };

@@ -123,7 +123,7 @@ fn run() -> Result<(), String> {
             Some("geometric") => false,
             Some(other) => {
                 return Err(format!(
-                    "invalid --payoff '{other}': expected arithmetic or geometric"
+                    "invalid --payoff = '{other}': expected arithmetic or geometric"
                 ));
             }
         },
@@ -136,7 +136,7 @@ fn run() -> Result<(), String> {
             Some("pca") => Construction::Pca,
             Some(other) => {
                 return Err(format!(
-                    "invalid --construction '{other}': expected standard, bridge or pca"
+                    "invalid --construction = '{other}': expected standard, bridge or pca"
                 ));
             }
         },
@@ -149,7 +149,7 @@ fn run() -> Result<(), String> {
             Some("geometric") => true,
             Some(other) => {
                 return Err(format!(
-                    "invalid --control '{other}': expected geometric or none"
+                    "invalid --control = '{other}': expected geometric or none"
                 ));
             }
         },
@@ -267,7 +267,7 @@ fn contract(args: &Args) -> Result<Contract, String> {
             Ok(value)
         } else {
             Err(format!(
-                "invalid --{name} {value}: expected a finite number"
+                "invalid --{name} = {value}: expected a finite number"
             ))
         }
     };
@@ -276,7 +276,7 @@ fn contract(args: &Args) -> Result<Contract, String> {
         .unwrap_or(64);
     if !(1..=MAX_DATES).contains(&dates) {
         return Err(format!(
-            "invalid --dates {dates}: expected 1 to {MAX_DATES}"
+            "invalid --dates = {dates}: expected 1 to {MAX_DATES}"
         ));
     }
     let contract = Contract {
@@ -289,13 +289,13 @@ fn contract(args: &Args) -> Result<Contract, String> {
     };
     if contract.strike <= 0.0 {
         return Err(format!(
-            "invalid --strike {}: expected a price > 0",
+            "invalid --strike = {}: expected a price > 0",
             contract.strike
         ));
     }
     if contract.maturity <= 0.0 {
         return Err(format!(
-            "invalid --maturity {}: expected a time > 0",
+            "invalid --maturity = {}: expected a time > 0",
             contract.maturity
         ));
     }
@@ -311,7 +311,7 @@ fn sampler_kind(name: Option<&str>) -> Result<SamplerKind, String> {
         Some("lattice") => Ok(SamplerKind::Lattice),
         Some("halton") => Ok(SamplerKind::Halton),
         Some(other) => Err(format!(
-            "invalid --sampler '{other}': expected sobol, independent, lattice or halton"
+            "invalid --sampler = '{other}': expected sobol, independent, lattice or halton"
         )),
     }
 }

@@ -128,14 +128,16 @@ fn run() -> Result<(), String> {
         .get("max-log2", "a whole number from 6 to 24")?
         .unwrap_or(if publication { 16 } else { 12 });
     if !(6..=24).contains(&max_log2) {
-        return Err(format!("invalid --max-log2 {max_log2}: expected 6 to 24"));
+        return Err(format!("invalid --max-log2 = {max_log2}: expected 6 to 24"));
     }
     let seed: u64 = args.get("seed", "a whole number")?.unwrap_or(2018);
     let format: String = args
         .get::<String>("format", "png or svg")?
         .unwrap_or_else(|| "png".into());
     if format != "png" && format != "svg" {
-        return Err(format!("invalid --format '{format}': expected png or svg"));
+        return Err(format!(
+            "invalid --format = '{format}': expected png or svg"
+        ));
     }
     std::fs::create_dir_all(&out).map_err(|e| format!("cannot create '{}': {e}", out.display()))?;
 

@@ -97,7 +97,9 @@ fn run() -> Result<(), String> {
             _ => settings.frequency as u64,
         };
         if value > most {
-            return Err(format!("invalid --{name} {value}: expected at most {most}"));
+            return Err(format!(
+                "invalid --{name} = {value}: expected at most {most}"
+            ));
         }
     }
     let side = 2 * settings.frequency as u64 + 1;
@@ -111,7 +113,7 @@ fn run() -> Result<(), String> {
     }
     if settings.format != "png" && settings.format != "svg" {
         return Err(format!(
-            "invalid --format '{}': expected png or svg",
+            "invalid --format = '{}': expected png or svg",
             settings.format
         ));
     }
@@ -136,7 +138,7 @@ fn run() -> Result<(), String> {
 fn positive(args: &Args, name: &str, default: u64) -> Result<u64, String> {
     let value: u64 = args.get(name, "a whole number >= 1")?.unwrap_or(default);
     if value == 0 {
-        return Err(format!("invalid --{name} 0: expected at least 1"));
+        return Err(format!("invalid --{name} = 0: expected at least 1"));
     }
     Ok(value)
 }

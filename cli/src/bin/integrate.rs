@@ -221,7 +221,7 @@ fn run() -> Result<(), String> {
     let dims: usize = args.require("dims", "a whole number of dimensions >= 1")?;
     if dims > MAX_DIMS {
         return Err(format!(
-            "invalid --dims {dims}: expected at most {MAX_DIMS} (the families' exact values take \
+            "invalid --dims = {dims}: expected at most {MAX_DIMS} (the families' exact values take \
              O(d) work per quadrature node, and VEGAS keeps grids of d x 1000 increments per \
              chunk)"
         ));
@@ -403,11 +403,11 @@ fn checkpoint_settings(
         .get("save-every", "a whole number of chunks >= 1")?
         .unwrap_or(checkpoint::DEFAULT_SAVE_EVERY);
     if save_every == 0 {
-        return Err("invalid --save-every 0: expected at least 1 chunk".into());
+        return Err("invalid --save-every = 0: expected at least 1 chunk".into());
     }
     let stop_after = args.get("stop-after", "a whole number of chunks >= 1")?;
     if stop_after == Some(0) {
-        return Err("invalid --stop-after 0: expected at least 1 chunk".into());
+        return Err("invalid --stop-after = 0: expected at least 1 chunk".into());
     }
     Ok(Some(checkpoint::Settings {
         path: path.into(),

@@ -189,7 +189,7 @@ fn run() -> Result<(), String> {
         .map_err(text)?;
     let eps = get("eps", 0.01, "a number > 0")?;
     if !(eps.is_finite() && eps > 0.0) {
-        return Err(format!("invalid --eps {eps}: expected a number > 0"));
+        return Err(format!("invalid --eps = {eps}: expected a number > 0"));
     }
     let s0 = get("s0", 100.0, "a price > 0")?;
     let strike = get("strike", 100.0, "a finite price")?;
@@ -221,7 +221,11 @@ fn run() -> Result<(), String> {
             get("xi", 0.3, "a number >= 0")?,
             get("rho", -0.7, "a correlation in [-1, 1]")?,
         ),
-        other => return Err(format!("invalid --model '{other}': expected gbm or heston")),
+        other => {
+            return Err(format!(
+                "invalid --model = '{other}': expected gbm or heston"
+            ));
+        }
     }
     .map_err(text)?;
     let payoff = match payoff_name.as_str() {
@@ -232,7 +236,7 @@ fn run() -> Result<(), String> {
         "barrier" => Payoff::down_and_out_call(strike, barrier),
         other => {
             return Err(format!(
-                "invalid --payoff '{other}': expected european, asian, lookback, digital or \
+                "invalid --payoff = '{other}': expected european, asian, lookback, digital or \
                  barrier"
             ));
         }
@@ -250,14 +254,16 @@ fn run() -> Result<(), String> {
         .get("test-levels", "a whole number 1 to 20")?
         .unwrap_or(8);
     if !(1..=20).contains(&deepest) {
-        return Err(format!("invalid --test-levels {deepest}: expected 1 to 20"));
+        return Err(format!(
+            "invalid --test-levels = {deepest}: expected 1 to 20"
+        ));
     }
     let samples: u64 = args
         .get("test-samples", "a whole number >= 2")?
         .unwrap_or(100_000);
     if samples < 2 {
         return Err(format!(
-            "invalid --test-samples {samples}: expected a whole number >= 2"
+            "invalid --test-samples = {samples}: expected a whole number >= 2"
         ));
     }
     let test = args.has("test").then_some((deepest, samples));

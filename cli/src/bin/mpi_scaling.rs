@@ -70,13 +70,13 @@ fn run() -> Result<(), String> {
         "vegas-plus" => Some(true),
         other => {
             return Err(format!(
-                "invalid --method {other}: expected integrator, vegas or vegas-plus"
+                "invalid --method = {other}: expected integrator, vegas or vegas-plus"
             ));
         }
     };
     if !(cost_us > 0.0 && cost_us.is_finite()) {
         return Err(format!(
-            "invalid --cost-us {cost_us}: expected a positive number of microseconds"
+            "invalid --cost-us = {cost_us}: expected a positive number of microseconds"
         ));
     }
     let (_universe, _) = mcint::mpi::initialize_with_threading(mcint::mpi::Threading::Funneled)

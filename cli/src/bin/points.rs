@@ -105,18 +105,18 @@ fn run() -> Result<(), String> {
         .unwrap_or_else(|| "csv".into());
     if !["csv", "bin", "sum", "svg", "png"].contains(&format.as_str()) {
         return Err(format!(
-            "invalid --format '{format}': expected csv, bin, svg or png, or sum (coordinate sums)"
+            "invalid --format = '{format}': expected csv, bin, svg or png, or sum (coordinate sums)"
         ));
     }
     let image = format == "svg" || format == "png";
     if image && n > MAX_DRAWN_POINTS {
         return Err(format!(
-            "invalid --n {n}: at most {MAX_DRAWN_POINTS} points can be drawn"
+            "invalid --n = {n}: at most {MAX_DRAWN_POINTS} points can be drawn"
         ));
     }
     if image && args.has("pairs") && dims > MAX_PAIR_DIMS {
         return Err(format!(
-            "invalid --dims {dims} with --pairs: at most {MAX_PAIR_DIMS} dimensions \
+            "invalid --dims = {dims} with --pairs: at most {MAX_PAIR_DIMS} dimensions \
              ({} projections) can be drawn",
             MAX_PAIR_DIMS * (MAX_PAIR_DIMS - 1) / 2
         ));
@@ -129,7 +129,7 @@ fn run() -> Result<(), String> {
         );
     }
     if n == 0 {
-        return Err("invalid --n 0: expected at least 1 point".into());
+        return Err("invalid --n = 0: expected at least 1 point".into());
     }
     let gaussian = gaussian(&args, dims)?;
     if gaussian.is_some() && image {
@@ -147,7 +147,7 @@ fn run() -> Result<(), String> {
         PassKind::Extensible { max } => {
             if n > max {
                 return Err(format!(
-                    "invalid --n {n}: at most {max} points per pass for {name}"
+                    "invalid --n = {n}: at most {max} points per pass for {name}"
                 ));
             }
             max
@@ -167,7 +167,7 @@ fn run() -> Result<(), String> {
         let path: String = args.require("out", "the image file to write")?;
         if !path.ends_with(&format!(".{format}")) {
             return Err(format!(
-                "invalid --out '{path}': a --format {format} image needs a name ending in .{format}"
+                "invalid --out = '{path}': a --format {format} image needs a name ending in .{format}"
             ));
         }
         let columns = collect_columns(&*sampler, start, n, dims)?;
@@ -242,12 +242,12 @@ fn gaussian(args: &Args, dims: usize) -> Result<Option<Gaussian>, String> {
             };
         }
         Some("gaussian") => {}
-        Some(other) => return Err(format!("invalid --measure '{other}': expected gaussian")),
+        Some(other) => return Err(format!("invalid --measure = '{other}': expected gaussian")),
     }
     // Before the dims x dims covariance is built (20,000 dimensions would take 3.2 GB).
     if dims > FACTOR_MAX_DIMS {
         return Err(format!(
-            "invalid --dims {dims} with --measure gaussian: at most {FACTOR_MAX_DIMS} (factoring \
+            "invalid --dims = {dims} with --measure gaussian: at most {FACTOR_MAX_DIMS} (factoring \
              the covariance keeps dims x dims matrices and takes O(dims^3) time)"
         ));
     }
@@ -272,7 +272,7 @@ fn gaussian(args: &Args, dims: usize) -> Result<Option<Gaussian>, String> {
         Some("pca") => Factorization::Pca,
         Some(other) => {
             return Err(format!(
-                "invalid --factorization '{other}': expected cholesky or pca"
+                "invalid --factorization = '{other}': expected cholesky or pca"
             ));
         }
     };

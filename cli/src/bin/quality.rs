@@ -70,7 +70,11 @@ fn run() -> Result<String, String> {
         }
         "star" => Choice::Star,
         "t-value" => Choice::TValue,
-        other => return Err(format!("invalid --measure '{other}': expected {MEASURES}")),
+        other => {
+            return Err(format!(
+                "invalid --measure = '{other}': expected {MEASURES}"
+            ));
+        }
     };
     if squared && !matches!(choice, Choice::L2(..)) {
         return Err(format!(

@@ -160,7 +160,7 @@ impl Settings {
             "sobol-g" => sobol_g(args)?,
             other => {
                 return Err(format!(
-                    "invalid --function '{other}': expected ishigami or sobol-g"
+                    "invalid --function = '{other}': expected ishigami or sobol-g"
                 ));
             }
         };
@@ -169,7 +169,7 @@ impl Settings {
             .unwrap_or(DEFAULT_POINTS);
         if n == 0 {
             return Err(
-                "invalid --n 0: expected a whole number of points per replicate >= 1 \
+                "invalid --n = 0: expected a whole number of points per replicate >= 1 \
                  (a power of two such as 8192 keeps the Sobol' net balanced)"
                     .to_string(),
             );
@@ -179,7 +179,7 @@ impl Settings {
             .unwrap_or(DEFAULT_REPLICATES);
         if replicates == 0 {
             return Err(
-                "invalid --replicates 0: expected a whole number >= 1 (1 is one sequence \
+                "invalid --replicates = 0: expected a whole number >= 1 (1 is one sequence \
                  with no error bar)"
                     .to_string(),
             );
@@ -187,7 +187,7 @@ impl Settings {
         let tolerance: Option<f64> = args.get("tol-abs", "a number > 0")?;
         if let Some(t) = tolerance {
             if !(t.is_finite() && t > 0.0) {
-                return Err(format!("invalid --tol-abs {t}: expected a number > 0"));
+                return Err(format!("invalid --tol-abs = {t}: expected a number > 0"));
             }
             if replicates < 2 {
                 return Err(
@@ -250,7 +250,7 @@ fn sobol_g(args: &Args) -> Result<Model, String> {
             let d = dims.unwrap_or(DEFAULT_SOBOL_G_DIMS);
             if d == 0 {
                 return Err(format!(
-                    "invalid --dims 0: expected 1 to {MAX_INPUTS} inputs"
+                    "invalid --dims = 0: expected 1 to {MAX_INPUTS} inputs"
                 ));
             }
             Model::sobol_g_saltelli(d.min(MAX_INPUTS + 1))?
@@ -299,7 +299,7 @@ fn analyse(settings: Settings, spread: Spread) -> Result<Report, String> {
         .map_err(text)?
         .points(settings.n.checked_mul(settings.replicates).ok_or_else(|| {
             format!(
-                "invalid --n {}: expected --n x --replicates below 2^64 points",
+                "invalid --n = {}: expected --n x --replicates below 2^64 points",
                 settings.n
             )
         })?)

@@ -127,7 +127,7 @@ fn bad_input_with_format_sum_is_one_line() {
     };
     assert_one_line_error(
         &base(&["--sampler", "sobol", "--dims", "2", "--n", "0"]),
-        "--n 0",
+        "--n = 0",
     );
     assert_one_line_error(
         &base(&["--sampler", "sobol", "--dims", "0", "--n", "4"]),

@@ -199,7 +199,7 @@ fn malformed_input_gives_one_line_errors() {
         (&["--input", &three_d, "--measure", "star"], "1 or 2"),
         (
             &["--input", &good, "--measure", "volume"],
-            "invalid --measure 'volume'",
+            "invalid --measure = 'volume'",
         ),
         (
             &["--input", &good, "--measure", "star", "--squared"],
