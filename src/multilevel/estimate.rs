@@ -33,7 +33,8 @@ pub struct LevelSummary {
     /// The variance of one sample of `P_l`.
     pub fine_variance: f64,
     /// The kurtosis of `Y_l` (Giles' `mlmc_test`: a large one makes `V_l` itself uncertain);
-    /// `None` when `Y_l` does not vary.
+    /// `None` when `Y_l` does not vary, or when its fourth powers leave f64's range (values
+    /// below about `1e-77` or above `1e77`).
     pub kurtosis: Option<f64>,
     /// Giles' consistency check, `|E[Y_l] - E[P_l] + E[P_{l-1}]|` over three standard errors
     /// of it (`None` at level 0, and where no sample varies): above 1 says the coarse path of

@@ -40,7 +40,9 @@ impl LevelSums {
     }
 
     /// The kurtosis of `Y`, from its power sums (Giles' `mlmc_test`); `None` without variance,
-    /// or when the fourth powers overflowed (values above about 1e77).
+    /// or when the fourth powers leave f64's normal range (values above about `1e77`, or so
+    /// small that the squared variance is subnormal, below about `1e-77`, where its rounding
+    /// would be reported as a kurtosis).
     pub(super) fn kurtosis(&self) -> Option<f64> {
         let n = self.count() as f64;
         let m1 = self.difference.mean();
@@ -48,7 +50,8 @@ impl LevelSums {
         let (m3, m4) = (self.cube / n, self.fourth / n);
         let central4 = m4 - 4.0 * m3 * m1 + 6.0 * m2 * m1 * m1 - 3.0 * m1.powi(4);
         let variance = m2 - m1 * m1;
-        Some(central4 / (variance * variance)).filter(|k| variance > 0.0 && k.is_finite())
+        let squared = variance * variance;
+        Some(central4 / squared).filter(|k| variance > 0.0 && squared.is_normal() && k.is_finite())
     }
 }
 
