@@ -409,7 +409,10 @@ fn run() -> Result<(), String> {
         } else {
             format!("{ratio:.2e}")
         };
-        say!("Black-Scholes {exact:.10}: error {error:+.3e} ({ratio} target)");
+        say!(
+            "Black-Scholes {}: error {error:+.3e} ({ratio} target)",
+            decimals(exact, Some(10))
+        );
     }
     Ok(())
 }
