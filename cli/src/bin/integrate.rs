@@ -387,7 +387,7 @@ fn checkpoint_settings(
 ) -> Result<Option<checkpoint::Settings>, String> {
     let Some(path) = args.get::<String>("checkpoint", "a file path")? else {
         for flag in ["save-every", "stop-after"] {
-            if args.get::<String>(flag, "")?.is_some() {
+            if args.given(flag) {
                 return Err(format!(
                     "--{flag} applies to a run with --checkpoint FILE (give one, or leave out \
                      --{flag})"

@@ -216,7 +216,7 @@ impl Settings {
 
 /// `--function ishigami` with `--a`, `--b`.
 fn ishigami(args: &Args) -> Result<Model, String> {
-    if args.list("weights")?.is_some() || args.get::<String>("dims", "a whole number")?.is_some() {
+    if args.given("weights") || args.given("dims") {
         return Err(
             "--dims and --weights apply to --function sobol-g (ishigami has 3 inputs and \
              parameters --a, --b)"
@@ -230,9 +230,7 @@ fn ishigami(args: &Args) -> Result<Model, String> {
 
 /// `--function sobol-g` with `--weights` or `--dims`.
 fn sobol_g(args: &Args) -> Result<Model, String> {
-    if args.get::<String>("a", "a number")?.is_some()
-        || args.get::<String>("b", "a number")?.is_some()
-    {
+    if args.given("a") || args.given("b") {
         return Err(
             "--a and --b apply to --function ishigami (sobol-g takes --weights)".to_string(),
         );
