@@ -78,10 +78,9 @@ pub enum Error {
         evaluations: u64,
     },
     /// A result is not representable in `f64`: every contribution was finite, but a sum
-    /// behind the estimate or its standard error overflowed. The Integrator, MISER, two-stage
-    /// sampling and multilevel runs handle values up to `f64::MAX`; VEGAS and the covariance
-    /// of a vector run, which square values in sums of their own, need values below about
-    /// `1e150`.
+    /// behind the estimate or its standard error overflowed. Every runner handles values up
+    /// to `f64::MAX`; the covariance matrix of a vector run holds products of two outputs'
+    /// errors, which leave `f64` for outputs beyond about `1e150`.
     Overflow {
         /// What overflowed (for example `"estimate"`).
         what: &'static str,
@@ -287,10 +286,10 @@ impl fmt::Display for Error {
             ),
             Error::Overflow { what, value } => write!(
                 f,
-                "the {what} is {value}: a sum behind it overflowed f64 (largest 1.8e308; VEGAS \
-                 and the covariance of a vector run square the integrand's values, so they need \
-                 values below about 1e150): divide the integrand by a known factor and multiply \
-                 the result by it"
+                "the {what} is {value}: a sum behind it overflowed f64 (largest 1.8e308; the \
+                 covariance matrix of a vector run holds products of two outputs' errors, so it \
+                 needs outputs below about 1e150): divide the integrand by a known factor and \
+                 multiply the result by it"
             ),
             Error::Unsupported { operation, reason } => {
                 write!(f, "{operation} is not supported: {reason}")

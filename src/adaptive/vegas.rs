@@ -57,6 +57,7 @@ mod pass;
 mod stages;
 mod strata;
 mod training;
+mod units;
 
 use super::vegas_grid::{VegasGrid, check_alpha, check_density_floor, check_increments};
 use crate::engine::{self, Drive, RunConfig, Targets, require_randomized, run_settings};
@@ -414,6 +415,9 @@ impl<F> Vegas<F> {
             // for several, one over the previous iteration's mean of (J f_k)^2, so that every
             // output shapes the map whatever its units (all 1 in the first iteration).
             weights: vec![1.0; m],
+            units: units::Units::one(m),
+            units_chosen: false,
+            rerun: 0,
             k: 0,
             spent: 0,
             measured_evaluations: 0,

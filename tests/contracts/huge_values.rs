@@ -317,14 +317,100 @@ fn every_runner_is_honest_about_integrands_near_1e300() {
     // Two-stage sampling sums its strata's variances in the strata's units (it gave an
     // infinite standard error, then an overflow error).
     assert_right(TwoStage::new(huge, unit(), 4).run(), "two-stage");
-    // VEGAS squares values in sums of its own: beyond about 1e150 it refuses with an overflow
-    // error (before: it returned NaN as its estimate).
-    match Vegas::new(huge, unit()).run() {
-        Err(err @ Error::Overflow { .. }) => {
-            assert!(err.to_string().contains("overflowed f64"), "vegas: {err}");
+    // VEGAS sums in units near the values (it returned NaN, then refused with an overflow
+    // error beyond about 1e150).
+    assert_right(Vegas::new(huge, unit()).run(), "vegas+");
+    assert_right(Vegas::new(huge, unit()).stratified(false).run(), "vegas");
+}
+
+/// A Gaussian peak of height `scale` over the unit square.
+fn peak(scale: f64) -> impl Fn(&[f64]) -> f64 + Sync + Copy {
+    move |x: &[f64]| scale * (-50.0 * ((x[0] - 0.3).powi(2) + (x[1] - 0.6).powi(2))).exp()
+}
+
+/// VEGAS sums values far from 1 in units of a power of two near them, chosen by its first
+/// iteration, which is then run again on the same points: a run of `2^k f` is the run of `f`
+/// with its results times `2^k`, and one iteration more spent. Before, beyond about 1e150 it
+/// refused with an overflow error, and below about 1e-125 the floor on an iteration's
+/// variance (1e-250) made its error bars up to 1e85 times too wide, so runs to a tolerance
+/// went to the evaluation limit.
+#[test]
+fn vegas_runs_far_from_1_are_the_ordinary_run_scaled() {
+    const SAMPLES: u64 = 5000;
+    let unit = || UniformBox::unit(2).unwrap();
+    let runs = |scale: f64| {
+        let tolerance = Tolerance::relative(1e-3)
+            .unwrap()
+            .max_evaluations(1 << 24)
+            .unwrap();
+        let vegas = || Vegas::new(peak(scale), unit()).samples(SAMPLES).seed(1);
+        [
+            ("vegas+", vegas().run().unwrap()),
+            ("vegas", vegas().stratified(false).run().unwrap()),
+            (
+                "to a tolerance",
+                vegas().tolerance(tolerance).run().unwrap(),
+            ),
+        ]
+    };
+    let ordinary = runs(1.0);
+    assert_eq!(ordinary[2].1.converged, Some(true));
+    for exponent in [300, 900, -300, -900] {
+        let scale = 2f64.powi(exponent);
+        for ((name, scaled), (_, plain)) in runs(scale).iter().zip(&ordinary) {
+            let at = format!("{name} at 2^{exponent}");
+            assert_eq!(scaled.mean / scale, plain.mean, "{at}");
+            assert_eq!(
+                scaled.std_error.unwrap() / scale,
+                plain.std_error.unwrap(),
+                "{at}"
+            );
+            assert_eq!(
+                (scaled.stop, scaled.converged),
+                (plain.stop, plain.converged),
+                "{at}"
+            );
+            let more = scaled.evaluations - plain.evaluations;
+            assert!(more > 0 && more <= SAMPLES, "{at}: {more} more evaluations");
         }
-        other => panic!("vegas: expected Error::Overflow, got {other:?}"),
     }
+}
+
+/// Each output of a vector VEGAS run gets its own units: outputs near 2^-400 and 2^400 in one
+/// run give the ordinary run's means and standard errors scaled, and their covariance too.
+/// (Far beyond, the squares of the standard errors on the covariance matrix's diagonal leave
+/// f64 themselves.)
+#[test]
+fn vector_vegas_outputs_far_apart_in_magnitude_each_keep_their_statistics() {
+    let run = |small: f64, large: f64| {
+        let f = move |x: &[f64], out: &mut [f64]| {
+            out[0] = peak(small)(x);
+            out[1] = large * x[0];
+        };
+        Vegas::new_vector(2, f, UniformBox::unit(2).unwrap())
+            .samples(5000)
+            .seed(2)
+            .run()
+            .unwrap()
+    };
+    let plain = run(1.0, 1.0);
+    let (small, large) = (2f64.powi(-400), 2f64.powi(400));
+    let scaled = run(small, large);
+    for (k, unit) in [small, large].into_iter().enumerate() {
+        let (a, b) = (&scaled.outputs[k], &plain.outputs[k]);
+        assert_eq!(a.mean / unit, b.mean, "output {k}");
+        assert_eq!(
+            a.std_error.unwrap() / unit,
+            b.std_error.unwrap(),
+            "output {k}"
+        );
+    }
+    let plain_covariance = plain.covariance(0, 1).unwrap();
+    assert!(plain_covariance != 0.0);
+    assert_eq!(
+        scaled.covariance(0, 1).unwrap() / small / large,
+        plain_covariance
+    );
 }
 
 #[test]

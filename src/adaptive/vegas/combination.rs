@@ -13,6 +13,7 @@
 
 use super::moments::pair;
 use super::pass::Totals;
+use super::units::Units;
 use crate::special::chi_square_sf;
 use crate::stats::rounding::gamma;
 use crate::stats::{DISAGREEMENT_Q, ErrorBasis, Estimate, StopReason, VectorEstimate};
@@ -133,8 +134,9 @@ impl Combination {
         chi_square_sf(chi2, trusted.len() as f64) >= DISAGREEMENT_Q
     }
 
-    /// The combined estimate of `n` measured evaluations, out of `evaluations` spent.
-    pub(super) fn estimate(&self, n: u64, evaluations: u64) -> Estimate {
+    /// The combined estimate of `n` measured evaluations, out of `evaluations` spent, of
+    /// iterations summed in units of `unit`.
+    pub(super) fn estimate(&self, n: u64, evaluations: u64, unit: f64) -> Estimate {
         let mean = self.sum_weighted / self.sum_weights;
         let m = self.count();
         let (chi2_dof, q_value) = if m > 1 {
@@ -151,8 +153,8 @@ impl Combination {
         let rounding = self.sum_weighted_rounding / self.sum_weights
             + gamma(2.0 * m as f64 + 2.0) * self.largest;
         let mut estimate = Estimate {
-            mean,
-            std_error: Some(self.sum_weighted_variance.sqrt() / self.sum_weights),
+            mean: mean * unit,
+            std_error: Some(self.sum_weighted_variance.sqrt() / self.sum_weights * unit),
             dof: Some(self.dof),
             basis: ErrorBasis::PerSample,
             n,
@@ -164,7 +166,7 @@ impl Combination {
             iterations: m,
             chi2_dof,
             q_value,
-            rounding_error: rounding,
+            rounding_error: rounding * unit,
             warnings: Vec::new(),
             error_bound: None,
         };
@@ -257,12 +259,13 @@ impl VectorCombination {
     }
 
     /// The combined estimate of every output from `n` measured evaluations, `evaluations`
-    /// spent in all.
-    pub(super) fn estimate(&self, n: u64, evaluations: u64) -> VectorEstimate {
+    /// spent in all, of iterations summed in `units`.
+    pub(super) fn estimate(&self, n: u64, evaluations: u64, units: &Units) -> VectorEstimate {
         let outputs: Vec<Estimate> = self
             .outputs
             .iter()
-            .map(|c| c.estimate(n, evaluations))
+            .enumerate()
+            .map(|(k, c)| c.estimate(n, evaluations, units.of(k)))
             .collect();
         let m = outputs.len();
         let mut matrix = vec![0.0; m * m];
@@ -277,7 +280,7 @@ impl VectorCombination {
                         cov[pair(j, k)] * (r_j.weight / a.scale) * (r_k.weight / b.scale)
                     })
                     .sum();
-                let c = sum / (a.sum_weights * b.sum_weights);
+                let c = sum / (a.sum_weights * b.sum_weights) * units.of(j) * units.of(k);
                 matrix[j * m + k] = c;
                 matrix[k * m + j] = c;
             }
@@ -329,7 +332,7 @@ mod tests {
         for &(mean, variance) in &iterations {
             c.add(mean, variance, 100, 0.0);
         }
-        let e = c.estimate(4000, 4000);
+        let e = c.estimate(4000, 4000, 1.0);
         let direct: f64 = iterations
             .iter()
             .map(|(m, v)| (m - e.mean).powi(2) / v)

@@ -50,6 +50,11 @@ pub(super) struct Pass<'a, I> {
     /// Each output's weight in the grid's training data and in `sigma_h` (`[1.0]` for a
     /// single output, whose arithmetic is then the scalar one).
     pub(super) weights: &'a [f64],
+    /// What each output's values are multiplied by before they are summed (see `units`).
+    pub(super) inverse_units: &'a [f64],
+    /// Whether the chunks record each output's largest finite `|f_k|`, from which the first
+    /// iteration chooses the units.
+    pub(super) probing: bool,
     /// Training arrays for the chunks, reused from iteration to iteration.
     pub(super) spare: &'a SpareTraining,
     /// In one process: where the chunks leave their training arrays and the grid's new
@@ -99,6 +104,8 @@ pub(super) struct Totals {
     pub(super) non_finite: u64,
     /// Index within the iteration, value and output of the first non-finite `J f`.
     pub(super) first_non_finite: Option<(u64, f64, usize)>,
+    /// Each output's largest finite `|f_k|` (when probing; 0 otherwise).
+    pub(super) largest: Vec<f64>,
     /// The grid's training data of each group of chunks, in order: summed element by element
     /// in this order, axis by axis in parallel, when the grid adapts.
     pub(super) training: Vec<GroupTraining>,
@@ -111,6 +118,7 @@ impl Totals {
             open: CubeMoments::empty(m),
             non_finite: 0,
             first_non_finite: None,
+            largest: vec![0.0; m],
             training: Vec::new(),
         }
     }
@@ -260,6 +268,9 @@ impl Totals {
         }
         self.non_finite += out.non_finite;
         self.first_non_finite = self.first_non_finite.or(out.first_non_finite);
+        for (largest, &value) in self.largest.iter_mut().zip(&out.largest) {
+            *largest = largest.max(value);
+        }
     }
 }
 
@@ -290,6 +301,8 @@ pub(super) struct Piece {
     tail: Option<CubeMoments>,
     non_finite: u64,
     first_non_finite: Option<(u64, f64, usize)>,
+    /// Each output's largest finite `|f_k|` (when probing).
+    largest: Vec<f64>,
 }
 
 impl Piece {
@@ -305,6 +318,7 @@ impl Piece {
             tail: None,
             non_finite: 0,
             first_non_finite: None,
+            largest: vec![0.0; m],
         }
     }
 
@@ -323,6 +337,7 @@ impl Piece {
         self.tail = None;
         self.non_finite = 0;
         self.first_non_finite = None;
+        self.largest.fill(0.0);
     }
 
     /// Records a hypercube that ends in this chunk.
@@ -483,6 +498,13 @@ impl Scratch {
             let values = &mut self.values[..m * len];
             pass.f
                 .eval_block(&self.x[..len * dims], &mut self.mapped, values);
+            if pass.probing {
+                for (largest, values) in out.largest.iter_mut().zip(values.chunks(len)) {
+                    for v in values.iter().filter(|v| v.is_finite()) {
+                        *largest = largest.max(v.abs());
+                    }
+                }
+            }
             for j in 0..len {
                 if remaining == 0 {
                     out.close_cube(&sums, continued, pass);
@@ -498,8 +520,9 @@ impl Scratch {
                 let point = &mut self.point[..m];
                 let mut weighted = 0.0;
                 let mut bad = None;
-                for (k, (y, w)) in point.iter_mut().zip(&pass.weights[..m]).enumerate() {
-                    *y = self.values[k * len + j] * jacobian;
+                let outputs = point.iter_mut().zip(&pass.weights[..m]);
+                for (k, ((y, w), inverse)) in outputs.zip(&pass.inverse_units[..m]).enumerate() {
+                    *y = self.values[k * len + j] * inverse * jacobian;
                     if !y.is_finite() {
                         bad.get_or_insert((k, *y));
                     }

@@ -8,6 +8,7 @@ use super::integrand::Integrand;
 use super::pass::{LocalAdaptation, Pass};
 use super::strata::{ALLOCATION_SAFETY, Allocation, ChunkStart, Strata, plan_chunks};
 use super::training::{GroupTraining, SpareTraining, summed};
+use super::units::Units;
 use super::{Vegas, output_weights};
 use crate::adaptive::VegasGrid;
 use crate::adaptive::vegas_grid::increment_averages;
@@ -32,6 +33,12 @@ pub(super) struct Iterations<'a, F, I> {
     pub(super) combination: VectorCombination,
     /// Each output's weight in the training data and in `sigma_h` (see `output_weights`).
     pub(super) weights: Vec<f64>,
+    /// The units the values are summed in, and whether they are chosen yet (by the first
+    /// iteration).
+    pub(super) units: Units,
+    pub(super) units_chosen: bool,
+    /// Evaluations of a first iteration run again in new units (0 when it was not).
+    pub(super) rerun: u64,
     /// The iteration next to run (warm-up included).
     pub(super) k: u64,
     /// Evaluations of every whole iteration, and of the combined ones.
@@ -78,7 +85,8 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
         (self.chunks, self.total) = plan_chunks(&self.strata, &self.allocation());
         self.base = match self.sampler.passes() {
             PassKind::Extensible { max } => self.k * max,
-            _ => self.spent,
+            // The points an iteration run again in other units had, once more.
+            _ => self.spent - self.rerun,
         };
         Ok(Next::Stage(self.total))
     }
@@ -96,6 +104,8 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
         let pass = Pass {
             f: self.f,
             weights: &self.weights,
+            inverse_units: self.units.inverses(),
+            probing: !self.units_chosen,
             sampler: self.sampler,
             grid: &self.grid,
             strata: &self.strata,
@@ -138,6 +148,25 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
             }
             _ => None,
         };
+        if !self.units_chosen {
+            self.units_chosen = true;
+            let volume = self.vegas.domain.volume();
+            if let Some(units) = Units::needed(&totals.largest, volume) {
+                // Sums of these values' squares may overflow or underflow: the iteration
+                // is run again in units near them, and this one leaves no trace.
+                self.units = units;
+                self.rerun = self.total;
+                self.spent += self.total;
+                match local {
+                    Some(local) => local.slots.give_back(&self.spare),
+                    None => self.spare.give(std::mem::take(&mut totals.training)),
+                }
+                return Ok(StageEnd {
+                    stop: None,
+                    non_finite: None,
+                });
+            }
+        }
         let measured = self.k >= self.vegas.warmup;
         self.k += 1;
         self.spent += self.total;
@@ -207,7 +236,7 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
         self.growth.record(last * self.total as f64);
         // Iterations like the last one that the tolerance still needs: the combination's
         // shortfall squared, times its variance over the last iteration's.
-        let combined = judged.outputs[0].std_error.unwrap_or(f64::NAN);
+        let combined = judged.outputs[0].std_error.unwrap_or(f64::NAN) / self.units.of(0);
         let needed = targets.shortfall(judged).powi(2) * last / (combined * combined);
         let iterations_left = self.last_iteration.saturating_sub(self.k);
         match self
@@ -310,7 +339,7 @@ impl<F, I> Iterations<'_, F, I> {
     fn combined(&self) -> VectorEstimate {
         let mut run = self
             .combination
-            .estimate(self.measured_evaluations, self.spent);
+            .estimate(self.measured_evaluations, self.spent, &self.units);
         run.for_each_output(|_, estimate| estimate.non_finite = self.non_finite);
         run
     }
