@@ -37,6 +37,7 @@ use crate::hash::hash_words;
 use crate::pdf::{Pdf, UniformBox};
 use crate::points::Points;
 use crate::stats::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
+use crate::stats::scale_for;
 use crate::stats::{Estimate, StopReason, VectorEstimate};
 
 /// Points per replicate of a run without [`Miser::samples`].
@@ -497,6 +498,39 @@ struct HalfSums {
     sum_sq: f64,
 }
 
+/// The units of the exploration's deviations: 1 for ordinary values, a power of two near
+/// them for values whose squares would overflow or underflow (as [`scale_for`] chooses for
+/// the Accumulator), so that the halves' spreads, and the bisection they choose, are those
+/// of the same integrand at magnitude 1.
+struct DeviationUnits {
+    unit: f64,
+    /// Whether a nonzero deviation was met: the first sets the units, which only grow after.
+    nonzero: bool,
+}
+
+impl DeviationUnits {
+    /// `deviation` in the units, after moving every half's sums to larger units when it
+    /// calls for them.
+    fn express(&mut self, deviation: f64, halves: &mut [(HalfSums, HalfSums)]) -> f64 {
+        if deviation != 0.0 {
+            let wanted = scale_for(deviation.abs());
+            if !self.nonzero {
+                // Every sum is still zero: nothing to move.
+                self.unit = wanted;
+                self.nonzero = true;
+            } else if wanted > self.unit {
+                let ratio = self.unit / wanted;
+                for side in halves.iter_mut().flat_map(|(l, r)| [l, r]) {
+                    side.sum *= ratio;
+                    side.sum_sq *= ratio * ratio;
+                }
+                self.unit = wanted;
+            }
+        }
+        deviation / self.unit
+    }
+}
+
 impl HalfSums {
     /// Sample standard deviation (`None` with fewer than two values).
     fn std_dev(&self) -> Option<f64> {
@@ -717,6 +751,10 @@ impl<F: ScalarIntegrand> Recursion<'_, F> {
         // Sums are taken about the first value, so that a large constant offset does not
         // cancel away the spread.
         let mut shift: Option<f64> = None;
+        let mut units = DeviationUnits {
+            unit: 1.0,
+            nonzero: false,
+        };
         let mut k = 0u64;
         while k < n {
             self.check_limits()?;
@@ -742,7 +780,7 @@ impl<F: ScalarIntegrand> Recursion<'_, F> {
                     partial.record(slot - stage.base_of(slot) + k + i as u64, y, unit);
                     return;
                 }
-                let y = y - *shift.get_or_insert(y);
+                let y = units.express(y - *shift.get_or_insert(y), &mut halves);
                 for ((half, &u), &m) in halves.iter_mut().zip(unit).zip(mid) {
                     let side = if u <= m { &mut half.0 } else { &mut half.1 };
                     side.count += 1;
