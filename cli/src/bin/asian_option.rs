@@ -102,6 +102,7 @@ struct Choice {
 }
 
 /// What the flags ask for beyond the contract and the choice.
+#[derive(Clone, Copy)]
 struct Budget {
     tolerance: Option<Tolerance>,
     n: Option<u64>,
@@ -382,22 +383,26 @@ fn print_table(contract: &Contract, budget: &Budget) -> Result<(), String> {
     let Some(tolerance) = budget.tolerance else {
         return Err("--table needs a tolerance".into());
     };
-    // Every construction's paths can be built (principal components have a dimension
-    // bound), before any row is printed.
-    for construction in [
-        Construction::Standard,
-        Construction::Bridge,
-        Construction::Pca,
-    ] {
-        contract.paths(construction).map_err(flag_error)?;
-    }
-    // Likewise the replicates: the table's quasi-random rows are runs to a tolerance, whose
-    // error bar is the spread of two replicates or more.
+    // The table's quasi-random rows are runs to a tolerance, whose error bar is the spread
+    // of two replicates or more.
     if let Some(replicates @ 0..=1) = budget.replicates {
         return Err(format!(
             "invalid --replicates = {replicates}: expected at least 2 for --table (its runs \
              to a tolerance take their error bar from the replicates' spread)"
         ));
+    }
+    // Every row's settings are checked before any row is printed (a path construction's
+    // dimension bound, an evaluation limit below a row's first stage): a run whose deadline
+    // has passed checks them and stops before its first evaluation.
+    let past = Budget {
+        deadline: Some(std::time::Instant::now()),
+        ..*budget
+    };
+    for choice in table_rows() {
+        match price(contract, choice, &past) {
+            Ok(_) | Err(mcint::Error::Interrupted { .. }) => {}
+            Err(e) => return Err(flag_error(e)),
+        }
     }
     say!(
         "arithmetic Asian call, {} dates: evaluations to a 95% half-width of {} x price (limit {})",
@@ -412,41 +417,50 @@ fn print_table(contract: &Contract, budget: &Budget) -> Result<(), String> {
         "no control",
         "geometric cv"
     );
-    for sampler in [
+    for pair in table_rows().collect::<Vec<_>>().chunks(2) {
+        let mut cells = Vec::new();
+        for &choice in pair {
+            cells.push(match price(contract, choice, budget) {
+                Ok(e) if e.converged == Some(true) => e.evaluations.to_string(),
+                Ok(e) if e.stop == StopReason::TimeLimit => "time limit".to_string(),
+                Ok(_) => format!("> {}", tolerance.evaluation_limit()),
+                Err(mcint::Error::Interrupted { .. }) => "time limit".to_string(),
+                Err(e) => return Err(flag_error(e)),
+            });
+        }
+        say!(
+            "{:<10} {:<12} {:>14} {:>14}",
+            construction_name(pair[0].construction),
+            pair[0].sampler.name(),
+            cells[0],
+            cells[1]
+        );
+    }
+    Ok(())
+}
+
+/// The table's runs in the order printed: per sampler and construction, a row of two, without
+/// and with the control.
+fn table_rows() -> impl Iterator<Item = Choice> {
+    let samplers = [
         SamplerKind::Independent,
         SamplerKind::Sobol,
         SamplerKind::Lattice,
         SamplerKind::Halton,
-    ] {
-        for construction in [
-            Construction::Standard,
-            Construction::Bridge,
-            Construction::Pca,
-        ] {
-            let mut cells = Vec::new();
-            for control in [false, true] {
-                let choice = Choice {
-                    arithmetic: true,
-                    construction,
-                    sampler,
-                    control,
-                };
-                cells.push(match price(contract, choice, budget) {
-                    Ok(e) if e.converged == Some(true) => e.evaluations.to_string(),
-                    Ok(e) if e.stop == StopReason::TimeLimit => "time limit".to_string(),
-                    Ok(_) => format!("> {}", tolerance.evaluation_limit()),
-                    Err(mcint::Error::Interrupted { .. }) => "time limit".to_string(),
-                    Err(e) => return Err(flag_error(e)),
-                });
-            }
-            say!(
-                "{:<10} {:<12} {:>14} {:>14}",
-                construction_name(construction),
-                sampler.name(),
-                cells[0],
-                cells[1]
-            );
-        }
-    }
-    Ok(())
+    ];
+    let constructions = [
+        Construction::Standard,
+        Construction::Bridge,
+        Construction::Pca,
+    ];
+    samplers.into_iter().flat_map(move |sampler| {
+        constructions.into_iter().flat_map(move |construction| {
+            [false, true].map(|control| Choice {
+                arithmetic: true,
+                construction,
+                sampler,
+                control,
+            })
+        })
+    })
 }

@@ -198,6 +198,20 @@ fn asian_option_refuses_bad_input() {
     let table = run("asian_option", &["--table", "--replicates", "1"]);
     assert_one_line_error(&table, "invalid --replicates = 1: expected at least 2");
     assert!(stdout(&table).is_empty(), "{}", stdout(&table));
+    // An evaluation limit below a row's first stage: the independent rows' pilot, then the
+    // quasi-random rows' first stage of replicates (the header was printed before either).
+    for (limit, needle) in [("1000", "the pilot's 4096"), ("5000", "8 replicates")] {
+        let table = run("asian_option", &["--table", "--max-evals", limit]);
+        assert_one_line_error(&table, needle);
+        assert!(stdout(&table).is_empty(), "{}", stdout(&table));
+    }
+    // The same checks pass a table that can run: a header and twelve rows.
+    let table = run(
+        "asian_option",
+        &["--table", "--tol-rel", "1e-2", "--dates", "16"],
+    );
+    assert!(table.status.success(), "{}", stdout(&table));
+    assert_eq!(stdout(&table).lines().count(), 14, "{}", stdout(&table));
     bad(&["--max-evals", "100"], "give --tol-rel too");
     bad(&["--tol-rel", "0"], "tolerance");
 }
