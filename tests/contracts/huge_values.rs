@@ -328,6 +328,36 @@ fn peak(scale: f64) -> impl Fn(&[f64]) -> f64 + Sync + Copy {
     move |x: &[f64]| scale * (-50.0 * ((x[0] - 0.3).powi(2) + (x[1] - 0.6).powi(2))).exp()
 }
 
+/// A run to a budget and one to `Tolerance::relative(1e-3)` (which the unscaled run meets), as
+/// `runs(scale, tolerance)` builds them for an integrand of magnitude `scale`, checked to be
+/// the unscaled runs with mean and standard error times `2^k`, bit for bit (scaling by a power
+/// of two is exact), for each `k` of `exponents`, and to spend at most `extra` more
+/// evaluations.
+fn check_scaled<R>(runs: R, exponents: &[i32], extra: u64)
+where
+    R: Fn(f64, Option<Tolerance>) -> Estimate,
+{
+    let tolerance = Tolerance::relative(1e-3)
+        .unwrap()
+        .max_evaluations(1 << 24)
+        .unwrap();
+    let both = |scale: f64| [runs(scale, None), runs(scale, Some(tolerance))];
+    let ordinary = both(1.0);
+    assert_eq!(ordinary[1].converged, Some(true));
+    for &exponent in exponents {
+        let scale = 2f64.powi(exponent);
+        for (scaled, plain) in both(scale).iter().zip(&ordinary) {
+            let at = format!("{:?} at 2^{exponent}", plain.stop);
+            assert_eq!(scaled.mean / scale, plain.mean, "{at}");
+            let se = |e: &Estimate| e.std_error.unwrap();
+            assert_eq!(se(scaled) / scale, se(plain), "{at}");
+            assert_eq!(scaled.converged, plain.converged, "{at}");
+            let more = scaled.evaluations - plain.evaluations;
+            assert!(more <= extra, "{at}: {more} more evaluations");
+        }
+    }
+}
+
 /// VEGAS sums values far from 1 in units of a power of two near them, chosen by its first
 /// iteration, which is then run again on the same points: a run of `2^k f` is the run of `f`
 /// with its results times `2^k`, and one iteration more spent. Before, beyond about 1e150 it
@@ -337,83 +367,37 @@ fn peak(scale: f64) -> impl Fn(&[f64]) -> f64 + Sync + Copy {
 #[test]
 fn vegas_runs_far_from_1_are_the_ordinary_run_scaled() {
     const SAMPLES: u64 = 5000;
-    let unit = || UniformBox::unit(2).unwrap();
-    let runs = |scale: f64| {
-        let tolerance = Tolerance::relative(1e-3)
-            .unwrap()
-            .max_evaluations(1 << 24)
-            .unwrap();
-        let vegas = || Vegas::new(peak(scale), unit()).samples(SAMPLES).seed(1);
-        [
-            ("vegas+", vegas().run().unwrap()),
-            ("vegas", vegas().stratified(false).run().unwrap()),
-            (
-                "to a tolerance",
-                vegas().tolerance(tolerance).run().unwrap(),
-            ),
-        ]
-    };
-    let ordinary = runs(1.0);
-    assert_eq!(ordinary[2].1.converged, Some(true));
-    for exponent in [300, 900, -300, -900] {
-        let scale = 2f64.powi(exponent);
-        for ((name, scaled), (_, plain)) in runs(scale).iter().zip(&ordinary) {
-            let at = format!("{name} at 2^{exponent}");
-            assert_eq!(scaled.mean / scale, plain.mean, "{at}");
-            assert_eq!(
-                scaled.std_error.unwrap() / scale,
-                plain.std_error.unwrap(),
-                "{at}"
-            );
-            assert_eq!(
-                (scaled.stop, scaled.converged),
-                (plain.stop, plain.converged),
-                "{at}"
-            );
-            let more = scaled.evaluations - plain.evaluations;
-            assert!(more > 0 && more <= SAMPLES, "{at}: {more} more evaluations");
-        }
+    for stratified in [true, false] {
+        let runs = |scale: f64, tolerance: Option<Tolerance>| {
+            let vegas = Vegas::new(peak(scale), UniformBox::unit(2).unwrap())
+                .stratified(stratified)
+                .samples(SAMPLES)
+                .seed(1);
+            match tolerance {
+                Some(t) => vegas.tolerance(t).run().unwrap(),
+                None => vegas.run().unwrap(),
+            }
+        };
+        check_scaled(runs, &[300, 900, -300, -900], SAMPLES);
     }
 }
 
 /// MISER's exploration sums the squares of its deviations in units of a power of two near
 /// them: a run of `2^k f`, to a budget or to a tolerance, is the run of `f` scaled, bit for
-/// bit. Before, their squares overflowed (beyond about 1e154) or underflowed (below about
-/// 1e-154), every bisection fell back to splitting the points by volume, and on a 2-D
-/// Gaussian peak the standard error was 3.8 times the ordinary run's and a run to
-/// `Tolerance::relative(1e-3)` spent its 2^24 evaluations (3.9 x 10^6 at magnitude 1).
+/// bit, with the same evaluations. Before, their squares overflowed (beyond about 1e154) or
+/// underflowed (below about 1e-154), every bisection fell back to splitting the points by
+/// volume, and on a 2-D Gaussian peak the standard error was 3.8 times the ordinary run's and
+/// a run to `Tolerance::relative(1e-3)` spent its 2^24 evaluations (3.9 x 10^6 at magnitude 1).
 #[test]
 fn miser_runs_far_from_1_are_the_ordinary_run_scaled() {
-    let unit = || UniformBox::unit(2).unwrap();
-    let runs = |scale: f64| {
-        let tolerance = Tolerance::relative(1e-3)
-            .unwrap()
-            .max_evaluations(1 << 24)
-            .unwrap();
-        let miser = || Miser::new(peak(scale), unit()).seed(1);
-        [
-            ("budget", miser().run().unwrap()),
-            (
-                "to a tolerance",
-                miser().tolerance(tolerance).run().unwrap(),
-            ),
-        ]
-    };
-    let ordinary = runs(1.0);
-    assert_eq!(ordinary[1].1.converged, Some(true));
-    for exponent in [500, 900, -500, -900] {
-        let scale = 2f64.powi(exponent);
-        for ((name, scaled), (_, plain)) in runs(scale).iter().zip(&ordinary) {
-            let at = format!("{name} at 2^{exponent}");
-            assert_eq!(scaled.mean / scale, plain.mean, "{at}");
-            assert_eq!(
-                scaled.std_error.unwrap() / scale,
-                plain.std_error.unwrap(),
-                "{at}"
-            );
-            assert_eq!(scaled.evaluations, plain.evaluations, "{at}");
+    let runs = |scale: f64, tolerance: Option<Tolerance>| {
+        let miser = Miser::new(peak(scale), UniformBox::unit(2).unwrap()).seed(1);
+        match tolerance {
+            Some(t) => miser.tolerance(t).run().unwrap(),
+            None => miser.run().unwrap(),
         }
-    }
+    };
+    check_scaled(runs, &[500, 900, -500, -900], 0);
 }
 
 /// Each output of a vector VEGAS run gets its own units: outputs near 2^-400 and 2^400 in one
