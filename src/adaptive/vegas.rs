@@ -107,6 +107,9 @@ const LARGEST_ITERATION: u64 = 1 << 32;
 /// over hypercubes and iterations); `iterations` and `replicates` are the number of iterations
 /// combined, `chi2_dof` and `q_value` their agreement (from the second one on), `n` counts the
 /// evaluations of the combined iterations and `evaluations` every one spent, warm-up included.
+/// An integrand whose values are far from 1 (beyond about `1e±77`) is summed in units of a
+/// power of two near them, so that the run is that of the integrand at magnitude 1, scaled;
+/// the first iteration chooses the units and is then run again, its evaluations counted.
 ///
 /// ```
 /// use mcint::{adaptive::Vegas, pdf::UniformBox};
