@@ -800,8 +800,13 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
         ));
     }
     // Variances in common units (a power of two, exact), so that the squares of values near
-    // 1e-160 or 1e160 neither underflow nor overflow; the standard error is scaled back.
+    // 1e-160 or 1e160 neither underflow nor overflow; the standard error is scaled back. The
+    // volume is split likewise into a power of two and a factor in [1, 2), so that the
+    // square of a stratum's volume (below 1e-154 or above 1e154 in a box of that size) does
+    // not underflow or overflow either.
     let unit = Accumulator::common_unit(strata);
+    let volume_unit = 2f64.powi((volume.log2().floor() as i32).clamp(-1022, 1023));
+    let relative_volume = volume / volume_unit;
     let mut mean = 0.0;
     let mut variance = 0.0;
     let mut dof_denominator = 0.0;
@@ -815,7 +820,7 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
         samples += n;
         mean += volume * acc.mean();
         rounding += volume * (acc.rounding_error() + per_term * acc.mean().abs());
-        let v = volume * volume * acc.variance_in(unit) / n as f64;
+        let v = relative_volume * relative_volume * acc.variance_in(unit) / n as f64;
         variance += v;
         dof_denominator += v * v / (n - 1) as f64;
         terms.push((v, n));
@@ -838,7 +843,7 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
     };
     let mut estimate = Estimate {
         mean,
-        std_error: Some(variance.sqrt() * unit),
+        std_error: Some(variance.sqrt() * unit * volume_unit),
         dof: Some(dof),
         basis: ErrorBasis::PerSample,
         n: samples,

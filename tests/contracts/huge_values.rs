@@ -400,6 +400,40 @@ fn miser_runs_far_from_1_are_the_ordinary_run_scaled() {
     check_scaled(runs, &[500, 900, -500, -900], 0);
 }
 
+/// A box of side `2^k` with the peak stretched over it and scaled by `2^-2k`: the integral is
+/// the unit square's. Two-stage sampling summed `V_h^2 s_h^2 / n_h` with the squared stratum
+/// volume `V_h^2` as it was: in a box of volume 2^900 it overflowed (an overflow error), in one
+/// of 2^-900 it underflowed to 0 and the standard error reported was the rounding floor,
+/// 1.1e-15 for an actual 3.2e-3. The volume is now split into a power of two and a factor,
+/// and every runner gives the unit square's mean and standard error, bit for bit.
+#[test]
+fn boxes_far_from_volume_1_give_the_unit_square_run() {
+    let run = |k: i32, method: &str| {
+        let side = 2f64.powi(k);
+        let height = 2f64.powi(-2 * k);
+        let f = move |x: &[f64]| peak(height)(&[x[0] / side, x[1] / side]);
+        let domain = UniformBox::new(vec![0.0, 0.0], vec![side, side]).unwrap();
+        match method {
+            "two-stage" => TwoStage::new(f, domain, 4).seed(1).run(),
+            "miser" => Miser::new(f, domain).seed(1).run(),
+            "vegas" => Vegas::new(f, domain).samples(5000).seed(1).run(),
+            _ => Integrator::over_box(f, domain)
+                .samples(10_000)
+                .seed(1)
+                .run(),
+        }
+        .unwrap()
+    };
+    for method in ["two-stage", "miser", "vegas", "plain"] {
+        let unit = run(0, method);
+        for k in [450, -450] {
+            let e = run(k, method);
+            assert_eq!(e.mean, unit.mean, "{method}, side 2^{k}");
+            assert_eq!(e.std_error, unit.std_error, "{method}, side 2^{k}");
+        }
+    }
+}
+
 /// Each output of a vector VEGAS run gets its own units: outputs near 2^-400 and 2^400 in one
 /// run give the ordinary run's means and standard errors scaled, and their covariance too.
 /// (Far beyond, the squares of the standard errors on the covariance matrix's diagonal leave
