@@ -27,7 +27,7 @@
 //! (default 2^24).
 
 use asian::Contract;
-use mcint::measure::Construction;
+use mcint::measure::{Construction, GeometricBrownianMotion};
 use mcint::sampler::{SamplerKind, Scramble};
 use mcint::stats::{StopReason, Tolerance};
 use mcint::{Estimate, Integrator};
@@ -333,7 +333,21 @@ fn flag_error(error: mcint::Error) -> String {
 
 /// The price by one run of the Integrator.
 fn price(contract: &Contract, choice: Choice, budget: &Budget) -> mcint::Result<Estimate> {
-    let paths = contract.paths(choice.construction)?;
+    price_on(
+        contract,
+        contract.paths(choice.construction)?,
+        choice,
+        budget,
+    )
+}
+
+/// [`price`] over `paths`, the contract's paths of `choice.construction` built already.
+fn price_on(
+    contract: &Contract,
+    paths: GeometricBrownianMotion,
+    choice: Choice,
+    budget: &Budget,
+) -> mcint::Result<Estimate> {
     let exact_geometric = contract.geometric_price()?;
     let c = *contract;
     let payoff = move |prices: &[f64]| {
@@ -391,15 +405,26 @@ fn print_table(contract: &Contract, budget: &Budget) -> Result<(), String> {
              to a tolerance take their error bar from the replicates' spread)"
         ));
     }
-    // Every row's settings are checked before any row is printed (a path construction's
-    // dimension bound, an evaluation limit below a row's first stage): a run whose deadline
-    // has passed checks them and stops before its first evaluation.
+    // Every row's settings are checked before any row is printed: each construction's paths
+    // are built once (principal components have a dimension bound, and take seconds near
+    // it), and each run started with a deadline already past, which checks its settings (an
+    // evaluation limit below its first stage) and stops before its first evaluation.
+    let paths = CONSTRUCTIONS
+        .map(|construction| contract.paths(construction))
+        .into_iter()
+        .collect::<mcint::Result<Vec<_>>>()
+        .map_err(flag_error)?;
+    let paths_of = |choice: Choice| {
+        // Always found: the rows are built from `CONSTRUCTIONS`.
+        let at = CONSTRUCTIONS.iter().position(|&c| c == choice.construction);
+        paths[at.unwrap_or(0)].clone()
+    };
     let past = Budget {
         deadline: Some(std::time::Instant::now()),
         ..*budget
     };
     for choice in table_rows() {
-        match price(contract, choice, &past) {
+        match price_on(contract, paths_of(choice), choice, &past) {
             Ok(_) | Err(mcint::Error::Interrupted { .. }) => {}
             Err(e) => return Err(flag_error(e)),
         }
@@ -420,7 +445,7 @@ fn print_table(contract: &Contract, budget: &Budget) -> Result<(), String> {
     for pair in table_rows().collect::<Vec<_>>().chunks(2) {
         let mut cells = Vec::new();
         for &choice in pair {
-            cells.push(match price(contract, choice, budget) {
+            cells.push(match price_on(contract, paths_of(choice), choice, budget) {
                 Ok(e) if e.converged == Some(true) => e.evaluations.to_string(),
                 Ok(e) if e.stop == StopReason::TimeLimit => "time limit".to_string(),
                 Ok(_) => format!("> {}", tolerance.evaluation_limit()),
@@ -439,6 +464,13 @@ fn print_table(contract: &Contract, budget: &Budget) -> Result<(), String> {
     Ok(())
 }
 
+/// The table's path constructions, in the order of its rows.
+const CONSTRUCTIONS: [Construction; 3] = [
+    Construction::Standard,
+    Construction::Bridge,
+    Construction::Pca,
+];
+
 /// The table's runs in the order printed: per sampler and construction, a row of two, without
 /// and with the control.
 fn table_rows() -> impl Iterator<Item = Choice> {
@@ -448,13 +480,8 @@ fn table_rows() -> impl Iterator<Item = Choice> {
         SamplerKind::Lattice,
         SamplerKind::Halton,
     ];
-    let constructions = [
-        Construction::Standard,
-        Construction::Bridge,
-        Construction::Pca,
-    ];
     samplers.into_iter().flat_map(move |sampler| {
-        constructions.into_iter().flat_map(move |construction| {
+        CONSTRUCTIONS.into_iter().flat_map(move |construction| {
             [false, true].map(|control| Choice {
                 arithmetic: true,
                 construction,
