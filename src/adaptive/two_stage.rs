@@ -802,8 +802,7 @@ fn stratified_estimate(strata: &[Accumulator], volume: f64, evaluations: u64) ->
     // Variances in common units (a power of two, exact), so that the squares of values near
     // 1e-160 or 1e160 neither underflow nor overflow; the standard error is scaled back. The
     // volume is split likewise into a power of two and a factor in [1, 2), so that the
-    // square of a stratum's volume (below 1e-154 or above 1e154 in a box of that size) does
-    // not underflow or overflow either.
+    // square of a tiny or huge stratum volume neither underflows nor overflows either.
     let unit = Accumulator::common_unit(strata);
     let volume_unit = 2f64.powi((volume.log2().floor() as i32).clamp(-1022, 1023));
     let relative_volume = volume / volume_unit;
