@@ -2,7 +2,7 @@
 
 use std::fmt;
 
-use crate::stats::{StopReason, Warning};
+use crate::stats::{HEAVY_TAIL_KURTOSIS, StopReason, Warning};
 
 /// One level of a multilevel run: the samples it took and what they say.
 ///
@@ -161,4 +161,28 @@ impl fmt::Display for MultilevelEstimate {
         }
         Ok(())
     }
+}
+
+/// Giles' two warnings of `mlmc_test` on the levels `l >= 1`: the largest kurtosis of a
+/// correction above [`HEAVY_TAIL_KURTOSIS`], and the largest consistency check above 1.
+pub(super) fn level_warnings(levels: &[LevelSummary]) -> Vec<Warning> {
+    let largest = |value: fn(&LevelSummary) -> Option<f64>| {
+        levels
+            .iter()
+            .skip(1)
+            .filter_map(|l| Some((l.level, value(l)?)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    };
+    let mut warnings = Vec::new();
+    if let Some((level, kurtosis)) = largest(|l| l.kurtosis)
+        && kurtosis > HEAVY_TAIL_KURTOSIS
+    {
+        warnings.push(Warning::HeavyTailedLevel { level, kurtosis });
+    }
+    if let Some((level, check)) = largest(|l| l.consistency)
+        && check > 1.0
+    {
+        warnings.push(Warning::InconsistentLevels { level, check });
+    }
+    warnings
 }

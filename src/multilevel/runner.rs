@@ -2,7 +2,7 @@
 
 use super::Level;
 use super::checkpoint::MultilevelCheckpoint;
-use super::estimate::{LevelSummary, MultilevelEstimate};
+use super::estimate::{LevelSummary, MultilevelEstimate, level_warnings};
 use super::fit::log_slope;
 use super::sums::{Extension, LevelJob, LevelSums, chunk_size, run_job};
 use crate::engine::{Executor, Limits, RunConfig, run_settings};
@@ -836,6 +836,7 @@ impl<L: Level> Multilevel<L> {
         if !converged && target.is_some() && stop != StopReason::MaxLevel {
             warnings.push(Warning::ToleranceNotMet { stop });
         }
+        warnings.extend(level_warnings(&summaries));
         let rmse_in_units =
             (std_error_in_units * std_error_in_units + stats.bias * stats.bias).sqrt();
         MultilevelEstimate {

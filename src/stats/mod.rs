@@ -25,4 +25,4 @@ pub use estimate::{ErrorBasis, Estimate};
 pub use goodness_of_fit::{GoodnessOfFit, chi_square_goodness_of_fit};
 pub use tolerance::Tolerance;
 pub use vector_estimate::VectorEstimate;
-pub use warning::{DISAGREEMENT_Q, Warning};
+pub use warning::{DISAGREEMENT_Q, HEAVY_TAIL_KURTOSIS, Warning};

@@ -126,7 +126,37 @@ pub enum Warning {
         /// Its share of the target, `eps / sqrt(2)`.
         target: f64,
     },
+    /// A multilevel correction `Y_l = P_l - P_{l-1}` has a kurtosis above
+    /// [`HEAVY_TAIL_KURTOSIS`] (the level with the largest is named): a few rare samples carry
+    /// most of its variance, so that variance, the samples planned from it and the standard
+    /// error are themselves uncertain. Giles' `mlmc_test` warns at the same bound; payoffs
+    /// with a jump (digital, barrier) reach it on deep levels.
+    HeavyTailedLevel {
+        /// The level `l >= 1` with the largest kurtosis.
+        level: usize,
+        /// Its kurtosis.
+        kurtosis: f64,
+    },
+    /// Giles' consistency check failed: at `level`, the mean of `P_l - P_{l-1}` differs from
+    /// the mean of `P_l` minus the previous level's mean of its own `P_{l-1}` by more than
+    /// three standard errors (`check` is that difference over three of them; the largest is
+    /// named). The coarse sample of level `l` then does not have the law of the fine sample
+    /// of level `l - 1`, a coupling error in the model, and the telescoping sum is biased.
+    InconsistentLevels {
+        /// The level `l >= 1` with the largest check.
+        level: usize,
+        /// Its check, above 1.
+        check: f64,
+    },
 }
+
+/// A multilevel correction whose kurtosis is above this is heavy-tailed
+/// ([`Warning::HeavyTailedLevel`]); Giles' `mlmc_test` uses the same bound.
+///
+/// ```
+/// assert_eq!(mcint::stats::HEAVY_TAIL_KURTOSIS, 100.0);
+/// ```
+pub const HEAVY_TAIL_KURTOSIS: f64 = 100.0;
 
 /// A `Q` below this warns that combined iterations disagree ([`Warning::IterationsDisagree`]):
 /// iterations with honest variances give it in 1% of runs.
@@ -155,6 +185,8 @@ impl Warning {
             Warning::AllZero { .. } => "all-zero",
             Warning::IterationsDisagree { .. } => "iterations-disagree",
             Warning::BiasAboveTarget { .. } => "bias-above-target",
+            Warning::HeavyTailedLevel { .. } => "heavy-tailed-level",
+            Warning::InconsistentLevels { .. } => "inconsistent-levels",
         }
     }
 }
@@ -251,6 +283,22 @@ impl fmt::Display for Warning {
                 "the bias estimate {bias:.3e} is above its target {target:.3e} at level \
                  {level}, the deepest allowed: allow more levels (max_level) or use a scheme of \
                  higher weak order"
+            ),
+            Warning::HeavyTailedLevel { level, kurtosis } => write!(
+                f,
+                "the correction P_l - P_(l-1) at level {level} has kurtosis {kurtosis:.0}, above \
+                 {HEAVY_TAIL_KURTOSIS}: a few rare samples carry most of its variance, so that \
+                 variance, the samples planned from it and the standard error are uncertain; a \
+                 smoother payoff (a conditional expectation over the last step) or more \
+                 samples on that level help"
+            ),
+            Warning::InconsistentLevels { level, check } => write!(
+                f,
+                "at level {level}, the mean of P_l - P_(l-1) differs from mean(P_l) - \
+                 mean(P_(l-1)) by {check:.2} times three standard errors: the coarse sample of \
+                 level {level} does not seem to have the law of the fine sample of level {}, \
+                 a coupling error in the model that biases the estimate",
+                level.saturating_sub(1)
             ),
         }
     }

@@ -11,7 +11,7 @@
 use mcint::measure::{Construction, GeometricBrownianMotion};
 use mcint::multilevel::{Level, Multilevel, MultilevelEstimate, Payoff, Scheme, Sde, SdeLevels};
 use mcint::sampler::{Scramble, Sobol};
-use mcint::stats::StopReason;
+use mcint::stats::{StopReason, Warning};
 use mcint::{CancelToken, Error, Integrator};
 
 const S0: f64 = 100.0;
@@ -610,4 +610,101 @@ fn prices_far_from_1_give_the_ordinary_run_scaled() {
         .unwrap();
     assert_eq!(far.stop, StopReason::MaxEvaluations);
     assert_eq!(far.levels.len(), 3, "{far}");
+}
+
+/// `E[U^2]` on levels whose coarse sample is `scale` times `u^2` plus the previous level's
+/// bias: with `scale = 1` it has the law of the previous fine sample; otherwise every coarse
+/// mean is off by `(scale - 1) / 3`, a coupling error that no telescoping sum survives.
+struct Coupled {
+    scale: f64,
+}
+
+impl Level for Coupled {
+    fn dims(&self, _: usize) -> usize {
+        1
+    }
+    fn cost(&self, level: usize) -> f64 {
+        (1u64 << level) as f64
+    }
+    fn sample(&self, level: usize, u: &[f64], _: &mut Vec<f64>) -> (f64, f64) {
+        let fine = u[0] * u[0] + 0.5f64.powi(level as i32);
+        let coarse = match level {
+            0 => 0.0,
+            _ => self.scale * u[0] * u[0] + 0.5f64.powi(level as i32 - 1),
+        };
+        (fine, coarse)
+    }
+}
+
+/// Corrections that are zero but for a rare jump (probability `1e-3`): their kurtosis is
+/// about 1000.
+struct RareJumps;
+
+impl Level for RareJumps {
+    fn dims(&self, _: usize) -> usize {
+        2
+    }
+    fn cost(&self, level: usize) -> f64 {
+        (1u64 << level) as f64
+    }
+    fn sample(&self, level: usize, u: &[f64], _: &mut Vec<f64>) -> (f64, f64) {
+        let jump = u[1] < 1e-3;
+        let p = |l: usize| u[0] + if jump { 0.5f64.powi(l as i32) } else { 0.0 };
+        (p(level), if level == 0 { 0.0 } else { p(level - 1) })
+    }
+}
+
+fn level_warnings(run: &MultilevelEstimate) -> Vec<&Warning> {
+    run.warnings
+        .iter()
+        .filter(|w| {
+            matches!(
+                w,
+                Warning::HeavyTailedLevel { .. } | Warning::InconsistentLevels { .. }
+            )
+        })
+        .collect()
+}
+
+/// Giles' consistency check finds a coupling error: the check at each level is the gap over
+/// three standard errors, about `(1.1 - 1) / 3 / (3 x 0.63 / sqrt(40000)) = 3.5` here, and
+/// under a right coupling it exceeds 1 with probability below `P(|Z| > 3)` per level.
+#[test]
+fn a_coupling_error_is_a_warning() {
+    let survey = |scale| {
+        Multilevel::new(Coupled { scale })
+            .seed(7)
+            .survey(3, 40_000)
+            .unwrap()
+    };
+    let right = survey(1.0);
+    assert!(level_warnings(&right).is_empty(), "{right}");
+    let wrong = survey(1.1);
+    let found = level_warnings(&wrong);
+    assert!(
+        matches!(found[..], [Warning::InconsistentLevels { level: 1..=3, check }] if *check > 1.0),
+        "{wrong}"
+    );
+    assert_eq!(found[0].kind(), "inconsistent-levels");
+    assert!(found[0].to_string().contains("coupling error"), "{wrong}");
+}
+
+/// A correction that is a rare jump has a kurtosis near `1 / p = 1000` (about 40 jumps in
+/// 40,000 samples, so the estimate is within a factor 2 of it with overwhelming probability),
+/// while the GBM levels' corrections stay near 10 (Giles' survey shows 5 to 30).
+#[test]
+fn a_heavy_tailed_correction_is_a_warning() {
+    let jumps = Multilevel::new(RareJumps)
+        .seed(3)
+        .survey(3, 40_000)
+        .unwrap();
+    let found = level_warnings(&jumps);
+    assert!(
+        matches!(found[..], [Warning::HeavyTailedLevel { level: 1..=3, kurtosis }] if *kurtosis > 100.0),
+        "{jumps}"
+    );
+    assert!(found[0].to_string().contains("rare samples"), "{jumps}");
+    let gbm = gbm_levels(Scheme::Milstein, Payoff::european_call(STRIKE).unwrap());
+    let survey = Multilevel::new(gbm).seed(3).survey(6, 20_000).unwrap();
+    assert!(level_warnings(&survey).is_empty(), "{survey}");
 }
