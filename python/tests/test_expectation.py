@@ -67,6 +67,9 @@ def test_intervals_cover_at_the_nominal_rate():
         (lambda: Gaussian([0, 0], [[1, 2], [2, 1]], "pca"), ValueError, "eigenvalue"),
         (lambda: Gaussian([0, 0], [[1, 0, 0]]), ValueError, "cov"),
         (lambda: Gaussian([0], [[1]], "lu"), ValueError, "cholesky"),
+        # A singular covariance names the keyword value that takes it, not a Rust type.
+        (lambda: Gaussian([0, 0], [[1, 1], [1, 1]]), ValueError,
+         r"Cholesky factorization \(the pca factorization takes a singular one\)"),
         (lambda: BrownianMotion([0.5, 0.25]), ValueError, "increasing"),
         (lambda: BrownianMotion([1.0], construction="lévy"), ValueError, "bridge"),
         (lambda: GeometricBrownianMotion(-1, 0.05, 0.2, [1.0]), ValueError, "s0"),

@@ -167,7 +167,7 @@ impl BrownianMotion {
                 "times",
                 times.len(),
                 "dates",
-                "; Construction::Bridge takes O(d)",
+                "; the bridge construction takes O(d)",
             )?;
             pca_factor(&times)
         } else {

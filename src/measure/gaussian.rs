@@ -220,8 +220,8 @@ fn factor(covariance: &[f64], d: usize, factorization: Factorization) -> Result<
                 Error::invalid(
                     "covariance",
                     format!("singular (smallest eigenvalue {smallest})"),
-                    "a positive definite matrix for Factorization::Cholesky (use \
-                     Factorization::Pca for a singular one)",
+                    "a positive definite matrix for the Cholesky factorization (the pca \
+                     factorization takes a singular one)",
                 )
             })?;
             let l = cholesky.l();
