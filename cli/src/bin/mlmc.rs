@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! cargo run --release --bin mlmc -- [--model gbm|heston] [--payoff european|asian|lookback|digital|barrier]
-//!     [--scheme euler|milstein] [--eps E] [--min-level L] [--max-level L] [--qmc] [--test]
+//!     [--scheme euler|milstein] [--eps E] [--min-level L] [--max-level L] [--max-cost C] [--qmc] [--test]
 //!     [--plot FILE] [--json] ...
 //! ```
 //! `gbm` is `dS = r S dt + sigma S dW` (`--s0`, `--rate`, `--sigma`); `heston` replaces
@@ -106,6 +106,12 @@ const SPEC: support::Spec = &[
         "max-level",
         true,
         "the deepest level allowed, Giles' Lmax, up to 60 (default 20)",
+    ),
+    (
+        "max-cost",
+        true,
+        "the most a run may spend, in time steps of fine plus coarse paths (default 1e12); a \
+         run that needs more stops with its estimate so far",
     ),
     (
         "test",
@@ -290,6 +296,9 @@ fn run() -> Result<(), String> {
     }
     if let Some(level) = args.get("max-level", "a whole number up to 60")? {
         runner = runner.max_level(level);
+    }
+    if let Some(cost) = args.get("max-cost", "a cost > 0")? {
+        runner = runner.max_cost(cost);
     }
     if let Some(threads) = args.get("threads", "a whole number of threads >= 1")? {
         runner = runner.threads(threads);

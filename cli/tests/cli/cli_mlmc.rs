@@ -117,6 +117,28 @@ fn max_level_stops_a_run_and_the_warning_names_the_flag() {
     );
 }
 
+/// `--max-cost` bounds a run's work: a target that needs far more stops at the limit with
+/// its estimate so far and says the tolerance was not met; a limit below the first samples'
+/// cost, or not a positive number, is a one-line error naming the flag.
+#[test]
+fn max_cost_stops_a_run_at_its_limit() {
+    let capped = json_run(&["--eps", "0.001", "--max-cost", "1e5"]);
+    assert_eq!(
+        (&capped["stop"], &capped["converged"]),
+        (&"max evaluations".into(), &false.into()),
+        "{capped}"
+    );
+    assert!(number(&capped["cost"]) <= 1e5, "{capped}");
+    assert!(
+        capped["warnings"].to_string().contains("tolerance"),
+        "{capped}"
+    );
+    for bad in ["0", "nan", "10"] {
+        let out = run("mlmc", &["--max-cost", bad]);
+        assert_one_line_error(&out, "--max-cost");
+    }
+}
+
 /// A call far out of the money pays nothing on every sampled path: the run says so instead
 /// of printing a NaN check.
 #[test]
