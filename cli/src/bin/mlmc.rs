@@ -111,7 +111,7 @@ const SPEC: support::Spec = &[
         "max-cost",
         true,
         "the most a run may spend, in time steps of fine plus coarse paths (default 1e12); a \
-         run that needs more stops with its estimate so far",
+         run stops before an iteration that would pass it, with its estimate so far",
     ),
     (
         "test",
