@@ -440,7 +440,10 @@ fn covariances_too_large_to_factor_are_refused() {
     let err = BrownianMotion::new(times.clone(), 0.0, 1.0, Construction::Pca)
         .unwrap_err()
         .to_string();
-    assert!(err.contains(&limit) && err.contains("Bridge"), "{err}");
+    assert!(
+        err.contains(&limit) && err.contains("bridge construction"),
+        "{err}"
+    );
     let err = GeometricBrownianMotion::new(1.0, 0.0, 0.01, times.clone(), Construction::Pca)
         .unwrap_err()
         .to_string();
