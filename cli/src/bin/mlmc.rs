@@ -21,7 +21,8 @@
 //! `std_error`, `bias`, `rmse`, `exact` (the Black-Scholes value where there is one, else
 //! null), `levels` (objects with `level`, `n`, `mean`, `variance`, `cost`, `fine_mean`,
 //! `fine_variance`, `kurtosis`, `check`), `alpha`, `beta`, `gamma`, `refinement`, `cost`,
-//! `standard_mc_cost`, `converged`, `stop`, `warnings`, `ranks`, and with `--test`, `test`
+//! `standard_mc_cost`, `converged`, `stop`, `warnings` (objects with `kind` and `message`, as
+//! `integrate --json` lists them), `ranks`, and with `--test`, `test`
 //! (the survey, as an object with `levels`, `alpha`, `beta`, `gamma`).
 //!
 //! `--checkpoint FILE` resumes the run saved in FILE (if it exists) and saves its state there
@@ -356,12 +357,12 @@ fn run() -> Result<(), String> {
         draw(&path, survey.as_ref().unwrap_or(&result))?;
     }
     // The library's settings named in a warning (`max_level`) are this program's flags.
-    let warnings: Vec<String> = result
+    let warnings: Vec<(&str, String)> = result
         .warnings
         .iter()
-        .map(|w| w.to_string().replace("max_level", "--max-level"))
+        .map(|w| (w.kind(), w.to_string().replace("max_level", "--max-level")))
         .collect();
-    for warning in &warnings {
+    for (_, warning) in &warnings {
         note!("warning: {warning}");
     }
     let exact = settings.exact();
@@ -387,7 +388,10 @@ fn run() -> Result<(), String> {
             "standard_mc_cost": result.standard_mc_cost,
             "converged": result.converged,
             "stop": support::stop_name(result.stop),
-            "warnings": warnings,
+            "warnings": warnings
+                .iter()
+                .map(|(kind, message)| serde_json::json!({"kind": kind, "message": message}))
+                .collect::<Vec<_>>(),
             "ranks": ranks.spread.size,
         });
         if let Some(survey) = &survey {
