@@ -584,6 +584,15 @@ impl ChunkJob for Chunks<'_> {
         })
     }
 
+    /// A fixed pass is built whole on first use: a thread claims the chunks of about one pass
+    /// (one replicate at most), so that threads build different passes at once.
+    fn claim(&self) -> u64 {
+        match self.sampler.passes() {
+            PassKind::Fixed { size } => size.div_ceil(CHUNK).min(self.plan.chunks_per_replicate),
+            _ => 1,
+        }
+    }
+
     fn run(
         &self,
         work: &mut Workspace,

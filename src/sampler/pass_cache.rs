@@ -17,10 +17,13 @@ type Slot = Arc<OnceLock<Arc<[f64]>>>;
 ///
 /// Lookups hold the lock only to find or create a slot; the build itself runs in
 /// [`OnceLock::get_or_init`] outside the lock, so threads building different passes run in
-/// parallel while threads wanting the same pass wait for one build. The capacity is the
-/// number of available threads (at least 2, at most 8), so that workers on different passes
-/// do not evict each other's passes. A poisoned lock (a panic elsewhere while it was held)
-/// is recovered: the list is always in a valid state.
+/// parallel while threads wanting the same pass wait for one build. The capacity is twice the
+/// number of available threads (at least 4, at most 16): each worker's current pass and the
+/// one it left. A slot that a thread is building (or waiting on) is never evicted, however
+/// long ago it was asked for: dropping it would have the builder's work thrown away and done
+/// again at its next lookup; the list then grows past its capacity until the builds end. A
+/// poisoned lock (a panic elsewhere while it was held) is recovered: the list is always in a
+/// valid state.
 pub(super) struct PassCache {
     capacity: usize,
     entries: Mutex<Vec<(u64, u64, Slot)>>,
@@ -36,7 +39,7 @@ impl Clone for PassCache {
 
 impl PassCache {
     pub(super) fn new() -> Self {
-        let capacity = crate::threads::available_threads().clamp(2, 8);
+        let capacity = (2 * crate::threads::available_threads()).clamp(4, 16);
         PassCache {
             capacity,
             entries: Mutex::new(Vec::new()),
@@ -60,9 +63,7 @@ impl PassCache {
                     slot
                 }
                 None => {
-                    if entries.len() >= self.capacity {
-                        entries.remove(0);
-                    }
+                    evict_idle(&mut entries, self.capacity - 1);
                     let slot = Slot::default();
                     entries.push((seed, pass, Arc::clone(&slot)));
                     slot
@@ -78,6 +79,19 @@ impl PassCache {
             .get_mut()
             .unwrap_or_else(PoisonError::into_inner)
             .clear();
+    }
+}
+
+/// Drops the least recently used entries that no thread is building or waiting on (the list
+/// holds the only handle to their slot) until at most `keep` are left, or none is idle.
+fn evict_idle(entries: &mut Vec<(u64, u64, Slot)>, keep: usize) {
+    while entries.len() > keep {
+        match entries.iter().position(|e| Arc::strong_count(&e.2) == 1) {
+            Some(at) => {
+                entries.remove(at);
+            }
+            None => return,
+        }
     }
 }
 
@@ -132,6 +146,26 @@ pub(super) fn fill_from_passes(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A pass being built stays cached while later passes come and go: the least recently
+    /// asked-for slot is kept while a thread holds it, and idle ones go first.
+    #[test]
+    fn a_slot_being_built_is_not_evicted() {
+        let mut entries: Vec<(u64, u64, Slot)> =
+            (0..4).map(|pass| (0, pass, Slot::default())).collect();
+        let building = Arc::clone(&entries[0].2);
+        evict_idle(&mut entries, 2);
+        let passes: Vec<u64> = entries.iter().map(|e| e.1).collect();
+        assert_eq!(passes, [0, 3]);
+        drop(building);
+        evict_idle(&mut entries, 1);
+        assert_eq!(entries.iter().map(|e| e.1).collect::<Vec<_>>(), [3]);
+        // Nothing idle: the list stays over its capacity.
+        let held = Arc::clone(&entries[0].2);
+        evict_idle(&mut entries, 0);
+        assert_eq!(entries.len(), 1);
+        drop(held);
+    }
 
     #[test]
     fn cache_recovers_from_a_poisoned_lock() {
