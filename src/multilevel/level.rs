@@ -1,5 +1,7 @@
 //! [`Level`]: what a multilevel run needs of a model.
 
+use crate::Points;
+
 /// A model seen level by level: level `l` approximates the quantity of interest with a time
 /// step (or mesh) refined by the factor [`refinement`](Self::refinement) per level, and one
 /// sample of it gives the fine approximation `P_l` and the coarse one `P_{l-1}` from the same
@@ -102,4 +104,35 @@ pub trait Level: Send + Sync {
     /// assert_eq!(levels.sample(0, &[0.1], &mut Vec::new()).1, 0.0);
     /// ```
     fn sample(&self, level: usize, u: &[f64], scratch: &mut Vec<f64>) -> (f64, f64);
+
+    /// The samples of level `level` from a block of canonical points, one sample per point:
+    /// `(fine[i], coarse[i])` is [`sample`](Self::sample) of point `i`. A run draws its
+    /// samples through this, a block at a time; the default calls `sample` point by point.
+    /// Override it where one call per block is cheaper (a model in another language, or
+    /// vectorized over the block); `fine` and `coarse` hold `points.len()` values.
+    ///
+    /// ```
+    /// use mcint::Points;
+    /// use mcint::multilevel::{Level, Payoff, Scheme, Sde, SdeLevels};
+    /// let gbm = Sde::gbm(100.0, 0.05, 0.2).unwrap();
+    /// let levels = SdeLevels::new(gbm, Scheme::Euler, Payoff::european_call(100.0).unwrap(), 1.0).unwrap();
+    /// let points = Points::from_rows(&[vec![0.9, 0.8], vec![0.1, 0.3]]).unwrap();
+    /// let (mut fine, mut coarse) = ([0.0; 2], [0.0; 2]);
+    /// levels.sample_block(1, &points, &mut fine, &mut coarse, &mut Vec::new());
+    /// assert_eq!((fine[1], coarse[1]), levels.sample(1, &[0.1, 0.3], &mut Vec::new()));
+    /// ```
+    fn sample_block(
+        &self,
+        level: usize,
+        points: &Points,
+        fine: &mut [f64],
+        coarse: &mut [f64],
+        scratch: &mut Vec<f64>,
+    ) {
+        let mut u = vec![0.0; points.dims()];
+        for (i, (fine, coarse)) in fine.iter_mut().zip(coarse).enumerate().take(points.len()) {
+            points.copy_point(i, &mut u);
+            (*fine, *coarse) = self.sample(level, &u, scratch);
+        }
+    }
 }

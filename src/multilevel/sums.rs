@@ -57,6 +57,15 @@ impl LevelSums {
 
 /// Samples `first .. first + count` of each of `replicates` passes of a level's sampler,
 /// `chunk` samples per chunk of work.
+/// A thread's buffers for a chunk of samples: its canonical points, their fine and coarse
+/// values, and the model's scratch space.
+pub(super) struct Block {
+    points: Points,
+    fine: Vec<f64>,
+    coarse: Vec<f64>,
+    scratch: Vec<f64>,
+}
+
 pub(super) struct LevelJob<'a, L> {
     pub(super) model: &'a L,
     pub(super) level: usize,
@@ -110,30 +119,35 @@ impl<L> LevelJob<'_, L> {
 }
 
 impl<L: Level> ChunkJob for LevelJob<'_, L> {
-    type Scratch = (Points, Vec<f64>, Vec<f64>);
+    type Scratch = Block;
     type Output = LevelSums;
 
-    fn scratch(&self) -> Result<Self::Scratch> {
+    fn scratch(&self) -> Result<Block> {
         let dims = self.sampler.dims();
         let len = usize::try_from(self.chunk).unwrap_or(usize::MAX);
-        Ok((Points::new(dims, len)?, vec![0.0; dims], Vec::new()))
+        Ok(Block {
+            points: Points::new(dims, len)?,
+            fine: vec![0.0; len],
+            coarse: vec![0.0; len],
+            scratch: Vec::new(),
+        })
     }
 
-    fn run(
-        &self,
-        (points, u, scratch): &mut Self::Scratch,
-        chunk: u64,
-        _: &Limits,
-    ) -> Result<Option<LevelSums>> {
+    fn run(&self, block: &mut Block, chunk: u64, _: &Limits) -> Result<Option<LevelSums>> {
         let (start, len) = self.span(chunk);
         let replicate = self.replicate(chunk);
-        points.set_len(len as usize);
-        self.sampler.fill(replicate * self.stride + start, points)?;
+        let len = len as usize;
+        block.points.set_len(len);
+        self.sampler
+            .fill(replicate * self.stride + start, &mut block.points)?;
+        let (fine, coarse) = (&mut block.fine[..len], &mut block.coarse[..len]);
+        self.model
+            .sample_block(self.level, &block.points, fine, coarse, &mut block.scratch);
         let mut sums = LevelSums::default();
-        for i in 0..len as usize {
-            points.copy_point(i, u);
-            let (fine, coarse) = self.model.sample(self.level, u, scratch);
+        for (i, (&fine, &coarse)) in fine.iter().zip(coarse.iter()).enumerate() {
             if !(fine.is_finite() && coarse.is_finite()) {
+                let mut u = vec![0.0; block.points.dims()];
+                block.points.copy_point(i, &mut u);
                 return Err(Error::invalid(
                     "level sample",
                     format!(
