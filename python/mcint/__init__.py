@@ -8,11 +8,14 @@ The Python face of the Rust crate ``mcint``:
 * :func:`expectation` averages a function over a measure of :mod:`mcint.measure`
   (Gaussian, lognormal, Brownian paths, geometric Brownian motion).
 * :func:`sobol_indices` gives Sobol' sensitivity indices of a model with error bars.
+* :func:`mlmc` estimates the expectation of a model's finest level by multilevel Monte
+  Carlo (or QMC) to a root-mean-square error.
 * :mod:`mcint.qmc` gives the library's point sets as ``scipy.stats.qmc`` engines.
 """
 
 from . import measure
 from ._integrate import METHODS, expectation, integrate
+from ._multilevel import LevelSummary, MultilevelResult, mlmc
 from ._native import __version__
 from ._result import IntegrationResult, McintWarning, RunWarning
 from ._sensitivity import SensitivityResult, sobol_indices
@@ -22,6 +25,9 @@ __all__ = [
     "expectation",
     "sobol_indices",
     "SensitivityResult",
+    "mlmc",
+    "MultilevelResult",
+    "LevelSummary",
     "measure",
     "qmc",
     "IntegrationResult",

@@ -94,3 +94,25 @@ def sobol_indices(
     seed: int = 0,
     threads: Optional[int] = None,
 ) -> SensitivityRun: ...
+
+class MultilevelRun:
+    def report(self) -> dict: ...
+
+def mlmc(
+    level: Callable[[int, npt.NDArray[np.float64]], npt.NDArray[np.float64]],
+    rmse: float,
+    dims: list,
+    costs: list,
+    refinement: int,
+    *,
+    weak_order: Optional[float] = None,
+    qmc: bool = False,
+    replicates: Optional[int] = None,
+    initial_samples: Optional[int] = None,
+    min_level: Optional[int] = None,
+    max_level: Optional[int] = None,
+    max_cost: Optional[float] = None,
+    time_limit: Optional[float] = None,
+    seed: int = 0,
+    threads: Optional[int] = None,
+) -> MultilevelRun: ...

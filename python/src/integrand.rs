@@ -71,7 +71,7 @@ impl PyIntegrand {
             for k in 0..d {
                 columns.extend_from_slice(points.column(k));
             }
-            return self.call(columns, n, d, out);
+            return self.call(None, columns, n, d, out);
         };
         let d = measure.dims();
         let (mut u, mut x) = (vec![0.0; measure.canonical_dims()], vec![0.0; d]);
@@ -84,7 +84,7 @@ impl PyIntegrand {
                 columns[k * n + i] = v;
             }
         }
-        self.call(columns, n, d, out);
+        self.call(None, columns, n, d, out);
         for column in out.chunks_exact_mut(n.max(1)) {
             for (y, &w) in column.iter_mut().zip(&weights) {
                 *y *= w;
@@ -92,8 +92,20 @@ impl PyIntegrand {
         }
     }
 
-    /// Calls `g` on `n` points given as `d` columns of `columns`, into `out`.
-    fn call(&self, columns: Vec<f64>, n: usize, d: usize, out: &mut [f64]) {
+    /// `f(level, u)` on a block of canonical points `u` of a multilevel model's level
+    /// `level`: `out[k * n + i]` is output `k` at point `i`.
+    pub fn level_batch(&self, level: usize, points: &Points, out: &mut [f64]) {
+        let (n, d) = (points.len(), points.dims());
+        let mut columns = Vec::with_capacity(n * d);
+        for k in 0..d {
+            columns.extend_from_slice(points.column(k));
+        }
+        self.call(Some(level), columns, n, d, out);
+    }
+
+    /// Calls `f` on `n` points given as `d` columns of `columns` (after `level`, when
+    /// there is one), into `out`.
+    fn call(&self, level: Option<usize>, columns: Vec<f64>, n: usize, d: usize, out: &mut [f64]) {
         if self.failed() {
             out.fill(f64::NAN);
             return;
@@ -102,7 +114,11 @@ impl PyIntegrand {
             // Fortran order: each coordinate a contiguous column, as the library holds it.
             let x = PyArray1::from_vec(py, columns)
                 .reshape_with_order([n, d], NPY_ORDER::NPY_FORTRANORDER)?;
-            let y = self.f.bind(py).call1((x,))?;
+            let f = self.f.bind(py);
+            let y = match level {
+                Some(level) => f.call1((level, x))?,
+                None => f.call1((x,))?,
+            };
             let y: PyReadonlyArrayDyn<f64> = match y.extract() {
                 Ok(array) => array,
                 // Another dtype, a list, a scalar: as numpy.asarray(y, dtype=float64).

@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 mod errors;
 mod integrand;
 mod measure;
+mod multilevel;
 mod point_set;
 mod result;
 mod run;
@@ -21,6 +22,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<measure::MeasureSpec>()?;
     m.add_function(wrap_pyfunction!(run::integrate_box, m)?)?;
     m.add_class::<sensitivity::SensitivityRun>()?;
+    m.add_class::<multilevel::MultilevelRun>()?;
+    m.add_function(wrap_pyfunction!(multilevel::mlmc, m)?)?;
     m.add_function(wrap_pyfunction!(sensitivity::sobol_indices, m)?)?;
     m.add_function(wrap_pyfunction!(point_set::sampler_names, m)?)?;
     m.add_function(wrap_pyfunction!(point_set::scramble_names, m)?)?;

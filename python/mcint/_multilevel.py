@@ -1,0 +1,247 @@
+"""``mcint.mlmc``: multilevel Monte Carlo (Giles 2008) of a vectorized model."""
+
+import numbers
+import warnings
+from collections import namedtuple
+
+import numpy as np
+
+from . import _native, _seed
+from ._integrate import _positive, _whole
+from ._result import McintWarning, RunWarning
+
+#: The statistics of one level: ``level``, samples ``n``, ``mean`` and ``variance`` of
+#: ``P_l - P_{l-1}``, the ``std_error`` of that mean, the ``cost`` of a sample, the mean and
+#: variance of ``P_l`` alone, the ``kurtosis`` of the correction and Giles' consistency
+#: ``check`` (``None`` where they cannot be formed).
+LevelSummary = namedtuple(
+    "LevelSummary",
+    ["level", "n", "mean", "variance", "std_error", "cost", "fine_mean", "fine_variance",
+     "kurtosis", "check"],
+)
+
+# The library's deepest level by default (Multilevel::max_level).
+_MAX_LEVEL = 20
+
+
+def mlmc(
+    level,
+    rmse,
+    *,
+    dims,
+    cost=None,
+    refinement=2,
+    weak_order=None,
+    qmc=False,
+    replicates=None,
+    initial_samples=None,
+    min_level=None,
+    max_level=None,
+    max_cost=None,
+    time_limit=None,
+    seed=None,
+    threads=None,
+):
+    """The expectation of a model's finest approximation by multilevel Monte Carlo (Giles
+    2008; multilevel QMC with ``qmc=True``, Giles and Waterhouse 2009), to a root-mean-square
+    error ``rmse``: levels are added until the estimated bias is small, and samples are
+    spread over the levels to minimize the cost.
+
+    Parameters
+    ----------
+    level : callable
+        ``level(l, u)`` gives the samples of level ``l`` from ``u``, an ``(n, dims(l))``
+        float64 array of canonical points in ``[0, 1)`` (independent uniforms, or a
+        scrambled Sobol' sequence with ``qmc``; map them to normals with, say,
+        ``scipy.special.ndtri``): a pair ``(fine, coarse)`` of ``(n,)`` arrays, ``P_l`` and
+        ``P_{l-1}`` of each sample computed from the same coordinates (at level 0, the
+        coarse values are 0). It is called on blocks of up to 4096 samples.
+    rmse : float
+        The target root-mean-square error (above 0).
+    dims : int or callable
+        The coordinates one sample of level ``l`` takes: a number for every level, or
+        ``dims(l)``. Put the ones that matter most first (a Brownian bridge does that).
+    cost : callable, optional
+        ``cost(l)``, the cost of one sample of level ``l`` in any fixed unit (default
+        ``refinement ** l``, time steps of a path refined by ``refinement`` per level).
+    refinement : int
+        The refinement factor ``M`` between levels (default 2).
+    weak_order : float, optional
+        The known weak order ``alpha`` of the scheme (estimated from the levels otherwise).
+    qmc : bool
+        Multilevel QMC: each level's samples are ``replicates`` scrambled Sobol' sequences.
+    replicates, initial_samples, min_level, max_level, max_cost :
+        The run's settings (defaults: 32 randomizations per level with ``qmc``; 1000
+        initial samples of levels ``0..=min_level``, 8 per randomization with ``qmc``;
+        levels 0 to 2 at least and 20 at most; a cost limit of 1e12).
+    time_limit : float, optional
+        Seconds after which the run stops with what it has (the result says so).
+    seed, threads :
+        The seed (an integer, a ``numpy.random.Generator`` or ``SeedSequence``; fresh
+        entropy when ``None``) and the worker threads (the result does not depend on them).
+
+    Returns a :class:`MultilevelResult`; each of its warnings (a tolerance not met, a bias
+    above its target at the deepest level, heavy-tailed or inconsistent levels) is also
+    raised as a :class:`McintWarning`.
+
+    Examples
+    --------
+    A toy model whose level ``l`` adds a bias of ``2**-l`` to ``E[U^2] = 1/3``:
+
+    >>> import numpy as np, mcint
+    >>> def level(l, u):
+    ...     p = lambda k: u[:, 0] ** 2 + 0.5 ** k
+    ...     return p(l), (p(l - 1) if l > 0 else np.zeros(len(u)))
+    >>> r = mcint.mlmc(level, 1e-3, dims=1, seed=1)
+    >>> abs(r.estimate - 1 / 3) < 4e-3, r.converged
+    (True, True)
+    """
+    if not callable(level):
+        raise TypeError(f"invalid level = {level!r}: expected a callable level(l, u)")
+    rmse = _positive("rmse", rmse)
+    if rmse is None:
+        raise TypeError("invalid rmse = None: expected a number above 0")
+    refinement = _whole("refinement", refinement, 2)
+    deepest = _whole("max_level", max_level, 1)
+    # Every level the run may sample, and level 2 (a checkpoint's fingerprint reads 0..2).
+    levels = range(max(_MAX_LEVEL if deepest is None else deepest, 2) + 1)
+    dims_table = [_level_dims(dims, l) for l in levels]
+    cost_table = [_level_cost(cost, refinement, l) for l in levels]
+    if weak_order is not None:
+        weak_order = _positive("weak_order", weak_order)
+    seed_int = _seed.to_int(seed)
+    native = _native.mlmc(
+        _blocks(level),
+        rmse,
+        dims_table,
+        cost_table,
+        refinement,
+        weak_order=weak_order,
+        qmc=bool(qmc),
+        replicates=_whole("replicates", replicates, 1),
+        initial_samples=_whole("initial_samples", initial_samples, 1),
+        min_level=_whole("min_level", min_level, 1),
+        max_level=deepest,
+        max_cost=_positive("max_cost", max_cost),
+        time_limit=_positive("time_limit", time_limit),
+        seed=seed_int,
+        threads=_whole("threads", threads, 1),
+    )
+    result = MultilevelResult(native, seed_int)
+    for w in result.warnings:
+        warnings.warn(w.message, McintWarning, stacklevel=2)
+    return result
+
+
+def _level_dims(dims, l):
+    value = dims(l) if callable(dims) else dims
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral) or value < 1:
+        raise ValueError(
+            f"invalid dims = {value!r} at level {l}: expected a whole number >= 1 of "
+            "coordinates per sample (an int, or a callable dims(l) giving one)"
+        )
+    return int(value)
+
+
+def _level_cost(cost, refinement, l):
+    if cost is None:
+        return float(refinement) ** l
+    value = cost(l)
+    if (
+        isinstance(value, (bool, np.bool_))
+        or not isinstance(value, numbers.Real)
+        or not (np.isfinite(value) and value > 0)
+    ):
+        raise ValueError(
+            f"invalid cost = {value!r} at level {l}: expected a finite number above 0 "
+            "(the cost of one sample of the level)"
+        )
+    return float(value)
+
+
+def _blocks(level):
+    """``level`` as the extension calls it: ``(n, 2)`` columns of fine and coarse values,
+    after checking the pair the user's function returned."""
+
+    def call(l, u):
+        pair = level(l, u)
+        try:
+            fine, coarse = pair
+        except (TypeError, ValueError):
+            raise TypeError(
+                f"level({l}, u) returned {type(pair).__name__}: expected a pair (fine, "
+                "coarse) of arrays with one value per row of u"
+            ) from None
+        n = u.shape[0]
+        fine = np.asarray(fine, dtype=np.float64)
+        coarse = np.asarray(coarse, dtype=np.float64)
+        if fine.shape != (n,) or coarse.shape != (n,):
+            raise ValueError(
+                f"level({l}, u) returned shapes {fine.shape} and {coarse.shape} for {n} "
+                f"samples: expected ({n},) each"
+            )
+        if l == 0 and np.any(coarse != 0):
+            raise ValueError(
+                "level(0, u) returned nonzero coarse values: level 0 has no coarser level, "
+                "so its coarse values must be 0 (P_-1 = 0)"
+            )
+        return np.column_stack((fine, coarse))
+
+    return call
+
+
+class MultilevelResult:
+    """What a multilevel run estimated and how it ended.
+
+    Attributes
+    ----------
+    estimate, std_error, bias, rmse :
+        The estimate, its standard error (sampling alone), the estimated bias of the
+        deepest level, and ``sqrt(std_error**2 + bias**2)``.
+    target : float
+        The RMSE asked for.
+    levels : list of LevelSummary
+    alpha, beta, gamma : float
+        The fitted decay rates of the mean, the variance and the cost of the corrections.
+    refinement : int
+    cost, standard_mc_cost : float
+        The run's cost, and what plain Monte Carlo on the deepest level would have paid for
+        the same error.
+    replicates : int
+    converged : bool
+        Whether the target was met.
+    stop_reason : str
+        ``"tolerance met"``, ``"max level"``, ``"max evaluations"`` (the cost limit),
+        ``"time limit"`` or ``"cancelled"``.
+    warnings : list of RunWarning
+    seed : int
+        The library seed (pass it back to repeat the run bit for bit).
+    """
+
+    def __init__(self, native, seed):
+        report = native.report()
+        self._report = report
+        self.seed = seed
+        for key in ("estimate", "std_error", "bias", "rmse", "target", "alpha", "beta",
+                    "gamma", "refinement", "cost", "standard_mc_cost", "replicates",
+                    "converged"):
+            setattr(self, key, report[key])
+        self.stop_reason = report["stop"]
+        self.levels = [LevelSummary(**level) for level in report["levels"]]
+        self.warnings = [RunWarning(w["kind"], w["message"], None) for w in report["warnings"]]
+
+    def to_dict(self):
+        """The run with the keys of the command line's ``mlmc --json``."""
+        out = {k: v for k, v in self._report.items() if k not in ("stop", "target", "levels")}
+        out["eps"] = self._report["target"]
+        out["levels"] = [dict(level) for level in self._report["levels"]]
+        out["stop"] = self._report["stop"]
+        out["seed"] = self.seed
+        return out
+
+    def __repr__(self):
+        return (
+            f"MultilevelResult(estimate={self.estimate!r}, rmse={self.rmse!r}, "
+            f"levels={len(self.levels)}, cost={self.cost!r}, converged={self.converged}, "
+            f"stop_reason={self.stop_reason!r})"
+        )

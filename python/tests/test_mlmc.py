@@ -1,0 +1,155 @@
+"""``mcint.mlmc``: a multilevel run of a numpy model meets its RMSE target against a closed
+form, repeats bit for bit, reports what the command line's ``mlmc --json`` reports, warns
+as the library does, and turns every bad input into one clear exception."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.special import ndtri
+
+import mcint
+
+# Geometric Brownian motion S0 = 100, r = 0.05, sigma = 0.2 to T = 1; the discounted
+# European call at strike 100 is Black-Scholes' 10.450583572185565.
+S0, RATE, SIGMA, STRIKE = 100.0, 0.05, 0.2, 100.0
+
+
+def black_scholes_call():
+    d1 = (math.log(S0 / STRIKE) + RATE + SIGMA**2 / 2) / SIGMA
+    d2 = d1 - SIGMA
+    phi = lambda x: 0.5 * math.erfc(-x / math.sqrt(2))
+    return S0 * phi(d1) - STRIKE * math.exp(-RATE) * phi(d2)
+
+
+def euler_call(l, u):
+    """Level l: Euler on 2**l steps (fine) and 2**(l-1) steps from the same increments."""
+    n, steps = u.shape
+    h = 1.0 / steps
+    dw = math.sqrt(h) * ndtri(u)
+    discount = math.exp(-RATE)
+    payoff = lambda s: discount * np.maximum(s - STRIKE, 0.0)
+    fine = S0 * np.prod(1 + RATE * h + SIGMA * dw, axis=1)
+    if l == 0:
+        return payoff(fine), np.zeros(n)
+    pairs = dw.reshape(n, steps // 2, 2).sum(axis=2)
+    coarse = S0 * np.prod(1 + RATE * 2 * h + SIGMA * pairs, axis=1)
+    return payoff(fine), payoff(coarse)
+
+
+def steps(l):
+    return 2**l
+
+
+def test_a_european_call_meets_its_target():
+    exact = black_scholes_call()
+    assert abs(exact - 10.450583572185565) < 1e-12
+    for qmc in (False, True):
+        r = mcint.mlmc(euler_call, 0.05, dims=steps, qmc=qmc, seed=3)
+        assert r.converged and r.stop_reason == "tolerance met", r
+        # The run aims at an RMSE of 0.05 (bias and sampling): 4 of them is far in the tail.
+        assert abs(r.estimate - exact) < 4 * 0.05, (qmc, r.estimate)
+        assert r.rmse <= 0.05 * (1 + 1e-12)
+        assert math.isclose(r.rmse, math.hypot(r.std_error, r.bias), rel_tol=1e-12)
+        assert [lv.level for lv in r.levels] == list(range(len(r.levels)))
+        assert all(lv.cost == 2.0**lv.level for lv in r.levels)
+        assert r.replicates == (32 if qmc else 1)
+        # The estimate is the sum of the level means (the telescoping sum).
+        assert math.isclose(r.estimate, sum(lv.mean for lv in r.levels), rel_tol=1e-9)
+
+
+def test_runs_repeat_bit_for_bit_over_threads():
+    one = mcint.mlmc(euler_call, 0.1, dims=steps, seed=11, threads=1)
+    two = mcint.mlmc(euler_call, 0.1, dims=steps, seed=11, threads=2)
+    assert one.to_dict() == two.to_dict()
+    other = mcint.mlmc(euler_call, 0.1, dims=steps, seed=12)
+    assert other.estimate != one.estimate
+
+
+def test_the_report_has_the_command_line_keys():
+    r = mcint.mlmc(euler_call, 0.1, dims=steps, cost=lambda l: 1.5 * 2**l, seed=1)
+    d = r.to_dict()
+    for key in ("estimate", "std_error", "bias", "rmse", "eps", "levels", "alpha", "beta",
+                "gamma", "refinement", "cost", "standard_mc_cost", "converged", "stop",
+                "warnings", "seed"):
+        assert key in d, key
+    assert set(d["levels"][0]) == {"level", "n", "mean", "variance", "std_error", "cost",
+                                   "fine_mean", "fine_variance", "kurtosis", "check"}
+    assert d["levels"][2]["cost"] == 6.0
+    assert d["eps"] == 0.1 and d["refinement"] == 2
+    assert "MultilevelResult(estimate=" in repr(r)
+
+
+def test_a_capped_level_warns_and_says_why_it_stopped():
+    with pytest.warns(mcint.McintWarning, match="bias"):
+        r = mcint.mlmc(euler_call, 0.005, dims=steps, max_level=3, seed=2)
+    assert (r.stop_reason, r.converged) == ("max level", False)
+    assert len(r.levels) == 4
+    assert "bias-above-target" in [w.kind for w in r.warnings]
+    with pytest.warns(mcint.McintWarning, match="tolerance"):
+        r = mcint.mlmc(euler_call, 0.001, dims=steps, max_cost=1e5, seed=2)
+    assert r.stop_reason == "max evaluations" and r.cost <= 1e5
+
+
+def test_a_model_with_a_wrong_coupling_is_flagged():
+    # The coarse path of level l scaled by 1.1 does not have the law of level l-1's fine
+    # path: Giles' consistency check sees it. Its corrections never shrink, so the run is
+    # held to level 5.
+    def miscoupled(l, u):
+        fine, coarse = euler_call(l, u)
+        return fine, 1.1 * coarse
+
+    with pytest.warns(mcint.McintWarning):
+        r = mcint.mlmc(miscoupled, 0.05, dims=steps, max_level=5, seed=4)
+    assert "inconsistent-levels" in [w.kind for w in r.warnings]
+
+
+def test_the_model_sees_canonical_blocks():
+    seen = []
+
+    def level(l, u):
+        seen.append((l, u.shape, u.dtype, float(u.min()), float(u.max())))
+        return euler_call(l, u)
+
+    mcint.mlmc(level, 0.2, dims=steps, seed=5, threads=1)
+    for l, shape, dtype, low, high in seen:
+        assert shape[1] == 2**l and 1 <= shape[0] <= 4096 and dtype == np.float64
+        assert 0.0 <= low and high < 1.0
+
+
+def test_bad_input_is_one_clear_exception():
+    with pytest.raises(TypeError, match="level"):
+        mcint.mlmc(3, 0.1, dims=1)
+    with pytest.raises(ValueError, match="rmse"):
+        mcint.mlmc(euler_call, -1.0, dims=steps)
+    with pytest.raises(TypeError, match="rmse"):
+        mcint.mlmc(euler_call, None, dims=steps)
+    with pytest.raises(ValueError, match="dims"):
+        mcint.mlmc(euler_call, 0.1, dims=0)
+    with pytest.raises(ValueError, match="dims = 'x' at level 0"):
+        mcint.mlmc(euler_call, 0.1, dims=lambda l: "x")
+    with pytest.raises(ValueError, match="cost"):
+        mcint.mlmc(euler_call, 0.1, dims=steps, cost=lambda l: -1.0)
+    with pytest.raises(ValueError, match="refinement"):
+        mcint.mlmc(euler_call, 0.1, dims=steps, refinement=1)
+    with pytest.raises(ValueError, match="min_level"):
+        mcint.mlmc(euler_call, 0.1, dims=steps, min_level=5, max_level=3)
+    with pytest.raises(ValueError, match=r"shapes \(3,\) and"):
+        mcint.mlmc(lambda l, u: (np.zeros(3), np.zeros(3)), 0.1, dims=1)
+    with pytest.raises(TypeError, match="pair"):
+        mcint.mlmc(lambda l, u: 1.0, 0.1, dims=1)
+    with pytest.raises(ValueError, match="level 0 has no coarser level"):
+        mcint.mlmc(lambda l, u: (u[:, 0], u[:, 0]), 0.1, dims=1)
+    with pytest.raises(FloatingPointError, match="level sample"):
+        mcint.mlmc(lambda l, u: (np.full(len(u), np.nan), np.zeros(len(u))), 0.1, dims=1)
+
+    class Boom(Exception):
+        pass
+
+    def failing(l, u):
+        if l == 1:
+            raise Boom("the model failed")
+        return euler_call(l, u)
+
+    with pytest.raises(Boom, match="the model failed"):
+        mcint.mlmc(failing, 0.1, dims=steps)
