@@ -106,12 +106,25 @@ pub enum Error {
     },
 }
 
+/// `value`, or the float it spells in exponent form when it is longer than any integer of 64
+/// bits (a float's `Display` has no exponent).
+fn shortened(value: String) -> String {
+    const LONGEST_PLAIN: usize = 24;
+    match value.parse::<f64>() {
+        Ok(x) if value.len() > LONGEST_PLAIN => format!("{x:e}"),
+        _ => value,
+    }
+}
+
 impl Error {
-    /// Shorthand for [`Error::InvalidParameter`].
+    /// Shorthand for [`Error::InvalidParameter`]. A float that `Display` would write out in
+    /// hundreds of digits (`1e300`, `1e-300`) is shown in exponent form.
     ///
     /// ```
     /// let e = mcint::Error::invalid("dims", 0, "at least 1");
     /// assert_eq!(e.to_string(), "invalid dims = 0: expected at least 1");
+    /// let e = mcint::Error::invalid("max_cost", 1e-300, "above 0");
+    /// assert_eq!(e.to_string(), "invalid max_cost = 1e-300: expected above 0");
     /// ```
     pub fn invalid(
         name: &'static str,
@@ -120,7 +133,7 @@ impl Error {
     ) -> Self {
         Error::InvalidParameter {
             name,
-            value: value.to_string(),
+            value: shortened(value.to_string()),
             allowed: allowed.into(),
         }
     }

@@ -102,6 +102,8 @@ def mlmc(
     if rmse is None:
         raise TypeError("invalid rmse = None: expected a number above 0")
     refinement = _whole("refinement", refinement, 2)
+    if refinement > 2**16:
+        raise ValueError(f"invalid refinement = {refinement}: expected 2 to 65536")
     deepest = _whole("max_level", max_level, 1)
     # Every level the run may sample, and level 2 (a checkpoint's fingerprint reads 0..2).
     levels = range(max(_MAX_LEVEL if deepest is None else deepest, 2) + 1)
@@ -135,7 +137,8 @@ def mlmc(
 
 def _level_dims(dims, l):
     value = dims(l) if callable(dims) else dims
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral) or value < 1:
+    whole = isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_))
+    if not whole or not 1 <= value < 2**63:
         raise ValueError(
             f"invalid dims = {value!r} at level {l}: expected a whole number >= 1 of "
             "coordinates per sample (an int, or a callable dims(l) giving one)"

@@ -175,16 +175,16 @@ pub fn tolerance(
     }
 }
 
-/// `time_limit` seconds as a duration: finite and above 0.
+/// `time_limit` seconds as a duration: finite and above 0 (a limit longer than a
+/// `Duration` holds is none, a shorter one than a nanosecond is one nanosecond).
 pub fn duration(seconds: f64) -> PyResult<Duration> {
-    Duration::try_from_secs_f64(seconds)
-        .ok()
-        .filter(|d| !d.is_zero())
-        .ok_or_else(|| {
-            PyValueError::new_err(format!(
-                "invalid time_limit = {seconds}: expected a number of seconds above 0"
-            ))
-        })
+    if !(seconds.is_finite() && seconds > 0.0) {
+        return Err(PyValueError::new_err(format!(
+            "invalid time_limit = {seconds:e}: expected a number of seconds above 0"
+        )));
+    }
+    let limit = Duration::try_from_secs_f64(seconds).unwrap_or(Duration::MAX);
+    Ok(limit.max(Duration::from_nanos(1)))
 }
 
 /// The sampler `sampler` and `scramble` name: for plain and rqmc runs always (the method's

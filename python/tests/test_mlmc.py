@@ -104,6 +104,11 @@ def test_a_model_with_a_wrong_coupling_is_flagged():
     assert "inconsistent-levels" in [w.kind for w in r.warnings]
 
 
+def test_a_time_limit_longer_than_a_duration_is_no_limit():
+    r = mcint.mlmc(euler_call, 0.1, dims=steps, time_limit=1e300, seed=1)
+    assert r.converged and r.stop_reason == "tolerance met"
+
+
 def test_the_model_sees_canonical_blocks():
     seen = []
 
@@ -130,8 +135,14 @@ def test_bad_input_is_one_clear_exception():
         mcint.mlmc(euler_call, 0.1, dims=lambda l: "x")
     with pytest.raises(ValueError, match="cost"):
         mcint.mlmc(euler_call, 0.1, dims=steps, cost=lambda l: -1.0)
-    with pytest.raises(ValueError, match="refinement"):
-        mcint.mlmc(euler_call, 0.1, dims=steps, refinement=1)
+    with pytest.raises(ValueError, match="dims = 1180591620717411303424 at level 0"):
+        mcint.mlmc(euler_call, 0.1, dims=2**70)
+    for refinement in (1, 2**40):
+        with pytest.raises(ValueError, match="refinement"):
+            mcint.mlmc(euler_call, 0.1, dims=steps, refinement=refinement)
+    # Floats that Python and Rust write out in hundreds of digits are shown with exponents.
+    with pytest.raises(ValueError, match=r"max_cost = 1e-300: expected"):
+        mcint.mlmc(euler_call, 0.1, dims=steps, max_cost=1e-300)
     with pytest.raises(ValueError, match="min_level"):
         mcint.mlmc(euler_call, 0.1, dims=steps, min_level=5, max_level=3)
     with pytest.raises(ValueError, match=r"shapes \(3,\) and"):
