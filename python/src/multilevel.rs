@@ -11,6 +11,7 @@ use pyo3::types::{PyDict, PyList};
 
 use crate::errors::to_py;
 use crate::integrand::PyIntegrand;
+use crate::result::warning_list;
 use crate::run::{duration, run_watching_signals};
 
 /// The Python model as the library's [`Level`]: `f(l, u)` gives the fine and coarse values
@@ -118,14 +119,7 @@ impl MultilevelRun {
         d.set_item("replicates", r.replicates)?;
         d.set_item("stop", r.stop.name())?;
         d.set_item("converged", r.converged)?;
-        let warnings = PyList::empty(py);
-        for w in &r.warnings {
-            let item = PyDict::new(py);
-            item.set_item("kind", w.kind())?;
-            item.set_item("message", w.to_string())?;
-            warnings.append(item)?;
-        }
-        d.set_item("warnings", warnings)?;
+        d.set_item("warnings", warning_list(py, &r.warnings)?)?;
         Ok(d)
     }
 }

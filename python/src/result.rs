@@ -1,5 +1,6 @@
 //! `RunResult`: a finished run, as the Python result type reads it.
 
+use mcint::stats::Warning;
 use mcint::{Estimate, VectorEstimate};
 use pyo3::exceptions::PyIndexError;
 use pyo3::prelude::*;
@@ -88,9 +89,7 @@ impl RunResult {
         let warnings = PyList::empty(py);
         for (k, e) in outputs.iter().enumerate() {
             for w in &e.warnings {
-                let item = PyDict::new(py);
-                item.set_item("kind", w.kind())?;
-                item.set_item("message", w.to_string())?;
+                let item = warning_dict(py, w)?;
                 if m > 1 {
                     item.set_item("output", k)?;
                 }
@@ -108,4 +107,21 @@ impl RunResult {
         }
         Ok(d)
     }
+}
+
+/// A warning as the package's `RunWarning` is built from: its `kind` and `message`.
+pub fn warning_dict<'py>(py: Python<'py>, warning: &Warning) -> PyResult<Bound<'py, PyDict>> {
+    let item = PyDict::new(py);
+    item.set_item("kind", warning.kind())?;
+    item.set_item("message", warning.to_string())?;
+    Ok(item)
+}
+
+/// Every warning of a run, as [`warning_dict`]s.
+pub fn warning_list<'py>(py: Python<'py>, warnings: &[Warning]) -> PyResult<Bound<'py, PyList>> {
+    let list = PyList::empty(py);
+    for w in warnings {
+        list.append(warning_dict(py, w)?)?;
+    }
+    Ok(list)
 }

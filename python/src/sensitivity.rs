@@ -13,6 +13,7 @@ use pyo3::types::{PyDict, PyList};
 use crate::errors::to_py;
 use crate::integrand::PyIntegrand;
 use crate::measure::MeasureSpec;
+use crate::result::warning_list;
 use crate::run::{duration, run_watching_signals, tolerance};
 
 /// A shared measure as the design's input law.
@@ -74,14 +75,7 @@ impl SensitivityRun {
         d.set_item("model_evaluations", ix.model_evaluations)?;
         d.set_item("stop", ix.stop.name())?;
         d.set_item("converged", ix.converged)?;
-        let warnings = PyList::empty(py);
-        for w in &ix.warnings {
-            let item = PyDict::new(py);
-            item.set_item("kind", w.kind())?;
-            item.set_item("message", w.to_string())?;
-            warnings.append(item)?;
-        }
-        d.set_item("warnings", warnings)?;
+        d.set_item("warnings", warning_list(py, &ix.warnings)?)?;
         Ok(d)
     }
 
