@@ -9,13 +9,14 @@ The Python face of the Rust crate ``mcint``:
   (Gaussian, lognormal, Brownian paths, geometric Brownian motion).
 * :func:`sobol_indices` gives Sobol' sensitivity indices of a model with error bars.
 * :func:`mlmc` estimates the expectation of a model's finest level by multilevel Monte
-  Carlo (or QMC) to a root-mean-square error.
+  Carlo (or QMC) to a root-mean-square error; :func:`mlmc_survey` is Giles' survey of its
+  levels.
 * :mod:`mcint.qmc` gives the library's point sets as ``scipy.stats.qmc`` engines.
 """
 
 from . import measure
 from ._integrate import METHODS, expectation, integrate
-from ._multilevel import LevelSummary, MultilevelResult, mlmc
+from ._multilevel import LevelSummary, MultilevelResult, mlmc, mlmc_survey
 from ._native import __version__
 from ._result import IntegrationResult, McintWarning, RunWarning
 from ._sensitivity import SensitivityResult, sobol_indices
@@ -26,6 +27,7 @@ __all__ = [
     "sobol_indices",
     "SensitivityResult",
     "mlmc",
+    "mlmc_survey",
     "MultilevelResult",
     "LevelSummary",
     "measure",

@@ -96,15 +96,82 @@ def mlmc(
     >>> abs(r.estimate - 1 / 3) < 4e-3, r.converged
     (True, True)
     """
-    if not callable(level):
-        raise TypeError(f"invalid level = {level!r}: expected a callable level(l, u)")
     rmse = _positive("rmse", rmse)
     if rmse is None:
         raise TypeError("invalid rmse = None: expected a number above 0")
+    result = _run(
+        level, rmse, None, dims, cost, refinement, weak_order, qmc, replicates,
+        initial_samples, min_level, _whole("max_level", max_level, 1), max_cost, time_limit,
+        seed, threads,
+    )
+    for w in result.warnings:
+        warnings.warn(w.message, McintWarning, stacklevel=2)
+    return result
+
+
+def mlmc_survey(
+    level,
+    levels,
+    samples,
+    *,
+    dims,
+    cost=None,
+    refinement=2,
+    weak_order=None,
+    qmc=False,
+    replicates=None,
+    time_limit=None,
+    seed=None,
+    threads=None,
+):
+    """Giles' ``mlmc_test`` survey of a model before a run: ``samples`` samples (per
+    randomization with ``qmc``) of every level ``0..=levels``, with each level's mean,
+    variance, cost, kurtosis and consistency check, and the fitted rates ``alpha``,
+    ``beta`` and ``gamma`` (:func:`mlmc` takes the same ``level``, ``dims``, ``cost``,
+    ``refinement``, ``weak_order``, ``qmc``, ``replicates``, ``time_limit``, ``seed`` and
+    ``threads``).
+
+    Returns a :class:`MultilevelResult` whose ``target`` is ``None``; the heavy-tailed and
+    inconsistent-level warnings are raised as :class:`McintWarning`, as :func:`mlmc` does.
+    Check that ``check`` stays below 1 (the coarse path of level ``l`` has the law of the
+    fine path of level ``l - 1``) and that ``beta`` is what the scheme promises before
+    trusting a run.
+
+    Examples
+    --------
+    >>> import numpy as np, mcint
+    >>> def level(l, u):
+    ...     p = lambda k: u[:, 0] ** 2 + 0.5 ** k
+    ...     return p(l), (p(l - 1) if l > 0 else np.zeros(len(u)))
+    >>> s = mcint.mlmc_survey(level, 4, 1000, dims=1, seed=1)
+    >>> len(s.levels), round(s.alpha, 6)  # the corrections' means halve: alpha = 1
+    (5, 1.0)
+    """
+    levels = _whole("levels", levels, 1)
+    if levels is None:
+        raise TypeError("invalid levels = None: expected a whole number >= 1")
+    samples = _whole("samples", samples, 2)
+    if samples is None:
+        raise TypeError("invalid samples = None: expected a whole number >= 2")
+    result = _run(
+        level, None, (levels, samples), dims, cost, refinement, weak_order, qmc, replicates,
+        None, 1, levels, None, time_limit, seed, threads,
+    )
+    for w in result.warnings:
+        warnings.warn(w.message, McintWarning, stacklevel=2)
+    return result
+
+
+def _run(level, rmse, survey, dims, cost, refinement, weak_order, qmc, replicates,
+         initial_samples, min_level, deepest, max_cost, time_limit, seed, threads):
+    """Checks the settings shared by a run and a survey and calls the extension."""
+    if not callable(level):
+        raise TypeError(f"invalid level = {level!r}: expected a callable level(l, u)")
     refinement = _whole("refinement", refinement, 2)
     if refinement > 2**16:
         raise ValueError(f"invalid refinement = {refinement}: expected 2 to 65536")
-    deepest = _whole("max_level", max_level, 1)
+    if deepest is not None and deepest > 60:
+        raise ValueError(f"invalid max_level = {deepest}: expected 1 to 60")
     # Every level the run may sample, and level 2 (a checkpoint's fingerprint reads 0..2).
     levels = range(max(_MAX_LEVEL if deepest is None else deepest, 2) + 1)
     dims_table = [_level_dims(dims, l) for l in levels]
@@ -118,6 +185,7 @@ def mlmc(
         dims_table,
         cost_table,
         refinement,
+        survey=survey,
         weak_order=weak_order,
         qmc=bool(qmc),
         replicates=_whole("replicates", replicates, 1),
@@ -129,10 +197,7 @@ def mlmc(
         seed=seed_int,
         threads=_whole("threads", threads, 1),
     )
-    result = MultilevelResult(native, seed_int)
-    for w in result.warnings:
-        warnings.warn(w.message, McintWarning, stacklevel=2)
-    return result
+    return MultilevelResult(native, seed_int)
 
 
 def _level_dims(dims, l):
@@ -201,8 +266,8 @@ class MultilevelResult:
     estimate, std_error, bias, rmse :
         The estimate, its standard error (sampling alone), the estimated bias of the
         deepest level, and ``sqrt(std_error**2 + bias**2)``.
-    target : float
-        The RMSE asked for.
+    target : float or None
+        The RMSE asked for (``None`` for a survey).
     levels : list of LevelSummary
     alpha, beta, gamma : float
         The fitted decay rates of the mean, the variance and the cost of the corrections.

@@ -100,11 +100,12 @@ class MultilevelRun:
 
 def mlmc(
     level: Callable[[int, npt.NDArray[np.float64]], npt.NDArray[np.float64]],
-    rmse: float,
+    rmse: Optional[float],
     dims: list,
     costs: list,
     refinement: int,
     *,
+    survey: Optional[Tuple[int, int]] = None,
     weak_order: Optional[float] = None,
     qmc: bool = False,
     replicates: Optional[int] = None,

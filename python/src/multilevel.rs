@@ -124,12 +124,13 @@ impl MultilevelRun {
     }
 }
 
-/// Giles' multilevel algorithm on the Python model `level` to the RMSE target `rmse`.
+/// Giles' multilevel algorithm on the Python model `level` to the RMSE target `rmse`, or,
+/// with `survey = (levels, samples)`, his `mlmc_test` survey of levels `0..=levels`.
 #[pyfunction]
 #[pyo3(signature = (
-    level, rmse, dims, costs, refinement, *, weak_order=None, qmc=false, replicates=None,
-    initial_samples=None, min_level=None, max_level=None, max_cost=None, time_limit=None,
-    seed=0, threads=None
+    level, rmse, dims, costs, refinement, *, survey=None, weak_order=None, qmc=false,
+    replicates=None, initial_samples=None, min_level=None, max_level=None, max_cost=None,
+    time_limit=None, seed=0, threads=None
 ))]
 #[allow(
     clippy::too_many_arguments,
@@ -138,10 +139,11 @@ impl MultilevelRun {
 pub fn mlmc(
     py: Python<'_>,
     level: Py<PyAny>,
-    rmse: f64,
+    rmse: Option<f64>,
     dims: Vec<usize>,
     costs: Vec<f64>,
     refinement: u32,
+    survey: Option<(usize, u64)>,
     weak_order: Option<f64>,
     qmc: bool,
     replicates: Option<u64>,
@@ -168,10 +170,12 @@ pub fn mlmc(
         weak_order,
     };
     let mut run = Multilevel::new(levels)
-        .rmse(rmse)
         .qmc(qmc)
         .seed(seed)
         .cancel_token(cancel);
+    if let Some(eps) = rmse {
+        run = run.rmse(eps);
+    }
     if let Some(r) = replicates {
         run = run.replicates(r);
     }
@@ -193,7 +197,13 @@ pub fn mlmc(
     if let Some(seconds) = time_limit {
         run = run.time_limit(duration(seconds)?);
     }
-    let outcome = run_watching_signals(py, &model, || run.run().map_err(non_finite_sample));
+    let outcome = run_watching_signals(py, &model, || {
+        match survey {
+            Some((levels, samples)) => run.survey(levels, samples),
+            None => run.run(),
+        }
+        .map_err(non_finite_sample)
+    });
     if let Some(error) = model.take_failure() {
         return Err(error);
     }

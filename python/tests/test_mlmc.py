@@ -164,3 +164,33 @@ def test_bad_input_is_one_clear_exception():
 
     with pytest.raises(Boom, match="the model failed"):
         mcint.mlmc(failing, 0.1, dims=steps)
+
+
+def test_a_survey_shows_the_euler_rates_and_flags_a_wrong_coupling():
+    s = mcint.mlmc_survey(euler_call, 5, 20_000, dims=steps, seed=1)
+    assert [lv.level for lv in s.levels] == list(range(6))
+    assert all(lv.n == 20_000 for lv in s.levels)
+    assert s.target is None and s.converged is False
+    # Euler on GBM: V_l ~ h_l (beta 1); the library's own survey test allows 0.3 at this
+    # size. (alpha, from means of a few 1e-3 with standard errors near their size on the
+    # deep levels, is not checked.)
+    assert abs(s.beta - 1) < 0.3, s.beta
+    assert all(lv.check < 1 for lv in s.levels[1:])
+
+    def miscoupled(l, u):
+        fine, coarse = euler_call(l, u)
+        return fine, 1.1 * coarse
+
+    with pytest.warns(mcint.McintWarning, match="law"):
+        bad = mcint.mlmc_survey(miscoupled, 3, 20_000, dims=steps, seed=1)
+    assert max(lv.check for lv in bad.levels[1:]) > 1
+    assert "inconsistent-levels" in [w.kind for w in bad.warnings]
+
+
+def test_bad_survey_input_is_one_clear_exception():
+    for levels in (0, 61, None):
+        with pytest.raises((ValueError, TypeError), match="levels|max_level"):
+            mcint.mlmc_survey(euler_call, levels, 100, dims=steps)
+    for samples in (1, None, 2.5):
+        with pytest.raises((ValueError, TypeError), match="samples"):
+            mcint.mlmc_survey(euler_call, 3, samples, dims=steps)
