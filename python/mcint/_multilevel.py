@@ -150,6 +150,8 @@ def mlmc_survey(
     levels = _whole("levels", levels, 1)
     if levels is None:
         raise TypeError("invalid levels = None: expected a whole number >= 1")
+    if levels > 60:
+        raise ValueError(f"invalid levels = {levels}: expected 1 to 60")
     samples = _whole("samples", samples, 2)
     if samples is None:
         raise TypeError("invalid samples = None: expected a whole number >= 2")

@@ -189,7 +189,7 @@ def test_a_survey_shows_the_euler_rates_and_flags_a_wrong_coupling():
 
 def test_bad_survey_input_is_one_clear_exception():
     for levels in (0, 61, None):
-        with pytest.raises((ValueError, TypeError), match="levels|max_level"):
+        with pytest.raises((ValueError, TypeError), match="invalid levels"):
             mcint.mlmc_survey(euler_call, levels, 100, dims=steps)
     for samples in (1, None, 2.5):
         with pytest.raises((ValueError, TypeError), match="samples"):
