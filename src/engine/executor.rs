@@ -348,7 +348,14 @@ impl Executor {
         if self.threads == 1 || items.len() < 2 {
             return items.into_iter().map(f).collect();
         }
-        self.install(|| items.into_par_iter().map(&f).collect())
+        let len = items.len();
+        let items: Vec<Slot<T>> = items.into_iter().map(|t| Mutex::new(Some(t))).collect();
+        let results: Vec<Slot<R>> = (0..len).map(empty).collect();
+        self.each_worker(len, &|i| {
+            let result = lock(&items[i]).take().map(&f);
+            *lock(&results[i]) = result;
+        });
+        results.into_iter().filter_map(into_inner).collect()
     }
 
     /// The outputs `local` computes from the chunks `units` (`None` for work a limit
@@ -417,7 +424,7 @@ impl Executor {
         let next = AtomicUsize::new(0);
         let done = AtomicUsize::new(0);
         let next_tail = AtomicUsize::new(0);
-        let claim = |_| -> Result<Claimed<J::Output>> {
+        let claim = || -> Result<Claimed<J::Output>> {
             let mut scratch = job.scratch()?;
             let mut mine = Vec::new();
             loop {
@@ -441,15 +448,15 @@ impl Executor {
             }
             Ok(mine)
         };
-        let claimed: Vec<_> = self.install(|| {
-            (0..self.threads.min(len.div_ceil(size).max(tails)))
-                .into_par_iter()
-                .map(claim)
-                .collect()
+        let workers = self.threads.min(len.div_ceil(size).max(tails));
+        let claimed: Vec<Slot<Result<Claimed<J::Output>>>> = (0..workers).map(empty).collect();
+        self.each_worker(workers, &|worker| {
+            let mine = claim();
+            *lock(&claimed[worker]) = Some(mine);
         });
         (next_tail.load(Ordering::Relaxed).min(tails)..tails).try_for_each(tail)?;
         let mut outputs: Vec<Option<Result<Option<J::Output>>>> = (0..len).map(|_| None).collect();
-        for thread in claimed {
+        for thread in claimed.into_iter().filter_map(into_inner) {
             for (offset, output) in thread? {
                 outputs[offset] = Some(output);
             }
@@ -469,7 +476,24 @@ impl Executor {
         if self.threads == 1 {
             return (guarded(origin, a), guarded(origin, b));
         }
-        self.install(|| rayon::join(|| guarded(origin, a), || guarded(origin, b)))
+        let (mut a, mut b) = (Some(a), Some(b));
+        let (mut from_a, mut from_b) = (None, None);
+        self.join_erased(
+            &mut || from_a = a.take().map(|a| guarded(origin, a)),
+            &mut || from_b = b.take().map(|b| guarded(origin, b)),
+        );
+        match (from_a, from_b) {
+            (Some(a), Some(b)) => (a, b),
+            _ => unreachable!("rayon::join returns after running both closures"),
+        }
+    }
+
+    /// [`join`](Self::join) on closures behind references, so that rayon's machinery is
+    /// compiled once rather than for every pair of closure types.
+    fn join_erased(&self, a: &mut (dyn FnMut() + Send), b: &mut (dyn FnMut() + Send)) {
+        self.install(&mut || {
+            rayon::join(&mut *a, &mut *b);
+        });
     }
 
     /// Runs `op` on a thread of this executor's pool (or of the pool the caller is already a
@@ -480,11 +504,25 @@ impl Executor {
         if self.spread() || self.threads == 1 {
             return op();
         }
-        self.install(op)
+        let mut op = Some(op);
+        let mut result = None;
+        self.install(&mut || result = op.take().map(|op| op()));
+        match result {
+            Some(result) => result,
+            None => unreachable!("install returns after running its operation"),
+        }
+    }
+
+    /// Runs `work(worker)` for each of `workers` workers, in parallel on this executor's pool.
+    fn each_worker(&self, workers: usize, work: &(dyn Fn(usize) + Sync)) {
+        self.install(&mut || (0..workers).into_par_iter().for_each(work));
     }
 
     /// Runs `op` on this executor's pool, or on the pool the caller is already a worker of.
-    fn install<R: Send>(&self, op: impl FnOnce() -> R + Send) -> R {
+    /// The helpers above reach rayon only through here and [`each_worker`](Self::each_worker),
+    /// with closures behind references: rayon's generic machinery is then compiled a few
+    /// times in all rather than again for every job and closure type a program runs.
+    fn install(&self, op: &mut (dyn FnMut() + Send)) {
         if rayon::current_thread_index().is_some() {
             return op();
         }
@@ -572,10 +610,28 @@ fn pool(threads: usize) -> Option<Arc<ThreadPool>> {
     Some(pool)
 }
 
+/// Where a parallel worker leaves what it computed.
+type Slot<T> = Mutex<Option<T>>;
+
+/// An empty [`Slot`] (whatever the index it is made for).
+fn empty<T>(_: usize) -> Slot<T> {
+    Mutex::new(None)
+}
+
+/// `mutex` locked (a poisoned one too: the panic that poisoned it is reported on its own).
+fn lock<T>(mutex: &Mutex<T>) -> MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// What `slot` holds, once its lock is no longer shared.
+fn into_inner<T>(slot: Slot<T>) -> Option<T> {
+    slot.into_inner().unwrap_or_else(PoisonError::into_inner)
+}
+
 /// The pools built so far, by thread count.
 fn pools() -> MutexGuard<'static, Vec<(usize, Arc<ThreadPool>)>> {
     static POOLS: Mutex<Vec<(usize, Arc<ThreadPool>)>> = Mutex::new(Vec::new());
-    POOLS.lock().unwrap_or_else(PoisonError::into_inner)
+    lock(&POOLS)
 }
 
 #[cfg(test)]
