@@ -40,12 +40,18 @@ pub enum StopReason {
     /// its share of the target ([`Warning::BiasAboveTarget`](crate::stats::Warning::BiasAboveTarget)):
     /// the sampling error meets its share, the bias may not. The run is not `converged`.
     MaxLevel,
+    /// A multilevel run found a level whose coarse samples do not have the law of the previous
+    /// level's fine ones (Giles' consistency check at six standard errors,
+    /// [`Warning::InconsistentLevels`](crate::stats::Warning::InconsistentLevels)): a coupling
+    /// error in the model, which biases the estimate and which more levels cannot mend, so
+    /// the run adds none. The run is not `converged`.
+    InconsistentLevels,
 }
 
 impl StopReason {
     /// A short lower-case name, the one the command line prints (`"budget"`, `"tolerance
     /// met"`, `"max evaluations"`, `"time limit"`, `"cancelled"`, `"sampler exhausted"`,
-    /// `"disagreement"`, `"max level"`).
+    /// `"disagreement"`, `"max level"`, `"inconsistent levels"`).
     ///
     /// ```
     /// assert_eq!(mcint::StopReason::IterationsDisagree.name(), "disagreement");
@@ -60,6 +66,7 @@ impl StopReason {
             StopReason::SamplerExhausted => "sampler exhausted",
             StopReason::IterationsDisagree => "disagreement",
             StopReason::MaxLevel => "max level",
+            StopReason::InconsistentLevels => "inconsistent levels",
         }
     }
 }

@@ -281,7 +281,8 @@ class MultilevelResult:
     converged : bool
         Whether the target was met.
     stop_reason : str
-        ``"tolerance met"``, ``"max level"``, ``"max evaluations"`` (the cost limit),
+        ``"tolerance met"``, ``"max level"``, ``"inconsistent levels"`` (a coupling error
+        in the model: no more levels are added), ``"max evaluations"`` (the cost limit),
         ``"time limit"`` or ``"cancelled"``.
     warnings : list of RunWarning
     seed : int

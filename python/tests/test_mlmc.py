@@ -104,6 +104,25 @@ def test_a_model_with_a_wrong_coupling_is_flagged():
     assert "inconsistent-levels" in [w.kind for w in r.warnings]
 
 
+def test_a_coupling_error_stops_the_run():
+    # Coarse samples 1.1 times what level l-1's fine ones are: every correction has mean about
+    # -1/30, so the bias estimate never falls. Level 1's consistency check passes six
+    # standard errors at about 13,000 samples, which the allocation for 0.001 gives it with
+    # three or four levels (the library's test of the same levels says how); without the
+    # stop the run would add levels to the deepest allowed, 20.
+    def miscoupled(l, u):
+        fine = u[:, 0] ** 2 + 0.5**l
+        coarse = 1.1 * u[:, 0] ** 2 + 0.5 ** (l - 1) if l > 0 else np.zeros(len(u))
+        return fine, coarse
+
+    with pytest.warns(mcint.McintWarning) as caught:
+        r = mcint.mlmc(miscoupled, 0.001, dims=1, seed=11)
+    assert any("consistency check" in str(w.message) for w in caught)
+    assert r.stop_reason == "inconsistent levels" and not r.converged, r
+    assert len(r.levels) <= 6
+    assert "inconsistent-levels" in [w.kind for w in r.warnings]
+
+
 def test_a_time_limit_longer_than_a_duration_is_no_limit():
     r = mcint.mlmc(euler_call, 0.1, dims=steps, time_limit=1e300, seed=1)
     assert r.converged and r.stop_reason == "tolerance met"

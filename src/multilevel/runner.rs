@@ -26,6 +26,14 @@ const QMC_REPLICATES: u64 = 32;
 const MAX_LEVEL: usize = 20;
 /// The default cost limit.
 const MAX_COST: f64 = 1e12;
+/// Giles' consistency check (a gap over three of its standard errors) at which a run adds no
+/// more levels: twice his warning threshold, six standard errors, which a rightly coupled
+/// model essentially never reaches. A coupling error keeps every correction from shrinking,
+/// so without this the run would add levels, each twice as costly, to the deepest allowed.
+const STOP_CONSISTENCY: f64 = 2.0;
+/// Samples a level needs before its consistency check can stop a run: the check divides by
+/// sample standard deviations, which a few samples of a rare-jump correction understate.
+const CONSISTENCY_SAMPLES: u64 = 1000;
 /// Salt of the per-level seeds.
 const LEVEL_SALT: u64 = 0x6d6c_6d63;
 /// The stride between the passes of a Sobol' sampler (its pass length).
@@ -648,12 +656,16 @@ impl<L: Level> Multilevel<L> {
                     StopReason::ToleranceMet
                 })
             };
-            let finished = if self.qmc {
+            let mut finished = if self.qmc {
                 self.plan_qmc(&stats, &levels, &mut pending, target, initial)
             } else {
                 let done = self.plan_mc(&stats, &levels, &mut pending, target, &mut bias_stuck);
                 ended(done, bias_stuck)
             };
+            if finished.is_none() && pending.len() > levels.len() && coupling_error(&levels) {
+                pending.truncate(levels.len());
+                finished = Some(StopReason::InconsistentLevels);
+            }
             if let Some(finished) = finished {
                 bias_stuck = finished == StopReason::MaxLevel;
                 save(state, &levels, &pending, spent, bias_stuck, None);
@@ -778,16 +790,6 @@ impl<L: Level> Multilevel<L> {
             .enumerate()
             .map(|(l, state)| {
                 let pooled = pooled_of(state);
-                let consistency = (l > 0)
-                    .then(|| {
-                        let previous = pooled_of(&levels[l - 1]).fine;
-                        let gap = pooled.difference.mean() - pooled.fine.mean() + previous.mean();
-                        let spread = pooled.difference.std_dev()
-                            + pooled.fine.std_dev()
-                            + previous.std_dev();
-                        gap.abs() / (3.0 * spread / (pooled.count() as f64).sqrt())
-                    })
-                    .filter(|c| c.is_finite());
                 LevelSummary {
                     level: l,
                     samples: pooled.count(),
@@ -798,7 +800,7 @@ impl<L: Level> Multilevel<L> {
                     fine_mean: pooled.fine.mean(),
                     fine_variance: pooled.fine.variance(),
                     kurtosis: pooled.kurtosis(),
-                    consistency,
+                    consistency: consistency(levels, l),
                 }
             })
             .collect();
@@ -950,6 +952,27 @@ fn pooled_of(state: &LevelState) -> LevelSums {
         all.merge(s);
     }
     all
+}
+
+/// Giles' consistency check of level `l >= 1`: `|E[Y_l] - E[P_l] + E[P_{l-1}]|`, where
+/// `P_{l-1}` is level `l - 1`'s fine sample, over three standard errors (`None` on level 0,
+/// or where the samples show no spread).
+fn consistency(levels: &[LevelState], l: usize) -> Option<f64> {
+    let previous = pooled_of(levels.get(l.checked_sub(1)?)?).fine;
+    let pooled = pooled_of(&levels[l]);
+    let gap = pooled.difference.mean() - pooled.fine.mean() + previous.mean();
+    let spread = pooled.difference.std_dev() + pooled.fine.std_dev() + previous.std_dev();
+    Some(gap.abs() / (3.0 * spread / (pooled.count() as f64).sqrt())).filter(|c| c.is_finite())
+}
+
+/// Whether a level with enough samples fails the consistency check by
+/// [`STOP_CONSISTENCY`]: a coupling error that more levels cannot mend.
+fn coupling_error(levels: &[LevelState]) -> bool {
+    (1..levels.len()).any(|l| {
+        let enough =
+            levels[l].sums.iter().map(LevelSums::count).sum::<u64>() >= CONSISTENCY_SAMPLES;
+        enough && consistency(levels, l).is_some_and(|c| c >= STOP_CONSISTENCY)
+    })
 }
 
 /// What the allocation reads of the levels so far.

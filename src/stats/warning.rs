@@ -315,5 +315,6 @@ fn stop_words(stop: StopReason) -> &'static str {
         StopReason::SamplerExhausted => "the sampler ran out of points",
         StopReason::IterationsDisagree => "iterations that disagree",
         StopReason::MaxLevel => "the deepest level allowed",
+        StopReason::InconsistentLevels => "levels that fail the consistency check",
     }
 }

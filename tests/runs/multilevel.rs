@@ -636,6 +636,34 @@ impl Level for Coupled {
     }
 }
 
+/// A coupling error stops the run where it shows: `Coupled { scale: 1.1 }` has corrections of
+/// mean about `-1/30` on every level, so the bias estimate never falls and the run would add
+/// levels to the deepest allowed (20). Level 1's check is about `0.033 / (3 x 0.63 /
+/// sqrt(N))` (give or take 0.25): 0.55 at the first 1000 samples, 2 at about 13,000. For
+/// `eps = 0.001` the allocation gives level 1 (`V_1` about `9e-4`) about 17,000 samples with
+/// three levels and 20,000 with four, so the run stops when about to add the fourth level, or
+/// one or two later. The same levels rightly coupled meet the target.
+#[test]
+fn a_coupling_error_stops_the_run_before_the_deepest_level() {
+    let run = |scale| {
+        Multilevel::new(Coupled { scale })
+            .rmse(0.001)
+            .seed(11)
+            .run()
+            .unwrap()
+    };
+    let right = run(1.0);
+    assert_eq!(right.stop, StopReason::ToleranceMet, "{right}");
+    let wrong = run(1.1);
+    assert_eq!(wrong.stop, StopReason::InconsistentLevels, "{wrong}");
+    assert!(!wrong.converged);
+    assert!(wrong.levels.len() <= 6, "{wrong}");
+    let kinds: Vec<&str> = wrong.warnings.iter().map(|w| w.kind()).collect();
+    assert!(kinds.contains(&"inconsistent-levels"), "{kinds:?}");
+    assert!(kinds.contains(&"tolerance-not-met"), "{kinds:?}");
+    assert_eq!(StopReason::InconsistentLevels.name(), "inconsistent levels");
+}
+
 /// Corrections that are zero but for a rare jump (probability `1e-3`): their kurtosis is
 /// about 1000.
 struct RareJumps;
