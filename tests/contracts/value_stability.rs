@@ -270,11 +270,24 @@ fn quality_observations() -> Result<Vec<Observation>> {
     Ok(out)
 }
 
+/// The three groups run side by side (each run is deterministic on its own), so that a debug
+/// build, where this is the slowest test, does not hold one core for all of them.
 fn observations() -> Vec<Observation> {
-    let mut all = sampler_observations().expect("every named sampler builds");
-    all.extend(method_observations().expect("every method runs"));
-    all.extend(quality_observations().expect("quality measures run"));
-    all
+    std::thread::scope(|scope| {
+        let samplers = scope.spawn(|| sampler_observations().expect("every named sampler builds"));
+        let quality = scope.spawn(|| quality_observations().expect("quality measures run"));
+        let methods = method_observations().expect("every method runs");
+        let mut all = samplers
+            .join()
+            .unwrap_or_else(|p| std::panic::resume_unwind(p));
+        all.extend(methods);
+        all.extend(
+            quality
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p)),
+        );
+        all
+    })
 }
 
 fn print_table(observed: &[Observation]) {
