@@ -10,13 +10,14 @@ The Python face of the Rust crate ``mcint``:
 * :func:`sobol_indices` gives Sobol' sensitivity indices of a model with error bars.
 * :func:`mlmc` estimates the expectation of a model's finest level by multilevel Monte
   Carlo (or QMC) to a root-mean-square error; :func:`mlmc_survey` is Giles' survey of its
-  levels.
+  levels; :class:`SdeLevels` are the library's own option-pricing levels (geometric
+  Brownian motion or Heston), sampled in Rust.
 * :mod:`mcint.qmc` gives the library's point sets as ``scipy.stats.qmc`` engines.
 """
 
 from . import measure
 from ._integrate import METHODS, expectation, integrate
-from ._multilevel import LevelSummary, MultilevelResult, mlmc, mlmc_survey
+from ._multilevel import LevelSummary, MultilevelResult, SdeLevels, mlmc, mlmc_survey
 from ._native import __version__
 from ._result import IntegrationResult, McintWarning, RunWarning
 from ._sensitivity import SensitivityResult, sobol_indices
@@ -28,6 +29,7 @@ __all__ = [
     "SensitivityResult",
     "mlmc",
     "mlmc_survey",
+    "SdeLevels",
     "MultilevelResult",
     "LevelSummary",
     "measure",

@@ -23,14 +23,194 @@ LevelSummary = namedtuple(
 # The library's deepest level by default (Multilevel::max_level).
 _MAX_LEVEL = 20
 
+_PAYOFFS = ("european", "asian", "lookback", "digital", "barrier")
+
+
+class SdeLevels:
+    """The levels of an option price under a stochastic differential equation, built into
+    the library: :func:`mlmc` and :func:`mlmc_survey` sample them in Rust, with no call into
+    Python (what the command line's ``mlmc`` runs).
+
+    Level ``l`` steps a path on ``M**l`` steps of ``T / M**l`` (``M = refinement``), its
+    coarse path on ``M**(l-1)`` steps driven by the sums of ``M`` fine Brownian increments
+    (Giles 2008), both built from the canonical point by a Brownian bridge (so multilevel
+    QMC pays off). The payoff is discounted by ``exp(-rate * maturity)``: ``european`` and
+    ``asian`` (arithmetic average over the steps) calls at ``strike``, ``lookback``
+    (floating strike), ``digital`` (pays 1 above ``strike``) and ``barrier`` (a down-and-out
+    call knocked out at ``barrier``; the lookback and the barrier sample each step's minimum
+    from its Brownian bridge). Build one with :meth:`gbm` or :meth:`heston`.
+
+    Examples
+    --------
+    >>> import mcint
+    >>> call = mcint.SdeLevels.gbm(100.0, 0.05, 0.2, payoff="european", strike=100.0)
+    >>> call
+    SdeLevels(model='gbm', payoff='european', scheme='milstein', refinement=2, maturity=1.0)
+    >>> r = mcint.mlmc(call, 0.01, seed=7)
+    >>> abs(r.estimate - 10.450583572185565) < 0.04  # Black-Scholes
+    True
+    """
+
+    __slots__ = ("_native",)
+
+    def __init__(self, native):
+        if not isinstance(native, _native.SdeModel):
+            raise TypeError(
+                "SdeLevels is built with SdeLevels.gbm(...) or SdeLevels.heston(...)"
+            )
+        self._native = native
+
+    @classmethod
+    def gbm(
+        cls,
+        s0=100.0,
+        rate=0.05,
+        sigma=0.2,
+        *,
+        payoff="european",
+        strike=None,
+        barrier=None,
+        maturity=1.0,
+        scheme="milstein",
+        refinement=2,
+    ):
+        """Geometric Brownian motion ``dS = rate S dt + sigma S dW`` from ``s0`` (above 0;
+        ``sigma`` at least 0), to ``maturity`` (above 0), under the ``milstein`` (default;
+        strong order 1) or ``euler`` scheme.
+
+        ``strike`` (default 100) is taken by every payoff but ``lookback``, and ``barrier``
+        (default 85) by ``barrier`` alone; ``refinement``, the factor ``M`` between levels,
+        is 2 to 16 (default 2).
+
+        >>> import mcint
+        >>> mcint.SdeLevels.gbm(payoff="barrier", barrier=90.0, scheme="euler").scheme
+        'euler'
+        """
+        strike, barrier = _strike_and_barrier(payoff, strike, barrier)
+        return cls(_native.SdeModel.gbm(
+            _real("s0", s0), _real("rate", rate), _real("sigma", sigma), payoff, strike,
+            barrier, _real("maturity", maturity), _name("scheme", scheme),
+            _refinement(refinement),
+        ))
+
+    @classmethod
+    def heston(
+        cls,
+        s0=100.0,
+        v0=0.04,
+        rate=0.05,
+        kappa=2.0,
+        theta=0.04,
+        xi=0.3,
+        rho=-0.7,
+        *,
+        payoff="european",
+        strike=None,
+        barrier=None,
+        maturity=1.0,
+        scheme="euler",
+        refinement=2,
+    ):
+        """Heston's stochastic volatility model, ``dS = rate S dt + sqrt(v) S dW_1``,
+        ``dv = kappa (theta - v) dt + xi sqrt(v) dW_2`` with ``corr(dW_1, dW_2) = rho`` (in
+        ``[-1, 1]``), from ``(s0, v0)``, stepped with full truncation (``v`` enters the
+        coefficients as ``max(v, 0)``). Euler only: its noise does not commute, so Milstein
+        would need the Levy areas. The payoff keywords are :meth:`gbm`'s.
+
+        >>> import mcint
+        >>> h = mcint.SdeLevels.heston(rho=-0.5, payoff="asian")
+        >>> (h.model, h.payoff, h.scheme)
+        ('heston', 'asian', 'euler')
+        """
+        if scheme != "euler":
+            raise ValueError(
+                f"invalid scheme = {scheme!r}: expected 'euler' (Heston's noise does not "
+                "commute, so the library has no Milstein scheme for it)"
+            )
+        strike, barrier = _strike_and_barrier(payoff, strike, barrier)
+        return cls(_native.SdeModel.heston(
+            _real("s0", s0), _real("v0", v0), _real("rate", rate), _real("kappa", kappa),
+            _real("theta", theta), _real("xi", xi), _real("rho", rho), payoff, strike,
+            barrier, _real("maturity", maturity), scheme, _refinement(refinement),
+        ))
+
+    @property
+    def model(self):
+        """``'gbm'`` or ``'heston'``."""
+        return self._native.model
+
+    @property
+    def payoff(self):
+        """The payoff's name."""
+        return self._native.payoff
+
+    @property
+    def scheme(self):
+        """``'euler'`` or ``'milstein'``."""
+        return self._native.scheme
+
+    @property
+    def refinement(self):
+        """The refinement factor ``M`` between levels."""
+        return self._native.refinement
+
+    @property
+    def maturity(self):
+        """The maturity ``T``."""
+        return self._native.maturity
+
+    def __repr__(self):
+        return (
+            f"SdeLevels(model={self.model!r}, payoff={self.payoff!r}, "
+            f"scheme={self.scheme!r}, refinement={self.refinement}, "
+            f"maturity={self.maturity!r})"
+        )
+
+
+def _real(name, value):
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"invalid {name} = {value!r}: expected a number")
+    return float(value)
+
+
+def _name(name, value):
+    if not isinstance(value, str):
+        raise TypeError(f"invalid {name} = {value!r}: expected a name (a string)")
+    return value
+
+
+def _refinement(value):
+    value = _whole("refinement", value, 2)
+    if value is None or value > 16:
+        raise ValueError(f"invalid refinement = {value}: expected a whole number 2 to 16")
+    return value
+
+
+def _strike_and_barrier(payoff, strike, barrier):
+    """The strike and barrier the payoff takes (their defaults when not given); a keyword
+    the payoff would ignore is refused, so that no run prices another option than the one
+    described."""
+    if payoff not in _PAYOFFS:
+        raise ValueError(
+            f"invalid payoff = {payoff!r}: expected 'european', 'asian', 'lookback', "
+            "'digital' or 'barrier'"
+        )
+    if payoff == "lookback" and strike is not None:
+        raise ValueError("strike does not apply to payoff='lookback' (a floating strike)")
+    if payoff != "barrier" and barrier is not None:
+        raise ValueError(f"barrier applies to payoff='barrier' only, not {payoff!r}")
+    strike = 100.0 if strike is None else _real("strike", strike)
+    barrier = 85.0 if barrier is None else _real("barrier", barrier)
+    return strike, barrier
+
 
 def mlmc(
     level,
     rmse,
     *,
-    dims,
+    dims=None,
     cost=None,
-    refinement=2,
+    refinement=None,
     weak_order=None,
     qmc=False,
     replicates=None,
@@ -49,18 +229,21 @@ def mlmc(
 
     Parameters
     ----------
-    level : callable
+    level : callable or SdeLevels
         ``level(l, u)`` gives the samples of level ``l`` from ``u``, an ``(n, dims(l))``
         float64 array of canonical points in ``[0, 1)`` (independent uniforms, or a
         scrambled Sobol' sequence with ``qmc``; map them to normals with, say,
         ``scipy.special.ndtri``): a pair ``(fine, coarse)`` of ``(n,)`` arrays, ``P_l`` and
         ``P_{l-1}`` of each sample computed from the same coordinates (at level 0, the
-        coarse values are 0). It is called on blocks of up to 4096 samples.
+        coarse values are 0). It is called on blocks of up to 4096 samples. Or an
+        :class:`SdeLevels`, the library's own option-pricing levels, sampled in Rust
+        (``dims``, ``cost``, ``refinement`` and ``weak_order`` are then its own).
     rmse : float
         The target root-mean-square error (above 0).
     dims : int or callable
         The coordinates one sample of level ``l`` takes: a number for every level, or
-        ``dims(l)``. Put the ones that matter most first (a Brownian bridge does that).
+        ``dims(l)`` (required with a callable ``level``). Put the ones that matter most
+        first (a Brownian bridge does that).
     cost : callable, optional
         ``cost(l)``, the cost of one sample of level ``l`` in any fixed unit (default
         ``refinement ** l``, time steps of a path refined by ``refinement`` per level).
@@ -114,9 +297,9 @@ def mlmc_survey(
     levels,
     samples,
     *,
-    dims,
+    dims=None,
     cost=None,
-    refinement=2,
+    refinement=None,
     weak_order=None,
     qmc=False,
     replicates=None,
@@ -167,13 +350,42 @@ def mlmc_survey(
 def _run(level, rmse, survey, dims, cost, refinement, weak_order, qmc, replicates,
          initial_samples, min_level, deepest, max_cost, time_limit, seed, threads):
     """Checks the settings shared by a run and a survey and calls the extension."""
-    if not callable(level):
-        raise TypeError(f"invalid level = {level!r}: expected a callable level(l, u)")
-    refinement = _whole("refinement", refinement, 2)
-    if refinement > 2**16:
-        raise ValueError(f"invalid refinement = {refinement}: expected 2 to 65536")
     if deepest is not None and deepest > 60:
         raise ValueError(f"invalid max_level = {deepest}: expected 1 to 60")
+    settings = dict(
+        survey=survey,
+        qmc=bool(qmc),
+        replicates=_whole("replicates", replicates, 1),
+        initial_samples=_whole("initial_samples", initial_samples, 1),
+        min_level=_whole("min_level", min_level, 1),
+        max_level=deepest,
+        max_cost=_positive("max_cost", max_cost),
+        time_limit=_positive("time_limit", time_limit),
+        threads=_whole("threads", threads, 1),
+    )
+    if isinstance(level, SdeLevels):
+        given = [name for name, value in (("dims", dims), ("cost", cost),
+                 ("refinement", refinement), ("weak_order", weak_order)) if value is not None]
+        if given:
+            raise TypeError(
+                f"{given[0]} does not apply to SdeLevels, which has its own dims, cost, "
+                "refinement and weak_order (set the refinement with SdeLevels.gbm or .heston)"
+            )
+        seed_int = _seed.to_int(seed)
+        native = _native.mlmc_sde(level._native, rmse, seed=seed_int, **settings)
+        return MultilevelResult(native, seed_int)
+    if not callable(level):
+        raise TypeError(
+            f"invalid level = {level!r}: expected a callable level(l, u) or an SdeLevels"
+        )
+    if dims is None:
+        raise TypeError(
+            "invalid dims = None: expected the coordinates of a sample of each level (an "
+            "int, or a callable dims(l)), which a callable level needs"
+        )
+    refinement = _whole("refinement", 2 if refinement is None else refinement, 2)
+    if refinement > 2**16:
+        raise ValueError(f"invalid refinement = {refinement}: expected 2 to 65536")
     # Every level the run may sample, and level 2 (a checkpoint's fingerprint reads 0..2).
     levels = range(max(_MAX_LEVEL if deepest is None else deepest, 2) + 1)
     dims_table = [_level_dims(dims, l) for l in levels]
@@ -187,17 +399,9 @@ def _run(level, rmse, survey, dims, cost, refinement, weak_order, qmc, replicate
         dims_table,
         cost_table,
         refinement,
-        survey=survey,
         weak_order=weak_order,
-        qmc=bool(qmc),
-        replicates=_whole("replicates", replicates, 1),
-        initial_samples=_whole("initial_samples", initial_samples, 1),
-        min_level=_whole("min_level", min_level, 1),
-        max_level=deepest,
-        max_cost=_positive("max_cost", max_cost),
-        time_limit=_positive("time_limit", time_limit),
         seed=seed_int,
-        threads=_whole("threads", threads, 1),
+        **settings,
     )
     return MultilevelResult(native, seed_int)
 

@@ -12,6 +12,7 @@ mod multilevel;
 mod point_set;
 mod result;
 mod run;
+mod sde_levels;
 mod sensitivity;
 
 /// The extension module.
@@ -24,6 +25,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<sensitivity::SensitivityRun>()?;
     m.add_class::<multilevel::MultilevelRun>()?;
     m.add_function(wrap_pyfunction!(multilevel::mlmc, m)?)?;
+    m.add_function(wrap_pyfunction!(multilevel::mlmc_sde, m)?)?;
+    m.add_class::<sde_levels::SdeModel>()?;
     m.add_function(wrap_pyfunction!(sensitivity::sobol_indices, m)?)?;
     m.add_function(wrap_pyfunction!(point_set::sampler_names, m)?)?;
     m.add_function(wrap_pyfunction!(point_set::scramble_names, m)?)?;

@@ -1,7 +1,7 @@
 //! `mlmc`: a multilevel Monte Carlo (or QMC) run of a Python model, its samples drawn a
-//! block of canonical points at a time.
+//! block of canonical points at a time, or of the library's built-in SDE levels.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use mcint::multilevel::{Level, Multilevel, MultilevelEstimate};
 use mcint::{CancelToken, Points};
@@ -13,6 +13,7 @@ use crate::errors::to_py;
 use crate::integrand::PyIntegrand;
 use crate::result::warning_list;
 use crate::run::{duration, run_watching_signals};
+use crate::sde_levels::SdeModel;
 
 /// The Python model as the library's [`Level`]: `f(l, u)` gives the fine and coarse values
 /// of a block as an `(n, 2)` array (the package's wrapper checks the user's `(fine,
@@ -124,6 +125,66 @@ impl MultilevelRun {
     }
 }
 
+/// The settings of a run (or, with `survey = (levels, samples)`, of Giles' `mlmc_test`
+/// survey of levels `0..=levels`) that the Python model and the built-in SDE levels share.
+struct RunSettings {
+    rmse: Option<f64>,
+    survey: Option<(usize, u64)>,
+    qmc: bool,
+    replicates: Option<u64>,
+    initial_samples: Option<u64>,
+    min_level: Option<usize>,
+    max_level: Option<usize>,
+    max_cost: Option<f64>,
+    time_limit: Option<f64>,
+    seed: u64,
+    threads: Option<usize>,
+}
+
+impl RunSettings {
+    /// The runner of `levels` with these settings, cancelled through `cancel`.
+    fn runner<L: Level>(&self, levels: L, cancel: CancelToken) -> PyResult<Multilevel<L>> {
+        let mut run = Multilevel::new(levels)
+            .qmc(self.qmc)
+            .seed(self.seed)
+            .cancel_token(cancel);
+        if let Some(eps) = self.rmse {
+            run = run.rmse(eps);
+        }
+        if let Some(r) = self.replicates {
+            run = run.replicates(r);
+        }
+        if let Some(n) = self.initial_samples {
+            run = run.initial_samples(n);
+        }
+        if let Some(l) = self.min_level {
+            run = run.min_level(l);
+        }
+        if let Some(l) = self.max_level {
+            run = run.max_level(l);
+        }
+        if let Some(c) = self.max_cost {
+            run = run.max_cost(c);
+        }
+        if let Some(t) = self.threads {
+            run = run.threads(t);
+        }
+        if let Some(seconds) = self.time_limit {
+            run = run.time_limit(duration(seconds)?);
+        }
+        Ok(run)
+    }
+
+    /// The run, or the survey, of `run`.
+    fn outcome<L: Level>(&self, run: &Multilevel<L>) -> PyResult<MultilevelEstimate> {
+        match self.survey {
+            Some((levels, samples)) => run.survey(levels, samples),
+            None => run.run(),
+        }
+        .map_err(non_finite_sample)
+    }
+}
+
 /// Giles' multilevel algorithm on the Python model `level` to the RMSE target `rmse`, or,
 /// with `survey = (levels, samples)`, his `mlmc_test` survey of levels `0..=levels`.
 #[pyfunction]
@@ -160,6 +221,19 @@ pub fn mlmc(
             "dims and costs: expected one entry per level, from level 0",
         ));
     }
+    let settings = RunSettings {
+        rmse,
+        survey,
+        qmc,
+        replicates,
+        initial_samples,
+        min_level,
+        max_level,
+        max_cost,
+        time_limit,
+        seed,
+        threads,
+    };
     let cancel = CancelToken::new();
     let model = Arc::new(PyIntegrand::new(level, 2, None, cancel.clone()));
     let levels = PyLevel {
@@ -169,42 +243,67 @@ pub fn mlmc(
         refinement,
         weak_order,
     };
-    let mut run = Multilevel::new(levels)
-        .qmc(qmc)
-        .seed(seed)
-        .cancel_token(cancel);
-    if let Some(eps) = rmse {
-        run = run.rmse(eps);
-    }
-    if let Some(r) = replicates {
-        run = run.replicates(r);
-    }
-    if let Some(n) = initial_samples {
-        run = run.initial_samples(n);
-    }
-    if let Some(l) = min_level {
-        run = run.min_level(l);
-    }
-    if let Some(l) = max_level {
-        run = run.max_level(l);
-    }
-    if let Some(c) = max_cost {
-        run = run.max_cost(c);
-    }
-    if let Some(t) = threads {
-        run = run.threads(t);
-    }
-    if let Some(seconds) = time_limit {
-        run = run.time_limit(duration(seconds)?);
-    }
-    let outcome = run_watching_signals(py, &model, || {
-        match survey {
-            Some((levels, samples)) => run.survey(levels, samples),
-            None => run.run(),
-        }
-        .map_err(non_finite_sample)
-    });
+    let run = settings.runner(levels, cancel)?;
+    let outcome = run_watching_signals(py, &|e| model.fail(e), || settings.outcome(&run));
     if let Some(error) = model.take_failure() {
+        return Err(error);
+    }
+    Ok(MultilevelRun { run: outcome? })
+}
+
+/// [`mlmc`] on the library's built-in SDE levels: no call reaches Python.
+#[pyfunction]
+#[pyo3(signature = (
+    levels, rmse, *, survey=None, qmc=false, replicates=None, initial_samples=None,
+    min_level=None, max_level=None, max_cost=None, time_limit=None, seed=0, threads=None
+))]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the keyword arguments of mcint.mlmc"
+)]
+pub fn mlmc_sde(
+    py: Python<'_>,
+    levels: &SdeModel,
+    rmse: Option<f64>,
+    survey: Option<(usize, u64)>,
+    qmc: bool,
+    replicates: Option<u64>,
+    initial_samples: Option<u64>,
+    min_level: Option<usize>,
+    max_level: Option<usize>,
+    max_cost: Option<f64>,
+    time_limit: Option<f64>,
+    seed: u64,
+    threads: Option<usize>,
+) -> PyResult<MultilevelRun> {
+    let settings = RunSettings {
+        rmse,
+        survey,
+        qmc,
+        replicates,
+        initial_samples,
+        min_level,
+        max_level,
+        max_cost,
+        time_limit,
+        seed,
+        threads,
+    };
+    let cancel = CancelToken::new();
+    let run = settings.runner(levels.levels()?, cancel.clone())?;
+    let interrupt = Mutex::new(None);
+    let outcome = run_watching_signals(
+        py,
+        &|e| {
+            interrupt
+                .lock()
+                .unwrap_or_else(|p| p.into_inner())
+                .get_or_insert(e);
+            cancel.cancel();
+        },
+        || settings.outcome(&run),
+    );
+    if let Some(error) = interrupt.into_inner().unwrap_or_else(|p| p.into_inner()) {
         return Err(error);
     }
     Ok(MultilevelRun { run: outcome? })

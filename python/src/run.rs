@@ -137,7 +137,7 @@ pub fn integrate_box(
         cancel: cancel.clone(),
     };
     let integrand = PyIntegrand::new(f, outputs, measure, cancel);
-    let outcome = run_watching_signals(py, &integrand, || {
+    let outcome = run_watching_signals(py, &|e| integrand.fail(e), || {
         build(settings, &integrand).and_then(|run| run.run_vector().map_err(to_py))
     });
     if let Some(error) = integrand.take_failure() {
@@ -237,12 +237,12 @@ fn build_sampler(
 }
 
 /// Runs `job` on a worker thread; the calling thread waits with the interpreter's lock
-/// released and, between waits, takes it to look for a signal: a `KeyboardInterrupt` cancels
-/// the run (through `integrand`: it stops within a chunk) and is raised once the worker has
-/// finished.
+/// released and, between waits, takes it to look for a signal: a `KeyboardInterrupt` goes to
+/// `interrupt`, which cancels the run (it stops within a chunk) and keeps the exception for
+/// the caller to raise once the worker has finished.
 pub fn run_watching_signals<T: Send>(
     py: Python<'_>,
-    integrand: &PyIntegrand,
+    interrupt: &dyn Fn(PyErr),
     job: impl FnOnce() -> PyResult<T> + Send,
 ) -> PyResult<T> {
     std::thread::scope(|scope| {
@@ -266,8 +266,8 @@ pub fn run_watching_signals<T: Send>(
             if waited != Err(mpsc::RecvTimeoutError::Timeout) {
                 break;
             }
-            if let Err(interrupt) = py.check_signals() {
-                integrand.fail(interrupt);
+            if let Err(signal) = py.check_signals() {
+                interrupt(signal);
             }
         }
         match py.detach(|| worker.join()) {

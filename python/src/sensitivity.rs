@@ -166,7 +166,7 @@ pub fn sobol_indices(
     if let Some(seconds) = time_limit {
         run = run.time_limit(duration(seconds)?);
     }
-    let outcome = run_watching_signals(py, &model, || run.run().map_err(to_py));
+    let outcome = run_watching_signals(py, &|e| model.fail(e), || run.run().map_err(to_py));
     if let Some(error) = model.take_failure() {
         return Err(error);
     }

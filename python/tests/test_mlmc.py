@@ -2,7 +2,11 @@
 form, repeats bit for bit, reports what the command line's ``mlmc --json`` reports, warns
 as the library does, and turns every bad input into one clear exception."""
 
+import json
 import math
+import shutil
+import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -213,3 +217,110 @@ def test_bad_survey_input_is_one_clear_exception():
     for samples in (1, None, 2.5):
         with pytest.raises((ValueError, TypeError), match="samples"):
             mcint.mlmc_survey(euler_call, 3, samples, dims=steps)
+
+
+# The library's own levels (mcint.SdeLevels): sampled in Rust, with the command line's bits.
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def command_line_mlmc(*args):
+    """`mlmc --json` of the Rust CLI (built here if the release build is not there yet)."""
+    binary = REPO / "target" / "release" / "mlmc"
+    if not binary.exists():
+        if shutil.which("cargo") is None:
+            pytest.skip("needs cargo to build the Rust CLI `mlmc`")
+        subprocess.run(
+            ["cargo", "build", "--release", "-q", "-p", "mcint-cli", "--bin", "mlmc"],
+            cwd=REPO,
+            check=True,
+        )
+    out = subprocess.run([str(binary), "--json", *args], check=True, capture_output=True)
+    return json.loads(out.stdout)
+
+
+def test_sde_levels_price_a_european_call():
+    exact = black_scholes_call()
+    for qmc in (False, True):
+        r = mcint.mlmc(mcint.SdeLevels.gbm(S0, RATE, SIGMA, strike=STRIKE), 0.01, qmc=qmc,
+                       seed=3)
+        assert r.converged and r.stop_reason == "tolerance met", r
+        # An RMSE target of 0.01: 4 of them is far in the tail.
+        assert abs(r.estimate - exact) < 4 * 0.01, (qmc, r.estimate)
+        # Milstein takes one step at level 0 and 2**l at level l; a correction pays for
+        # its coarse path too (Level::cost in the library).
+        assert [lv.cost for lv in r.levels[:3]] == [1.0, 3.0, 6.0]
+
+
+def test_heston_with_frozen_variance_prices_black_scholes():
+    # xi = 0 and v0 = theta: the variance stays SIGMA**2, and the price is Black-Scholes'.
+    levels = mcint.SdeLevels.heston(S0, SIGMA**2, RATE, 2.0, SIGMA**2, 0.0, -0.7,
+                                    strike=STRIKE)
+    r = mcint.mlmc(levels, 0.02, seed=5)
+    assert r.converged, r
+    assert abs(r.estimate - black_scholes_call()) < 4 * 0.02, r.estimate
+
+
+@pytest.mark.parametrize(
+    "build, flags",
+    [
+        (lambda: mcint.SdeLevels.gbm(payoff="asian"), ["--payoff", "asian"]),
+        (
+            lambda: mcint.SdeLevels.heston(payoff="barrier", barrier=90.0, refinement=4),
+            ["--model", "heston", "--payoff", "barrier", "--barrier", "90", "--refinement",
+             "4"],
+        ),
+        (lambda: mcint.SdeLevels.gbm(payoff="lookback", scheme="euler"),
+         ["--payoff", "lookback", "--scheme", "euler"]),
+    ],
+)
+@pytest.mark.parametrize("qmc", [False, True])
+def test_sde_levels_give_the_bits_of_the_command_line(build, flags, qmc):
+    r = mcint.mlmc(build(), 0.05, qmc=qmc, seed=7)
+    cli = command_line_mlmc(*flags, "--eps", "0.05", "--seed", "7", *(["--qmc"] if qmc else []))
+    assert r.estimate == cli["estimate"] and r.std_error == cli["std_error"]
+    assert [lv.n for lv in r.levels] == [lv["n"] for lv in cli["levels"]]
+
+
+def test_sde_levels_take_the_run_settings():
+    levels = mcint.SdeLevels.gbm()
+    with pytest.warns(mcint.McintWarning, match="tolerance"):
+        r = mcint.mlmc(levels, 1e-4, max_cost=1e6, seed=2)
+    assert (r.stop_reason, r.converged) == ("max evaluations", False) and r.cost <= 1e6
+    one = mcint.mlmc(levels, 0.05, seed=11, threads=1)
+    assert one.to_dict() == mcint.mlmc(levels, 0.05, seed=11, threads=2).to_dict()
+    s = mcint.mlmc_survey(levels, 6, 20_000, seed=1)
+    assert [lv.n for lv in s.levels] == [20_000] * 7
+    # Milstein on GBM: V_l ~ h_l**2 (beta 2, Giles 2008); the Euler survey above allows 0.3.
+    assert abs(s.beta - 2) < 0.3, s.beta
+    assert all(lv.check < 1 for lv in s.levels[1:])
+
+
+def test_bad_sde_levels_are_one_clear_exception():
+    gbm, heston = mcint.SdeLevels.gbm, mcint.SdeLevels.heston
+    for call, error, match in [
+        (lambda: gbm(s0=-1.0), ValueError, "s0"),
+        (lambda: gbm(sigma=float("nan")), ValueError, "sigma"),
+        (lambda: gbm(s0="100"), TypeError, "s0"),
+        (lambda: gbm(maturity=0.0), ValueError, "maturity"),
+        (lambda: gbm(rate=1e300, maturity=1e10), ValueError, "discount"),
+        (lambda: gbm(payoff="put"), ValueError, "'european', 'asian'"),
+        (lambda: gbm(scheme="rk4"), ValueError, "'euler' or 'milstein'"),
+        (lambda: gbm(scheme=1), TypeError, "scheme"),
+        (lambda: gbm(refinement=1), ValueError, "refinement"),
+        (lambda: gbm(refinement=17), ValueError, "2 to 16"),
+        (lambda: gbm(refinement=2.0), TypeError, "refinement"),
+        (lambda: gbm(payoff="lookback", strike=90.0), ValueError, "floating strike"),
+        (lambda: gbm(barrier=80.0), ValueError, "payoff='barrier' only"),
+        (lambda: gbm(strike=float("inf")), ValueError, "strike"),
+        (lambda: heston(rho=2.0), ValueError, "rho"),
+        (lambda: heston(scheme="milstein"), ValueError, "'euler'"),
+        (lambda: mcint.SdeLevels(None), TypeError, "SdeLevels.gbm"),
+        (lambda: mcint.mlmc(gbm(), 0.01, dims=3), TypeError, "dims does not apply"),
+        (lambda: mcint.mlmc(gbm(), 0.01, refinement=4), TypeError, "refinement"),
+        (lambda: mcint.mlmc(gbm(), 0.0), ValueError, "rmse"),
+        (lambda: mcint.mlmc_survey(gbm(), 3, 100, weak_order=1.0), TypeError, "weak_order"),
+        (lambda: mcint.mlmc(euler_call, 0.01), TypeError, "invalid dims = None"),
+    ]:
+        with pytest.raises(error, match=match):
+            call()
