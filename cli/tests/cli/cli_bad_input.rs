@@ -22,7 +22,7 @@ use std::time::{Duration, Instant};
 const SETS: usize = 500;
 /// The time limit of the runs whose `--time-limit` is valid: enough for a stage or two, and
 /// short, because the limit ends most of the runs that do work.
-const VALID_TIME_LIMIT: &str = "0.25";
+const VALID_TIME_LIMIT: &str = "0.1";
 /// A run still going after this long is killed and reported as hung.
 const HANG: Duration = Duration::from_secs(30);
 /// The most stdout read from a run before the pipe is closed (as `head` would).
