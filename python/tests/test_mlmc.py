@@ -4,15 +4,14 @@ as the library does, and turns every bad input into one clear exception."""
 
 import json
 import math
-import shutil
 import subprocess
-from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.special import ndtri
 
 import mcint
+import rust_cli
 
 # Geometric Brownian motion S0 = 100, r = 0.05, sigma = 0.2 to T = 1; the discounted
 # European call at strike 100 is Black-Scholes' 10.450583572185565.
@@ -221,21 +220,10 @@ def test_bad_survey_input_is_one_clear_exception():
 
 # The library's own levels (mcint.SdeLevels): sampled in Rust, with the command line's bits.
 
-REPO = Path(__file__).resolve().parents[2]
-
-
 def command_line_mlmc(*args):
-    """`mlmc --json` of the Rust CLI (built here if the release build is not there yet)."""
-    binary = REPO / "target" / "release" / "mlmc"
-    if not binary.exists():
-        if shutil.which("cargo") is None:
-            pytest.skip("needs cargo to build the Rust CLI `mlmc`")
-        subprocess.run(
-            ["cargo", "build", "--release", "-q", "-p", "mcint-cli", "--bin", "mlmc"],
-            cwd=REPO,
-            check=True,
-        )
-    out = subprocess.run([str(binary), "--json", *args], check=True, capture_output=True)
+    """`mlmc --json` of the Rust CLI."""
+    out = subprocess.run([str(rust_cli.binary("mlmc")), "--json", *args], check=True,
+                         capture_output=True)
     return json.loads(out.stdout)
 
 

@@ -1,8 +1,6 @@
 """mcint.qmc engines: the Rust samplers' bits, scipy's interface and scipy's own points."""
 
-import shutil
 import subprocess
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -10,25 +8,15 @@ from scipy import stats
 from scipy.integrate import qmc_quad
 from scipy.stats import qmc
 
+import rust_cli
 from genz import genz_families
 from mcint import qmc as mq
-
-REPO = Path(__file__).resolve().parents[2]
 
 
 def rust_points(sampler, d, n, seed, scramble=None):
     """The points the Rust CLI `points` writes (exact little-endian f64), as rows."""
-    binary = REPO / "target" / "release" / "points"
-    if not binary.exists():
-        if shutil.which("cargo") is None:
-            pytest.skip("needs cargo to build the Rust CLI `points`")
-        subprocess.run(
-            ["cargo", "build", "--release", "-q", "-p", "mcint-cli", "--bin", "points"],
-            cwd=REPO,
-            check=True,
-        )
-    args = [str(binary), "--sampler", sampler, "--dims", str(d), "--n", str(n)]
-    args += ["--seed", str(seed), "--format", "bin"]
+    args = [str(rust_cli.binary("points")), "--sampler", sampler, "--dims", str(d)]
+    args += ["--n", str(n), "--seed", str(seed), "--format", "bin"]
     if scramble is not None:
         args += ["--scramble", scramble]
     out = subprocess.run(args, check=True, capture_output=True).stdout
