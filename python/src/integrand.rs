@@ -1,6 +1,6 @@
 //! `PyIntegrand`: a vectorized Python function as the library's integrand, called on blocks of points.
 
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use mcint::measure::Measure;
 use mcint::{CancelToken, Points};
@@ -8,6 +8,8 @@ use numpy::npyffi::NPY_ORDER;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+
+use crate::failure::Failure;
 
 /// The user's vectorized Python function `f(x)`, called with an `(n, d)` float64 array and
 /// returning `n` values, shape `(n,)` (or `(n, 1)`) for one output, `(n, m)` for `m`. The
@@ -20,8 +22,7 @@ pub struct PyIntegrand {
     /// The measure an expectation is over: `f` then sees its points, and its weights
     /// multiply the values.
     measure: Option<Arc<dyn Measure>>,
-    failure: Mutex<Option<PyErr>>,
-    cancel: CancelToken,
+    failure: Failure,
 }
 
 impl PyIntegrand {
@@ -35,30 +36,14 @@ impl PyIntegrand {
             f,
             outputs,
             measure,
-            failure: Mutex::new(None),
-            cancel,
+            failure: Failure::new(cancel),
         }
     }
 
-    /// The exception that stopped the run, if any (taken once).
-    pub fn take_failure(&self) -> Option<PyErr> {
-        self.lock().take()
-    }
-
-    /// Stops the run with `error` (the first one wins).
-    pub fn fail(&self, error: PyErr) {
-        self.lock().get_or_insert(error);
-        self.cancel.cancel();
-    }
-
-    fn lock(&self) -> std::sync::MutexGuard<'_, Option<PyErr>> {
-        // A poisoned lock only means another thread panicked while holding it; the slot is
-        // still a plain Option.
-        self.failure.lock().unwrap_or_else(|e| e.into_inner())
-    }
-
-    fn failed(&self) -> bool {
-        self.lock().is_some()
+    /// What stopped the run, if anything did: an exception of `f` (or a wrong shape), or a
+    /// signal.
+    pub fn failure(&self) -> &Failure {
+        &self.failure
     }
 
     /// `g` on a block of points: `out[k * n + i]` is output `k` at point `i`.
@@ -106,7 +91,7 @@ impl PyIntegrand {
     /// Calls `f` on `n` points given as `d` columns of `columns` (after `level`, when
     /// there is one), into `out`.
     fn call(&self, level: Option<usize>, columns: Vec<f64>, n: usize, d: usize, out: &mut [f64]) {
-        if self.failed() {
+        if self.failure.happened() {
             out.fill(f64::NAN);
             return;
         }
@@ -154,7 +139,7 @@ impl PyIntegrand {
             Ok(())
         });
         if let Err(error) = called {
-            self.fail(error);
+            self.failure.fail(error);
             out.fill(f64::NAN);
         }
     }

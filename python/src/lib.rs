@@ -6,6 +6,7 @@
 use pyo3::prelude::*;
 
 mod errors;
+mod failure;
 mod integrand;
 mod measure;
 mod multilevel;

@@ -1,7 +1,7 @@
 //! `mlmc`: a multilevel Monte Carlo (or QMC) run of a Python model, its samples drawn a
 //! block of canonical points at a time, or of the library's built-in SDE levels.
 
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use mcint::multilevel::{Level, Multilevel, MultilevelEstimate};
 use mcint::{CancelToken, Points};
@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::errors::to_py;
+use crate::failure::Failure;
 use crate::integrand::PyIntegrand;
 use crate::result::warning_list;
 use crate::run::{duration, run_watching_signals};
@@ -244,8 +245,8 @@ pub fn mlmc(
         weak_order,
     };
     let run = settings.runner(levels, cancel)?;
-    let outcome = run_watching_signals(py, &|e| model.fail(e), || settings.outcome(&run));
-    if let Some(error) = model.take_failure() {
+    let outcome = run_watching_signals(py, model.failure(), || settings.outcome(&run));
+    if let Some(error) = model.failure().take() {
         return Err(error);
     }
     Ok(MultilevelRun { run: outcome? })
@@ -291,19 +292,9 @@ pub fn mlmc_sde(
     };
     let cancel = CancelToken::new();
     let run = settings.runner(levels.levels()?, cancel.clone())?;
-    let interrupt = Mutex::new(None);
-    let outcome = run_watching_signals(
-        py,
-        &|e| {
-            interrupt
-                .lock()
-                .unwrap_or_else(|p| p.into_inner())
-                .get_or_insert(e);
-            cancel.cancel();
-        },
-        || settings.outcome(&run),
-    );
-    if let Some(error) = interrupt.into_inner().unwrap_or_else(|p| p.into_inner()) {
+    let failure = Failure::new(cancel);
+    let outcome = run_watching_signals(py, &failure, || settings.outcome(&run));
+    if let Some(error) = failure.take() {
         return Err(error);
     }
     Ok(MultilevelRun { run: outcome? })

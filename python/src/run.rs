@@ -14,6 +14,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::errors::to_py;
+use crate::failure::Failure;
 use crate::integrand::PyIntegrand;
 use crate::measure::MeasureSpec;
 use crate::result::RunResult;
@@ -137,10 +138,10 @@ pub fn integrate_box(
         cancel: cancel.clone(),
     };
     let integrand = PyIntegrand::new(f, outputs, measure, cancel);
-    let outcome = run_watching_signals(py, &|e| integrand.fail(e), || {
+    let outcome = run_watching_signals(py, integrand.failure(), || {
         build(settings, &integrand).and_then(|run| run.run_vector().map_err(to_py))
     });
-    if let Some(error) = integrand.take_failure() {
+    if let Some(error) = integrand.failure().take() {
         return Err(error);
     }
     let run = outcome?;
@@ -237,12 +238,12 @@ fn build_sampler(
 }
 
 /// Runs `job` on a worker thread; the calling thread waits with the interpreter's lock
-/// released and, between waits, takes it to look for a signal: a `KeyboardInterrupt` goes to
-/// `interrupt`, which cancels the run (it stops within a chunk) and keeps the exception for
-/// the caller to raise once the worker has finished.
+/// released and, between waits, takes it to look for a signal: a `KeyboardInterrupt` is the
+/// run's `failure` (it cancels the run, which stops within a chunk, and is raised by the
+/// caller once the worker has finished).
 pub fn run_watching_signals<T: Send>(
     py: Python<'_>,
-    interrupt: &dyn Fn(PyErr),
+    failure: &Failure,
     job: impl FnOnce() -> PyResult<T> + Send,
 ) -> PyResult<T> {
     std::thread::scope(|scope| {
@@ -266,8 +267,8 @@ pub fn run_watching_signals<T: Send>(
             if waited != Err(mpsc::RecvTimeoutError::Timeout) {
                 break;
             }
-            if let Err(signal) = py.check_signals() {
-                interrupt(signal);
+            if let Err(interrupt) = py.check_signals() {
+                failure.fail(interrupt);
             }
         }
         match py.detach(|| worker.join()) {

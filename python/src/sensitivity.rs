@@ -166,8 +166,8 @@ pub fn sobol_indices(
     if let Some(seconds) = time_limit {
         run = run.time_limit(duration(seconds)?);
     }
-    let outcome = run_watching_signals(py, &|e| model.fail(e), || run.run().map_err(to_py));
-    if let Some(error) = model.take_failure() {
+    let outcome = run_watching_signals(py, model.failure(), || run.run().map_err(to_py));
+    if let Some(error) = model.failure().take() {
         return Err(error);
     }
     let indices = design.indices(&outcome?).map_err(to_py)?;

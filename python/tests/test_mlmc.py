@@ -312,3 +312,18 @@ def test_bad_sde_levels_are_one_clear_exception():
     ]:
         with pytest.raises(error, match=match):
             call()
+
+
+def test_ctrl_c_stops_a_run_of_sde_levels():
+    # No Python code runs during the run: the waiting thread's signal check stops it. To
+    # 1e-3 the run costs about 1e9 time steps (minutes) should the interrupt be lost.
+    import _thread
+    import threading
+
+    timer = threading.Timer(0.2, _thread.interrupt_main)  # as Ctrl-C does
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            mcint.mlmc(mcint.SdeLevels.gbm(), 1e-3, seed=1)
+    finally:
+        timer.cancel()
