@@ -257,6 +257,16 @@ impl BrownianMotion {
         sums.iter().map(|s| z * s).collect()
     }
 
+    /// The path at its dates from one standard normal per date, as [`Measure::map`] gives it
+    /// from their canonical coordinates: for callers that draw many paths and keep the
+    /// normals in their own buffer.
+    pub(crate) fn map_normals(&self, z: &[f64], x: &mut [f64]) {
+        self.standard_path(z, x);
+        for (x, &t) in x.iter_mut().zip(&self.times) {
+            *x = self.drift * t + self.diffusion * *x;
+        }
+    }
+
     /// The standard Brownian path `W(t_i)` from the normals `z`.
     fn standard_path(&self, z: &[f64], w: &mut [f64]) {
         let n = self.times.len();
@@ -299,11 +309,8 @@ impl Measure for BrownianMotion {
         NORMALS.with_borrow_mut(|z| {
             z.clear();
             z.extend(u[..n].iter().map(|&v| standard_normal(v)));
-            self.standard_path(z, &mut x[..n]);
+            self.map_normals(z, &mut x[..n]);
         });
-        for (x, &t) in x.iter_mut().zip(&self.times) {
-            *x = self.drift * t + self.diffusion * *x;
-        }
         1.0
     }
 }

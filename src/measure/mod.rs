@@ -34,6 +34,8 @@ pub use independent::Independent;
 pub use lebesgue::{Lebesgue, UnboundedTransform};
 pub use uniform_law::Uniform;
 
+pub(crate) use normal_map::standard_normal;
+
 /// The most dimensions of a [`Gaussian`] (either [`Factorization`]) and of a
 /// [`BrownianMotion`] built by [`Construction::Pca`]: factoring their covariance keeps
 /// `d x d` matrices and takes `O(d^3)` time, so larger ones are refused with an error instead

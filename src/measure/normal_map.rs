@@ -9,7 +9,7 @@ const SMALLEST: f64 = 1.0 / (1u64 << 54) as f64;
 
 /// `Phi^-1(u)` for `u` in `[0, 1)`.
 #[inline]
-pub(super) fn standard_normal(u: f64) -> f64 {
+pub(crate) fn standard_normal(u: f64) -> f64 {
     normal_quantile(u.max(SMALLEST))
 }
 

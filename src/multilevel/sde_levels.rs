@@ -6,8 +6,9 @@ use std::sync::OnceLock;
 use super::payoff::PathRecord;
 use super::sde::Noise;
 use super::{Level, Payoff, Scheme, Sde};
+use crate::Points;
 use crate::error::{Error, Result};
-use crate::measure::{BrownianMotion, Construction, Measure};
+use crate::measure::{BrownianMotion, Construction, standard_normal};
 
 /// The most levels an [`SdeLevels`] builds (level `l` has `base_steps * M^l` time steps).
 const LEVELS: usize = 40;
@@ -202,10 +203,12 @@ impl SdeLevels {
                 diffusion,
                 derivative,
             } => {
-                diffusion(t, x, c.diffusion);
+                // One value per state (the arrays hold the general case's d x m).
+                let d = x.len();
+                diffusion(t, x, &mut c.diffusion[..d]);
                 let terms = match (milstein, derivative) {
                     (true, Some(db)) => {
-                        db(t, x, c.milstein);
+                        db(t, x, &mut c.milstein[..d]);
                         true
                     }
                     _ => false,
@@ -277,6 +280,246 @@ fn take<'a>(rest: &mut &'a mut [f64], len: usize) -> &'a mut [f64] {
     head
 }
 
+/// What every sample of one level shares: its sizes, its time steps and its bridge, worked
+/// out once for a block of samples.
+struct Shape<'a> {
+    level: usize,
+    bridge: &'a BrownianMotion,
+    /// Fine steps, noises, states and the refinement factor.
+    n: usize,
+    m: usize,
+    d: usize,
+    big_m: usize,
+    states: bool,
+    with_bridge: bool,
+    uniforms: bool,
+}
+
+/// A sample's working arrays, cut from the caller's scratch space once per block.
+struct Buffers<'a> {
+    dw: &'a mut [f64],
+    bridge_in: &'a mut [f64],
+    bridge_out: &'a mut [f64],
+    own_f: &'a mut [f64],
+    sigma_f: &'a mut [f64],
+    own_c: &'a mut [f64],
+    grid_c: &'a mut [f64],
+    sigma_c: &'a mut [f64],
+    states_f: &'a mut [f64],
+    states_c: &'a mut [f64],
+    x: &'a mut [f64],
+    c: Coefficients<'a>,
+    dw_coarse: &'a mut [f64],
+}
+
+impl Shape<'_> {
+    /// The canonical coordinates of a sample: `n * m` normals (by the inverse cdf), then
+    /// the payoff's uniforms, if it takes any.
+    fn coordinates(&self) -> usize {
+        self.n * self.m + if self.uniforms { self.n } else { 0 }
+    }
+
+    /// A sample's coordinates `u` with the inverse normal cdf applied to its noises.
+    fn normals_of(&self, u: &[f64], z: &mut [f64]) {
+        let noises = self.n * self.m;
+        for (z, &u) in z[..noises].iter_mut().zip(&u[..noises]) {
+            *z = standard_normal(u);
+        }
+        let width = z.len();
+        z[noises..].copy_from_slice(&u[noises..width]);
+    }
+
+    /// Cuts `scratch` into the arrays of one sample of this level, and `extra` values more.
+    fn buffers<'s>(&self, scratch: &'s mut Vec<f64>, extra: usize) -> (Buffers<'s>, &'s mut [f64]) {
+        let (n, m, d, big_m) = (self.n, self.m, self.d, self.big_m);
+        let state_len = if self.states { (n + 1) * d } else { 0 };
+        let coarse_states = if self.states { (n / big_m + 1) * d } else { 0 };
+        let sizes = [
+            n * m,                                        // fine Brownian increments
+            2 * n,                                        // bridge input and output
+            n + 1,                                        // fine path
+            n,                                            // fine volatilities
+            n / big_m + 1,                                // coarse path
+            if self.with_bridge { 2 * n + 1 } else { 0 }, // coarse path and volatility, fine grid
+            state_len + coarse_states,
+            d + d + d * m + d * m * m + m, // state and coefficients, coarse increments
+        ];
+        scratch.resize(sizes.iter().sum::<usize>() + extra, 0.0);
+        let mut rest = scratch.as_mut_slice();
+        let dw = take(&mut rest, sizes[0]);
+        let (bridge_in, bridge_out) = take(&mut rest, sizes[1]).split_at_mut(n);
+        let own_f = take(&mut rest, sizes[2]);
+        let sigma_f = take(&mut rest, sizes[3]);
+        let own_c = take(&mut rest, sizes[4]);
+        let (grid_c, sigma_c) =
+            take(&mut rest, sizes[5]).split_at_mut(if self.with_bridge { n + 1 } else { 0 });
+        let (states_f, states_c) = take(&mut rest, sizes[6]).split_at_mut(state_len);
+        let x = take(&mut rest, d);
+        let c = Coefficients {
+            drift: take(&mut rest, d),
+            diffusion: take(&mut rest, d * m),
+            milstein: take(&mut rest, d * m * m),
+        };
+        let dw_coarse = take(&mut rest, m);
+        let buffers = Buffers {
+            dw,
+            bridge_in,
+            bridge_out,
+            own_f,
+            sigma_f,
+            own_c,
+            grid_c,
+            sigma_c,
+            states_f,
+            states_c,
+            x,
+            c,
+            dw_coarse,
+        };
+        (buffers, rest)
+    }
+}
+
+impl SdeLevels {
+    /// The shape of level `level`, if its bridge can be built.
+    fn shape(&self, level: usize) -> Option<Shape<'_>> {
+        Some(Shape {
+            level,
+            bridge: self.bridge(level)?,
+            n: self.steps(level),
+            m: self.sde.noises(),
+            d: self.sde.states(),
+            big_m: self.refinement as usize,
+            states: self.payoff.needs_states(),
+            with_bridge: self.payoff.needs_bridge(),
+            uniforms: self.payoff.needs_uniforms(),
+        })
+    }
+
+    /// The fine and coarse payoffs of the sample whose coordinates are `z` (see
+    /// [`Shape::normals_of`]).
+    fn sample_with(&self, shape: &Shape, z: &[f64], b: &mut Buffers) -> (f64, f64) {
+        let (n, m, d, big_m) = (shape.n, shape.m, shape.d, shape.big_m);
+        let (states, with_bridge) = (shape.states, shape.with_bridge);
+        for j in 0..m {
+            for (k, v) in b.bridge_in.iter_mut().enumerate() {
+                *v = z[k * m + j];
+            }
+            shape.bridge.map_normals(b.bridge_in, b.bridge_out);
+            let mut previous = 0.0;
+            for (k, &w) in b.bridge_out.iter().enumerate() {
+                b.dw[k * m + j] = w - previous;
+                previous = w;
+            }
+        }
+        let uniforms = if shape.uniforms {
+            &z[n * m..n * m + n]
+        } else {
+            &[][..]
+        };
+
+        // The fine path.
+        let h = self.maturity / n as f64;
+        let x = &mut *b.x;
+        x.copy_from_slice(&self.sde.start);
+        b.own_f[0] = x[0];
+        if states {
+            b.states_f[..d].copy_from_slice(x);
+        }
+        let mut last_f = (0.0, 0.0);
+        for k in 0..n {
+            let before = x[0];
+            let (drift, sigma) = self.step(k as f64 * h, h, x, &b.dw[k * m..(k + 1) * m], &mut b.c);
+            b.sigma_f[k] = sigma;
+            b.own_f[k + 1] = x[0];
+            if states {
+                b.states_f[(k + 1) * d..(k + 2) * d].copy_from_slice(x);
+            }
+            if k + 1 == n {
+                last_f = (before + drift * h, sigma * h.sqrt());
+            }
+        }
+        let fine = PathRecord {
+            own: b.own_f,
+            own_step: h,
+            grid: b.own_f,
+            sigma: b.sigma_f,
+            fine_step: h,
+            uniforms,
+            last_step: last_f,
+            states: b.states_f,
+            dims: d,
+        };
+        let fine = self.discount * self.payoff.value(&fine);
+        if shape.level == 0 {
+            return (fine, 0.0);
+        }
+
+        // The coarse path, on the sums of M fine increments.
+        let nc = n / big_m;
+        let hc = h * big_m as f64;
+        let dw = &*b.dw;
+        let dw_coarse = &mut *b.dw_coarse;
+        x.copy_from_slice(&self.sde.start);
+        b.own_c[0] = x[0];
+        if with_bridge {
+            b.grid_c[0] = x[0];
+        }
+        if states {
+            b.states_c[..d].copy_from_slice(x);
+        }
+        let mut last_c = (0.0, 0.0);
+        for s in 0..nc {
+            let first = s * big_m;
+            dw_coarse.fill(0.0);
+            for i in 0..big_m {
+                for (j, w) in dw_coarse.iter_mut().enumerate() {
+                    *w += dw[(first + i) * m + j];
+                }
+            }
+            let before = x[0];
+            let (drift, sigma) = self.step(s as f64 * hc, hc, x, dw_coarse, &mut b.c);
+            b.own_c[s + 1] = x[0];
+            if states {
+                b.states_c[(s + 1) * d..(s + 2) * d].copy_from_slice(x);
+            }
+            if with_bridge {
+                // The coarse path at the fine times: its bridge, pinned to the fine increments.
+                for i in 1..big_m {
+                    let theta = i as f64 / big_m as f64;
+                    let mut value = before + theta * (x[0] - before);
+                    for j in 0..m {
+                        let partial: f64 = (0..i).map(|q| dw[(first + q) * m + j]).sum();
+                        value += self.first_row(&b.c, j) * (partial - theta * dw_coarse[j]);
+                    }
+                    b.grid_c[first + i] = value;
+                }
+                b.grid_c[first + big_m] = x[0];
+                b.sigma_c[first..first + big_m].fill(sigma);
+            }
+            if s + 1 == nc {
+                let mut mean = before + drift * hc;
+                for j in 0..m {
+                    mean += self.first_row(&b.c, j) * (dw_coarse[j] - dw[(n - 1) * m + j]);
+                }
+                last_c = (mean, sigma * h.sqrt());
+            }
+        }
+        let coarse = PathRecord {
+            own: b.own_c,
+            own_step: hc,
+            grid: b.grid_c,
+            sigma: b.sigma_c,
+            fine_step: h,
+            uniforms,
+            last_step: last_c,
+            states: b.states_c,
+            dims: d,
+        };
+        (fine, self.discount * self.payoff.value(&coarse))
+    }
+}
+
 impl Level for SdeLevels {
     fn refinement(&self) -> u32 {
         self.refinement
@@ -306,155 +549,50 @@ impl Level for SdeLevels {
     }
 
     fn sample(&self, level: usize, u: &[f64], scratch: &mut Vec<f64>) -> (f64, f64) {
-        let Some(bridge) = self.bridge(level) else {
+        let Some(shape) = self.shape(level) else {
             return (f64::NAN, f64::NAN);
         };
-        let (n, m, d) = (self.steps(level), self.sde.noises(), self.sde.states());
-        let big_m = self.refinement as usize;
-        let states = self.payoff.needs_states();
-        let with_bridge = self.payoff.needs_bridge();
-        let state_len = if states { (n + 1) * d } else { 0 };
-        let coarse_states = if states { (n / big_m + 1) * d } else { 0 };
-        let sizes = [
-            n * m,                                   // fine Brownian increments
-            2 * n,                                   // bridge input and output
-            n + 1,                                   // fine path
-            n,                                       // fine volatilities
-            n / big_m + 1,                           // coarse path
-            if with_bridge { 2 * n + 1 } else { 0 }, // coarse path and volatility, fine grid
-            state_len + coarse_states,
-            d + d + d * m + d * m * m + m, // state and coefficients, coarse increments
-        ];
-        scratch.resize(sizes.iter().sum(), 0.0);
-        let mut rest = scratch.as_mut_slice();
-        let dw = take(&mut rest, sizes[0]);
-        let (bridge_in, bridge_out) = take(&mut rest, sizes[1]).split_at_mut(n);
-        let own_f = take(&mut rest, sizes[2]);
-        let sigma_f = take(&mut rest, sizes[3]);
-        let own_c = take(&mut rest, sizes[4]);
-        let (grid_c, sigma_c) =
-            take(&mut rest, sizes[5]).split_at_mut(if with_bridge { n + 1 } else { 0 });
-        let (states_f, states_c) = take(&mut rest, sizes[6]).split_at_mut(state_len);
-        let x = take(&mut rest, d);
-        let mut c = Coefficients {
-            drift: take(&mut rest, d),
-            diffusion: take(&mut rest, d * m),
-            milstein: take(&mut rest, d * m * m),
-        };
-        let dw_coarse = take(&mut rest, m);
+        let (mut buffers, z) = shape.buffers(scratch, shape.coordinates());
+        shape.normals_of(u, z);
+        self.sample_with(&shape, z, &mut buffers)
+    }
 
-        for j in 0..m {
-            for (k, v) in bridge_in.iter_mut().enumerate() {
-                *v = u[k * m + j];
-            }
-            bridge.map(bridge_in, bridge_out);
-            let mut previous = 0.0;
-            for (k, &w) in bridge_out.iter().enumerate() {
-                dw[k * m + j] = w - previous;
-                previous = w;
-            }
-        }
-        let uniforms = if self.payoff.needs_uniforms() {
-            &u[n * m..n * m + n]
-        } else {
-            &[][..]
+    /// The samples of a block, with the level's shape and working arrays set up once (at the
+    /// first levels, where a path takes a step or two, the setup cost as much as the path),
+    /// and the block's normals drawn in one pass (independent inverse cdfs that the CPU
+    /// overlaps, where one path's wait on each other).
+    fn sample_block(
+        &self,
+        level: usize,
+        points: &Points,
+        fine: &mut [f64],
+        coarse: &mut [f64],
+        scratch: &mut Vec<f64>,
+    ) {
+        let len = points.len().min(fine.len()).min(coarse.len());
+        let Some(shape) = self.shape(level) else {
+            fine[..len].fill(f64::NAN);
+            coarse[..len].fill(f64::NAN);
+            return;
         };
-
-        // The fine path.
-        let h = self.maturity / n as f64;
-        x.copy_from_slice(&self.sde.start);
-        own_f[0] = x[0];
-        if states {
-            states_f[..d].copy_from_slice(x);
-        }
-        let mut last_f = (0.0, 0.0);
-        for k in 0..n {
-            let before = x[0];
-            let (drift, sigma) = self.step(k as f64 * h, h, x, &dw[k * m..(k + 1) * m], &mut c);
-            sigma_f[k] = sigma;
-            own_f[k + 1] = x[0];
-            if states {
-                states_f[(k + 1) * d..(k + 2) * d].copy_from_slice(x);
-            }
-            if k + 1 == n {
-                last_f = (before + drift * h, sigma * h.sqrt());
-            }
-        }
-        let fine = PathRecord {
-            own: own_f,
-            own_step: h,
-            grid: own_f,
-            sigma: sigma_f,
-            fine_step: h,
-            uniforms,
-            last_step: last_f,
-            states: states_f,
-            dims: d,
-        };
-        let fine = self.discount * self.payoff.value(&fine);
-        if level == 0 {
-            return (fine, 0.0);
-        }
-
-        // The coarse path, on the sums of M fine increments.
-        let nc = n / big_m;
-        let hc = h * big_m as f64;
-        x.copy_from_slice(&self.sde.start);
-        own_c[0] = x[0];
-        if with_bridge {
-            grid_c[0] = x[0];
-        }
-        if states {
-            states_c[..d].copy_from_slice(x);
-        }
-        let mut last_c = (0.0, 0.0);
-        for s in 0..nc {
-            let first = s * big_m;
-            dw_coarse.fill(0.0);
-            for i in 0..big_m {
-                for (j, w) in dw_coarse.iter_mut().enumerate() {
-                    *w += dw[(first + i) * m + j];
+        let width = shape.coordinates();
+        let (mut buffers, z) = shape.buffers(scratch, width * len);
+        let noises = shape.n * shape.m;
+        for dim in 0..width {
+            let column = &points.column(dim)[..len];
+            let rows = z.chunks_exact_mut(width);
+            if dim < noises {
+                for (row, &u) in rows.zip(column) {
+                    row[dim] = standard_normal(u);
+                }
+            } else {
+                for (row, &u) in rows.zip(column) {
+                    row[dim] = u;
                 }
             }
-            let before = x[0];
-            let (drift, sigma) = self.step(s as f64 * hc, hc, x, dw_coarse, &mut c);
-            own_c[s + 1] = x[0];
-            if states {
-                states_c[(s + 1) * d..(s + 2) * d].copy_from_slice(x);
-            }
-            if with_bridge {
-                // The coarse path at the fine times: its bridge, pinned to the fine increments.
-                for i in 1..big_m {
-                    let theta = i as f64 / big_m as f64;
-                    let mut value = before + theta * (x[0] - before);
-                    for j in 0..m {
-                        let partial: f64 = (0..i).map(|q| dw[(first + q) * m + j]).sum();
-                        value += self.first_row(&c, j) * (partial - theta * dw_coarse[j]);
-                    }
-                    grid_c[first + i] = value;
-                }
-                grid_c[first + big_m] = x[0];
-                sigma_c[first..first + big_m].fill(sigma);
-            }
-            if s + 1 == nc {
-                let mut mean = before + drift * hc;
-                for j in 0..m {
-                    mean += self.first_row(&c, j) * (dw_coarse[j] - dw[(n - 1) * m + j]);
-                }
-                last_c = (mean, sigma * h.sqrt());
-            }
         }
-        let coarse = PathRecord {
-            own: own_c,
-            own_step: hc,
-            grid: grid_c,
-            sigma: sigma_c,
-            fine_step: h,
-            uniforms,
-            last_step: last_c,
-            states: states_c,
-            dims: d,
-        };
-        (fine, self.discount * self.payoff.value(&coarse))
+        for (i, z) in z.chunks_exact(width).enumerate() {
+            (fine[i], coarse[i]) = self.sample_with(&shape, z, &mut buffers);
+        }
     }
 }

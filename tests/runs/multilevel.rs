@@ -10,9 +10,9 @@
 
 use mcint::measure::{Construction, GeometricBrownianMotion};
 use mcint::multilevel::{Level, Multilevel, MultilevelEstimate, Payoff, Scheme, Sde, SdeLevels};
-use mcint::sampler::{Scramble, Sobol};
+use mcint::sampler::{Sampler, Scramble, Sobol};
 use mcint::stats::{StopReason, Warning};
-use mcint::{CancelToken, Error, Integrator};
+use mcint::{CancelToken, Error, Integrator, Points};
 
 const S0: f64 = 100.0;
 const STRIKE: f64 = 100.0;
@@ -735,4 +735,79 @@ fn a_heavy_tailed_correction_is_a_warning() {
     let gbm = gbm_levels(Scheme::Milstein, Payoff::european_call(STRIKE).unwrap());
     let survey = Multilevel::new(gbm).seed(3).survey(6, 20_000).unwrap();
     assert!(level_warnings(&survey).is_empty(), "{survey}");
+}
+
+/// A run draws its samples a block at a time (`sample_block`, which sets a level up once and
+/// draws the block's normals in one pass); each must have the bits of `sample` on its own
+/// point, for every kind of noise and payoff, Euler and Milstein, at the first levels and
+/// past them, with `M = 2` and `4`. (A diagonal system's coefficients fill one value per
+/// state: slices of that length.)
+#[test]
+fn blocks_of_samples_have_the_bits_of_single_samples() {
+    let heston = || Sde::heston(S0, 0.04, RATE, 2.0, 0.04, 0.3, -0.7).unwrap();
+    let pair = || {
+        Sde::diagonal(
+            vec![S0, 50.0],
+            |_, x, a| a.copy_from_slice(&[RATE * x[0], RATE * x[1]]),
+            |_, x, b| b.copy_from_slice(&[SIGMA * x[0], 0.3 * x[1]]),
+        )
+        .unwrap()
+        .diagonal_derivative(|_, _, d| d.copy_from_slice(&[SIGMA, 0.3]))
+        .unwrap()
+    };
+    let gbm = || Sde::gbm(S0, RATE, SIGMA).unwrap();
+    let cases = [
+        (
+            gbm(),
+            Scheme::Milstein,
+            Payoff::european_call(STRIKE).unwrap(),
+            2,
+        ),
+        (gbm(), Scheme::Euler, Payoff::asian_call(STRIKE).unwrap(), 2),
+        (gbm(), Scheme::Milstein, Payoff::lookback(), 4),
+        (
+            gbm(),
+            Scheme::Euler,
+            Payoff::digital_call(STRIKE).unwrap(),
+            2,
+        ),
+        (
+            heston(),
+            Scheme::Euler,
+            Payoff::down_and_out_call(STRIKE, 85.0).unwrap(),
+            4,
+        ),
+        (
+            pair(),
+            Scheme::Milstein,
+            Payoff::on_path(|p| p.last()[1]),
+            2,
+        ),
+    ];
+    for (sde, scheme, payoff, m) in cases {
+        let name = format!("{sde:?} {scheme:?} {payoff:?} M = {m}");
+        let levels = SdeLevels::new(sde, scheme, payoff, 1.0)
+            .unwrap()
+            .refinement_factor(m)
+            .unwrap()
+            .discount(discount());
+        for level in [0, 1, 3] {
+            let dims = levels.dims(level);
+            let mut points = Points::new(dims, 37).unwrap();
+            let sobol = Sobol::new(dims, Scramble::Owen, 9).unwrap();
+            sobol.fill(0, &mut points).unwrap();
+            let (mut fine, mut coarse) = (vec![0.0; 37], vec![0.0; 37]);
+            let mut scratch = Vec::new();
+            levels.sample_block(level, &points, &mut fine, &mut coarse, &mut scratch);
+            for i in 0..37 {
+                let u = points.row(i).unwrap();
+                let (f, c) = levels.sample(level, &u, &mut Vec::new());
+                assert_eq!(
+                    (fine[i].to_bits(), coarse[i].to_bits()),
+                    (f.to_bits(), c.to_bits()),
+                    "{name}, level {level}, sample {i}"
+                );
+            }
+        }
+    }
 }
