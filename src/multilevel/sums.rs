@@ -19,13 +19,23 @@ pub(super) struct LevelSums {
 }
 
 impl LevelSums {
-    pub(super) fn push(&mut self, fine: f64, coarse: f64) {
-        let y = fine - coarse;
-        self.difference.push(y);
-        self.fine.push(fine);
-        let square = y * y;
-        self.cube += square * y;
-        self.fourth += square * square;
+    /// The sums of a block of samples `(fine[i], coarse[i])`; `coarse` is overwritten with
+    /// the differences `Y`. Whole slices go to the accumulators (two passes, a few times
+    /// faster than a Welford update per sample, which cost a fifth of a run at the first
+    /// levels, where a sample takes a step or two).
+    pub(super) fn of_block(fine: &[f64], coarse: &mut [f64]) -> LevelSums {
+        for (y, &fine) in coarse.iter_mut().zip(fine) {
+            *y = fine - *y;
+        }
+        let mut sums = LevelSums::default();
+        sums.difference.extend(coarse);
+        sums.fine.extend(fine);
+        for &y in coarse.iter() {
+            let square = y * y;
+            sums.cube += square * y;
+            sums.fourth += square * square;
+        }
+        sums
     }
 
     pub(super) fn merge(&mut self, other: &LevelSums) {
@@ -143,7 +153,6 @@ impl<L: Level> ChunkJob for LevelJob<'_, L> {
         let (fine, coarse) = (&mut block.fine[..len], &mut block.coarse[..len]);
         self.model
             .sample_block(self.level, &block.points, fine, coarse, &mut block.scratch);
-        let mut sums = LevelSums::default();
         for (i, (&fine, &coarse)) in fine.iter().zip(coarse.iter()).enumerate() {
             if !(fine.is_finite() && coarse.is_finite()) {
                 let mut u = vec![0.0; block.points.dims()];
@@ -159,9 +168,8 @@ impl<L: Level> ChunkJob for LevelJob<'_, L> {
                     "finite values of the fine and coarse approximations",
                 ));
             }
-            sums.push(fine, coarse);
         }
-        Ok(Some(sums))
+        Ok(Some(LevelSums::of_block(fine, coarse)))
     }
 
     fn origin(&self, chunk: u64) -> (u64, u64) {
