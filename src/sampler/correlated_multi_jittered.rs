@@ -64,7 +64,8 @@ impl CorrelatedMultiJittered {
 
     /// `points` per pass (`1 <= points <= 2^53`), with `m <= n`, `m * n = points` and `m` as
     /// close to `sqrt(points)` as possible. A prime count gives a `1 x N` grid.
-    /// Finding the grid takes at most `sqrt(points)` trial divisions.
+    /// The grid comes from the prime factors of `points` (by Pollard's rho), so any count is
+    /// quick.
     ///
     /// ```
     /// use mcint::sampler::CorrelatedMultiJittered;

@@ -22,7 +22,7 @@
 //!
 //! The shared machinery for both variants lives here.
 
-use super::number_theory::integer_root;
+use super::number_theory::squarest_divisor;
 use super::permutation::{Permutation, PermutationCache};
 use super::simd::{BlockFill, dispatch_fill};
 use super::{PassKind, Sampler, check_dims, check_point, pass_runs};
@@ -388,17 +388,6 @@ impl Kernel for BlockFill<'_, MjCore> {
     }
 }
 
-/// The largest divisor `m` of `points >= 1` with `m * m <= points` (1 for a prime).
-///
-/// Walks down from `floor(sqrt(points))`: at most `2^26.5` steps for `points <= 2^53`.
-fn squarest_divisor(points: u64) -> u64 {
-    let mut m = integer_root(points, 2).max(1);
-    while !points.is_multiple_of(m) {
-        m -= 1;
-    }
-    m
-}
-
 /// Multi-jittered sampling: `N = m * n` points per pass, jittered on the `m x n` grid and
 /// N-rooks in both coordinates of every pair of dimensions.
 ///
@@ -444,7 +433,8 @@ impl MultiJittered {
     /// `points` per pass (`1 <= points <= 2^53`), with `m <= n`, `m * n = points` and `m` as
     /// close to `sqrt(points)` as possible. A prime count gives a `1 x N` grid, which is
     /// still N-rooks but only one-dimensionally jittered.
-    /// Finding the grid takes at most `sqrt(points)` trial divisions.
+    /// The grid comes from the prime factors of `points` (by Pollard's rho), so any count is
+    /// quick.
     ///
     /// ```
     /// use mcint::sampler::MultiJittered;

@@ -100,6 +100,104 @@ pub(super) fn previous_prime(n: u64) -> Option<u64> {
     (2..=n).rev().find(|&q| is_prime(q))
 }
 
+/// A factor of the odd composite `n` other than 1 and `n`: Pollard's rho with Brent's cycle
+/// detection, the differences multiplied together for a gcd every 64 steps (Brent 1980),
+/// about `n^(1/4)` steps, where trial division takes up to `n^(1/2)`.
+fn rho_factor(n: u64) -> u64 {
+    const BATCH: u64 = 64;
+    for c in 1..n {
+        let step =
+            |x: u64| ((u128::from(x) * u128::from(x) + u128::from(c)) % u128::from(n)) as u64;
+        let (mut x, mut y, mut saved) = (2, 2, 2);
+        let (mut product, mut factor, mut length) = (1, 1, 1);
+        while factor == 1 {
+            x = y;
+            for _ in 0..length {
+                y = step(y);
+            }
+            let mut done = 0;
+            while done < length && factor == 1 {
+                saved = y;
+                for _ in 0..BATCH.min(length - done) {
+                    y = step(y);
+                    product = mul_mod(product, x.abs_diff(y), n);
+                }
+                factor = gcd(product, n);
+                done += BATCH;
+            }
+            length *= 2;
+        }
+        if factor == n {
+            // The batch overshot: retrace it one step at a time.
+            loop {
+                saved = step(saved);
+                factor = gcd(x.abs_diff(saved), n);
+                if factor > 1 {
+                    break;
+                }
+            }
+        }
+        if factor != n {
+            return factor;
+        }
+    }
+    unreachable!("every odd composite has a rho cycle for some c")
+}
+
+fn gcd(mut a: u64, mut b: u64) -> u64 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+/// The prime factors of `n >= 1`, with multiplicity, in no particular order.
+fn prime_factors(mut n: u64) -> Vec<u64> {
+    let mut factors = Vec::new();
+    for p in [2, 3, 5, 7, 11, 13] {
+        while n.is_multiple_of(p) {
+            factors.push(p);
+            n /= p;
+        }
+    }
+    let mut pending = vec![n];
+    while let Some(m) = pending.pop() {
+        if m == 1 {
+            continue;
+        }
+        if is_prime(m) {
+            factors.push(m);
+        } else {
+            let d = rho_factor(m);
+            pending.extend([d, m / d]);
+        }
+    }
+    factors
+}
+
+/// The largest divisor of `n >= 1` that is at most `sqrt(n)`: the side of the squarest
+/// `m x (n / m)` grid. From the prime factors, so a prime near `2^53` is found as fast as a
+/// power of two (walking down from the root took a second there).
+pub(super) fn squarest_divisor(n: u64) -> u64 {
+    let root = integer_root(n, 2);
+    let mut factors = prime_factors(n);
+    factors.sort_unstable();
+    let mut divisors = vec![1u64];
+    for group in factors.chunk_by(|a, b| a == b) {
+        let known = divisors.len();
+        let mut power = 1u64;
+        for &p in group {
+            power *= p;
+            for i in 0..known {
+                if let Some(d) = divisors[i].checked_mul(power).filter(|&d| d <= root) {
+                    divisors.push(d);
+                }
+            }
+        }
+    }
+    divisors.into_iter().max().unwrap_or(1)
+}
+
 /// Every prime below `bound`, in increasing order, by the sieve of Eratosthenes.
 pub(super) fn primes_below(bound: usize) -> Vec<u64> {
     let mut composite = vec![false; bound];
@@ -194,6 +292,48 @@ mod tests {
         assert!(!is_prime(u64::MAX));
         assert_eq!(next_prime(18_446_744_073_709_551_558), None);
         assert_eq!(previous_prime(1), None);
+    }
+
+    /// The squarest divisor by walking down from the root: the definition.
+    fn squarest_by_search(n: u64) -> u64 {
+        (1..=integer_root(n, 2))
+            .rev()
+            .find(|&m| n.is_multiple_of(m))
+            .unwrap()
+    }
+
+    #[test]
+    fn squarest_divisors_match_a_search_down_from_the_root() {
+        for n in 1..3000 {
+            assert_eq!(squarest_divisor(n), squarest_by_search(n), "n = {n}");
+        }
+        // Random counts up to 2^24, then a prime, a prime square and semiprimes near 2^53 and
+        // a product of many primes; primes and divisors from sympy (`isprime`, `prevprime`,
+        // `max(d for d in divisors(n) if d * d <= n)`).
+        let mut state = 7u64;
+        for _ in 0..40 {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let n = (state >> 40) + 1;
+            assert_eq!(squarest_divisor(n), squarest_by_search(n), "n = {n}");
+        }
+        for (n, m) in [
+            (1 << 53, 1 << 26),
+            ((1 << 53) - 111, 1), // the largest prime below 2^53
+            (94_906_249 * 94_906_249, 94_906_249), // a prime squared, near 2^53
+            (67_108_859 * 134_217_689, 67_108_859), // primes near 2^26 and 2^27
+            (3 * 4_503_599_627_370_449, 3), // 3 times a prime near 2^52
+            (614_889_782_588_491_410, 783_152_070), // the primes up to 47
+        ] {
+            assert!(factors_multiply_out(n), "n = {n}");
+            assert_eq!(squarest_divisor(n), m, "n = {n}");
+        }
+    }
+
+    fn factors_multiply_out(n: u64) -> bool {
+        let factors = prime_factors(n);
+        factors.iter().all(|&p| is_prime(p)) && factors.iter().product::<u64>() == n
     }
 
     #[test]
