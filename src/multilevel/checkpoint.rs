@@ -12,7 +12,8 @@ use crate::stats::{Accumulator, StopReason};
 /// [`Multilevel::checkpoint`](super::Multilevel::checkpoint), run it with
 /// [`Multilevel::run_from`](super::Multilevel::run_from), and save it with the `serde` feature
 /// (the `mlmc` program's `--checkpoint FILE`). A checkpoint is refused by a run of other
-/// settings (a fingerprint of the seed, target, QMC settings, levels and model), and when its
+/// settings (a fingerprint of the seed, target, QMC settings, levels, and the model's samples
+/// at a fixed point, which tell another strike or payoff apart), and when its
 /// content was altered (a CRC-32 of every field).
 ///
 /// ```

@@ -542,7 +542,23 @@ impl<L: Level> Multilevel<L> {
             words.push(self.level_cost(level)?.to_bits());
             words.push(self.model.fine_cost(level).to_bits());
         }
+        words.extend(self.model_probe());
         Ok(hash_words(self.config.seed().unwrap_or(0), &words))
+    }
+
+    /// The model's samples of levels 0 and 1 at a fixed point: what tells two models with
+    /// the same levels apart (another strike, payoff, volatility or maturity).
+    fn model_probe(&self) -> Vec<u64> {
+        let mut scratch = Vec::new();
+        let mut words = Vec::new();
+        for level in 0..=1 {
+            let u: Vec<f64> = (0..self.model.dims(level))
+                .map(|k| ((k as f64 + 0.5) * 0.618_033_988_749_894_9).fract())
+                .collect();
+            let (fine, coarse) = self.model.sample(level, &u, &mut scratch);
+            words.extend([fine.to_bits(), coarse.to_bits()]);
+        }
+        words
     }
 
     fn run_on(

@@ -86,6 +86,19 @@ impl SdeLevels {
                 format!("euler, or milstein once the equation has its {setter}"),
             ));
         }
+        let (d, m) = (sde.states(), sde.noises());
+        let coefficients = milstein_len(&sde.noise, scheme, d, m)
+            .zip(d.checked_mul(m))
+            .and_then(|(terms, diffusion)| terms.checked_add(diffusion))
+            .filter(|&len| len <= MAX_COEFFICIENTS);
+        if coefficients.is_none() {
+            return Err(Error::invalid(
+                "sde",
+                format!("{d} states and {m} Brownian motions under {scheme:?}"),
+                "at most 2^24 values in one step's coefficients (d * m, plus d * m * m for \
+                 Milstein on general noise), which each thread keeps",
+            ));
+        }
         Ok(SdeLevels {
             sde,
             scheme,
@@ -169,6 +182,19 @@ impl SdeLevels {
             BrownianMotion::new(times, 0.0, 1.0, Construction::Bridge).ok()
         })
         .as_ref()
+    }
+}
+
+/// The most values one step's coefficients may hold (128 MiB of f64 per thread).
+const MAX_COEFFICIENTS: usize = 1 << 24;
+
+/// The values of one step's Milstein terms: `d * m * m` for general noise, `d` for diagonal
+/// noise, none for scalar noise or Euler; `None` on overflow.
+fn milstein_len(noise: &Noise, scheme: Scheme, d: usize, m: usize) -> Option<usize> {
+    match (scheme, noise) {
+        (Scheme::Milstein, Noise::General { .. }) => d.checked_mul(m)?.checked_mul(m),
+        (Scheme::Milstein, Noise::Diagonal { .. }) => Some(d),
+        _ => Some(0),
     }
 }
 
@@ -290,6 +316,8 @@ struct Shape<'a> {
     m: usize,
     d: usize,
     big_m: usize,
+    /// The values of one step's Milstein terms.
+    milstein: usize,
     states: bool,
     with_bridge: bool,
     uniforms: bool,
@@ -342,7 +370,7 @@ impl Shape<'_> {
             n / big_m + 1,                                // coarse path
             if self.with_bridge { 2 * n + 1 } else { 0 }, // coarse path and volatility, fine grid
             state_len + coarse_states,
-            d + d + d * m + d * m * m + m, // state and coefficients, coarse increments
+            d + d + d * m + self.milstein + m, // state and coefficients, coarse increments
         ];
         scratch.resize(sizes.iter().sum::<usize>() + extra, 0.0);
         let mut rest = scratch.as_mut_slice();
@@ -358,7 +386,7 @@ impl Shape<'_> {
         let c = Coefficients {
             drift: take(&mut rest, d),
             diffusion: take(&mut rest, d * m),
-            milstein: take(&mut rest, d * m * m),
+            milstein: take(&mut rest, self.milstein),
         };
         let dw_coarse = take(&mut rest, m);
         let buffers = Buffers {
@@ -390,6 +418,14 @@ impl SdeLevels {
             m: self.sde.noises(),
             d: self.sde.states(),
             big_m: self.refinement as usize,
+            // Bounded by `new`.
+            milstein: milstein_len(
+                &self.sde.noise,
+                self.scheme,
+                self.sde.states(),
+                self.sde.noises(),
+            )
+            .unwrap_or(0),
             states: self.payoff.needs_states(),
             with_bridge: self.payoff.needs_bridge(),
             uniforms: self.payoff.needs_uniforms(),
@@ -438,6 +474,11 @@ impl SdeLevels {
             if k + 1 == n {
                 last_f = (before + drift * h, sigma * h.sqrt());
             }
+        }
+        if !x.iter().all(|v| v.is_finite()) {
+            // A state that left the reals (a square root of a negative, an overflow): the
+            // payoffs' comparisons would read it as out of the money.
+            return (f64::NAN, f64::NAN);
         }
         let fine = PathRecord {
             own: b.own_f,
@@ -504,6 +545,9 @@ impl SdeLevels {
                 }
                 last_c = (mean, sigma * h.sqrt());
             }
+        }
+        if !x.iter().all(|v| v.is_finite()) {
+            return (fine, f64::NAN);
         }
         let coarse = PathRecord {
             own: b.own_c,

@@ -161,9 +161,10 @@ impl<L: Level> ChunkJob for LevelJob<'_, L> {
                     "level sample",
                     format!(
                         "(P_l, P_l-1) = ({fine}, {coarse}) at sample {} of replicate {replicate} \
-                         of level {}, canonical point {u:?}",
+                         of level {}, canonical point {}",
                         start + i as u64,
-                        self.level
+                        self.level,
+                        leading_coordinates(&u)
                     ),
                     "finite values of the fine and coarse approximations",
                 ));
@@ -174,6 +175,21 @@ impl<L: Level> ChunkJob for LevelJob<'_, L> {
 
     fn origin(&self, chunk: u64) -> (u64, u64) {
         (self.replicate(chunk), self.span(chunk).0)
+    }
+}
+
+/// The first coordinates of a point, for a message: a deep level's point has millions.
+fn leading_coordinates(u: &[f64]) -> String {
+    const SHOWN: usize = 8;
+    if u.len() <= SHOWN {
+        format!("{u:?}")
+    } else {
+        let head = format!("{:?}", &u[..SHOWN]);
+        format!(
+            "{}, ... ({} coordinates)]",
+            &head[..head.len() - 1],
+            u.len()
+        )
     }
 }
 

@@ -549,6 +549,19 @@ fn checkpoints_resume_to_the_uninterrupted_run() {
             .unwrap_err()
             .to_string();
         assert!(err.contains("fingerprint"), "{err}");
+        // Another model with the same levels (dims and costs): another strike, or another
+        // payoff, is refused too, not resumed into a mixture of both.
+        for payoff in [
+            Payoff::asian_call(STRIKE + 50.0).unwrap(),
+            Payoff::european_call(STRIKE).unwrap(),
+        ] {
+            let other = Multilevel::new(gbm_levels(Scheme::Milstein, payoff))
+                .rmse(0.02)
+                .qmc(qmc)
+                .seed(21);
+            let err = other.run_from(&mut state).unwrap_err().to_string();
+            assert!(err.contains("fingerprint"), "{err}");
+        }
     }
 }
 
@@ -560,50 +573,60 @@ fn checkpoints_resume_to_the_uninterrupted_run() {
 /// underflowed to 0: a standard error of 0 and a tolerance "met" on no evidence.
 #[test]
 fn prices_far_from_1_give_the_ordinary_run_scaled() {
-    let levels = |factor: f64| {
+    let european = |factor: f64| Payoff::european_call(STRIKE * factor).unwrap();
+    let lookback = |_: f64| Payoff::lookback();
+    let barrier = |factor: f64| Payoff::down_and_out_call(STRIKE * factor, 85.0 * factor).unwrap();
+    let payoffs: [(&str, &dyn Fn(f64) -> Payoff); 3] = [
+        ("european", &european),
+        ("lookback", &lookback),
+        ("barrier", &barrier),
+    ];
+    let levels = |factor: f64, payoff: &dyn Fn(f64) -> Payoff| {
         SdeLevels::new(
             Sde::gbm(S0 * factor, RATE, SIGMA).unwrap(),
             Scheme::Milstein,
-            Payoff::european_call(STRIKE * factor).unwrap(),
+            payoff(factor),
             1.0,
         )
         .unwrap()
         .discount(discount())
     };
-    let run = |factor: f64| {
-        Multilevel::new(levels(factor))
-            .rmse(0.05 * factor)
-            .seed(3)
-            .run()
-            .unwrap()
-    };
-    let ordinary = run(1.0);
-    // 2^-262: the fourth powers of the differences are subnormal.
-    for exponent in [664, -262, -700] {
-        let factor = 2f64.powi(exponent);
-        let scaled = run(factor);
-        let close = |a: f64, b: f64| (a / (b * factor) - 1.0).abs() < 1e-9;
-        assert!(close(scaled.estimate, ordinary.estimate), "2^{exponent}");
-        assert!(close(scaled.std_error, ordinary.std_error), "2^{exponent}");
-        assert!(close(scaled.bias, ordinary.bias), "2^{exponent}");
-        assert_eq!(scaled.cost, ordinary.cost, "2^{exponent}");
-        assert_eq!(scaled.stop, ordinary.stop, "2^{exponent}");
-        // The kurtosis is scale-free: the ordinary one, or none where the powers it needs
-        // leave f64's range; never a number made of rounding.
-        for (s, o) in scaled.levels.iter().zip(&ordinary.levels) {
-            if let Some(k) = s.kurtosis {
-                let exact = o.kurtosis.unwrap();
-                assert!(
-                    (k / exact - 1.0).abs() < 1e-9,
-                    "2^{exponent}: {k} for {exact}"
-                );
+    for (name, payoff) in payoffs {
+        let run = |factor: f64| {
+            Multilevel::new(levels(factor, payoff))
+                .rmse(0.05 * factor)
+                .seed(3)
+                .run()
+                .unwrap()
+        };
+        let ordinary = run(1.0);
+        // 2^-262: the fourth powers of the differences are subnormal; the bridges of the
+        // lookback and the barrier square prices, which leave f64's range at 2^+-664 unless
+        // taken in units near the prices.
+        for exponent in [664, -262, -700] {
+            let factor = 2f64.powi(exponent);
+            let scaled = run(factor);
+            let what = format!("{name}, 2^{exponent}");
+            let close = |a: f64, b: f64| (a / (b * factor) - 1.0).abs() < 1e-9;
+            assert!(close(scaled.estimate, ordinary.estimate), "{what}");
+            assert!(close(scaled.std_error, ordinary.std_error), "{what}");
+            assert!(close(scaled.bias, ordinary.bias), "{what}");
+            assert_eq!(scaled.cost, ordinary.cost, "{what}");
+            assert_eq!(scaled.stop, ordinary.stop, "{what}");
+            // The kurtosis is scale-free: the ordinary one, or none where the powers it needs
+            // leave f64's range; never a number made of rounding.
+            for (s, o) in scaled.levels.iter().zip(&ordinary.levels) {
+                if let Some(k) = s.kurtosis {
+                    let exact = o.kurtosis.unwrap();
+                    assert!((k / exact - 1.0).abs() < 1e-9, "{what}: {k} for {exact}");
+                }
             }
         }
     }
     // A target far below such prices' spread: its square underflows in the run's units. The
     // samples it wants are then more than any cost limit (before, they counted as none, and
     // the run added levels down to the deepest allowed).
-    let far = Multilevel::new(levels(2f64.powi(664)))
+    let far = Multilevel::new(levels(2f64.powi(664), &european))
         .rmse(0.05)
         .seed(3)
         .run()
@@ -810,4 +833,72 @@ fn blocks_of_samples_have_the_bits_of_single_samples() {
             }
         }
     }
+}
+
+/// A path whose state leaves the reals (here a square root of a negative variance, the
+/// classic slip in a CIR model) is an error naming the level and sample, for every payoff:
+/// the payoffs' comparisons would read a NaN as out of the money and price it at 0.
+#[test]
+fn a_path_that_leaves_the_reals_is_an_error() {
+    let payoffs = [
+        Payoff::european_call(0.03).unwrap(),
+        Payoff::asian_call(0.03).unwrap(),
+        Payoff::digital_call(0.03).unwrap(),
+        Payoff::lookback(),
+        Payoff::down_and_out_call(0.03, 0.01).unwrap(),
+    ];
+    for payoff in payoffs {
+        let cir = Sde::scalar(0.04, |_, x| 2.0 * (0.04 - x), |_, x| 0.8 * x.sqrt()).unwrap();
+        let name = format!("{payoff:?}");
+        let levels = SdeLevels::new(cir, Scheme::Euler, payoff, 1.0).unwrap();
+        let err = Multilevel::new(levels)
+            .rmse(1e-3)
+            .seed(1)
+            .run()
+            .unwrap_err();
+        let message = err.to_string();
+        assert!(
+            message.contains("level sample") && message.contains("NaN"),
+            "{name}: {message}"
+        );
+    }
+    // At a deep level the message shows the point's first coordinates, not all of them.
+    let nan_when_fine = Payoff::on_path(|p| if p.len() > 1000 { f64::NAN } else { 1.0 });
+    let gbm = Sde::gbm(S0, RATE, SIGMA).unwrap();
+    let levels = SdeLevels::new(gbm, Scheme::Euler, nan_when_fine, 1.0).unwrap();
+    let message = Multilevel::new(levels)
+        .survey(10, 10)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("level 10") && message.contains("(1024 coordinates)]"),
+        "{message}"
+    );
+    assert!(message.len() < 1000, "{message}");
+}
+
+/// Many Brownian motions: Euler keeps `d * m` diffusion values a step (not the `d * m * m`
+/// Milstein terms it does not use: with 131,072 motions those were 137 GB, and the process
+/// aborted), and a system whose step would hold more than 2^24 values is refused up front.
+#[test]
+fn many_brownian_motions_are_affordable_or_refused() {
+    let m = 1 << 17;
+    let general = |m: usize| {
+        let scale = 1.0 / (m as f64).sqrt();
+        Sde::general(
+            vec![0.0],
+            m,
+            |_, _, a| a[0] = 0.0,
+            move |_, _, b| b.fill(scale),
+        )
+        .unwrap()
+    };
+    let call = || Payoff::european_call(0.0).unwrap();
+    let levels = SdeLevels::new(general(m), Scheme::Euler, call(), 1.0).unwrap();
+    let u = vec![0.5; levels.dims(0)];
+    assert_eq!(levels.sample(0, &u, &mut Vec::new()), (0.0, 0.0));
+
+    let terms = general(5000).milstein_terms(|_, _, l| l.fill(0.0)).unwrap();
+    let err = SdeLevels::new(terms, Scheme::Milstein, call(), 1.0).unwrap_err();
+    assert!(err.to_string().contains("2^24"), "{err}");
 }
