@@ -9,7 +9,7 @@ use pyo3::exceptions::PyFloatingPointError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::errors::to_py;
+use crate::errors::to_py_naming;
 use crate::failure::Failure;
 use crate::integrand::PyIntegrand;
 use crate::result::warning_list;
@@ -301,12 +301,13 @@ pub fn mlmc_sde(
 }
 
 /// The library's error, with a non-finite sample a `FloatingPointError` as a non-finite
-/// integrand value is for `integrate`.
+/// integrand value is for `integrate`; `samples` is a keyword of its own here (the survey's),
+/// not the `n` of the point sets.
 fn non_finite_sample(error: mcint::Error) -> PyErr {
     match &error {
         mcint::Error::InvalidParameter { name, .. } if *name == "level sample" => {
             PyFloatingPointError::new_err(error.to_string())
         }
-        _ => to_py(error),
+        _ => to_py_naming(error, &[("samples", "samples")]),
     }
 }

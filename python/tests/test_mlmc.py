@@ -216,6 +216,9 @@ def test_bad_survey_input_is_one_clear_exception():
     for samples in (1, None, 2.5):
         with pytest.raises((ValueError, TypeError), match="samples"):
             mcint.mlmc_survey(euler_call, 3, samples, dims=steps)
+    # The library's own check names the keyword too (not the `n` of the point sets).
+    with pytest.raises(ValueError, match=r"invalid samples = 1099511627777: expected 2 to 2\^40"):
+        mcint.mlmc_survey(euler_call, 3, 2**40 + 1, dims=steps)
 
 
 # The library's own levels (mcint.SdeLevels): sampled in Rust, with the command line's bits.
