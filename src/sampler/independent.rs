@@ -137,8 +137,11 @@ impl Sampler for Independent {
         // into `dims` columns that lie a multiple of 4 KiB apart makes the stores collide in
         // the same cache sets once `dims` is large, so `TILE` points per run are drawn into a
         // small column-major tile first and copied out as contiguous column segments.
-        let mut tile = vec![[0.0; TILE]; STREAMS * dims];
         let whole_tiles = per_stream / TILE * TILE;
+        // Only when it is used: a block of a few points in many dimensions (one path of a
+        // deep multilevel level) drew them straight, but allocated the tile regardless.
+        let tiles = if whole_tiles > 0 { STREAMS * dims } else { 0 };
+        let mut tile = vec![[0.0; TILE]; tiles];
         for done in (0..whole_tiles).step_by(TILE) {
             // `t` indexes a different tile row for every (run, dimension): no single iterator.
             #[allow(clippy::needless_range_loop)]
