@@ -903,6 +903,14 @@ impl<L: Level> Multilevel<L> {
         if !(2..=1 << 40).contains(&samples) {
             return Err(Error::invalid("samples", samples, "2 to 2^40"));
         }
+        // Before any sampling: a level that cannot be sampled would end the survey anyway.
+        if let Some(level) = (0..=levels).find(|&level| !self.can_sample(level)) {
+            return Err(Error::invalid(
+                "levels",
+                levels,
+                format!("levels whose samples fit the sampler (level {level} does not)"),
+            ));
+        }
         let (executor, _scope) = self.config.executor()?;
         let limits = self.config.limits();
         let m = f64::from(self.model.refinement());
@@ -911,13 +919,6 @@ impl<L: Level> Multilevel<L> {
             let mut spent = 0.0;
             let mut stop = StopReason::Budget;
             for level in 0..=levels {
-                if !self.can_sample(level) {
-                    return Err(Error::invalid(
-                        "levels",
-                        levels,
-                        format!("levels whose samples fit the sampler (level {level} does not)"),
-                    ));
-                }
                 let mut state = LevelState {
                     sums: vec![LevelSums::default(); replicates as usize],
                     per_replicate: 0,

@@ -902,3 +902,30 @@ fn many_brownian_motions_are_affordable_or_refused() {
     let err = SdeLevels::new(terms, Scheme::Milstein, call(), 1.0).unwrap_err();
     assert!(err.to_string().contains("2^24"), "{err}");
 }
+
+/// Levels 0-2 of one coordinate, then more than any sampler has: a survey to level 5 is
+/// refused before it samples anything (it drew every sample of levels 0-2 first).
+#[test]
+fn a_survey_past_the_sampleable_levels_is_refused_before_sampling() {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicU64, Ordering};
+    struct Wide(Arc<AtomicU64>);
+    impl Level for Wide {
+        fn dims(&self, level: usize) -> usize {
+            if level < 3 { 1 } else { 1 << 40 }
+        }
+        fn cost(&self, level: usize) -> f64 {
+            (1u64 << level) as f64
+        }
+        fn sample(&self, _: usize, u: &[f64], _: &mut Vec<f64>) -> (f64, f64) {
+            self.0.fetch_add(1, Ordering::Relaxed);
+            (u[0], 0.0)
+        }
+    }
+    let drawn = Arc::new(AtomicU64::new(0));
+    let err = Multilevel::new(Wide(drawn.clone()))
+        .survey(5, 1000)
+        .unwrap_err();
+    assert!(err.to_string().contains("level 3 does not"), "{err}");
+    assert_eq!(drawn.load(Ordering::Relaxed), 0);
+}
