@@ -877,10 +877,10 @@ impl<L: Level> Multilevel<L> {
         }
     }
 
-    /// Giles' `mlmc_test` survey: `samples` samples (per randomization under QMC) of every
-    /// level `0..=levels`, with the fitted rates and, per level, the means, variances,
-    /// kurtosis and consistency check. The result's `target` is `None`; its standard MC cost is
-    /// for the survey's own standard error.
+    /// Giles' `mlmc_test` survey: `samples` samples (2 to 2^40; under QMC, at most 2^32 per
+    /// randomization) of every level `0..=levels`, with the fitted rates and, per level, the
+    /// means, variances, kurtosis and consistency check. The result's `target` is `None`; its
+    /// standard MC cost is for the survey's own standard error.
     ///
     /// ```
     /// use mcint::multilevel::{Multilevel, Payoff, Scheme, Sde, SdeLevels};
@@ -902,6 +902,14 @@ impl<L: Level> Multilevel<L> {
         }
         if !(2..=1 << 40).contains(&samples) {
             return Err(Error::invalid("samples", samples, "2 to 2^40"));
+        }
+        if self.qmc && samples > SOBOL_PASS {
+            // Each randomization is one pass of the sequence; past it, the next one's points.
+            return Err(Error::invalid(
+                "samples",
+                samples,
+                "2 to 2^32 with qmc (the points of one Sobol' pass per randomization)",
+            ));
         }
         // Before any sampling: a level that cannot be sampled would end the survey anyway.
         if let Some(level) = (0..=levels).find(|&level| !self.can_sample(level)) {

@@ -440,6 +440,15 @@ fn bad_input_and_broken_models_are_errors() {
     );
     assert!(Multilevel::new(levels()).survey(0, 100).is_err());
     assert!(Multilevel::new(levels()).survey(3, 1).is_err());
+    // Under QMC a randomization is one Sobol' pass of 2^32 points.
+    let past_a_pass = Multilevel::new(levels())
+        .qmc(true)
+        .survey(3, (1 << 32) + 1)
+        .unwrap_err();
+    assert!(
+        past_a_pass.to_string().contains("2 to 2^32 with qmc"),
+        "{past_a_pass}"
+    );
     assert!(
         SdeLevels::new(
             Sde::gbm(S0, RATE, SIGMA).unwrap(),
