@@ -555,7 +555,10 @@ impl<L: Level> Multilevel<L> {
             let u: Vec<f64> = (0..self.model.dims(level))
                 .map(|k| ((k as f64 + 0.5) * 0.618_033_988_749_894_9).fract())
                 .collect();
-            let (fine, coarse) = self.model.sample(level, &u, &mut scratch);
+            // A model that panics here panics in the run too, where the executor reports it.
+            let probe = || self.model.sample(level, &u, &mut scratch);
+            let (fine, coarse) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(probe))
+                .unwrap_or((f64::NAN, f64::NAN));
             words.extend([fine.to_bits(), coarse.to_bits()]);
         }
         words

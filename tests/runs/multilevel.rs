@@ -406,6 +406,23 @@ fn bad_input_and_broken_models_are_errors() {
         run(Faulty { nan: false }),
         Error::IntegrandPanicked { .. }
     ));
+    // A model that panics on every sample: the checkpoint's probe of the model does not
+    // panic with it; the run from the checkpoint reports the panic.
+    struct Panics;
+    impl Level for Panics {
+        fn dims(&self, _: usize) -> usize {
+            1
+        }
+        fn cost(&self, level: usize) -> f64 {
+            (1u64 << level) as f64
+        }
+        fn sample(&self, _: usize, _: &[f64], _: &mut Vec<f64>) -> (f64, f64) {
+            panic!("every sample panics")
+        }
+    }
+    let mut saved = Multilevel::new(Panics).rmse(0.01).checkpoint().unwrap();
+    let resumed = Multilevel::new(Panics).rmse(0.01).run_from(&mut saved);
+    assert!(matches!(resumed, Err(Error::IntegrandPanicked { .. })));
     let levels = || gbm_levels(Scheme::Euler, Payoff::european_call(STRIKE).unwrap());
     let err = |m: Multilevel<SdeLevels>| m.run().unwrap_err().to_string();
     assert!(err(Multilevel::new(levels())).contains("rmse"));
