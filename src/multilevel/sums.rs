@@ -20,9 +20,9 @@ pub(super) struct LevelSums {
 
 impl LevelSums {
     /// The sums of a block of samples `(fine[i], coarse[i])`; `coarse` is overwritten with
-    /// the differences `Y`. Whole slices go to the accumulators (two passes, a few times
-    /// faster than a Welford update per sample, which cost a fifth of a run at the first
-    /// levels, where a sample takes a step or two).
+    /// the differences `Y`. Whole slices go to the accumulators: two vectorized passes, where
+    /// a Welford update per sample weighed on the first levels, whose samples take a step or
+    /// two.
     pub(super) fn of_block(fine: &[f64], coarse: &mut [f64]) -> LevelSums {
         for (y, &fine) in coarse.iter_mut().zip(fine) {
             *y = fine - *y;
