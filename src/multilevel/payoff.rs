@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use crate::error::{Error, Result};
 use crate::special::normal_cdf;
+use crate::stats::scale_for;
 
 /// One path as a [`Payoff::on_path`] closure sees it: the states at the times `k * step`,
 /// `k = 0..len()`, on the path's own grid (fine or coarse).
@@ -249,10 +250,10 @@ impl Payoff {
             Kind::Lookback => {
                 let mut low = f64::INFINITY;
                 for (k, &s) in path.sigma.iter().enumerate() {
-                    // In units of a power of two near the prices, so that the squares neither
-                    // underflow nor overflow (exact: the bits are those of the plain formula
-                    // wherever that one is in range).
-                    let unit = binary_unit(path.grid[k].abs().max(path.grid[k + 1].abs()));
+                    // In the units the accumulators use for values this large or small (a power
+                    // of two, 1 in the ordinary range), so that the squares neither underflow
+                    // nor overflow.
+                    let unit = scale_for(path.grid[k].abs().max(path.grid[k + 1].abs()));
                     let (a, b, s) = (path.grid[k] / unit, path.grid[k + 1] / unit, s / unit);
                     let u = path.uniforms[k].max(SMALLEST_UNIFORM);
                     let spread = (b - a) * (b - a) - 2.0 * s * s * path.fine_step * u.ln();
@@ -277,8 +278,8 @@ impl Payoff {
                     if a <= 0.0 || b <= 0.0 {
                         return 0.0;
                     }
-                    // In units of a power of two near the distances, as for the lookback.
-                    let unit = binary_unit(a.max(b));
+                    // In the accumulators' units for the distances, as for the lookback.
+                    let unit = scale_for(a.max(b));
                     let (a, b, s) = (a / unit, b / unit, s / unit);
                     let variance = s * s * path.fine_step;
                     if variance > 0.0 {
@@ -293,16 +294,6 @@ impl Payoff {
                 dims: path.dims,
             }),
         }
-    }
-}
-
-/// The power of two at or below `x > 0` (1 for zero, subnormal or non-finite `x`): dividing
-/// by it is exact.
-fn binary_unit(x: f64) -> f64 {
-    if x.is_normal() {
-        f64::from_bits(x.to_bits() & 0x7ff0_0000_0000_0000)
-    } else {
-        1.0
     }
 }
 
