@@ -6,33 +6,20 @@ Rust, and once with the numpy model of python/tests/test_mlmc.py (vectorized ove
 of samples; its Euler steps multiply out the path in one `np.prod`). Best of 3 by time; the
 per-step figure divides by the fine steps the run took (each level's samples times 2^level).
 
-Run:  /tmp/venv/bin/pip install ./python && /tmp/venv/bin/python benches/peers_python/sde_levels_vs_numpy.py
+Run:  /tmp/venv/bin/pip install ./python scipy pytest && /tmp/venv/bin/python benches/peers_python/sde_levels_vs_numpy.py
+      (pytest: the test module it imports the model from needs it)
 Output: benches/peers_python/sde_levels_vs_numpy.out.txt
 """
 import math
+import pathlib
+import sys
 import time
-
-import numpy as np
-from scipy.special import ndtri
 
 import mcint
 
-S0, STRIKE, RATE, SIGMA = 100.0, 100.0, 0.05, 0.2
-
-
-def euler_call(l, u):
-    """Level l: Euler on 2**l steps (fine) and 2**(l-1) steps from the same increments."""
-    n, steps = u.shape
-    h = 1.0 / steps
-    dw = math.sqrt(h) * ndtri(u)
-    discount = math.exp(-RATE)
-    payoff = lambda s: discount * np.maximum(s - STRIKE, 0.0)
-    fine = S0 * np.prod(1 + RATE * h + SIGMA * dw, axis=1)
-    if l == 0:
-        return payoff(fine), np.zeros(n)
-    pairs = dw.reshape(n, steps // 2, 2).sum(axis=2)
-    coarse = S0 * np.prod(1 + RATE * 2 * h + SIGMA * pairs, axis=1)
-    return payoff(fine), payoff(coarse)
+# The test suite's numpy model itself, so that the bench measures what the tests check.
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "python" / "tests"))
+from test_mlmc import RATE, S0, SIGMA, STRIKE, euler_call  # noqa: E402
 
 
 def fine_steps(run):
