@@ -51,7 +51,8 @@ fn run() -> Result<(), String> {
         let sde = Sde::gbm(100.0, 0.05, 0.2).map_err(text)?;
         let model = SdeLevels::new(sde, scheme, payoff.clone(), 1.0)
             .map_err(text)?
-            .discount(discount);
+            .discount(discount)
+            .map_err(text)?;
         let mut runner = Multilevel::new(model).rmse(eps).qmc(qmc).seed(seed);
         if threads > 0 {
             runner = runner.threads(threads);

@@ -31,7 +31,7 @@ impl SdeModel {
             self.maturity,
         )
         .and_then(|l| l.refinement_factor(self.refinement))
-        .map(|l| l.discount(self.discount))
+        .and_then(|l| l.discount(self.discount))
         .map_err(to_py)
     }
 

@@ -25,7 +25,8 @@
 //! let gbm = Sde::gbm(100.0, 0.05, 0.2).unwrap();
 //! let call = SdeLevels::new(gbm, Scheme::Milstein, Payoff::european_call(100.0).unwrap(), 1.0)
 //!     .unwrap()
-//!     .discount((-0.05f64).exp());
+//!     .discount((-0.05f64).exp())
+//!     .unwrap();
 //! let run = Multilevel::new(call).rmse(0.02).seed(1).run().unwrap();
 //! assert!((run.estimate - 10.450583572185565).abs() < 0.08, "{run}");
 //! assert!(run.cost * 10.0 < run.standard_mc_cost);

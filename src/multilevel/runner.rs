@@ -62,7 +62,8 @@ const MC_DIMS: usize = 1 << 24;
 /// let gbm = Sde::gbm(100.0, 0.05, 0.2).unwrap();
 /// let call = SdeLevels::new(gbm, Scheme::Milstein, Payoff::european_call(100.0).unwrap(), 1.0)
 ///     .unwrap()
-///     .discount((-0.05f64).exp());
+///     .discount((-0.05f64).exp())
+///     .unwrap();
 /// let run = Multilevel::new(call).rmse(0.02).seed(1).run().unwrap();
 /// assert!((run.estimate - 10.450583572185565).abs() < 0.08, "{run}");
 /// assert!(run.beta > 1.5); // Milstein: V_l falls like h_l^2
@@ -417,7 +418,20 @@ impl<L: Level> Multilevel<L> {
         };
         let from = resume.map(|e| (e.sums, e.chunks));
         let start = from.as_ref().map_or(0, |f| f.1);
-        let (sums, done, stop) = run_job(executor, &job, limits, from)?;
+        let (sums, done, stop) = run_job(executor, &job, limits, from).map_err(|e| match e {
+            // The executor knows the chunk, not the level: name it, or a deep level's panic
+            // reads as the first samples of the run.
+            Error::IntegrandPanicked {
+                message,
+                replicate,
+                first_index,
+            } => Error::IntegrandPanicked {
+                message: format!("{message} (in level {level})"),
+                replicate,
+                first_index,
+            },
+            other => other,
+        })?;
         let added = job.samples_in(start..done);
         if let Some(reason) = stop {
             let chunks = done;
@@ -454,7 +468,41 @@ impl<L: Level> Multilevel<L> {
     /// Whether `level` can be sampled at all (its coordinates fit the sampler).
     fn can_sample(&self, level: usize) -> bool {
         let dims = self.model.dims(level);
-        dims > 0 && dims <= if self.qmc { SOBOL_DIMS } else { MC_DIMS }
+        dims > 0 && dims <= self.most_dims()
+    }
+
+    /// The most coordinates a sample can take from this run's sampler.
+    fn most_dims(&self) -> usize {
+        if self.qmc { SOBOL_DIMS } else { MC_DIMS }
+    }
+
+    /// Why levels `0..=deepest` cannot all be sampled, if one cannot: at level 0 the model's
+    /// dimensions are at fault; past it, `setting` (`name = value`) asks for too deep a level.
+    fn refuse_unsampleable(&self, deepest: usize, setting: (&'static str, usize)) -> Result<()> {
+        let Some(level) = (0..=deepest).find(|&level| !self.can_sample(level)) else {
+            return Ok(());
+        };
+        let dims = self.model.dims(level);
+        let allowed = format!(
+            "1 to {} coordinates per sample ({})",
+            self.most_dims(),
+            if self.qmc {
+                "Sobol' points"
+            } else {
+                "independent points"
+            }
+        );
+        Err(if level == 0 {
+            Error::invalid("level dims", format!("{dims} at level 0"), allowed)
+        } else {
+            Error::invalid(
+                setting.0,
+                setting.1,
+                format!(
+                    "levels whose samples fit the sampler (level {level} takes {dims}; {allowed})"
+                ),
+            )
+        })
     }
 
     /// Runs Giles' algorithm to the target.
@@ -485,17 +533,8 @@ impl<L: Level> Multilevel<L> {
     /// ```
     pub fn checkpoint(&self) -> Result<MultilevelCheckpoint> {
         let (target, replicates, initial) = self.checked(false)?;
-        let mut levels = Vec::new();
-        for level in 0..=self.min_level {
-            if !self.can_sample(level) {
-                return Err(Error::invalid(
-                    "min_level",
-                    self.min_level,
-                    format!("levels whose samples fit the sampler (level {level} does not)"),
-                ));
-            }
-            levels.push(vec![LevelSums::default(); replicates as usize]);
-        }
+        self.refuse_unsampleable(self.min_level, ("min_level", self.min_level))?;
+        let levels = vec![vec![LevelSums::default(); replicates as usize]; self.min_level + 1];
         let pending = vec![initial; levels.len()];
         let fingerprint = self.fingerprint(target, replicates, initial)?;
         Ok(MultilevelCheckpoint::new(fingerprint, levels, pending))
@@ -915,13 +954,7 @@ impl<L: Level> Multilevel<L> {
             ));
         }
         // Before any sampling: a level that cannot be sampled would end the survey anyway.
-        if let Some(level) = (0..=levels).find(|&level| !self.can_sample(level)) {
-            return Err(Error::invalid(
-                "levels",
-                levels,
-                format!("levels whose samples fit the sampler (level {level} does not)"),
-            ));
-        }
+        self.refuse_unsampleable(levels, ("levels", levels))?;
         let (executor, _scope) = self.config.executor()?;
         let limits = self.config.limits();
         let m = f64::from(self.model.refinement());

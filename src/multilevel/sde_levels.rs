@@ -25,7 +25,8 @@ const LEVELS: usize = 40;
 /// let gbm = Sde::gbm(100.0, 0.05, 0.2).unwrap();
 /// let call = SdeLevels::new(gbm, Scheme::Milstein, Payoff::european_call(100.0).unwrap(), 1.0)
 ///     .unwrap()
-///     .discount((-0.05f64).exp());
+///     .discount((-0.05f64).exp())
+///     .unwrap();
 /// let run = Multilevel::new(call).rmse(0.05).seed(7).run().unwrap();
 /// assert!((run.estimate - 10.450583572185565).abs() < 0.2, "{run}");
 /// ```
@@ -145,19 +146,27 @@ impl SdeLevels {
         Ok(self)
     }
 
-    /// A factor every payoff is multiplied by (`exp(-r T)` for a price; default 1).
+    /// A factor every payoff is multiplied by (`exp(-r T)` for a price; default 1). It must
+    /// be finite: a NaN or infinite factor would make every sample non-finite.
     ///
     /// ```
     /// use mcint::multilevel::{Level, Payoff, Scheme, Sde, SdeLevels};
     /// let gbm = Sde::gbm(100.0, 0.05, 0.0).unwrap(); // no noise: S(1) = 105
-    /// let levels = SdeLevels::new(gbm, Scheme::Euler, Payoff::european_call(100.0).unwrap(), 1.0)
-    ///     .unwrap()
-    ///     .discount(0.5);
+    /// let call = || SdeLevels::new(gbm.clone(), Scheme::Euler, Payoff::european_call(100.0)?, 1.0);
+    /// let levels = call().unwrap().discount(0.5).unwrap();
     /// assert_eq!(levels.sample(0, &[0.5], &mut Vec::new()).0, 2.5);
+    /// assert!(call().unwrap().discount(f64::INFINITY).is_err());
     /// ```
-    pub fn discount(mut self, factor: f64) -> SdeLevels {
+    pub fn discount(mut self, factor: f64) -> Result<SdeLevels> {
+        if !factor.is_finite() {
+            return Err(Error::invalid(
+                "discount",
+                factor,
+                "a finite factor (exp(-r T) for a price)",
+            ));
+        }
         self.discount = factor;
-        self
+        Ok(self)
     }
 
     /// The time steps of level `level`'s fine path (saturating).

@@ -82,6 +82,7 @@ fn gbm_levels(scheme: Scheme, payoff: Payoff) -> SdeLevels {
     SdeLevels::new(Sde::gbm(S0, RATE, SIGMA).unwrap(), scheme, payoff, 1.0)
         .unwrap()
         .discount(discount())
+        .unwrap()
 }
 
 /// RMSE against `exact` and mean cost over the seeds.
@@ -257,6 +258,7 @@ fn heston_with_frozen_variance_prices_black_scholes() {
         )
         .unwrap()
         .discount(discount())
+        .unwrap()
     };
     let (rmse, _) = study(levels, 0.1, false, EUROPEAN);
     assert!(rmse <= 0.12, "{rmse}");
@@ -327,7 +329,8 @@ fn general_and_diagonal_noise_step_as_scalar_gbm() {
     let first = Payoff::on_path(|p| (p.last()[0] - STRIKE).max(0.0));
     let levels = SdeLevels::new(pair, Scheme::Milstein, first, 1.0)
         .unwrap()
-        .discount(discount());
+        .discount(discount())
+        .unwrap();
     let run = Multilevel::new(levels).rmse(0.05).seed(4).run().unwrap();
     assert!((run.estimate - EUROPEAN).abs() < 5.0 * 0.05, "{run}");
     assert!(run.beta > 1.5, "{run}");
@@ -402,10 +405,13 @@ fn bad_input_and_broken_models_are_errors() {
     let run = |f: Faulty| Multilevel::new(f).rmse(0.01).seed(1).run().unwrap_err();
     let nan = run(Faulty { nan: true }).to_string();
     assert!(nan.contains("level 2") && nan.contains("NaN"), "{nan}");
-    assert!(matches!(
-        run(Faulty { nan: false }),
-        Error::IntegrandPanicked { .. }
-    ));
+    assert!(
+        matches!(
+            run(Faulty { nan: false }),
+            Error::IntegrandPanicked { ref message, .. } if message == "level two broke (in level 2)"
+        ),
+        "the panic names its level"
+    );
     // A model that panics on every sample: the checkpoint's probe of the model does not
     // panic with it; the run from the checkpoint reports the panic.
     struct Panics;
@@ -427,6 +433,19 @@ fn bad_input_and_broken_models_are_errors() {
     let err = |m: Multilevel<SdeLevels>| m.run().unwrap_err().to_string();
     assert!(err(Multilevel::new(levels())).contains("rmse"));
     assert!(err(Multilevel::new(levels()).rmse(f64::NAN)).contains("above 0"));
+    for factor in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let call = SdeLevels::new(
+            Sde::gbm(S0, RATE, SIGMA).unwrap(),
+            Scheme::Euler,
+            Payoff::european_call(STRIKE).unwrap(),
+            1.0,
+        );
+        let refused = call.unwrap().discount(factor).err().map(|e| e.to_string());
+        assert!(
+            refused.as_ref().is_some_and(|e| e.contains("discount")),
+            "{factor}: {refused:?}"
+        );
+    }
     assert!(
         err(Multilevel::new(levels()).rmse(0.1).qmc(true).replicates(1)).contains("at least 2")
     );
@@ -616,6 +635,7 @@ fn prices_far_from_1_give_the_ordinary_run_scaled() {
         )
         .unwrap()
         .discount(discount())
+        .unwrap()
     };
     for (name, payoff) in payoffs {
         let run = |factor: f64| {
@@ -839,7 +859,8 @@ fn blocks_of_samples_have_the_bits_of_single_samples() {
             .unwrap()
             .refinement_factor(m)
             .unwrap()
-            .discount(discount());
+            .discount(discount())
+            .unwrap();
         for level in [0, 1, 3] {
             let dims = levels.dims(level);
             let mut points = Points::new(dims, 37).unwrap();
@@ -952,6 +973,42 @@ fn a_survey_past_the_sampleable_levels_is_refused_before_sampling() {
     let err = Multilevel::new(Wide(drawn.clone()))
         .survey(5, 1000)
         .unwrap_err();
-    assert!(err.to_string().contains("level 3 does not"), "{err}");
+    assert!(
+        err.to_string()
+            .contains("(level 3 takes 1099511627776; 1 to 16777216 coordinates"),
+        "{err}"
+    );
     assert_eq!(drawn.load(Ordering::Relaxed), 0);
+    // Too wide from level 0: no setting helps, so the error names the model's dimensions.
+    struct Wider;
+    impl Level for Wider {
+        fn dims(&self, _: usize) -> usize {
+            1 << 30
+        }
+        fn cost(&self, level: usize) -> f64 {
+            (1u64 << level) as f64
+        }
+        fn sample(&self, _: usize, u: &[f64], _: &mut Vec<f64>) -> (f64, f64) {
+            (u[0], 0.0)
+        }
+    }
+    let run = Multilevel::new(Wider)
+        .rmse(0.1)
+        .run()
+        .unwrap_err()
+        .to_string();
+    let survey = Multilevel::new(Wider)
+        .qmc(true)
+        .survey(2, 64)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        run.starts_with("invalid level dims = 1073741824 at level 0")
+            && run.contains("1 to 16777216 coordinates per sample (independent points)"),
+        "{run}"
+    );
+    assert!(
+        survey.contains("1 to 21201 coordinates per sample (Sobol' points)"),
+        "{survey}"
+    );
 }

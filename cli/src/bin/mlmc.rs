@@ -256,7 +256,13 @@ fn run() -> Result<(), String> {
         .map_err(text)?
         .refinement_factor(refinement)
         .map_err(text)?
-        .discount((-rate * maturity).exp());
+        .discount((-rate * maturity).exp())
+        .map_err(|_| {
+            format!(
+                "invalid --rate = {rate} with --maturity = {maturity}: expected a finite \
+                 discount exp(-rate * maturity)"
+            )
+        })?;
     let deepest: usize = args
         .get("test-levels", "a whole number 1 to 20")?
         .unwrap_or(8);

@@ -179,7 +179,7 @@ fn the_plot_is_drawn() {
 
 #[test]
 fn bad_input_is_one_line() {
-    let cases: [(&[&str], &str); 9] = [
+    let cases: [(&[&str], &str); 10] = [
         // A flag of the other model is refused, not silently ignored.
         (
             &["--model", "heston", "--sigma", "0.3"],
@@ -196,6 +196,11 @@ fn bad_input_is_one_line() {
             "--min-level <= --max-level",
         ),
         (&["--max-level", "61"], "<= 60"),
+        // exp(800) is no discount: the flags that gave it are named.
+        (
+            &["--rate", "-800"],
+            "invalid --rate = -800 with --maturity = 1",
+        ),
     ];
     for (args, needle) in cases {
         assert_one_line_error(&run("mlmc", args), needle);
