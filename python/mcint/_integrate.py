@@ -216,13 +216,16 @@ def _outputs(f, point):
     )
 
 
-def _whole(name, value, least):
+def _whole(name, value, least, most=2**64 - 1):
     if value is None:
         return None
+    shown = "2**64 - 1" if most == 2**64 - 1 else most
+    allowed = f"a whole number {least} to {shown}"
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"invalid {name} = {value!r}: expected a whole number >= {least}")
-    if value < least:
-        raise ValueError(f"invalid {name} = {value}: expected a whole number >= {least}")
+        raise TypeError(f"invalid {name} = {value!r}: expected {allowed}")
+    # Checked here, or past 2**64 the extension raises a bare OverflowError.
+    if not least <= value <= most:
+        raise ValueError(f"invalid {name} = {value}: expected {allowed}")
     return int(value)
 
 

@@ -21,7 +21,9 @@ LevelSummary = namedtuple(
 )
 
 # The library's deepest level by default (Multilevel::max_level).
-_MAX_LEVEL = 20
+_DEFAULT_MAX_LEVEL = 20
+# The deepest level any run or survey may ask for (the library's limit).
+_DEEPEST_LEVEL = 60
 
 _PAYOFFS = ("european", "asian", "lookback", "digital", "barrier")
 
@@ -180,9 +182,9 @@ def _name(name, value):
 
 
 def _refinement(value):
-    value = _whole("refinement", value, 2)
-    if value is None or value > 16:
-        raise ValueError(f"invalid refinement = {value}: expected a whole number 2 to 16")
+    value = _whole("refinement", value, 2, 16)
+    if value is None:
+        raise TypeError("invalid refinement = None: expected a whole number 2 to 16")
     return value
 
 
@@ -284,8 +286,8 @@ def mlmc(
         raise TypeError("invalid rmse = None: expected a number above 0")
     result = _run(
         level, rmse, None, dims, cost, refinement, weak_order, qmc, replicates,
-        initial_samples, min_level, _whole("max_level", max_level, 1), max_cost, time_limit,
-        seed, threads,
+        initial_samples, min_level, _whole("max_level", max_level, 1, _DEEPEST_LEVEL), max_cost,
+        time_limit, seed, threads,
     )
     for w in result.warnings:
         warnings.warn(w.message, McintWarning, stacklevel=2)
@@ -330,11 +332,9 @@ def mlmc_survey(
     >>> len(s.levels), round(s.alpha, 6)  # the corrections' means halve: alpha = 1
     (5, 1.0)
     """
-    levels = _whole("levels", levels, 1)
+    levels = _whole("levels", levels, 1, _DEEPEST_LEVEL)
     if levels is None:
-        raise TypeError("invalid levels = None: expected a whole number >= 1")
-    if levels > 60:
-        raise ValueError(f"invalid levels = {levels}: expected 1 to 60")
+        raise TypeError(f"invalid levels = None: expected a whole number 1 to {_DEEPEST_LEVEL}")
     samples = _whole("samples", samples, 2)
     if samples is None:
         raise TypeError("invalid samples = None: expected a whole number >= 2")
@@ -350,14 +350,12 @@ def mlmc_survey(
 def _run(level, rmse, survey, dims, cost, refinement, weak_order, qmc, replicates,
          initial_samples, min_level, deepest, max_cost, time_limit, seed, threads):
     """Checks the settings shared by a run and a survey and calls the extension."""
-    if deepest is not None and deepest > 60:
-        raise ValueError(f"invalid max_level = {deepest}: expected 1 to 60")
     settings = dict(
         survey=survey,
         qmc=bool(qmc),
         replicates=_whole("replicates", replicates, 1),
         initial_samples=_whole("initial_samples", initial_samples, 1),
-        min_level=_whole("min_level", min_level, 1),
+        min_level=_whole("min_level", min_level, 1, _DEEPEST_LEVEL),
         max_level=deepest,
         max_cost=_positive("max_cost", max_cost),
         time_limit=_positive("time_limit", time_limit),
@@ -383,11 +381,9 @@ def _run(level, rmse, survey, dims, cost, refinement, weak_order, qmc, replicate
             "invalid dims = None: expected the coordinates of a sample of each level (an "
             "int, or a callable dims(l)), which a callable level needs"
         )
-    refinement = _whole("refinement", 2 if refinement is None else refinement, 2)
-    if refinement > 2**16:
-        raise ValueError(f"invalid refinement = {refinement}: expected 2 to 65536")
+    refinement = _whole("refinement", 2 if refinement is None else refinement, 2, 2**16)
     # Every level the run may sample, and level 2 (a checkpoint's fingerprint reads 0..2).
-    levels = range(max(_MAX_LEVEL if deepest is None else deepest, 2) + 1)
+    levels = range(max(_DEFAULT_MAX_LEVEL if deepest is None else deepest, 2) + 1)
     dims_table = [_level_dims(dims, l) for l in levels]
     cost_table = [_level_cost(cost, refinement, l) for l in levels]
     if weak_order is not None:

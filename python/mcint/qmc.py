@@ -100,8 +100,13 @@ class Engine(_Base):
         if seed is not None and rng is not None:
             raise TypeError("give seed or rng, not both")
         seed = rng if rng is not None else seed
-        if isinstance(d, (bool, np.bool_)) or not isinstance(d, (int, np.integer)) or d < 1:
-            raise ValueError(f"invalid d = {d!r}: expected an integer >= 1")
+        if not _integer(d) or not 1 <= d < 2**64:
+            raise ValueError(f"invalid d = {d!r}: expected an integer >= 1 (and below 2**64)")
+        if strength is not None and (not _integer(strength) or not 1 <= strength <= 63):
+            raise ValueError(
+                f"invalid strength = {strength!r}: expected an integer from 1 to 63 "
+                "(p**strength points must fit in 64 bits)"
+            )
         passes, default_scramble = _native.sampler_info(name)
         if scramble is True:
             scramble_name = None
@@ -240,16 +245,26 @@ class Engine(_Base):
 
     def fast_forward(self, n):
         """Skips ``n`` points."""
-        self.num_generated += _count(n)
+        n = _count(n)
+        if self.num_generated + n >= 2**64:
+            raise ValueError(
+                f"invalid n = {n}: {self.num_generated} + n points would pass the last index, "
+                "2**64 - 1"
+            )
+        self.num_generated += n
         return self
 
     def __repr__(self):
         return f"{type(self).__name__}(d={self.d}, seed={self.seed})"
 
 
+def _integer(value):
+    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+
+
 def _count(n):
-    if isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 0:
-        raise ValueError(f"invalid n = {n!r}: expected an integer >= 0")
+    if not _integer(n) or not 0 <= n < 2**64:
+        raise ValueError(f"invalid n = {n!r}: expected an integer from 0 to 2**64 - 1")
     return int(n)
 
 

@@ -201,6 +201,13 @@ def test_non_finite_values_are_a_floating_point_error():
         (dict(n=0), ValueError, "n = 0"),
         (dict(method="vegas", n=3), ValueError, "invalid n = 3: expected at least 50"),
         (dict(n=1.5), TypeError, "whole number"),
+        # Past 2**64 the extension would raise a bare OverflowError.
+        (
+            dict(n=2**64),
+            ValueError,
+            r"invalid n = 18446744073709551616: expected a whole number 1 to 2\*\*64 - 1",
+        ),
+        (dict(rtol=1e-3, max_evals=2**70), ValueError, "max_evals"),
         (dict(threads=0), ValueError, "threads"),
         (dict(max_evals=1000), ValueError, "rtol or atol"),
         (dict(time_limit=-1.0), ValueError, "time_limit"),

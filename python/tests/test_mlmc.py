@@ -159,6 +159,16 @@ def test_bad_input_is_one_clear_exception():
         mcint.mlmc(euler_call, 0.1, dims=steps, cost=lambda l: -1.0)
     with pytest.raises(ValueError, match="dims = 1180591620717411303424 at level 0"):
         mcint.mlmc(euler_call, 0.1, dims=2**70)
+    # More coordinates than the sampler gives: the model's dims are named, not min_level.
+    with pytest.raises(ValueError, match=r"level dims = 1073741824 at level 0: expected 1 to"):
+        mcint.mlmc(euler_call, 0.1, dims=2**30)
+    # Integers past what the extension takes say what is allowed (no bare OverflowError).
+    with pytest.raises(ValueError, match=r"samples = 18446744073709551616: expected a whole "
+                       r"number 2 to 2\*\*64 - 1"):
+        mcint.mlmc_survey(euler_call, 3, 2**64, dims=steps)
+    with pytest.raises(ValueError, match="min_level = 18446744073709551616: expected a whole "
+                       "number 1 to 60"):
+        mcint.mlmc(euler_call, 0.1, dims=steps, min_level=2**64)
     for refinement in (1, 2**40):
         with pytest.raises(ValueError, match="refinement"):
             mcint.mlmc(euler_call, 0.1, dims=steps, refinement=refinement)

@@ -128,6 +128,12 @@ def test_seeds_as_numpy_gives_them():
         (lambda: mq.Sobol(100_000), ValueError, "invalid d = 100000"),
         (lambda: mq.Engine("sobel", 2), ValueError, "sobol"),
         (lambda: mq.Sobol(2).random(-1), ValueError, "n = -1"),
+        # Integers past 64 bits say what is allowed (no bare OverflowError from the extension).
+        (lambda: mq.Sobol(2**64), ValueError, r"d = 18446744073709551616: expected an integer"),
+        (lambda: mq.Sobol(2).random(2**64), ValueError, r"0 to 2\*\*64 - 1"),
+        (lambda: mq.Sobol(2).fast_forward(2**64 - 5).fast_forward(5), ValueError, "last index"),
+        (lambda: mq.OrthogonalArray(2, strength=2**64), ValueError, "1 to 63"),
+        (lambda: mq.Engine("oa-bush", 2, strength=0), ValueError, "1 to 63"),
         (lambda: mq.Sobol(2).random_base2(-2), ValueError, "m = -2"),
         # Refused before 2**m is formed (which would not finish).
         (lambda: mq.Halton(2).random_base2(10**30), ValueError, "0 to 62"),

@@ -77,6 +77,12 @@ def test_an_exception_in_the_model_propagates():
         (dict(n=1001), ValueError, "invalid n = 1001: expected a positive multiple"),
         (dict(n=None, replicates=3), ValueError, r"invalid n = 65536 \(the default\)"),
         (dict(replicates=0), ValueError, "replicates"),
+        (
+            dict(replicates=2**64),
+            ValueError,
+            r"replicates = 18446744073709551616: expected a whole number 1 to 2\*\*64 - 1",
+        ),
+        (dict(groups=[[0, 2**64]]), ValueError, r"groups = 18446744073709551616"),
         (dict(rtol=0.0), ValueError, "rtol"),
         (dict(rtol=1e-20), ValueError, "rtol = 1e-20"),
         (dict(max_evals=1 << 14), ValueError, "rtol or atol"),
