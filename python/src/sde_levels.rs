@@ -79,14 +79,15 @@ impl SdeModel {
             discount: (-rate * maturity).exp(),
             model,
         };
-        // Every setting is checked here, where the user gave it, not at the first run.
-        this.levels()?;
+        // Every setting is checked here, where the user gave it, not at the first run; the
+        // discount first, in the user's terms.
         if !(this.discount.is_finite() && this.discount > 0.0) {
             return Err(PyValueError::new_err(format!(
                 "invalid rate = {rate:e} with maturity = {maturity:e}: expected a discount \
                  factor exp(-rate * maturity) that is finite and above 0"
             )));
         }
+        this.levels()?;
         Ok(this)
     }
 }

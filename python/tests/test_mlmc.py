@@ -304,6 +304,8 @@ def test_bad_sde_levels_are_one_clear_exception():
         (lambda: gbm(sigma=float("nan")), ValueError, "sigma"),
         (lambda: gbm(s0="100"), TypeError, "s0"),
         (lambda: gbm(maturity=0.0), ValueError, "maturity"),
+        (lambda: gbm(maturity=1e-320), ValueError, "maturity = 1e-320: expected a finite time"),
+        (lambda: gbm(rate=-1e300), ValueError, "rate = -1e300 with maturity = 1e0"),
         (lambda: gbm(rate=1e300, maturity=1e10), ValueError, "discount"),
         (lambda: gbm(payoff="put"), ValueError, "'european', 'asian'"),
         (lambda: gbm(scheme="rk4"), ValueError, "'euler' or 'milstein'"),

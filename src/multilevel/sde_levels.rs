@@ -57,9 +57,9 @@ impl std::fmt::Debug for SdeLevels {
 }
 
 impl SdeLevels {
-    /// The levels of `sde` up to `maturity` (finite, above 0) under `scheme` (Milstein needs
-    /// the equation's derivative terms), with `payoff`; refinement factor 2, one step at
-    /// level 0, no discounting.
+    /// The levels of `sde` up to `maturity` under `scheme` (Milstein needs the equation's
+    /// derivative terms), with `payoff`; refinement factor 2, one step at level 0, no
+    /// discounting. The maturity is finite and at least [`SdeLevels::SHORTEST_MATURITY`].
     ///
     /// ```
     /// use mcint::multilevel::{Payoff, Scheme, Sde, SdeLevels};
@@ -68,11 +68,12 @@ impl SdeLevels {
     /// assert!(err.to_string().contains("diffusion_derivative"), "{err}");
     /// ```
     pub fn new(sde: Sde, scheme: Scheme, payoff: Payoff, maturity: f64) -> Result<SdeLevels> {
-        if !(maturity.is_finite() && maturity > 0.0) {
+        if !(maturity.is_finite() && maturity >= Self::SHORTEST_MATURITY) {
             return Err(Error::invalid(
                 "maturity",
                 maturity,
-                "a finite time above 0",
+                "a finite time of at least 2^26 * f64::MIN_POSITIVE, about 1.49e-300 (so that \
+                 every level's time step is a normal float)",
             ));
         }
         if scheme == Scheme::Milstein && !sde.has_milstein_terms() {
@@ -111,6 +112,19 @@ impl SdeLevels {
             bridges: (0..LEVELS).map(|_| OnceLock::new()).collect(),
         })
     }
+
+    /// The shortest maturity: its time grids of up to 2^26 steps (more than a level can be
+    /// sampled with) have normal time steps, so their dates are distinct and every level's
+    /// Brownian bridge can be built.
+    ///
+    /// ```
+    /// use mcint::multilevel::{Payoff, Scheme, Sde, SdeLevels};
+    /// let call = |t| SdeLevels::new(Sde::gbm(100.0, 0.05, 0.2)?, Scheme::Euler, Payoff::lookback(), t);
+    /// assert!(call(SdeLevels::SHORTEST_MATURITY).is_ok());
+    /// assert!(call(1e-320).unwrap_err().to_string().contains("maturity"));
+    /// # Ok::<(), mcint::Error>(())
+    /// ```
+    pub const SHORTEST_MATURITY: f64 = MAX_BRIDGE_STEPS as f64 * f64::MIN_POSITIVE;
 
     /// The refinement factor `M` between levels: 2 to 16 (default 2; Giles 2008 used 4).
     ///
@@ -183,7 +197,7 @@ impl SdeLevels {
         let cell = self.bridges.get(level)?;
         cell.get_or_init(|| {
             let n = self.steps(level);
-            if n > 1 << 26 {
+            if n > MAX_BRIDGE_STEPS {
                 return None;
             }
             let h = self.maturity / n as f64;
@@ -193,6 +207,10 @@ impl SdeLevels {
         .as_ref()
     }
 }
+
+/// The most steps of a level's bridge: more than a sampler gives coordinates
+/// ([`Multilevel`](super::Multilevel) samples at most 2^24 per sample).
+const MAX_BRIDGE_STEPS: usize = 1 << 26;
 
 /// The most values one step's coefficients may hold (128 MiB of f64 per thread).
 const MAX_COEFFICIENTS: usize = 1 << 24;

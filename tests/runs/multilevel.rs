@@ -1012,3 +1012,35 @@ fn a_survey_past_the_sampleable_levels_is_refused_before_sampling() {
         "{survey}"
     );
 }
+
+/// The shortest maturity allowed has distinct dates on every grid a level can be sampled
+/// on: deep levels (here 2^20 steps) give finite samples, not NaN from a bridge that
+/// could not be built; a shorter one is refused by name.
+#[test]
+fn the_shortest_maturity_samples_deep_levels() {
+    let t = SdeLevels::SHORTEST_MATURITY;
+    for payoff in [Payoff::lookback(), Payoff::asian_call(S0).unwrap()] {
+        let levels =
+            SdeLevels::new(Sde::gbm(S0, RATE, SIGMA).unwrap(), Scheme::Euler, payoff, t).unwrap();
+        for level in [0, 1, 12, 20] {
+            let u = vec![0.3; levels.dims(level)];
+            let (fine, coarse) = levels.sample(level, &u, &mut Vec::new());
+            assert!(
+                fine.is_finite() && coarse.is_finite(),
+                "level {level}: {fine}, {coarse}"
+            );
+        }
+    }
+    for short in [t / 2.0, 1e-320, f64::MIN_POSITIVE] {
+        let refused = SdeLevels::new(
+            Sde::gbm(S0, RATE, SIGMA).unwrap(),
+            Scheme::Euler,
+            Payoff::lookback(),
+            short,
+        );
+        assert!(
+            refused.is_err_and(|e| e.to_string().contains("maturity")),
+            "{short:e}"
+        );
+    }
+}
