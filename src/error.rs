@@ -280,7 +280,8 @@ impl fmt::Display for Error {
                 "{count} non-finite contribution(s); the first, {first_value}, {}at sample \
                  {first_index} of replicate {first_replicate}, canonical point {first_point:?} \
                  (the integrand is not finite there, the pdf is zero where the integrand is not, or \
-                 the integrand times the volume or over the pdf overflowed)",
+                 the integrand times the volume, times the measure's weight or over the pdf \
+                 overflowed)",
                 first_output.map_or(String::new(), |k| format!("in output {k}, "))
             ),
             Error::IntegrandPanicked {

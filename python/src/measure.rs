@@ -10,7 +10,7 @@ use mcint::measure::{
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-use crate::errors::to_py;
+use crate::errors::{to_py, to_py_naming};
 
 /// A measure of the library: what `mcint.expectation` averages over.
 #[pyclass(module = "mcint._native", frozen)]
@@ -40,7 +40,8 @@ fn construction(name: &str) -> PyResult<Construction> {
 }
 
 fn gaussian(mean: Vec<f64>, covariance: Vec<f64>, how: &str) -> PyResult<Gaussian> {
-    Gaussian::new(mean, covariance, factorization(how)?).map_err(to_py)
+    Gaussian::new(mean, covariance, factorization(how)?)
+        .map_err(|e| to_py_naming(e, &[("covariance", "cov")]))
 }
 
 fn spec(measure: impl Measure + 'static) -> MeasureSpec {
@@ -60,11 +61,10 @@ impl MeasureSpec {
     /// `exp` of the normal law with `mean` and `covariance`, coordinate by coordinate.
     #[staticmethod]
     fn lognormal(mean: Vec<f64>, covariance: Vec<f64>, factorization: &str) -> PyResult<Self> {
-        Ok(spec(Lognormal::new(gaussian(
-            mean,
-            covariance,
-            factorization,
-        )?)))
+        let law = Lognormal::new(gaussian(mean, covariance, factorization)?);
+        Ok(spec(law.map_err(|e| {
+            to_py_naming(e, &[("gaussian", "mean and cov")])
+        })?))
     }
 
     /// `mu t + sigma W(t)` on the dates `times`.

@@ -3,9 +3,10 @@
 
 use std::cell::RefCell;
 
-use nalgebra::{DMatrix, SymmetricEigen};
+use nalgebra::DMatrix;
 
 use super::normal_map::{check_finite, largest_normal, standard_normal};
+use super::principal_components::principal_components;
 use super::{Measure, check_factor_dims};
 use crate::error::{Error, Result};
 
@@ -169,7 +170,7 @@ impl BrownianMotion {
                 "dates",
                 "; the bridge construction takes O(d)",
             )?;
-            pca_factor(&times)
+            pca_factor(&times)?
         } else {
             Vec::new()
         };
@@ -375,18 +376,12 @@ fn bridge_steps(times: &[f64]) -> Vec<BridgeStep> {
 }
 
 /// `V sqrt(Lambda)` of the covariance `min(t_i, t_j)`, eigenvalues in decreasing order.
-fn pca_factor(times: &[f64]) -> Vec<f64> {
+fn pca_factor(times: &[f64]) -> Result<Vec<f64>> {
     let n = times.len();
     let covariance = DMatrix::from_fn(n, n, |i, j| times[i].min(times[j]));
-    let eigen = SymmetricEigen::new(covariance);
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&a, &b| eigen.eigenvalues[b].total_cmp(&eigen.eigenvalues[a]));
-    let mut l = vec![0.0; n * n];
-    for (column, &k) in order.iter().enumerate() {
-        let root = eigen.eigenvalues[k].max(0.0).sqrt();
-        for i in 0..n {
-            l[i * n + column] = eigen.eigenvectors[(i, k)] * root;
-        }
-    }
-    l
+    principal_components(
+        &covariance,
+        "times",
+        "use the standard or bridge construction",
+    )
 }

@@ -5,7 +5,9 @@ use std::cell::RefCell;
 
 use nalgebra::{DMatrix, SymmetricEigen};
 
-use super::normal_map::{check_finite, standard_normal};
+use super::geometric_brownian::LARGEST_LOG_PRICE;
+use super::normal_map::{check_finite, largest_normal, standard_normal};
+use super::principal_components::principal_components;
 use super::{Measure, check_factor_dims};
 use crate::error::{Error, Result};
 
@@ -184,10 +186,62 @@ impl Measure for Gaussian {
 
 /// `L` with `C = L L'`, after checking that `C` is symmetric and positive semidefinite.
 fn factor(covariance: &[f64], d: usize, factorization: Factorization) -> Result<Vec<f64>> {
-    let scale = covariance.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    check_symmetric(covariance, d)?;
+    let matrix = DMatrix::from_row_slice(d, d, covariance);
+    match factorization {
+        Factorization::Cholesky => {
+            let Some(cholesky) = nalgebra::Cholesky::new(matrix.clone()) else {
+                let smallest = smallest_correlation_eigenvalue(&matrix);
+                return Err(if smallest < -1e-12 * d as f64 {
+                    not_semidefinite(smallest)
+                } else {
+                    Error::invalid(
+                        "covariance",
+                        format!("singular (smallest eigenvalue of its correlations {smallest})"),
+                        "a positive definite matrix for the Cholesky factorization (the pca \
+                         factorization takes a singular one)",
+                    )
+                });
+            };
+            let l = cholesky.l();
+            Ok((0..d)
+                .flat_map(|i| (0..d).map(move |j| (i, j)))
+                .map(|(i, j)| l[(i, j)])
+                .collect())
+        }
+        Factorization::Pca => principal_components(
+            &matrix,
+            "covariance",
+            "use the cholesky factorization, or rescale the coordinates",
+        )
+        .map_err(|refused| {
+            // An indefinite block of small variances hides below the rounding of the large
+            // ones in the covariance's own eigenvalues; its correlations show it.
+            let smallest = smallest_correlation_eigenvalue(&matrix);
+            if smallest < -1e-12 * d as f64 {
+                not_semidefinite(smallest)
+            } else {
+                refused
+            }
+        }),
+    }
+}
+
+/// Errs unless `C` is symmetric (each pair within rounding of its own scale,
+/// `sqrt(c_ii c_jj)`), its variances are at least 0, and a variance of 0 has covariances 0.
+fn check_symmetric(covariance: &[f64], d: usize) -> Result<()> {
+    let entry = |i: usize, j: usize| covariance[i * d + j];
+    if let Some(i) = (0..d).find(|&i| entry(i, i) < 0.0) {
+        return Err(Error::invalid(
+            "covariance",
+            format!("variance ({i},{i}) = {}", entry(i, i)),
+            "a positive semidefinite matrix (variances of at least 0)",
+        ));
+    }
     for i in 0..d {
         for j in 0..i {
-            let (a, b) = (covariance[i * d + j], covariance[j * d + i]);
+            let (a, b) = (entry(i, j), entry(j, i));
+            let scale = (entry(i, i) * entry(j, j)).sqrt();
             if (a - b).abs() > 1e-12 * scale {
                 return Err(Error::invalid(
                     "covariance",
@@ -195,54 +249,42 @@ fn factor(covariance: &[f64], d: usize, factorization: Factorization) -> Result<
                     "a symmetric matrix",
                 ));
             }
+            if scale == 0.0 && a != 0.0 {
+                return Err(Error::invalid(
+                    "covariance",
+                    format!("entry ({i},{j}) = {a} beside a variance of 0"),
+                    "a positive semidefinite matrix (a coordinate of variance 0 has covariance 0 \
+                     with every other)",
+                ));
+            }
         }
     }
-    let matrix = DMatrix::from_row_slice(d, d, covariance);
-    let eigen = SymmetricEigen::new(matrix.clone());
-    let smallest = eigen
+    Ok(())
+}
+
+/// The smallest eigenvalue of the correlations `c_ij / sqrt(c_ii c_jj)` (coordinates of
+/// variance 0 left out): whether `C` is semidefinite, whatever the scales of its variances.
+fn smallest_correlation_eigenvalue(covariance: &DMatrix<f64>) -> f64 {
+    let kept: Vec<usize> = (0..covariance.nrows())
+        .filter(|&i| covariance[(i, i)] > 0.0)
+        .collect();
+    let sd: Vec<f64> = kept.iter().map(|&i| covariance[(i, i)].sqrt()).collect();
+    let correlations = DMatrix::from_fn(kept.len(), kept.len(), |a, b| {
+        covariance[(kept[a], kept[b])] / sd[a] / sd[b]
+    });
+    SymmetricEigen::new(correlations)
         .eigenvalues
         .iter()
         .copied()
-        .fold(f64::INFINITY, f64::min);
-    // Rounding in the decomposition leaves eigenvalues of a semidefinite matrix a few ulps of
-    // its scale below zero.
-    let tolerance = 1e-12 * d as f64 * scale;
-    if smallest < -tolerance {
-        return Err(Error::invalid(
-            "covariance",
-            format!("eigenvalue {smallest}"),
-            "a positive semidefinite matrix (no negative eigenvalue)",
-        ));
-    }
-    match factorization {
-        Factorization::Cholesky => {
-            let cholesky = nalgebra::Cholesky::new(matrix).ok_or_else(|| {
-                Error::invalid(
-                    "covariance",
-                    format!("singular (smallest eigenvalue {smallest})"),
-                    "a positive definite matrix for the Cholesky factorization (the pca \
-                     factorization takes a singular one)",
-                )
-            })?;
-            let l = cholesky.l();
-            Ok((0..d)
-                .flat_map(|i| (0..d).map(move |j| (i, j)))
-                .map(|(i, j)| l[(i, j)])
-                .collect())
-        }
-        Factorization::Pca => {
-            let mut order: Vec<usize> = (0..d).collect();
-            order.sort_by(|&a, &b| eigen.eigenvalues[b].total_cmp(&eigen.eigenvalues[a]));
-            let mut l = vec![0.0; d * d];
-            for (column, &k) in order.iter().enumerate() {
-                let root = eigen.eigenvalues[k].max(0.0).sqrt();
-                for i in 0..d {
-                    l[i * d + column] = eigen.eigenvectors[(i, k)] * root;
-                }
-            }
-            Ok(l)
-        }
-    }
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn not_semidefinite(smallest: f64) -> Error {
+    Error::invalid(
+        "covariance",
+        format!("eigenvalue {smallest} of its correlations"),
+        "a positive semidefinite matrix (no negative eigenvalue)",
+    )
 }
 
 /// The lognormal law: `exp` of a [`Gaussian`] vector, coordinate by coordinate.
@@ -250,7 +292,7 @@ fn factor(covariance: &[f64], d: usize, factorization: Factorization) -> Result<
 /// ```
 /// use mcint::{Integrator, measure::{Gaussian, Lognormal}};
 /// // E[e^Z] = e^{1/2} for a standard normal Z.
-/// let lognormal = Lognormal::new(Gaussian::standard(1).unwrap());
+/// let lognormal = Lognormal::new(Gaussian::standard(1).unwrap()).unwrap();
 /// let e = Integrator::expectation(|x: &[f64]| x[0], lognormal).samples(400_000).run().unwrap();
 /// assert!((e.mean - 0.5f64.exp()).abs() < 5.0 * e.std_error.unwrap());
 /// ```
@@ -260,17 +302,39 @@ pub struct Lognormal {
 }
 
 impl Lognormal {
-    /// `exp(X)` for `X` distributed by `gaussian`.
+    /// `exp(X)` for `X` distributed by `gaussian`, whose coordinates must stay below 709
+    /// (`ln(f64::MAX / 2)`) at every canonical point, as geometric Brownian motion's
+    /// log-prices do, so that every point is finite.
     ///
     /// ```
-    /// use mcint::measure::{Gaussian, Lognormal, Measure};
-    /// let l = Lognormal::new(Gaussian::standard(1).unwrap());
+    /// use mcint::measure::{Factorization, Gaussian, Lognormal, Measure};
+    /// let l = Lognormal::new(Gaussian::standard(1).unwrap()).unwrap();
     /// let mut x = [0.0];
     /// l.map(&[0.5], &mut x);
     /// assert_eq!(x, [1.0]); // the median, e^0
+    /// // A mean of 800: e^800 is past f64::MAX.
+    /// let far = Gaussian::new(vec![800.0], vec![1.0], Factorization::Cholesky).unwrap();
+    /// assert!(Lognormal::new(far).unwrap_err().to_string().contains("709"));
     /// ```
-    pub fn new(gaussian: Gaussian) -> Self {
-        Lognormal { gaussian }
+    pub fn new(gaussian: Gaussian) -> Result<Self> {
+        let d = gaussian.dims();
+        for (i, row) in gaussian.factor.chunks_exact(d).enumerate() {
+            // The largest |L_i z| over the normals of canonical points.
+            let spread = largest_normal() * row.iter().map(|l| l.abs()).sum::<f64>();
+            let reach = gaussian.mean[i] + spread;
+            if reach > LARGEST_LOG_PRICE {
+                return Err(Error::invalid(
+                    "gaussian",
+                    format!("coordinate {i} reaching {reach:.4e}"),
+                    format!(
+                        "coordinates below {LARGEST_LOG_PRICE} (ln(f64::MAX / 2)) at every \
+                         canonical point, |normal| up to {:.2}, so that exp stays finite",
+                        largest_normal()
+                    ),
+                ));
+            }
+        }
+        Ok(Lognormal { gaussian })
     }
 }
 

@@ -8,7 +8,7 @@ use crate::special::normal_cdf;
 
 /// The largest log-price a path may reach: below `ln(f64::MAX / 2) = 709.08`, so that prices
 /// stay finite with room for rounding.
-const LARGEST_LOG_PRICE: f64 = 709.0;
+pub(super) const LARGEST_LOG_PRICE: f64 = 709.0;
 
 /// The law of `(S(t_1), ..., S(t_n))` for geometric Brownian motion
 /// `S(t) = S0 exp((r - sigma^2 / 2) t + sigma W(t))`, the Black-Scholes model of an asset under

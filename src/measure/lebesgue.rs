@@ -162,8 +162,10 @@ impl Lebesgue {
                 (u / rest, 1.0 / (rest * rest))
             }
             UnboundedTransform::Normal { scale } => {
-                // The half-normal: |N(0, scale^2)| has density 2 phi(x / scale) / scale.
-                let y = standard_normal(0.5 + 0.5 * u);
+                // The half-normal: |N(0, scale^2)| has density 2 phi(x / scale) / scale. Its
+                // quantile from the upper tail, 0.5 (1 - u), which is exact for u >= 1/2 and
+                // never 0: 0.5 + 0.5 u rounds to 1 (an infinite x) below 1.
+                let y = -standard_normal(0.5 * (1.0 - u));
                 let density = 2.0 * INV_SQRT_2PI * (-0.5 * y * y).exp() / scale;
                 (scale * y, 1.0 / density)
             }

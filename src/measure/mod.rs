@@ -25,6 +25,7 @@ mod geometric_brownian;
 mod independent;
 mod lebesgue;
 mod normal_map;
+mod principal_components;
 mod uniform_law;
 
 pub use brownian::{BrownianMotion, Construction};

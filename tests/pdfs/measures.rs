@@ -453,6 +453,87 @@ fn covariances_too_large_to_factor_are_refused() {
     }
 }
 
+/// Covariances are checked in correlation units, where a small block cannot hide below the
+/// rounding of a large variance, and principal components are refused where the eigensolver
+/// (accurate to about `eps` times the largest variance) cannot reproduce the covariance.
+#[test]
+fn covariances_are_checked_at_the_scale_of_each_variance() {
+    let gaussian = |c: &[f64], f| Gaussian::new(vec![0.0; 3], c.to_vec(), f);
+    let both = [Factorization::Cholesky, Factorization::Pca];
+    // Variances 1e-13 and 1e3, positive definite: principal components lost the small one's
+    // variance (1e-8 of it); refused, and Cholesky reproduces it.
+    let mixed = [1e-13, 1e-9, 0.0, 1e-9, 1e3, 500.0, 0.0, 500.0, 1e3];
+    let s = gaussian(&mixed, Factorization::Pca)
+        .unwrap_err()
+        .to_string();
+    assert!(s.contains("use the cholesky factorization"), "{s}");
+    let cholesky = gaussian(&mixed, Factorization::Cholesky).unwrap();
+    let c = product(cholesky.factor(), 3);
+    for (i, (got, want)) in c.iter().zip(mixed).enumerate() {
+        let scale = (mixed[(i / 3) * 4] * mixed[(i % 3) * 4]).sqrt();
+        assert!(
+            (got - want).abs() <= 1e-12 * scale,
+            "({i}): {got} vs {want}"
+        );
+    }
+    // A unit block beside a variance of 1e12: asymmetric (0.4 against -0.4), or with a
+    // correlation of 1.5 (eigenvalue -0.5); both were accepted.
+    let asymmetric = [1e12, 0.0, 0.0, 0.0, 1.0, 0.4, 0.0, -0.4, 1.0];
+    let indefinite = [1e12, 0.0, 0.0, 0.0, 1.0, 1.5, 0.0, 1.5, 1.0];
+    for f in both {
+        let s = gaussian(&asymmetric, f).unwrap_err().to_string();
+        assert!(s.contains("symmetric"), "{f:?}: {s}");
+        let s = gaussian(&indefinite, f).unwrap_err().to_string();
+        assert!(
+            s.contains("eigenvalue -0.5") && s.contains("semidefinite"),
+            "{f:?}: {s}"
+        );
+    }
+    // Eigenvalues past f64::MAX: refused, not a factor of infinities.
+    let s = Gaussian::new(vec![0.0; 2], vec![1e308; 4], Factorization::Pca)
+        .unwrap_err()
+        .to_string();
+    assert!(s.contains("within f64"), "{s}");
+    // A variance of 0 is its mean exactly; a covariance beside it is refused.
+    let degenerate = Gaussian::new(vec![5.0, 0.0], vec![0.0, 0.0, 0.0, 2.0], Factorization::Pca);
+    assert_eq!(&degenerate.unwrap().factor()[..2], &[0.0, 0.0]);
+    let s = Gaussian::new(vec![0.0; 2], vec![0.0, 0.1, 0.1, 2.0], Factorization::Pca)
+        .unwrap_err()
+        .to_string();
+    assert!(s.contains("beside a variance of 0"), "{s}");
+    // Brownian dates from 1e-12 to 500: principal components are refused, the other
+    // constructions are exact.
+    let times: Vec<f64> = std::iter::once(1e-12)
+        .chain((1..=500).map(f64::from))
+        .collect();
+    let s = BrownianMotion::new(times.clone(), 0.0, 1.0, Construction::Pca)
+        .unwrap_err()
+        .to_string();
+    assert!(s.contains("standard or bridge construction"), "{s}");
+    assert!(BrownianMotion::new(times, 0.0, 1.0, Construction::Bridge).is_ok());
+}
+
+/// The largest canonical coordinate below 1 maps to a finite point of a half line with a
+/// finite weight (the half-normal's 0.5 + 0.5 u rounded to 1 there: x and weight infinite).
+#[test]
+fn half_lines_map_the_largest_coordinate_to_a_finite_point() {
+    let top = 1.0 - f64::EPSILON / 2.0;
+    for transform in [
+        UnboundedTransform::Normal { scale: 1.0 },
+        UnboundedTransform::Rational,
+    ] {
+        for (lo, hi) in [(0.0, f64::INFINITY), (f64::NEG_INFINITY, 0.0)] {
+            let half = Lebesgue::new(vec![lo], vec![hi], transform).unwrap();
+            let mut x = [0.0];
+            let weight = half.map(&[top], &mut x);
+            assert!(
+                x[0].is_finite() && weight.is_finite(),
+                "{transform:?}: {x:?}, {weight}"
+            );
+        }
+    }
+}
+
 #[test]
 fn bad_input_is_refused_with_what_is_allowed() {
     let err = |r: mcint::Result<_>| -> String {
@@ -469,9 +550,9 @@ fn bad_input_is_refused_with_what_is_allowed() {
     assert!(s.contains("finite"), "{s}");
     let s = err(BrownianMotion::new(vec![1.0], f64::NAN, 1.0, Construction::Pca).map(|_| ()));
     assert!(s.contains("drift"), "{s}");
-    // A negative variance: the offending eigenvalue is named.
+    // A negative variance is named.
     let s = err(Gaussian::new(vec![0.0], vec![-1.0], Factorization::Pca).map(|_| ()));
-    assert!(s.contains("eigenvalue -1"), "{s}");
+    assert!(s.contains("variance (0,0) = -1"), "{s}");
     let s = err(Gaussian::new(
         vec![0.0, 0.0],
         vec![1.0, 0.0, 0.5, 1.0],
