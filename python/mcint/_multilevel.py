@@ -7,6 +7,7 @@ from collections import namedtuple
 import numpy as np
 
 from . import _native, _seed
+from ._check import real
 from ._integrate import _positive, _whole
 from ._result import McintWarning, RunWarning
 
@@ -90,8 +91,8 @@ class SdeLevels:
         """
         strike, barrier = _strike_and_barrier(payoff, strike, barrier)
         return cls(_native.SdeModel.gbm(
-            _real("s0", s0), _real("rate", rate), _real("sigma", sigma), payoff, strike,
-            barrier, _real("maturity", maturity), _name("scheme", scheme),
+            real("s0", s0), real("rate", rate), real("sigma", sigma), payoff, strike,
+            barrier, real("maturity", maturity), _name("scheme", scheme),
             _refinement(refinement),
         ))
 
@@ -131,9 +132,9 @@ class SdeLevels:
             )
         strike, barrier = _strike_and_barrier(payoff, strike, barrier)
         return cls(_native.SdeModel.heston(
-            _real("s0", s0), _real("v0", v0), _real("rate", rate), _real("kappa", kappa),
-            _real("theta", theta), _real("xi", xi), _real("rho", rho), payoff, strike,
-            barrier, _real("maturity", maturity), scheme, _refinement(refinement),
+            real("s0", s0), real("v0", v0), real("rate", rate), real("kappa", kappa),
+            real("theta", theta), real("xi", xi), real("rho", rho), payoff, strike,
+            barrier, real("maturity", maturity), scheme, _refinement(refinement),
         ))
 
     @property
@@ -169,12 +170,6 @@ class SdeLevels:
         )
 
 
-def _real(name, value):
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise TypeError(f"invalid {name} = {value!r}: expected a number")
-    return float(value)
-
-
 def _name(name, value):
     if not isinstance(value, str):
         raise TypeError(f"invalid {name} = {value!r}: expected a name (a string)")
@@ -201,8 +196,8 @@ def _strike_and_barrier(payoff, strike, barrier):
         raise ValueError("strike does not apply to payoff='lookback' (a floating strike)")
     if payoff != "barrier" and barrier is not None:
         raise ValueError(f"barrier applies to payoff='barrier' only, not {payoff!r}")
-    strike = 100.0 if strike is None else _real("strike", strike)
-    barrier = 85.0 if barrier is None else _real("barrier", barrier)
+    strike = 100.0 if strike is None else real("strike", strike)
+    barrier = 85.0 if barrier is None else real("barrier", barrier)
     return strike, barrier
 
 

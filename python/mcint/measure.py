@@ -5,12 +5,20 @@ uniform points by inverse cdfs and factorizations, so that QMC points stay QMC p
 import numpy as np
 
 from . import _native
+from ._check import real
 
 __all__ = ["Gaussian", "Lognormal", "BrownianMotion", "GeometricBrownianMotion", "Uniform"]
 
 
 def _floats(name, values, ndim):
-    array = np.asarray(values, dtype=np.float64)
+    try:
+        array = np.asarray(values, dtype=np.float64)
+    except OverflowError:
+        raise ValueError(
+            f"invalid {name}: expected numbers within float64 (magnitude below about 1.8e308)"
+        ) from None
+    except (TypeError, ValueError):
+        raise TypeError(f"invalid {name} = {values!r}: expected numbers") from None
     if array.ndim != ndim:
         raise ValueError(f"invalid {name}: expected {ndim}-dimensional numbers, got shape {array.shape}")
     return array
@@ -74,7 +82,9 @@ class BrownianMotion(_Measure):
 
     def __init__(self, times, drift=0.0, diffusion=1.0, construction="standard"):
         times = _floats("times", times, 1)
-        self._spec = _native.MeasureSpec.brownian(times.tolist(), float(drift), float(diffusion), construction)
+        self._spec = _native.MeasureSpec.brownian(
+            times.tolist(), real("drift", drift), real("diffusion", diffusion), construction
+        )
 
 
 class GeometricBrownianMotion(_Measure):
@@ -83,7 +93,7 @@ class GeometricBrownianMotion(_Measure):
     def __init__(self, s0, rate, sigma, times, construction="standard"):
         times = _floats("times", times, 1)
         self._spec = _native.MeasureSpec.geometric_brownian(
-            float(s0), float(rate), float(sigma), times.tolist(), construction
+            real("s0", s0), real("rate", rate), real("sigma", sigma), times.tolist(), construction
         )
 
 
@@ -91,6 +101,10 @@ class Uniform(_Measure):
     """The uniform law on the box ``[lower, upper)``."""
 
     def __init__(self, lower, upper):
-        self._spec = _native.MeasureSpec.uniform(
-            _floats("lower", lower, 1).tolist(), _floats("upper", upper, 1).tolist()
-        )
+        lower, upper = _floats("lower", lower, 1), _floats("upper", upper, 1)
+        if lower.size != upper.size:
+            raise ValueError(
+                f"invalid upper: expected {lower.size} numbers, one per number of lower, "
+                f"got {upper.size}"
+            )
+        self._spec = _native.MeasureSpec.uniform(lower.tolist(), upper.tolist())

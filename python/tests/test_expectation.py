@@ -74,6 +74,19 @@ def test_intervals_cover_at_the_nominal_rate():
         (lambda: BrownianMotion([1.0], construction="lévy"), ValueError, "bridge"),
         (lambda: GeometricBrownianMotion(-1, 0.05, 0.2, [1.0]), ValueError, "s0"),
         (lambda: Uniform([1], [0]), ValueError, "lo"),
+        # Parameters are named as Python spells them, never a bare OverflowError.
+        (lambda: Uniform([0, 0], [1]), ValueError, "invalid upper: expected 2 numbers"),
+        (lambda: Gaussian([0, 0], [[1, 0.5], [0, 1]]), ValueError, "invalid cov = entries"),
+        (lambda: BrownianMotion([1.0], drift=10**400), ValueError, "drift: expected a number"),
+        (lambda: BrownianMotion([1.0], drift=None), TypeError, "drift = None"),
+        (lambda: BrownianMotion([1.0], diffusion=True), TypeError, "diffusion = True"),
+        (lambda: BrownianMotion([10**400]), ValueError, "times: expected numbers within"),
+        (lambda: GeometricBrownianMotion(100, 0.05, np.array([0.2]), [1.0]), TypeError, "sigma"),
+        # e^800 is past float64: refused when the law is built, not as NaN samples.
+        (lambda: Lognormal([800.0]), ValueError, "invalid mean and cov = coordinate 0"),
+        # Principal components cannot resolve variances 1e-12 and 1e6 that are correlated.
+        (lambda: Gaussian([0, 0], [[1e-12, 5e-4], [5e-4, 1e6]], "pca"), ValueError,
+         "use the cholesky factorization"),
         (lambda: mcint.expectation(lambda x: x[:, 0], "gaussian"), TypeError, "measure"),
         (lambda: mcint.expectation(lambda x: x[:, 0], Gaussian([0]), method="vegas"),
          ValueError, "rqmc"),
