@@ -1,6 +1,6 @@
 //! [`SobolDesign`]: the pick-freeze design of Sobol' indices as one vector run of the engine.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use super::indices::{Indices, OutputIndices, SecondOrder};
 use super::layout::Layout;
@@ -436,7 +436,7 @@ impl<M: Measure + 'static> SobolDesign<M> {
     /// [`integrator_vector`](Self::integrator_vector) of this design.
     ///
     /// Errors when the run does not have this design's outputs, or when an output's variance
-    /// is not positive (a constant output has no variance to split).
+    /// is within rounding of zero (a constant output has no variance to split).
     ///
     /// ```
     /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
@@ -455,8 +455,16 @@ impl<M: Measure + 'static> SobolDesign<M> {
             ));
         }
         let layout = self.layout(run.outputs.len() / block)?;
+        // Less its value at the centre, a constant model is exactly 0: refused as constant
+        // here, before its standard errors' rounding floor reads as a model too small.
+        for o in 0..layout.model_outputs {
+            let start = layout.moments(o);
+            if run.outputs[start..start + 4].iter().all(|e| e.mean == 0.0) {
+                return Err(constant_output(o, 0.0, 0.0));
+            }
+        }
         // The model's values and squares (the first four integrals of each output's block)
-        // are never exactly zero but for a zero model (standard error 0, not refused).
+        // are not all zero: a standard error too small for the error bars is a model too small.
         let moments = (0..layout.model_outputs).flat_map(|o| (0..4).map(move |k| (o, k)));
         for (o, k) in moments {
             if unrepresentable_output(run, [layout.moments(o) + k]).is_some() {
@@ -494,13 +502,14 @@ impl<M: Measure + 'static> SobolDesign<M> {
         o: usize,
     ) -> Result<OutputIndices> {
         let variance = run.derived(&layout.variance(o))?;
-        if variance.mean.is_nan() || variance.mean <= 0.0 {
-            return Err(Error::invalid(
-                "model output",
-                format!("output {o} with variance {:e}", variance.mean),
-                "an output with positive variance: a constant output has no variance to split \
-                 among its inputs",
-            ));
+        // `E f^2 - (E f)^2` from means of `n` values: each mean's rounding error is at most
+        // about `n` ulps of the mean of squares (sums of `n` terms), so a variance within a
+        // few times that of zero is rounding, not variance.
+        let moments = layout.moments(o);
+        let squares = 0.5 * (run.outputs[moments + 2].mean + run.outputs[moments + 3].mean);
+        let rounding = 4.0 * f64::EPSILON * run.evaluations as f64 * squares;
+        if variance.mean.is_nan() || variance.mean <= rounding {
+            return Err(constant_output(o, variance.mean, rounding));
         }
         let per_factor = |index: &dyn Fn(usize) -> crate::stats::Derived| {
             (0..layout.factors)
@@ -525,6 +534,16 @@ impl<M: Measure + 'static> SobolDesign<M> {
             variance,
         })
     }
+}
+
+/// The error for model output `o`, whose `variance` is within `rounding` of zero.
+fn constant_output(o: usize, variance: f64, rounding: f64) -> Error {
+    Error::invalid(
+        "model output",
+        format!("output {o} with variance {variance:.1e} (rounding of zero up to {rounding:.1e})"),
+        "an output with positive variance: a constant output has no variance to split among \
+         its inputs",
+    )
 }
 
 /// The error for model output `o`, whose values are so small that the design's squares of
@@ -559,12 +578,19 @@ fn pick_freeze<M: Measure, F: Fn(&[f64], &mut [f64]) + Send + Sync>(
     layout: Layout,
     model: F,
 ) -> impl Fn(&Points, &mut [f64]) + Send + Sync {
+    let shift = OnceLock::new();
     move |points: &Points, out: &mut [f64]| {
         let n = points.len();
         let m = layout.model_outputs;
         let mut u = vec![0.0; 2 * inputs.canonical_dims()];
         let mut mixed = vec![0.0; inputs.canonical_dims()];
         let mut x = vec![0.0; inputs.dims()];
+        let shift = shift.get_or_init(|| {
+            let mut probe = vec![f64::NAN; m];
+            inputs.map(&vec![0.5; inputs.canonical_dims()], &mut x);
+            model(&x, &mut probe);
+            finite_or_zero(probe)
+        });
         let mut values = vec![0.0; m * runs_per_point(layout)];
         let mut row = vec![0.0; layout.outputs()];
         for i in 0..n {
@@ -573,7 +599,7 @@ fn pick_freeze<M: Measure, F: Fn(&[f64], &mut [f64]) + Send + Sync>(
                 inputs.map(canonical, &mut x);
                 model(&x, &mut values[slot * m..(slot + 1) * m]);
             });
-            integrals(layout, &values, &mut row);
+            integrals(layout, &values, shift, &mut row);
             for (k, value) in row.iter().enumerate() {
                 out[k * n + i] = *value;
             }
@@ -589,9 +615,22 @@ fn pick_freeze_batch<M: Measure, F: Fn(&Points, &mut [f64]) + Send + Sync>(
     layout: Layout,
     model: F,
 ) -> impl Fn(&Points, &mut [f64]) + Send + Sync {
+    let shift = OnceLock::new();
     move |points: &Points, out: &mut [f64]| {
         let n = points.len();
         let (m, slots, d) = (layout.model_outputs, runs_per_point(layout), inputs.dims());
+        let shift = shift.get_or_init(|| {
+            let mut probe = vec![f64::NAN; m];
+            if let Ok(mut centre) = Points::new(d, 1) {
+                let mut x = vec![0.0; d];
+                inputs.map(&vec![0.5; inputs.canonical_dims()], &mut x);
+                for (c, &v) in x.iter().enumerate() {
+                    centre.column_mut(c)[0] = v;
+                }
+                model(&centre, &mut probe);
+            }
+            finite_or_zero(probe)
+        });
         // Bounded by the block and the design's size; refused, the block is non-finite and
         // the run says so.
         let Ok(mut runs) = Points::new(d, n * slots) else {
@@ -621,7 +660,7 @@ fn pick_freeze_batch<M: Measure, F: Fn(&Points, &mut [f64]) + Send + Sync>(
                     point[slot * m + o] = values[o * n * slots + slot * n + i];
                 }
             }
-            integrals(layout, &point, &mut row);
+            integrals(layout, &point, shift, &mut row);
             for (k, value) in row.iter().enumerate() {
                 out[k * n + i] = *value;
             }
@@ -669,12 +708,28 @@ fn each_run(
     }
 }
 
+/// The shift of each model output: its value at the centre of the law's cube, or 0 where
+/// that is not finite (a model may be singular there and finite everywhere else).
+fn finite_or_zero(mut probe: Vec<f64>) -> Vec<f64> {
+    probe
+        .iter_mut()
+        .filter(|v| !v.is_finite())
+        .for_each(|v| *v = 0.0);
+    probe
+}
+
 /// One point's integrands from its model values (`values[slot * m + o]`, slots as in
-/// [`pick_freeze`]).
-fn integrals(layout: Layout, values: &[f64], row: &mut [f64]) {
+/// [`pick_freeze`]), each less its output's `shift`.
+///
+/// The shift is a constant taken from the model itself (its value at one fixed point), so
+/// the estimators stay valid: Jansen's total and the variance do not change with it, and the
+/// first and second order numerators keep their expectations (`E[f(AB_j) - f(A)] = 0`). It
+/// takes off the model's mean, which would otherwise cancel in `E f^2 - (E f)^2`: the
+/// variance of `1e8 + x` came out 0, and a constant model got a variance of rounding noise.
+fn integrals(layout: Layout, values: &[f64], shift: &[f64], row: &mut [f64]) {
     let (m, nf) = (layout.model_outputs, layout.factors);
     for o in 0..m {
-        let value = |slot: usize| values[slot * m + o];
+        let value = |slot: usize| values[slot * m + o] - shift[o];
         let (fa, fb) = (value(0), value(1));
         let start = layout.moments(o);
         row[start..start + 4].copy_from_slice(&[fa, fb, fa * fa, fb * fb]);

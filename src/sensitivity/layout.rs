@@ -1,7 +1,10 @@
 //! Where each integral of the pick-freeze design sits among the outputs of the vector run,
 //! and the indices as smooth functions of those integrals.
 //!
-//! For model output `o`, a block of outputs holds, as means over the same points:
+//! For model output `o`, a block of outputs holds, as means over the same points, with `f`
+//! the model's output less a constant (its value at the centre of the cube: without it, the
+//! mean of squares of a model far from 0 cancels against its squared mean) and `f0` the mean
+//! of that `f`; the other means do not depend on the constant:
 //!
 //! | position in the block   | integrand                           | its mean                    |
 //! |-------------------------|-------------------------------------|-----------------------------|

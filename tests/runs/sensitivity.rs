@@ -483,3 +483,45 @@ fn indices_of_a_tiny_model_are_the_same_or_refused() {
         );
     }
 }
+
+/// A constant model has no variance to split, whatever the constant: 0.1 and 0.3 got a
+/// variance of rounding noise (indices 0 with standard errors near 1e-305) where 1.0 was
+/// refused.
+#[test]
+fn every_constant_model_is_refused_as_constant() {
+    let design = SobolDesign::new(mcint::measure::Uniform::unit(2).unwrap()).unwrap();
+    for constant in [0.0, 0.1, 0.3, 1.0, 7.3, -2.5e7, 1e-310] {
+        let run = design
+            .integrator(move |_: &[f64]| constant)
+            .unwrap()
+            .run()
+            .unwrap();
+        let err = design.indices(&run).unwrap_err().to_string();
+        assert!(err.contains("constant output"), "{constant}: {err}");
+    }
+}
+
+/// `c + s (x0 + 2 x1)` has `S = ST = (1/5, 4/5)` whatever `c` and `s`: far from 0
+/// (`c = 1e8`) the mean of squares cancelled against the squared mean, and the model was
+/// refused as constant or got `S = (-0.94, -294)`.
+#[test]
+fn a_model_far_from_zero_gets_the_indices_of_its_variation() {
+    let design = SobolDesign::new(mcint::measure::Uniform::unit(2).unwrap()).unwrap();
+    for (c, s) in [(1e8, 1.0), (1.0, 1e-6), (-3e12, 0.5), (0.0, 1.0)] {
+        let run = design
+            .integrator(move |x: &[f64]| c + s * (x[0] + 2.0 * x[1]))
+            .unwrap()
+            .seed(6)
+            .run()
+            .unwrap();
+        let indices = design.indices(&run).unwrap();
+        for (k, exact) in [0.2, 0.8].into_iter().enumerate() {
+            for estimate in [&indices.first_order()[k], &indices.total()[k]] {
+                assert!(
+                    (estimate.mean - exact).abs() <= 1e-9 + 5.0 * estimate.std_error.unwrap(),
+                    "c = {c}, s = {s}, factor {k}: {estimate:?}"
+                );
+            }
+        }
+    }
+}
