@@ -1,6 +1,6 @@
 //! [`SobolDesign`]: the pick-freeze design of Sobol' indices as one vector run of the engine.
 
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use super::indices::{Indices, OutputIndices, SecondOrder};
 use super::layout::Layout;
@@ -103,6 +103,9 @@ pub struct SobolDesign<M> {
     tolerance: Option<Tolerance>,
     points: u64,
     replicates: Option<u64>,
+    /// The model outputs of every integrator the design built: a run must have the outputs
+    /// of one of them (a run of another design may have a multiple of this one's block).
+    built: Mutex<Vec<usize>>,
 }
 
 impl<M: Measure + 'static> SobolDesign<M> {
@@ -139,6 +142,7 @@ impl<M: Measure + 'static> SobolDesign<M> {
             tolerance: None,
             points: DEFAULT_POINTS,
             replicates: None,
+            built: Mutex::new(Vec::new()),
         })
     }
 
@@ -329,7 +333,7 @@ impl<M: Measure + 'static> SobolDesign<M> {
     where
         F: Fn(&[f64], &mut [f64]) + Send + Sync + 'static,
     {
-        let layout = self.layout(outputs)?;
+        let layout = self.built_layout(outputs)?;
         let integrand: DesignIntegrand = Box::new(pick_freeze(
             Arc::clone(&self.inputs),
             Arc::clone(&self.factors),
@@ -362,7 +366,7 @@ impl<M: Measure + 'static> SobolDesign<M> {
     where
         F: Fn(&Points, &mut [f64]) + Send + Sync + 'static,
     {
-        let layout = self.layout(outputs)?;
+        let layout = self.built_layout(outputs)?;
         let integrand: DesignIntegrand = Box::new(pick_freeze_batch(
             Arc::clone(&self.inputs),
             Arc::clone(&self.factors),
@@ -435,7 +439,8 @@ impl<M: Measure + 'static> SobolDesign<M> {
     /// The indices from a run of [`integrator`](Self::integrator) or
     /// [`integrator_vector`](Self::integrator_vector) of this design.
     ///
-    /// Errors when the run does not have this design's outputs, or when an output's variance
+    /// Errors when the run does not have the outputs of an integrator this design built (of
+    /// any multiple of its outputs per model output, for a design that built none), or when an output's variance
     /// is within rounding of zero (a constant output has no variance to split).
     ///
     /// ```
@@ -446,15 +451,7 @@ impl<M: Measure + 'static> SobolDesign<M> {
     /// assert!(err.contains("variance"), "{err}");
     /// ```
     pub fn indices(&self, run: &VectorEstimate) -> Result<Indices> {
-        let block = self.layout(1)?.block();
-        if run.outputs.is_empty() || !run.outputs.len().is_multiple_of(block) {
-            return Err(Error::invalid(
-                "run",
-                format!("a run of {} outputs", run.outputs.len()),
-                format!("a run of this design: a multiple of {block} outputs"),
-            ));
-        }
-        let layout = self.layout(run.outputs.len() / block)?;
+        let layout = self.layout_of(run)?;
         // Less its value at the centre, a constant model is exactly 0: refused as constant
         // here, before its standard errors' rounding floor reads as a model too small.
         for o in 0..layout.model_outputs {
@@ -491,8 +488,56 @@ impl<M: Measure + 'static> SobolDesign<M> {
         })
     }
 
+    /// The layout of an integrator for `outputs` model outputs, remembered for
+    /// [`indices`](Self::indices).
+    fn built_layout(&self, outputs: usize) -> Result<Layout> {
+        let layout = self.layout(outputs)?;
+        let mut built = self.built.lock().unwrap_or_else(|e| e.into_inner());
+        if !built.contains(&outputs) {
+            built.push(outputs);
+        }
+        Ok(layout)
+    }
+
     fn layout(&self, outputs: usize) -> Result<Layout> {
         Layout::new(self.factors(), outputs, self.second_order)
+    }
+
+    /// The layout of `run`, or an error when it is not a run of this design: its outputs
+    /// must be those of an integrator the design built (or, for a design that built none, as
+    /// for a run read back from a file, a multiple of the outputs per model output).
+    fn layout_of(&self, run: &VectorEstimate) -> Result<Layout> {
+        let block = self.layout(1)?.block();
+        let outputs = run.outputs.len();
+        let built = self.built.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        let fits = if built.is_empty() {
+            outputs > 0 && outputs.is_multiple_of(block)
+        } else {
+            built.iter().any(|&m| m * block == outputs)
+        };
+        if !fits {
+            let counts = if built.is_empty() {
+                format!("a multiple of {block}")
+            } else {
+                let counts: Vec<String> = built.iter().map(|m| (m * block).to_string()).collect();
+                counts.join(" or ")
+            };
+            let second = if self.second_order {
+                " with second order"
+            } else {
+                ""
+            };
+            return Err(Error::invalid(
+                "run",
+                format!("a run of {outputs} outputs"),
+                format!(
+                    "a run of this design: {counts} outputs, as its integrators give ({block} \
+                     per model output for its {} factors{second})",
+                    self.factors()
+                ),
+            ));
+        }
+        self.layout(outputs / block)
     }
 
     fn output_indices(

@@ -344,6 +344,33 @@ fn bad_designs_are_refused_with_what_is_allowed() {
     assert!(err.to_string().contains("a run of this design"), "{err}");
 }
 
+/// A run of an 8-input design has 20 outputs, a multiple of the 10 of a 3-input design's
+/// block: it was read as a 2-output model's run, and gave S = 1.09. A design knows the
+/// outputs of the integrators it built.
+#[test]
+fn a_run_of_another_design_is_refused_with_its_outputs() {
+    let unit = |d| mcint::measure::Uniform::unit(d).unwrap();
+    let eight = SobolDesign::new(unit(8)).unwrap().points(1 << 10);
+    let foreign = eight
+        .integrator(|x: &[f64]| x.iter().sum())
+        .unwrap()
+        .run()
+        .unwrap();
+    assert_eq!(foreign.outputs.len(), 20);
+    let three = SobolDesign::new(unit(3)).unwrap().points(1 << 10);
+    let own = three
+        .integrator(|x: &[f64]| x[0] + x[1] * x[2])
+        .unwrap()
+        .run()
+        .unwrap();
+    assert!(three.indices(&own).is_ok());
+    let err = three.indices(&foreign).unwrap_err().to_string();
+    assert!(
+        err.contains("a run of 20 outputs") && err.contains("this design: 10 outputs"),
+        "{err}"
+    );
+}
+
 /// Inputs given by their quantile functions: `y = x1 + x2` with `x1` exponential (variance 1)
 /// and `x2` uniform on `[0, 6)` (variance 3) has `S = ST = (1/4, 3/4)`.
 #[test]
