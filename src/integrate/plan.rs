@@ -15,6 +15,10 @@ use crate::stats::{Accumulator, CovarianceAccumulator, StopReason, VectorEstimat
 const BLOCK: u64 = crate::estimator::DEFAULT_POINTS_PER_CALL as u64;
 /// The most replicates of a run (each keeps an accumulator in memory).
 pub(super) const MAX_REPLICATES: u64 = 1 << 20;
+/// The most accumulators (64 bytes each) a run's fold keeps, one per output of each
+/// replicate: 256 MiB, and the chunk results in flight (one accumulator per output each, a
+/// chunk per replicate at least) may hold as many again.
+pub(super) const MAX_ACCUMULATORS: u64 = 1 << 22;
 /// Chunk results held in memory at once by a run: bounds the memory of huge runs.
 pub(super) const CHUNKS_IN_MEMORY: u64 = 1 << 16;
 
@@ -435,6 +439,17 @@ impl Folded {
     /// Empty accumulators for `replicates` replicates of `outputs` outputs, with a covariance
     /// per replicate if `covariance`.
     pub(super) fn new(replicates: u64, outputs: usize, covariance: bool) -> Result<Folded> {
+        if replicates.saturating_mul(outputs as u64) > MAX_ACCUMULATORS {
+            return Err(Error::invalid(
+                "replicates",
+                format!("{replicates} with {outputs} outputs"),
+                format!(
+                    "at most {MAX_ACCUMULATORS} replicates x outputs ({} replicates for {outputs} \
+                     outputs): the run keeps an accumulator of each output of each replicate",
+                    (MAX_ACCUMULATORS / outputs.max(1) as u64).min(MAX_REPLICATES)
+                ),
+            ));
+        }
         let r = replicates as usize;
         let covariances = if covariance {
             vec![CovarianceAccumulator::new(outputs)?; r]

@@ -3,7 +3,7 @@
 //! rule for independent points, and doubling with fixed replicates for randomized QMC and
 //! stratified points.
 
-use super::plan::{Folded, MAX_REPLICATES, Plan, balance_warning};
+use super::plan::{Folded, MAX_ACCUMULATORS, MAX_REPLICATES, Plan, balance_warning};
 use crate::engine::{
     Executor, Limits, Next, RunConfig, StageEnd, Stages, TOLERANCE_REPLICATES, Targets, Verdict,
 };
@@ -420,6 +420,10 @@ impl Stages for Doubling<'_> {
         let added = (self.done > self.first)
             .then(|| replicates_to_meet(targets.shortfall(judged), self.replicates))
             .flatten()
+            // Within the fold's accumulators (one per output of each replicate).
+            .filter(|&enough| {
+                enough.saturating_mul(self.common.estimator.outputs() as u64) <= MAX_ACCUMULATORS
+            })
             .map(|enough| enough - self.replicates)
             .filter(|&more| more < self.replicates);
         self.grow = added.map_or(Grow::Points(self.done.saturating_mul(2)), Grow::Replicates);

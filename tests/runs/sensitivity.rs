@@ -552,3 +552,25 @@ fn a_model_far_from_zero_gets_the_indices_of_its_variation() {
         }
     }
 }
+
+/// 2^16 replicates of a 126-input design (256 outputs) aborted the process out of memory:
+/// the run keeps an accumulator per output of each replicate, and is refused before it
+/// allocates them, with the replicates it may have.
+#[test]
+fn too_many_replicates_for_the_outputs_are_refused_before_allocating() {
+    let replicates = 1 << 16;
+    let design = SobolDesign::new(mcint::measure::Uniform::unit(126).unwrap())
+        .unwrap()
+        .points(replicates)
+        .replicates(replicates);
+    let err = design
+        .integrator(|x: &[f64]| x[0])
+        .unwrap()
+        .run()
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("replicates = 65536 with 256 outputs") && err.contains("16384 replicates"),
+        "{err}"
+    );
+}
