@@ -598,9 +598,11 @@ fn too_small(layout: Layout, run: &VectorEstimate, o: usize) -> Error {
     let moments = layout.moments(o);
     let mean = |k: usize| run.outputs[moments + k].mean.abs();
     let magnitude = mean(2).max(mean(3)).sqrt().max(mean(0)).max(mean(1));
-    // A power of two near 1 / magnitude (1 for a magnitude of 0: nothing to go by).
+    // A power of two near 1 / magnitude, at most 2^1000: past 2^1023 it would print as inf,
+    // and 2^1000 brings even the least subnormal to about 1e-23. (A magnitude of 0 is a
+    // constant model, refused as such before.)
     let factor = if magnitude > 0.0 {
-        2f64.powi(-(magnitude.log2().round() as i32))
+        2f64.powi((-(magnitude.log2().round() as i32)).min(1000))
     } else {
         1.0
     };

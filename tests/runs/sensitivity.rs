@@ -502,13 +502,18 @@ fn indices_of_a_tiny_model_are_the_same_or_refused() {
         let (sa, sb) = (a.std_error.unwrap(), b.std_error.unwrap());
         assert!((sb / sa - 1.0).abs() < 1e-9, "{sa:e} {sb:e}");
     }
-    for exponent in [-266, -700] {
+    // A model near 2^-1030 (subnormal) was told to multiply itself by inf.
+    for exponent in [-266, -700, -1030] {
         let err = indices(2f64.powi(exponent)).unwrap_err().to_string();
         assert!(
-            err.contains("model output") && err.contains("multiply the model"),
+            err.contains("model output")
+                && err.contains("multiply the model by a constant such as ")
+                && !err.contains("inf"),
             "2^{exponent}: {err}"
         );
     }
+    let err = indices(2f64.powi(-1030)).unwrap_err().to_string();
+    assert!(err.contains("such as 1e301 "), "{err}");
 }
 
 /// A constant model has no variance to split, whatever the constant: 0.1 and 0.3 got a
