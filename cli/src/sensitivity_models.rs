@@ -28,11 +28,12 @@ impl Model {
         Ok(Model::Ishigami { a, b, model })
     }
 
-    /// The g-function with weights `a`.
+    /// The g-function with weights `a`, given by `--weights` (the library calls them `a`,
+    /// as `--a` is Ishigami's).
     pub fn sobol_g(a: Vec<f64>) -> Result<Model, String> {
         SobolGFunction::new(a)
             .map(Model::SobolG)
-            .map_err(crate::args::flag_error)
+            .map_err(|error| error.message_with_names(&[("a", "--weights")]))
     }
 
     /// The g-function on `d` inputs with the weights of [`SALTELLI_2010_A`].

@@ -45,6 +45,19 @@ use support::Args;
 
 /// The most inputs whose `4 + 2 D` integrals fit in one vector run.
 const MAX_INPUTS: usize = (MAX_OUTPUTS - 4) / 2;
+/// The most inputs whose `4 + 2 D + D (D - 1) / 2` integrals (with second order) fit in one
+/// vector run.
+const MAX_SECOND_ORDER_INPUTS: usize = max_second_order_inputs();
+// `--help` spells both limits out.
+const _: () = assert!(MAX_INPUTS == 126 && MAX_SECOND_ORDER_INPUTS == 21);
+
+const fn max_second_order_inputs() -> usize {
+    let mut d = 1;
+    while 4 + 2 * (d + 1) + (d + 1) * d / 2 <= MAX_OUTPUTS {
+        d += 1;
+    }
+    d
+}
 
 const SPEC: support::Spec = &[
     (
@@ -57,13 +70,14 @@ const SPEC: support::Spec = &[
     (
         "weights",
         true,
-        "the g-function's weights W1,W2,..., one per input, each >= 0",
+        "the g-function's weights W1,W2,..., one per input (1 to 126 inputs, 1 to 21 with \
+         --second-order), each >= 0",
     ),
     (
         "dims",
         true,
-        "sobol-g on D inputs with Saltelli's weights 0, 0.5, 3, 9, 99, 99, ... (1 to 126, \
-         default 6)",
+        "sobol-g on D inputs with Saltelli's weights 0, 0.5, 3, 9, 99, 99, ... (1 to 126, or \
+         1 to 21 with --second-order; default 6)",
     ),
     (
         "n",
@@ -79,7 +93,7 @@ const SPEC: support::Spec = &[
     (
         "second-order",
         false,
-        "also the second-order index of every pair of inputs",
+        "also the second-order index of every pair of inputs (of at most 21 inputs)",
     ),
     (
         "tol-abs",
@@ -254,16 +268,24 @@ fn sobol_g(args: &Args) -> Result<Model, String> {
             Model::sobol_g_saltelli(d.min(MAX_INPUTS + 1))?
         }
     };
+    let flag = if dims.is_some() {
+        "--dims"
+    } else {
+        "--weights"
+    };
     if model.dims() > MAX_INPUTS {
         return Err(format!(
-            "invalid {}: {} inputs, expected 1 to {MAX_INPUTS} (the design needs 4 + 2 D \
+            "invalid {flag} = {} inputs: expected 1 to {MAX_INPUTS} (the design needs 4 + 2 D \
              integrals of one vector run)",
-            if dims.is_some() {
-                "--dims"
-            } else {
-                "--weights"
-            },
             dims.unwrap_or(model.dims())
+        ));
+    }
+    if args.has("second-order") && model.dims() > MAX_SECOND_ORDER_INPUTS {
+        return Err(format!(
+            "invalid {flag} = {} inputs: expected 1 to {MAX_SECOND_ORDER_INPUTS} with \
+             --second-order (the design needs 4 + 2 D + D (D - 1) / 2 integrals of one vector \
+             run, at most {MAX_OUTPUTS})",
+            model.dims()
         ));
     }
     Ok(model)

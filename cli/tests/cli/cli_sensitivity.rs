@@ -227,6 +227,25 @@ fn bad_input_is_a_one_line_error_with_exit_code_2() {
     assert_usage_error(&["--function", "ishigami", "--weights", "1,2,3"], "sobol-g");
     assert_usage_error(&["--function", "sobol-g", "--b", "0.2"], "ishigami");
     assert_usage_error(&["--function", "sobol-g", "--weights", "1,-2"], ">= 0");
+    // The weights were named after the library's `a`, which is Ishigami's --a here.
+    for weights in ["1,-1", "1,nan"] {
+        assert_usage_error(
+            &["--function", "sobol-g", "--weights", weights],
+            "invalid --weights = ",
+        );
+    }
+    // With second order, at most 21 inputs (4 + 2 D + D (D - 1) / 2 integrals, at most 256);
+    // 22 was refused as "factors", with the advice to group inputs, which the CLI cannot.
+    let second = ["--function", "sobol-g", "--second-order"];
+    assert_usage_error(
+        &[&second[..], &["--dims", "22"]].concat(),
+        "invalid --dims = 22 inputs: expected 1 to 21 with --second-order",
+    );
+    let weights = vec!["1"; 22].join(",");
+    assert_usage_error(
+        &[&second[..], &["--weights", &weights]].concat(),
+        "invalid --weights = 22 inputs: expected 1 to 21 with --second-order",
+    );
     assert_usage_error(
         &["--function", "sobol-g", "--weights", "1,2", "--dims", "2"],
         "not both",
@@ -252,6 +271,7 @@ fn help_lists_every_flag() {
     let out = run("sensitivity", &["--help"]);
     assert!(out.status.success(), "{}", stderr(&out));
     let text = stdout(&out);
+    assert!(text.contains("1 to 21 with --second-order"), "{text}");
     for flag in [
         "--function",
         "--dims",
