@@ -123,7 +123,9 @@ impl SobolGFunction {
     pub fn exact_indices(&self) -> crate::sensitivity::ExactIndices {
         let partial: Vec<f64> = self.scale.iter().map(|s| s * s / 3.0).collect();
         let product: f64 = partial.iter().map(|v| 1.0 + v).product();
-        let variance = product - 1.0;
+        // `prod (1 + V_i) - 1` as `expm1(sum ln(1 + V_i))`: the subtraction cancelled for
+        // large weights (tiny `V_i`), and gave first-order indices above 1/2 for two inputs.
+        let variance = libm::expm1(partial.iter().map(|&v| libm::log1p(v)).sum());
         crate::sensitivity::ExactIndices {
             variance,
             first_order: partial.iter().map(|v| v / variance).collect(),
@@ -154,5 +156,23 @@ impl TestFunction for SobolGFunction {
 
     fn name(&self) -> String {
         "sobol-g".to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Weights 1e6, 1e6: `V_i = 1 / (3 (1 + 1e6)^2)` each and `V = 2 V_i + V_i^2`, so
+    /// `S_i = 1 / (2 + V_i)`, just below 1/2; `product - 1` gave 0.500066.
+    #[test]
+    fn exact_indices_of_large_weights_do_not_cancel() {
+        let exact = SobolGFunction::new(vec![1e6, 1e6]).unwrap().exact_indices();
+        let v = 1.0 / (3.0 * (1.0 + 1e6_f64).powi(2));
+        for s in &exact.first_order {
+            assert!(*s <= 0.5, "{s}");
+            assert!((s - 1.0 / (2.0 + v)).abs() < 1e-14, "{s}");
+        }
+        assert!((exact.variance / (2.0 * v + v * v) - 1.0).abs() < 1e-14);
     }
 }
