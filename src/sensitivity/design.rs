@@ -64,8 +64,8 @@ pub type DesignRun = Integrator<VectorRun<BatchVectorUniformEstimator<DesignInte
 /// `x_i` not explained by `x_1 .. x_{i-1}`, so the indices are those of that ordering.
 ///
 /// [`integrator`](Self::integrator) gives the run as an [`Integrator`], with every setting
-/// the crate's runs share (seed, threads, time limits, checkpoints with
-/// [`run_part`](Integrator::run_part), MPI clusters), and [`indices`](Self::indices) turns its
+/// the crate's runs share (seed, threads, time limits, MPI clusters, and for a fixed budget
+/// checkpoints with [`run_part`](Integrator::run_part)), and [`indices`](Self::indices) turns its
 /// result into the indices.
 ///
 /// **Points and error bars.** By default the design's [`DEFAULT_POINTS`] points are
@@ -250,6 +250,8 @@ impl<M: Measure + 'static> SobolDesign<M> {
     /// order, total and any second order, of every output) meets `tolerance` (an absolute
     /// one suits indices, which are fractions of 1; a relative one never stops on an index of
     /// zero). Its evaluation limit counts points, each `model_runs_per_point` model runs.
+    /// Such a run cannot be checkpointed: its stages depend on its results so far, and
+    /// [`run_part`](Integrator::run_part) refuses it.
     ///
     /// ```
     /// use mcint::{Tolerance, measure::Uniform, sensitivity::SobolDesign};
@@ -260,6 +262,8 @@ impl<M: Measure + 'static> SobolDesign<M> {
     /// let indices = design.indices(&run).unwrap();
     /// assert_eq!(indices.converged, Some(true));
     /// assert!(indices.total()[1].half_width(0.95).unwrap().unwrap() <= 1e-3);
+    /// let part = design.integrator(|x: &[f64]| x[0]).unwrap().run_part(0..1);
+    /// assert!(part.unwrap_err().to_string().contains("no tolerance for a run in parts"));
     /// ```
     pub fn tolerance(mut self, tolerance: Tolerance) -> Self {
         self.tolerance = Some(tolerance);

@@ -16,7 +16,9 @@
 //!   of model evaluations to compute sensitivity indices", Comput. Phys. Commun. 145 (2002),
 //!   280-297);
 //!
-//! each over `Var Y` from `f(A)` and `f(B)`. These are the estimators SALib uses, which makes
+//! each over `Var Y` from `f(A)` and `f(B)`, with `f` the model less a constant (SALib takes
+//! the mean of its values, this design its value at the centre of the cube) so that the
+//! squares do not cancel against the mean. These are the estimators SALib uses, which makes
 //! the two comparable point set for point set; the alternatives measured against them (Janon
 //! et al. 2014 for the first order, Jansen's numerator over the variance of the same pair or
 //! of every run, a centred Saltelli numerator) were within 20% of them either way, depending
@@ -24,7 +26,10 @@
 //!
 //! The indices are ratios of means, so the run's error bars carry over by the delta method,
 //! and a run to a [`Tolerance`](crate::Tolerance) on every index is an ordinary run of the
-//! engine (checkpoints, time limits, MPI clusters included).
+//! engine (time limits and MPI clusters included). Checkpoints are runs in parts
+//! ([`run_part`](crate::Integrator::run_part)), which only a fixed-budget design has: a run
+//! to a tolerance has no parts (its stages depend on its results so far), and `run_part`
+//! refuses it.
 //!
 //! ```
 //! use mcint::{sensitivity::SobolDesign, testfns::Ishigami};
