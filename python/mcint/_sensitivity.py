@@ -55,7 +55,7 @@ def sobol_indices(
     spec = spec_of(inputs, "inputs")
     outputs = _outputs(f, np.array(spec.middle()))
     if groups is not None:
-        groups = [[_whole("groups", i, 0) for i in group] for group in groups]
+        groups = _groups(groups)
     seed_int = _seed.to_int(seed)
     native = _native.sobol_indices(
         f,
@@ -73,6 +73,33 @@ def sobol_indices(
         threads=_whole("threads", threads, 1),
     )
     return SensitivityResult(native, outputs, seed_int)
+
+
+def _groups(groups):
+    """``groups`` as lists of whole input indices; a flat list such as ``[0, 1]`` (or any
+    group that is not a list of indices) gets a TypeError that says what is allowed, where
+    iterating over it raised a bare ``'int' object is not iterable``."""
+    allowed = "a list of lists of input indices, such as [[0, 1], [2]]"
+    if not _is_list_like(groups):
+        raise TypeError(f"invalid groups = {groups!r}: expected {allowed}")
+    checked = []
+    for k, group in enumerate(groups):
+        if not _is_list_like(group):
+            raise TypeError(
+                f"invalid groups = {groups!r}: expected {allowed} (group {k} is {group!r})"
+            )
+        checked.append([_whole("groups", i, 0) for i in group])
+    return checked
+
+
+def _is_list_like(value):
+    if isinstance(value, (str, bytes, dict)):
+        return False
+    try:
+        iter(value)
+    except TypeError:
+        return False
+    return True
 
 
 class SensitivityResult:

@@ -74,6 +74,10 @@ def test_an_exception_in_the_model_propagates():
     [
         (dict(inputs="cube"), TypeError, "measure"),
         (dict(groups=[[0], [7]]), ValueError, "group"),
+        # A flat list raised a bare "'int' object is not iterable".
+        (dict(groups=[0, 1]), TypeError, r"invalid groups = \[0, 1\]: expected a list of lists"),
+        (dict(groups=3), TypeError, "invalid groups = 3: expected a list of lists"),
+        (dict(groups=[[0], "ab"]), TypeError, "group 1 is 'ab'"),
         (dict(n=1001), ValueError, "invalid n = 1001: expected a positive multiple"),
         (dict(n=None, replicates=3), ValueError, r"invalid n = 65536 \(the default\)"),
         (dict(replicates=0), ValueError, "replicates"),
