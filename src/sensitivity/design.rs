@@ -589,7 +589,13 @@ impl<M: Measure + 'static> SobolDesign<M> {
 fn constant_output(o: usize, variance: f64, rounding: f64) -> Error {
     Error::invalid(
         "model output",
-        format!("output {o} with variance {variance:.1e} (rounding of zero up to {rounding:.1e})"),
+        if rounding > 0.0 {
+            format!(
+                "output {o} with variance {variance:.1e}, within rounding ({rounding:.1e}) of 0"
+            )
+        } else {
+            format!("output {o} with variance {variance:.1e}")
+        },
         "an output with positive variance: a constant output has no variance to split among \
          its inputs",
     )
