@@ -646,7 +646,7 @@ fn pick_freeze<M: Measure, F: Fn(&[f64], &mut [f64]) + Send + Sync>(
             let mut probe = vec![f64::NAN; m];
             inputs.map(&vec![0.5; inputs.canonical_dims()], &mut x);
             model(&x, &mut probe);
-            finite_or_zero(probe)
+            shifts(probe)
         });
         let mut values = vec![0.0; m * runs_per_point(layout)];
         let mut row = vec![0.0; layout.outputs()];
@@ -686,7 +686,7 @@ fn pick_freeze_batch<M: Measure, F: Fn(&Points, &mut [f64]) + Send + Sync>(
                 }
                 model(&centre, &mut probe);
             }
-            finite_or_zero(probe)
+            shifts(probe)
         });
         // Bounded by the block and the design's size; refused, the block is non-finite and
         // the run says so.
@@ -765,12 +765,17 @@ fn each_run(
     }
 }
 
+/// The largest shift: the error bars take fourth powers of the shifted values, which a
+/// spike of the model at the centre (`1 / (x^2 + 1e-100)`) would overflow.
+const LARGEST_SHIFT: f64 = 3e38;
+
 /// The shift of each model output: its value at the centre of the law's cube, or 0 where
-/// that is not finite (a model may be singular there and finite everywhere else).
-fn finite_or_zero(mut probe: Vec<f64>) -> Vec<f64> {
+/// that is not finite or beyond [`LARGEST_SHIFT`] (a model may be singular or spike there
+/// and be moderate everywhere else).
+fn shifts(mut probe: Vec<f64>) -> Vec<f64> {
     probe
         .iter_mut()
-        .filter(|v| !v.is_finite())
+        .filter(|v| v.is_nan() || v.abs() > LARGEST_SHIFT)
         .for_each(|v| *v = 0.0);
     probe
 }

@@ -579,3 +579,29 @@ fn too_many_replicates_for_the_outputs_are_refused_before_allocating() {
         "{err}"
     );
 }
+
+/// The shift is the model's value at the centre of the cube; where that is not finite or
+/// huge (a singularity or a spike there), the model is not shifted, and its indices are
+/// still those of its values elsewhere: `x0 + 2 x1` plus a spike at the centre only.
+#[test]
+fn a_model_singular_at_the_centre_is_not_shifted_by_it() {
+    let design = SobolDesign::new(mcint::measure::Uniform::unit(2).unwrap()).unwrap();
+    for spike in [f64::INFINITY, f64::NAN, 1e100] {
+        let model = move |x: &[f64]| {
+            if x == [0.5, 0.5] {
+                spike
+            } else {
+                x[0] + 2.0 * x[1]
+            }
+        };
+        let run = design.integrator(model).unwrap().seed(6).run().unwrap();
+        let indices = design.indices(&run).unwrap();
+        for (k, exact) in [0.2, 0.8].into_iter().enumerate() {
+            let estimate = &indices.first_order()[k];
+            assert!(
+                (estimate.mean - exact).abs() <= 5.0 * estimate.std_error.unwrap(),
+                "spike {spike}, factor {k}: {estimate:?}"
+            );
+        }
+    }
+}
