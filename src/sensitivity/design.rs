@@ -112,8 +112,9 @@ impl<M: Measure + 'static> SobolDesign<M> {
     /// The design over the law `inputs`, one factor per canonical coordinate, first-order and
     /// total indices.
     ///
-    /// Errors when `inputs` is not a probability law (its weight at the centre of the cube is
-    /// not 1, as for an unbounded Lebesgue measure).
+    /// Errors when `inputs` is not a probability law: its weight is not 1 at one of a few
+    /// fixed points of the cube (the centre, a corner region, a spread point), as for an
+    /// unbounded Lebesgue measure, which can have weight 1 at the centre and nowhere else.
     ///
     /// ```
     /// use mcint::measure::{Lebesgue, UnboundedTransform};
@@ -126,14 +127,23 @@ impl<M: Measure + 'static> SobolDesign<M> {
     pub fn new(inputs: M) -> Result<Self> {
         let k = inputs.canonical_dims();
         let mut x = vec![0.0; inputs.dims()];
-        let weight = inputs.map(&vec![0.5; k], &mut x);
-        if weight != 1.0 {
-            return Err(Error::invalid(
-                "inputs",
-                format!("a measure of weight {weight} at the centre of the cube"),
-                "a probability law (weight 1), such as a Uniform or a Gaussian: Sobol' indices \
-                 split the variance of the output under the inputs' law",
-            ));
+        let spread: Vec<f64> = (0..k)
+            .map(|i| ((i as f64 + 0.5) * 0.618_033_988_749_894_9).fract())
+            .collect();
+        for (u, at) in [
+            (vec![0.5; k], "the centre of the cube"),
+            (vec![0.1; k], "(0.1, 0.1, ...)"),
+            (spread, "(0.309, 0.927, ...)"),
+        ] {
+            let weight = inputs.map(&u, &mut x);
+            if weight != 1.0 {
+                return Err(Error::invalid(
+                    "inputs",
+                    format!("a measure of weight {weight} at {at}"),
+                    "a probability law (weight 1), such as a Uniform or a Gaussian: Sobol' \
+                     indices split the variance of the output under the inputs' law",
+                ));
+            }
         }
         Ok(SobolDesign {
             inputs: Arc::new(inputs),
@@ -444,8 +454,9 @@ impl<M: Measure + 'static> SobolDesign<M> {
     /// [`integrator_vector`](Self::integrator_vector) of this design.
     ///
     /// Errors when the run does not have the outputs of an integrator this design built (of
-    /// any multiple of its outputs per model output, for a design that built none), or when an output's variance
-    /// is within rounding of zero (a constant output has no variance to split).
+    /// any multiple of its outputs per model output, for a design that built none), or when
+    /// an output's variance is within rounding of zero (a constant output has no variance to
+    /// split).
     ///
     /// ```
     /// use mcint::{measure::Uniform, sensitivity::SobolDesign};

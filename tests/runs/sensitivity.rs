@@ -342,6 +342,17 @@ fn bad_designs_are_refused_with_what_is_allowed() {
         .indices(&foreign)
         .unwrap_err();
     assert!(err.to_string().contains("a run of this design"), "{err}");
+    // Lebesgue measures of weight 1 at the centre of the cube and not elsewhere were taken
+    // for probability laws, their weights dropped.
+    use mcint::measure::{Lebesgue, UnboundedTransform};
+    let scale = 1.0 / (2.0 * std::f64::consts::PI).sqrt();
+    let normal = Lebesgue::whole_space(1, UnboundedTransform::Normal { scale }).unwrap();
+    let err = SobolDesign::new(normal).err().unwrap().to_string();
+    assert!(err.contains("probability law"), "{err}");
+    let (lo, hi) = (vec![0.0, f64::NEG_INFINITY], vec![0.25, f64::INFINITY]);
+    let strip = Lebesgue::new(lo, hi, UnboundedTransform::Rational).unwrap();
+    let err = SobolDesign::new(strip).err().unwrap().to_string();
+    assert!(err.contains("probability law"), "{err}");
 }
 
 /// A run of an 8-input design has 20 outputs, a multiple of the 10 of a 3-input design's
