@@ -197,9 +197,21 @@ class Engine(_Base):
             sample = self._point_set(n).fill(passes * n, n)
             self.num_generated = (passes + 1) * n
             return sample
+        self._check_pass(n)
         sample = self._points.fill(self.num_generated, n)
         self.num_generated += n
         return sample
+
+    def _check_pass(self, n):
+        """Refuses to pass the end of a sequence's pass, where its points start over
+        (unscrambled: repeated) or join another randomization (no longer a net), as the Rust
+        sampler and scipy refuse."""
+        kind, most = self._points.passes
+        if kind == "extensible" and self.num_generated + n > most:
+            raise ValueError(
+                f"invalid n = {n}: {self.num_generated} + n points pass the {most} points of "
+                f"one pass of the {self._name} sequence"
+            )
 
     def random_base2(self, m):
         """``2**m`` points; the total drawn must stay a power of 2 (balance)."""
@@ -230,6 +242,13 @@ class Engine(_Base):
         upper = np.broadcast_to(np.asarray(u_bounds), (self.d,))
         if not (np.issubdtype(lower.dtype, np.integer) and np.issubdtype(upper.dtype, np.integer)):
             raise ValueError("'u_bounds' and 'l_bounds' must be integers or array-like of integers")
+        # Past 2**53 the scaled points are not integers f64 can hold, and int64 overflows:
+        # refused, as the Rust sampler's integers refuses them.
+        if np.any(np.abs(lower) > 2**53) or np.any(np.abs(upper) > 2**53):
+            raise ValueError(
+                f"invalid bounds = {l_bounds!r}, {u_bounds!r}: expected integers within "
+                "+-2**53, which float64 points can reach exactly"
+            )
         if endpoint:
             upper = upper + 1
         if np.any(lower >= upper):
@@ -246,6 +265,8 @@ class Engine(_Base):
     def fast_forward(self, n):
         """Skips ``n`` points."""
         n = _count(n)
+        if not self._fixed:
+            self._check_pass(n)
         if self.num_generated + n >= 2**64:
             raise ValueError(
                 f"invalid n = {n}: {self.num_generated} + n points would pass the last index, "

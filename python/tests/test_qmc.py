@@ -128,10 +128,18 @@ def test_seeds_as_numpy_gives_them():
         (lambda: mq.Sobol(100_000), ValueError, "invalid d = 100000"),
         (lambda: mq.Engine("sobel", 2), ValueError, "sobol"),
         (lambda: mq.Sobol(2).random(-1), ValueError, "n = -1"),
+        # Past a pass a sequence starts over (unscrambled: the same points) or joins another
+        # randomization (no longer a net): refused, as the Rust sampler refuses.
+        (lambda: mq.PMJ02(2, seed=1).random_base2(17), ValueError, "65536 points of one pass"),
+        (lambda: mq.Sobol(2, scramble=False, bits=64).fast_forward(2**32).random(1), ValueError,
+         "pass the 4294967296 points"),
+        (lambda: mq.Lattice(2).fast_forward(2**20 + 1), ValueError, "lattice sequence"),
+        (lambda: mq.Sobol(1).integers(2**63, u_bounds=2**64 - 1, n=4), ValueError, "2\\*\\*53"),
         # Integers past 64 bits say what is allowed (no bare OverflowError from the extension).
         (lambda: mq.Sobol(2**64), ValueError, r"d = 18446744073709551616: expected an integer"),
         (lambda: mq.Sobol(2).random(2**64), ValueError, r"0 to 2\*\*64 - 1"),
-        (lambda: mq.Sobol(2).fast_forward(2**64 - 5).fast_forward(5), ValueError, "last index"),
+        (lambda: mq.Independent(2).fast_forward(2**64 - 5).fast_forward(5), ValueError,
+         "last index"),
         (lambda: mq.OrthogonalArray(2, strength=2**64), ValueError, "1 to 63"),
         (lambda: mq.Engine("oa-bush", 2, strength=0), ValueError, "1 to 63"),
         (lambda: mq.Sobol(2).random_base2(-2), ValueError, "m = -2"),
