@@ -72,7 +72,7 @@ def sobol_indices(
         seed=seed_int,
         threads=_whole("threads", threads, 1),
     )
-    return SensitivityResult(native, outputs, seed_int)
+    return SensitivityResult(native, outputs, seed_int, bool(second_order))
 
 
 def _groups(groups):
@@ -108,11 +108,11 @@ class SensitivityResult:
     For a model of one output, ``first_order``, ``total`` and their ``*_std_error`` are
     arrays with one entry per factor; for ``m`` outputs, ``(m, factors)`` arrays.
     ``second_order`` is a ``(factors, factors)`` array (``(m, factors, factors)``), NaN on
-    and below the diagonal, or ``None`` when not asked for. ``variance`` is the output's
+    and below the diagonal (all NaN for one factor), or ``None`` when not asked for. ``variance`` is the output's
     variance. ``points`` design points ran the model ``model_evaluations`` times.
     """
 
-    def __init__(self, native, outputs, seed):
+    def __init__(self, native, outputs, seed, second_order=False):
         self._native = native
         self._outputs = outputs
         self.seed = seed
@@ -141,7 +141,7 @@ class SensitivityResult:
         self.total_std_error = squeeze(errors("total"))
         self.variance = squeeze(np.array([o["variance"][0] for o in report["outputs"]]))
         self.second_order = None
-        if report["outputs"][0]["second_order"]:
+        if second_order:
             count = len(self.factors)
             second = np.full((len(report["outputs"]), count, count), np.nan)
             for k, o in enumerate(report["outputs"]):
@@ -150,11 +150,14 @@ class SensitivityResult:
             self.second_order = squeeze(second)
 
     def ci(self, kind="first_order", level=0.95):
-        """The confidence intervals of the ``kind`` (``"first_order"`` or ``"total"``)
-        indices at ``level``: a ``(factors, 2)`` array (``(m, factors, 2)``), NaN where an
-        index has no error bar."""
+        """The confidence intervals of the ``kind`` (``"first_order"``, ``"total"`` or
+        ``"second_order"``) indices at ``level``: a ``(factors, 2)`` array (``(m, factors,
+        2)``), or for the second order ``(factors, factors, 2)`` (``(m, ...)``) with NaN on
+        and below the diagonal; NaN where an index has no error bar."""
         if not isinstance(level, numbers.Real) or not 0 < level < 1:
             raise ValueError(f"invalid level = {level!r}: expected a probability in (0, 1)")
+        if kind == "second_order":
+            return self._second_order_ci(float(level))
         rows = []
         for o in range(self._outputs):
             row = []
@@ -163,6 +166,21 @@ class SensitivityResult:
                 row.append((np.nan, np.nan) if interval is None else interval)
             rows.append(row)
         out = np.array(rows, dtype=float)
+        return out[0] if self._outputs == 1 else out
+
+    def _second_order_ci(self, level):
+        if self.second_order is None:
+            raise ValueError(
+                "invalid kind = 'second_order': this run has no second-order indices (ask "
+                "for them with second_order=True)"
+            )
+        count = len(self.factors)
+        out = np.full((self._outputs, count, count, 2), np.nan)
+        for o, output in enumerate(self._report["outputs"]):
+            for pair, (j, l, _) in enumerate(output["second_order"]):
+                interval = self._native.interval("second_order", o, pair, level)
+                if interval is not None:
+                    out[o, j, l] = interval
         return out[0] if self._outputs == 1 else out
 
     def __repr__(self):

@@ -80,7 +80,8 @@ impl SensitivityRun {
     }
 
     /// The confidence interval at `level` of index `j` of output `output`, of `kind`
-    /// `"first_order"` or `"total"`; `None` without an error bar.
+    /// `"first_order"` or `"total"` (`j` a factor) or `"second_order"` (`j` a pair, in the
+    /// order of the report's list); `None` without an error bar.
     fn interval(
         &self,
         kind: &str,
@@ -93,18 +94,17 @@ impl SensitivityRun {
             .outputs
             .get(output)
             .ok_or_else(|| PyIndexError::new_err(format!("output {output} out of range")))?;
-        let list = match kind {
-            "first_order" => &o.first_order,
-            "total" => &o.total,
+        let e = match kind {
+            "first_order" => o.first_order.get(j),
+            "total" => o.total.get(j),
+            "second_order" => o.second_order.get(j).map(|s| &s.index),
             _ => {
                 return Err(PyValueError::new_err(format!(
-                    "invalid kind = '{kind}': expected 'first_order' or 'total'"
+                    "invalid kind = '{kind}': expected 'first_order', 'total' or 'second_order'"
                 )));
             }
-        };
-        let e = list
-            .get(j)
-            .ok_or_else(|| PyIndexError::new_err(format!("factor {j} out of range")))?;
+        }
+        .ok_or_else(|| PyIndexError::new_err(format!("index {j} out of range")))?;
         e.confidence_interval(level).map_err(to_py)
     }
 }

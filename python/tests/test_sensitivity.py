@@ -31,6 +31,14 @@ def test_indices_and_second_order_match_the_closed_form():
     assert np.all(np.abs(r.first_order - first) <= 5 * r.first_order_std_error)
     assert np.all(np.abs(r.total - total) <= 5 * r.total_std_error)
     assert abs(r.second_order[0, 2] - s13) < 0.02
+    ci = r.ci("second_order")
+    assert ci.shape == (3, 3, 2) and np.all(np.isnan(ci[2, 0])) and np.all(np.isnan(ci[1, 1]))
+    assert ci[0, 2, 0] <= r.second_order[0, 2] <= ci[0, 2, 1]
+    # One factor has no pair: an array of NaN, not None (which means "not asked for").
+    one = mcint.sobol_indices(lambda x: x[:, 0] ** 2, Uniform([0], [1]), second_order=True, seed=1)
+    assert one.second_order.shape == (1, 1) and np.isnan(one.second_order[0, 0])
+    with pytest.raises(ValueError, match="second_order=True"):
+        mcint.sobol_indices(ishigami, CUBE, n=1 << 10, seed=3).ci("second_order")
     assert r.model_evaluations == r.points * 8  # A, B, three AB_j, three BA_j
 
 
