@@ -16,7 +16,7 @@ use super::pass::Totals;
 use super::units::Units;
 use crate::special::chi_square_sf;
 use crate::stats::rounding::gamma;
-use crate::stats::{DISAGREEMENT_Q, ErrorBasis, Estimate, StopReason, VectorEstimate};
+use crate::stats::{DISAGREEMENT_Q, ErrorBasis, Estimate, StopReason, VectorEstimate, Warning};
 
 /// Smallest iteration variance used, so that exact (zero-variance) iterations do not divide
 /// by zero (the `TINY` of `vegas`).
@@ -59,6 +59,9 @@ pub(super) struct Combination {
     /// The variance of the last iteration set aside by a restart, which weights the next
     /// (`None` while none was).
     set_aside: Option<f64>,
+    /// Whether a combined iteration had a value other than zero: without one, every
+    /// contribution was zero, and the floor on the variances is no error bar.
+    any_nonzero: bool,
 }
 
 impl Combination {
@@ -75,6 +78,7 @@ impl Combination {
     /// Adds an iteration's estimate, its variance and degrees of freedom, and the bound on
     /// the rounding error of its estimate.
     pub(super) fn add(&mut self, mean: f64, variance: f64, dof: u64, rounding: f64) {
+        self.any_nonzero |= mean != 0.0 || variance != 0.0;
         let variance = variance.max(TINY_VARIANCE);
         // The variance of the iteration before: the last combined one, or the last warm-up.
         let previous = self.results.last().map(|r| r.variance).or(self.set_aside);
@@ -152,9 +156,15 @@ impl Combination {
         // largest iteration estimate.
         let rounding = self.sum_weighted_rounding / self.sum_weights
             + gamma(2.0 * m as f64 + 2.0) * self.largest;
+        let all_zero = m > 0 && !self.any_nonzero;
+        let std_error = if all_zero {
+            0.0
+        } else {
+            self.sum_weighted_variance.sqrt() / self.sum_weights * unit
+        };
         let mut estimate = Estimate {
             mean: mean * unit,
-            std_error: Some(self.sum_weighted_variance.sqrt() / self.sum_weights * unit),
+            std_error: Some(std_error),
             dof: Some(self.dof),
             basis: ErrorBasis::PerSample,
             n,
@@ -170,6 +180,10 @@ impl Combination {
             warnings: Vec::new(),
             error_bound: None,
         };
+        if all_zero {
+            // As the other runners say it: 0 +- 0 only says that no point hit a value.
+            estimate.warn(Warning::AllZero { count: n });
+        }
         estimate.finalize();
         estimate
     }

@@ -58,3 +58,40 @@ fn an_integrand_that_underflows_everywhere_is_flagged() {
         e.warnings
     );
 }
+
+/// VEGAS and VEGAS+ on a spike their points never hit: every value zero. They reported
+/// 0 +- 3e-126 (the floor on iteration variances) and no warning; now 0 +- the rounding floor,
+/// and the warning the other runners give.
+#[test]
+fn vegas_that_sees_only_zeros_says_so() {
+    use mcint::adaptive::Vegas;
+    let spike = |x: &[f64]| if x[0] > 1.0 - 1e-9 { 1e6 } else { 0.0 };
+    for stratified in [false, true] {
+        let e = Vegas::new(spike, UniformBox::unit(2).unwrap())
+            .stratified(stratified)
+            .samples(10_000)
+            .seed(1)
+            .run()
+            .unwrap();
+        assert_eq!(e.mean, 0.0, "{e:?}");
+        assert!(e.std_error.unwrap() < 1e-300, "{e:?}");
+        assert!(
+            e.warnings
+                .iter()
+                .any(|w| matches!(w, Warning::AllZero { count } if *count == e.n)),
+            "stratified {stratified}: {:?}",
+            e.warnings
+        );
+    }
+    // One value that is not zero is no such warning.
+    let e = Vegas::new(|x: &[f64]| x[0], UniformBox::unit(2).unwrap())
+        .samples(10_000)
+        .seed(1)
+        .run()
+        .unwrap();
+    assert!(
+        !e.warnings
+            .iter()
+            .any(|w| matches!(w, Warning::AllZero { .. }))
+    );
+}
