@@ -309,7 +309,7 @@ impl<E> Integrator<E> {
     where
         E: RunEstimator,
     {
-        self.with_plan(|plan, sampler, _| {
+        self.with_plan(|plan, sampler, executor| {
             self.estimator
                 .layout(plan, sampler, &self.config)?
                 .check(&partial.layout)?;
@@ -341,7 +341,22 @@ impl<E> Integrator<E> {
                     format!("a part of this run, which {wants}"),
                 ));
             }
-            plan.estimate(sampler, &partial.folded, self.config.non_finite)
+            let mut run = plan.estimate(sampler, &partial.folded, self.config.non_finite)?;
+            // Evaluations counted as the uninterrupted run counts them: those of each
+            // contribution, and the pilot's (which each part ran again, to the same fit).
+            let limits = self.config.limits();
+            let (cost, pilot) =
+                self.estimator
+                    .with_main(&self.config, executor, &limits, |estimator, pilot| {
+                        Ok((estimator.evaluations_per_contribution(), pilot))
+                    })?;
+            run.for_each_output(|_, output| {
+                output.evaluations = output
+                    .evaluations
+                    .saturating_mul(cost)
+                    .saturating_add(pilot);
+            });
+            Ok(run)
         })
     }
 

@@ -57,6 +57,43 @@ fn a_run_stopped_saved_and_resumed_gives_the_same_bits() {
     assert_eq!(sobol_replicates(1).finish(&part).unwrap(), whole);
 }
 
+/// A run finished from parts counts the evaluations the uninterrupted run counts: each
+/// contribution's (MIS with three samples per contribution) and the pilot's (fitted
+/// controls). It counted one per contribution and no pilot.
+#[test]
+fn a_run_from_parts_counts_the_evaluations_of_the_whole() {
+    use mcint::estimator::{MisHeuristic, MultiSampleMis};
+    use mcint::pdf::{Linear, UniformBox, UniformInterval};
+    let mis = || {
+        let techniques: Vec<(Box<dyn mcint::pdf::Pdf>, usize)> = vec![
+            (Box::new(UniformInterval::new(0.0, 1.0).unwrap()), 1),
+            (Box::new(Linear::new(0.0, 1.0, 0.0, 1.0).unwrap()), 2),
+        ];
+        let estimator =
+            MultiSampleMis::new(|x: &[f64]| x[0] * x[0], techniques, MisHeuristic::Balance);
+        Integrator::new(estimator.unwrap()).samples(1 << 14).seed(3)
+    };
+    let whole = mis().run().unwrap();
+    let total = mis().total_chunks().unwrap();
+    let mut part = mis().run_part(0..1).unwrap();
+    mis().resume(&mut part, total).unwrap();
+    assert_eq!(mis().finish(&part).unwrap(), whole);
+    assert_eq!(whole.evaluations, 3 << 14);
+
+    let controlled = || {
+        Integrator::with_controls(|x: &[f64]| x[0].exp(), UniformBox::unit(1).unwrap())
+            .control(|x: &[f64]| x[0], 0.5)
+            .samples(1 << 14)
+            .seed(4)
+    };
+    let whole = controlled().run().unwrap();
+    let total = controlled().total_chunks().unwrap();
+    let mut part = controlled().run_part(0..1).unwrap();
+    controlled().resume(&mut part, total).unwrap();
+    assert_eq!(controlled().finish(&part).unwrap(), whole);
+    assert!(whole.evaluations > 1 << 14, "{whole:?}");
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(16))]
 
