@@ -102,13 +102,39 @@ pub(super) struct Totals {
     open: CubeMoments,
     /// Points with a non-finite output.
     pub(super) non_finite: u64,
-    /// Index within the iteration, value and output of the first non-finite `J f`.
-    pub(super) first_non_finite: Option<(u64, f64, usize)>,
+    /// The first non-finite `J f`.
+    pub(super) first_non_finite: Option<FirstNonFinite>,
     /// Each output's largest finite `|f_k|` (when probing; 0 otherwise).
     pub(super) largest: Vec<f64>,
     /// The grid's training data of each group of chunks, in order: summed element by element
     /// in this order, axis by axis in parallel, when the grid adapts.
     pub(super) training: Vec<GroupTraining>,
+}
+
+/// The first point of an iteration whose `J f` is not finite: its index within the
+/// iteration, the value, the output, and its canonical point (in its hypercube, before the
+/// grid maps it: the sampler's own point lies in the whole cube).
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "mpi", derive(serde::Serialize, serde::Deserialize))]
+pub(super) struct FirstNonFinite {
+    pub(super) index: u64,
+    pub(super) value: f64,
+    pub(super) output: usize,
+    pub(super) point: Vec<f64>,
+}
+
+/// The canonical point of a sample whose uniform coordinates in hypercube `cube` are `u`,
+/// as the mapping computes it.
+fn canonical_point(u: &[f64], mut cube: u64, strata: &Strata) -> Vec<f64> {
+    u.iter()
+        .zip(&strata.per_axis)
+        .zip(&strata.inverse)
+        .map(|((&u, &s), &inverse)| {
+            let c = cube % s;
+            cube /= s;
+            (c as f64 + u) * inverse
+        })
+        .collect()
 }
 
 impl Totals {
@@ -267,7 +293,9 @@ impl Totals {
             self.open.clone_from(tail);
         }
         self.non_finite += out.non_finite;
-        self.first_non_finite = self.first_non_finite.or(out.first_non_finite);
+        if self.first_non_finite.is_none() {
+            self.first_non_finite.clone_from(&out.first_non_finite);
+        }
         for (largest, &value) in self.largest.iter_mut().zip(&out.largest) {
             *largest = largest.max(value);
         }
@@ -300,7 +328,7 @@ pub(super) struct Piece {
     /// The hypercube begun here that continues in the next chunk.
     tail: Option<CubeMoments>,
     non_finite: u64,
-    first_non_finite: Option<(u64, f64, usize)>,
+    first_non_finite: Option<FirstNonFinite>,
     /// Each output's largest finite `|f_k|` (when probing).
     largest: Vec<f64>,
 }
@@ -530,7 +558,12 @@ impl Scratch {
                 }
                 if let Some((k, v)) = bad {
                     out.non_finite += 1;
-                    out.first_non_finite.get_or_insert((index + j as u64, v, k));
+                    out.first_non_finite.get_or_insert_with(|| FirstNonFinite {
+                        index: index + j as u64,
+                        value: v,
+                        output: k,
+                        point: canonical_point(&self.rows[j * dims..(j + 1) * dims], cube, strata),
+                    });
                     continue;
                 }
                 sums.push(point);

@@ -133,19 +133,15 @@ impl<F, I: Integrand> Stages for Iterations<'_, F, I> {
                 });
             }
         };
-        let non_finite = match totals.first_non_finite {
-            Some((index, value, output)) if totals.non_finite > 0 => {
-                let mut point = vec![0.0; self.sampler.dims()];
-                self.sampler.point(self.base + index, &mut point)?;
-                Some(NonFinite {
-                    count: totals.non_finite,
-                    replicate: self.k,
-                    index,
-                    output: (self.f.outputs() > 1).then_some(output),
-                    value,
-                    point,
-                })
-            }
+        let non_finite = match totals.first_non_finite.take() {
+            Some(first) if totals.non_finite > 0 => Some(NonFinite {
+                count: totals.non_finite,
+                replicate: self.k,
+                index: first.index,
+                output: (self.f.outputs() > 1).then_some(first.output),
+                value: first.value,
+                point: first.point,
+            }),
             _ => None,
         };
         if !self.units_chosen {

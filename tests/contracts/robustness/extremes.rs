@@ -95,3 +95,26 @@ fn vegas_that_sees_only_zeros_says_so() {
             .any(|w| matches!(w, Warning::AllZero { .. }))
     );
 }
+
+/// A NaN of a stratified VEGAS+ run is reported at its own canonical point: in its hypercube,
+/// where the first iteration's uniform grid maps it to the point where the integrand failed
+/// (a square of side 0.02). The sampler's point in the whole cube was reported instead.
+#[test]
+fn vegas_plus_names_the_point_of_a_nan() {
+    use mcint::Error;
+    use mcint::adaptive::Vegas;
+    let corner = |x: &[f64]| x.iter().all(|&c| (0.5..0.52).contains(&c));
+    let f = move |x: &[f64]| if corner(x) { f64::NAN } else { x[0] };
+    for threads in [1, 2] {
+        let err = Vegas::new(f, UniformBox::unit(2).unwrap())
+            .samples(1_000_000)
+            .seed(2)
+            .threads(threads)
+            .run()
+            .unwrap_err();
+        let Error::NonFiniteContribution { first_point, .. } = &err else {
+            panic!("{err}");
+        };
+        assert!(corner(first_point), "{err}");
+    }
+}
