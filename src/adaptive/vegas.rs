@@ -489,13 +489,13 @@ impl<F> Vegas<F> {
             ));
         }
         require_randomized(sampler, "every iteration needs new points")?;
-        let total_iterations =
-            self.warmup
-                .checked_add(iterations)
-                .ok_or(Error::IndexOutOfRange {
-                    what: "warm-up plus iterations",
-                    limit: u64::MAX,
-                })?;
+        let total_iterations = self.warmup.checked_add(iterations).ok_or_else(|| {
+            Error::invalid(
+                "warmup + iterations",
+                format!("{} + {iterations}", self.warmup),
+                "a total within 64 bits (the sample indices of every iteration must fit)",
+            )
+        })?;
         let stride = match sampler.passes() {
             PassKind::Independent => n,
             PassKind::Extensible { max } => {
@@ -534,15 +534,16 @@ impl<F> Vegas<F> {
             }
         };
         if total_iterations.checked_mul(stride).is_none() {
-            // Iteration i draws sample indices from i x stride on.
-            return Err(if stride == n {
+            // Iteration i draws sample indices from i x stride on. Blame the samples only
+            // where a valid count of them would fit.
+            let most_samples = u64::MAX / total_iterations;
+            return Err(if stride == n && most_samples >= MIN_SAMPLES {
                 Error::invalid(
                     "samples",
                     n,
                     format!(
-                        "at most {} per iteration, so that the sample indices of \
+                        "at most {most_samples} per iteration, so that the sample indices of \
                          {total_iterations} iterations fit in 64 bits",
-                        u64::MAX / total_iterations
                     ),
                 )
             } else {
@@ -550,8 +551,8 @@ impl<F> Vegas<F> {
                     "warmup + iterations",
                     total_iterations,
                     format!(
-                        "at most {} iterations of the {} sampler's passes of {stride} \
-                         points, so that their sample indices fit in 64 bits",
+                        "at most {} iterations of {stride} points (the {} sampler's stride), so \
+                         that their sample indices fit in 64 bits",
                         u64::MAX / stride,
                         sampler.name()
                     ),

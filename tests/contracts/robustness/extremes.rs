@@ -118,3 +118,21 @@ fn vegas_plus_names_the_point_of_a_nan() {
         assert!(corner(first_point), "{err}");
     }
 }
+
+/// Too many iterations for 64-bit sample indices: the iterations are named. With 2^60
+/// iterations the samples were blamed ("at most 15 per iteration", below VEGAS's least of 50),
+/// and a warm-up of u64::MAX gave an index error naming no setting.
+#[test]
+fn vegas_names_the_iterations_when_their_indices_overflow() {
+    use mcint::adaptive::Vegas;
+    let vegas = || Vegas::new(|x: &[f64]| x[0], UniformBox::unit(2).unwrap()).samples(1000);
+    for err in [
+        vegas().iterations(1 << 60).run().unwrap_err(),
+        vegas().warmup(u64::MAX).run().unwrap_err(),
+    ] {
+        assert!(
+            err.to_string().starts_with("invalid warmup + iterations"),
+            "{err}"
+        );
+    }
+}
