@@ -16,13 +16,13 @@
 //!   of model evaluations to compute sensitivity indices", Comput. Phys. Commun. 145 (2002),
 //!   280-297);
 //!
-//! each over `Var Y` from `f(A)` and `f(B)`, with `f` the model less a constant (SALib takes
-//! the mean of its values, this design its value at the centre of the cube) so that the
-//! squares do not cancel against the mean. These are the estimators SALib uses, which makes
-//! the two comparable point set for point set; the alternatives measured against them (Janon
-//! et al. 2014 for the first order, Jansen's numerator over the variance of the same pair or
-//! of every run, a centred Saltelli numerator) were within 20% of them either way, depending
-//! on the replicates and the budget (`docs/measurements.md`).
+//! each over `Var Y` from `f(A)` and `f(B)`, with `f` the model less a constant (its value at
+//! the centre of the cube) so that the squares do not cancel against the mean. These are the
+//! estimators SALib uses, which makes the two comparable point set for point set; the
+//! alternatives measured against them (Janon et al. 2014 for the first order, Jansen's
+//! numerator over the variance of the same pair or of every run, a centred Saltelli
+//! numerator) were within 20% of them either way, depending on the replicates and the budget
+//! (`docs/measurements.md`).
 //!
 //! The indices are ratios of means, so the run's error bars carry over by the delta method,
 //! and a run to a [`Tolerance`](crate::Tolerance) on every index is an ordinary run of the
