@@ -14,6 +14,7 @@
 
 use crate::note;
 use mcint::estimator::{Estimator, VectorEstimator};
+use mcint::stats::StopReason;
 use mcint::{CancelToken, Integrator, PartialRun, VectorEstimate, VectorRun};
 use std::fs::{File, OpenOptions, TryLockError};
 use std::io::{ErrorKind, Read, Write};
@@ -76,14 +77,36 @@ impl<E: VectorEstimator> Checkpointed for VectorCheckpoint<E> {
     }
 }
 
+/// A checkpointed run that stopped before its last chunk, as `--json` reports it: it was
+/// not finished, why it stopped, and the chunks saved so far.
+#[derive(Debug, serde::Serialize)]
+pub struct Unfinished {
+    pub finished: bool,
+    pub stop: &'static str,
+    pub chunks_done: u64,
+    pub total_chunks: u64,
+}
+
+impl Unfinished {
+    fn of(part: &PartialRun, stop: &'static str) -> Unfinished {
+        Unfinished {
+            finished: false,
+            stop,
+            chunks_done: part.chunks_done(),
+            total_chunks: part.total_chunks(),
+        }
+    }
+}
+
 /// Runs `integrator` from the checkpoint in `settings.path` (or from the start), saving after
-/// every `save_every` chunks. Stops early after `stop_after` chunks, if given, leaving the
-/// checkpoint for the next call: `Ok(None)` then.
+/// every `save_every` chunks. Stops early after `stop_after` chunks, if given, or at the
+/// deadline or a cancellation, leaving the checkpoint for the next call: an [`Unfinished`]
+/// then.
 pub fn run(
     integrator: &dyn Checkpointed,
     settings: &Settings,
     cancel: &CancelToken,
-) -> Result<Option<VectorEstimate>, String> {
+) -> Result<Result<VectorEstimate, Unfinished>, String> {
     let (path, save_every, stop_after) = (
         settings.path.as_path(),
         settings.save_every,
@@ -117,7 +140,7 @@ pub fn run(
             if part.is_complete() {
                 return integrator
                     .finish(&part)
-                    .map(Some)
+                    .map(Ok)
                     .map_err(crate::args::flag_error);
             }
             part
@@ -143,7 +166,7 @@ pub fn run(
                     path.display()
                 ),
             );
-            return Ok(None);
+            return Ok(Err(Unfinished::of(&part, "stop after")));
         }
         integrator.resume(&mut part, step).map_err(|e| {
             format!(
@@ -159,10 +182,10 @@ pub fn run(
         let late = settings
             .deadline
             .is_some_and(|deadline| Instant::now() >= deadline);
-        let why = if settings.spread.any(cancel.is_cancelled()) {
-            "cancelled"
+        let (why, stop) = if settings.spread.any(cancel.is_cancelled()) {
+            ("cancelled", StopReason::Cancelled)
         } else if settings.spread.any(late) {
-            "time limit reached"
+            ("time limit reached", StopReason::TimeLimit)
         } else {
             continue;
         };
@@ -176,11 +199,11 @@ pub fn run(
                 path.display()
             ),
         );
-        return Ok(None);
+        return Ok(Err(Unfinished::of(&part, stop.name())));
     }
     integrator
         .finish(&part)
-        .map(Some)
+        .map(Ok)
         .map_err(crate::args::flag_error)
 }
 

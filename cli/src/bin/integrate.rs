@@ -47,6 +47,8 @@
 //! 16384 points to FILE every `--save-every` chunks (default 16) and, when FILE exists,
 //! resumes from it: however often it is stopped and restarted, the result has the same bits
 //! as an uninterrupted run. `--stop-after K` stops after K chunks, as an interruption would.
+//! A run that stops before its last chunk prints, with `--json`, `{"finished": false, "stop",
+//! "chunks_done", "total_chunks"}` (`stop` is "stop after", "time limit" or "cancelled").
 //!
 //! Several families (`--genz gaussian,oscillatory`) or `--ratio I,J` make one vector-valued run
 //! over the same points (`--method plain`, `rqmc`, `vegas` or `vegas-plus`, `--estimator
@@ -354,8 +356,15 @@ fn run() -> Result<(), String> {
         Some(settings) => {
             let integrator = methods::build_checkpointed(setup)?;
             match checkpoint::run(&*integrator, &settings, &cancel_token())? {
-                Some(run) => run,
-                None => return Ok(()),
+                Ok(run) => run,
+                Err(unfinished) => {
+                    // A script reading --json can tell a saved, unfinished run from a result.
+                    if args.has("json") && spread.is_root() {
+                        let json = serde_json::to_string(&unfinished).map_err(|e| e.to_string())?;
+                        println!("{json}");
+                    }
+                    return Ok(());
+                }
             }
         }
     };

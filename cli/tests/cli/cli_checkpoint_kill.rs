@@ -212,6 +212,14 @@ fn a_checkpoint_through_a_symbolic_link_saves_to_its_target() {
         let meta = std::fs::symlink_metadata(&link).unwrap();
         assert!(meta.file_type().is_symlink(), "the link was replaced");
         assert_eq!(chunks_saved(&target), saved);
+        // --json says the run is saved, not finished (it printed nothing, exit status 0).
+        let v: Value = serde_json::from_str(stdout(&out).trim()).expect("one JSON object");
+        assert_eq!(v["finished"], false, "{v}");
+        assert_eq!(v["stop"], "stop after", "{v}");
+        assert_eq!(
+            (v["chunks_done"].as_u64(), v["total_chunks"].as_u64()),
+            (Some(saved), Some(123))
+        );
     }
     let whole = run("integrate", ARGS);
     let resumed = run("integrate", &[ARGS, &["--checkpoint", link_arg]].concat());
