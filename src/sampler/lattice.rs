@@ -216,7 +216,8 @@ impl Lattice {
     /// `2^log2_max_points` points per pass.
     ///
     /// Requires `z` non-empty, `1 <= log2_max_points <= 52` (see
-    /// [`MAX_LOG2_POINTS`](Self::MAX_LOG2_POINTS)) and every `z_j < 2^log2_max_points`.
+    /// [`MAX_LOG2_POINTS`](Self::MAX_LOG2_POINTS)) and every `0 < z_j < 2^log2_max_points`
+    /// (a `z_j` of 0 makes coordinate `j` one value, 0 before a shift).
     /// Components need not be odd, but an even `z_j` makes coordinate `j` of a `2^k`-point
     /// prefix take fewer than `2^k` distinct values, a worse rule.
     ///
@@ -228,6 +229,7 @@ impl Lattice {
     /// s.point(4, &mut p).unwrap(); // phi_2(4) = 1/8
     /// assert_eq!(p, [0.125, 0.375]);
     /// assert!(Lattice::with_generator(vec![1, 9], 3, Scramble::None, 0).is_err());
+    /// assert!(Lattice::with_generator(vec![1, 0], 3, Scramble::None, 0).is_err());
     /// ```
     pub fn with_generator(
         z: Vec<u64>,
@@ -253,11 +255,14 @@ impl Lattice {
                 ),
             ));
         }
-        if let Some(dim) = z.iter().position(|&v| v >> log2_max_points != 0) {
+        if let Some(dim) = z.iter().position(|&v| v == 0 || v >> log2_max_points != 0) {
             return Err(Error::invalid(
                 "generating vector component",
                 format!("{} (dimension {})", z[dim], dim + 1),
-                format!("below 2^log2_max_points = {}", 1u64 << log2_max_points),
+                format!(
+                    "1 to 2^log2_max_points - 1 = {} (0 makes the coordinate constant)",
+                    (1u64 << log2_max_points) - 1
+                ),
             ));
         }
         scramble.check("lattice", &[Scramble::None, Scramble::Shift])?;

@@ -522,6 +522,9 @@ fn rejects_bad_input() {
         assert!(err.contains("none, shift"), "{err}");
     }
     assert!(Lattice::with_generator(vec![], 4, Scramble::None, 0).is_err());
+    // A component of 0 makes its coordinate one value for every point.
+    let zero = Lattice::with_generator(vec![1, 0], 4, Scramble::None, 0).unwrap_err();
+    assert!(zero.to_string().contains("constant"), "{zero}");
     for log2 in [0, 53, 64, u32::MAX] {
         let err = Lattice::with_generator(vec![1], log2, Scramble::None, 0).unwrap_err();
         assert!(err.to_string().contains("1 ..= 52"), "{err}");
@@ -529,8 +532,8 @@ fn rejects_bad_input() {
     let err = Lattice::with_generator(vec![1, 16], 4, Scramble::None, 0).unwrap_err();
     assert!(err.to_string().contains("dimension 2"), "{err}");
     assert!(Lattice::with_generator(vec![u64::MAX], 52, Scramble::None, 0).is_err());
-    // Components need not be odd, and 2^m - 1 is the largest allowed.
-    assert!(Lattice::with_generator(vec![0, 2, 15], 4, Scramble::Shift, 0).is_ok());
+    // Components need not be odd, and 2^m - 1 is the largest allowed (0 is refused above).
+    assert!(Lattice::with_generator(vec![1, 2, 15], 4, Scramble::Shift, 0).is_ok());
 
     let s = Lattice::new(3, Scramble::Shift, 0).unwrap();
     assert!(s.point(0, &mut [0.0; 2]).is_err());
