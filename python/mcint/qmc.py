@@ -18,6 +18,8 @@ where the last call stopped. The point sets of a fixed size (``LatinHypercube``,
 set of ``n`` points, as scipy's ``LatinHypercube`` does.
 """
 
+import warnings
+
 import numpy as np
 
 from . import _native, _seed
@@ -318,6 +320,19 @@ class Sobol(Engine):
         self._bits = int(bits) if bits is not None and bits < 32 else None
         self.bits = 32 if bits is None else int(bits)
         self._init_quad = {"d": d, "scramble": scramble, "bits": bits, "optimization": optimization}
+
+    def random(self, n=1, *, workers=1):
+        """``n`` points, as :meth:`Engine.random`; like scipy's ``Sobol``, warns (a
+        ``UserWarning``) when the points drawn so far stop being a power of 2, whose prefixes
+        are the nets that give Sobol' points their balance."""
+        sample = super().random(n, workers=workers)
+        total = self.num_generated
+        if n > 0 and total & (total - 1):
+            warnings.warn(
+                "The balance properties of Sobol' points require n to be a power of 2.",
+                stacklevel=2,
+            )
+        return sample
 
 
 Halton = _named(

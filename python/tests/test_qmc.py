@@ -1,6 +1,7 @@
 """mcint.qmc engines: the Rust samplers' bits, scipy's interface and scipy's own points."""
 
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
@@ -65,6 +66,8 @@ def test_engines_are_scipy_engines_and_work_with_its_functions():
     assert scaled.min() >= -1 and scaled.max() < 3
 
 
+# Draws of 96 and 32 points: Sobol warns of the balance, as scipy's does.
+@pytest.mark.filterwarnings("ignore:The balance properties")
 def test_random_continues_reset_restarts_fast_forward_skips():
     whole = mq.Sobol(4, seed=2).random(96)
     engine = mq.Sobol(4, seed=2)
@@ -218,3 +221,15 @@ def test_qmc_quad_with_an_mcint_engine_covers_at_the_nominal_rate(family):
     # 95% nominal over 100 seeds: the binomial mean 95, standard deviation 2.2; 4.5 of them
     # below the mean is 85.
     assert covered >= 85, f"{family}: {covered} of {seeds} intervals cover"
+
+
+def test_sobol_warns_as_scipy_when_the_points_stop_being_a_power_of_2():
+    for engine in (qmc.Sobol(2, seed=1), mq.Sobol(2, seed=1)):
+        with pytest.warns(UserWarning, match="balance properties"):
+            engine.random(10)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        engine = mq.Sobol(2, seed=1)
+        engine.random(8)
+        engine.random(8)
+        engine.random_base2(4)
