@@ -360,7 +360,11 @@ CorrelatedMultiJittered = _named(
     "CorrelatedMultiJittered", "cmj", "Correlated multi-jittered sets (Kensler) of ``n`` points."
 )
 MultiStageNRooks = _named(
-    "MultiStageNRooks", "nrooks-multistage", "Multi-stage N-rooks sets of ``n = k**d`` points."
+    "MultiStageNRooks",
+    "nrooks-multistage",
+    "Multi-stage N-rooks sets of ``n = b**k`` points (``b, k >= 2``: 4, 8, 9, 16, 25, 27, ..., "
+    "any dimension), every aligned block of ``b**(k - s)`` points a Latin hypercube at each "
+    "stage ``s``.",
 )
 PoissonDisk = _named("PoissonDisk", "poisson", "Poisson-disk (blue noise) sets of ``n`` points.")
 BestCandidate = _named(
