@@ -15,7 +15,7 @@ use super::moments::pair;
 use super::pass::Totals;
 use super::units::Units;
 use crate::special::chi_square_sf;
-use crate::stats::rounding::gamma;
+use crate::stats::rounding::{contribution_allowance, gamma};
 use crate::stats::{DISAGREEMENT_Q, ErrorBasis, Estimate, StopReason, VectorEstimate, Warning};
 
 /// Smallest iteration variance used, so that exact (zero-variance) iterations do not divide
@@ -176,7 +176,9 @@ impl Combination {
             iterations: m,
             chi2_dof,
             q_value,
-            rounding_error: rounding * unit,
+            // Values were rounded in the integrand's own units, where one that underflowed
+            // carries an absolute error the sums' units scale away.
+            rounding_error: rounding * unit + contribution_allowance(0.0),
             warnings: Vec::new(),
             error_bound: None,
         };

@@ -136,3 +136,21 @@ fn vegas_names_the_iterations_when_their_indices_overflow() {
         );
     }
 }
+
+/// Subnormal values: VEGAS summed them in units near their size and reported a rounding
+/// error of 0 (and a standard error of 0 at 1e-320); the values were rounded at the bottom of
+/// the subnormal range before any units, which the other runners' floor of 64 x 2^-1074
+/// carries.
+#[test]
+fn vegas_keeps_the_subnormal_rounding_floor() {
+    use mcint::adaptive::Vegas;
+    for tiny in [1e-320, 1e-318] {
+        let e = Vegas::new(move |x: &[f64]| x[0] * tiny, UniformBox::unit(2).unwrap())
+            .samples(10_000)
+            .seed(1)
+            .run()
+            .unwrap();
+        assert!(e.rounding_error >= 64.0 * 5e-324, "{e:?}");
+        assert!(e.std_error.unwrap() >= e.rounding_error, "{e:?}");
+    }
+}
