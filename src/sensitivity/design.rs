@@ -653,12 +653,7 @@ fn pick_freeze<M: Measure, F: Fn(&[f64], &mut [f64]) + Send + Sync>(
         let mut u = vec![0.0; 2 * inputs.canonical_dims()];
         let mut mixed = vec![0.0; inputs.canonical_dims()];
         let mut x = vec![0.0; inputs.dims()];
-        let shift = shift.get_or_init(|| {
-            let mut probe = vec![f64::NAN; m];
-            inputs.map(&vec![0.5; inputs.canonical_dims()], &mut x);
-            model(&x, &mut probe);
-            shifts(probe)
-        });
+        let shift = shift.get_or_init(|| shifts(&*inputs, m, |x, probe| model(x, probe)));
         let mut values = vec![0.0; m * runs_per_point(layout)];
         let mut row = vec![0.0; layout.outputs()];
         for i in 0..n {
@@ -688,16 +683,14 @@ fn pick_freeze_batch<M: Measure, F: Fn(&Points, &mut [f64]) + Send + Sync>(
         let n = points.len();
         let (m, slots, d) = (layout.model_outputs, runs_per_point(layout), inputs.dims());
         let shift = shift.get_or_init(|| {
-            let mut probe = vec![f64::NAN; m];
-            if let Ok(mut centre) = Points::new(d, 1) {
-                let mut x = vec![0.0; d];
-                inputs.map(&vec![0.5; inputs.canonical_dims()], &mut x);
-                for (c, &v) in x.iter().enumerate() {
-                    centre.column_mut(c)[0] = v;
+            shifts(&*inputs, m, |x, probe| {
+                if let Ok(mut centre) = Points::new(d, 1) {
+                    for (c, &v) in x.iter().enumerate() {
+                        centre.column_mut(c)[0] = v;
+                    }
+                    model(&centre, probe);
                 }
-                model(&centre, &mut probe);
-            }
-            shifts(probe)
+            })
         });
         // Bounded by the block and the design's size; refused, the block is non-finite and
         // the run says so.
@@ -780,10 +773,15 @@ fn each_run(
 /// spike of the model at the centre (`1 / (x^2 + 1e-100)`) would overflow.
 const LARGEST_SHIFT: f64 = 3e38;
 
-/// The shift of each model output: its value at the centre of the law's cube, or 0 where
-/// that is not finite or beyond [`LARGEST_SHIFT`] (a model may be singular or spike there
-/// and be moderate everywhere else).
-fn shifts(mut probe: Vec<f64>) -> Vec<f64> {
+/// The shift of each of the `m` model outputs: its value (by `model_at`) at the point the
+/// centre of the law's cube maps to, or 0 where that is not finite or beyond
+/// [`LARGEST_SHIFT`] (a model may be singular or spike there and be moderate everywhere
+/// else).
+fn shifts<M: Measure>(inputs: &M, m: usize, model_at: impl FnOnce(&[f64], &mut [f64])) -> Vec<f64> {
+    let mut x = vec![0.0; inputs.dims()];
+    inputs.map(&vec![0.5; inputs.canonical_dims()], &mut x);
+    let mut probe = vec![f64::NAN; m];
+    model_at(&x, &mut probe);
     probe
         .iter_mut()
         .filter(|v| v.is_nan() || v.abs() > LARGEST_SHIFT)
