@@ -138,10 +138,14 @@ pub fn run(
                 .map_err(|e| format!("cannot read checkpoint '{}': {e}", path.display()))?;
             // A part of another run is refused by the first resume, before it is saved.
             if part.is_complete() {
-                return integrator
-                    .finish(&part)
-                    .map(Ok)
-                    .map_err(crate::args::flag_error);
+                return integrator.finish(&part).map(Ok).map_err(|e| {
+                    format!(
+                        "checkpoint '{}' holds a finished run these flags cannot report ({}); \
+                         delete it or repeat the flags of its run",
+                        path.display(),
+                        crate::args::flag_error(e)
+                    )
+                });
             }
             part
         }

@@ -489,8 +489,10 @@ fn integrate_checkpoint_resumes_to_the_same_bits() {
             "1",
         ],
     );
-    // The finished checkpoint belongs to the Sobol' run, not to this independent one.
+    // The finished checkpoint belongs to the Sobol' run, not to this independent one, and
+    // the message says what to do about it.
     assert_one_line_error(&other, "sampler is the first field that differs");
+    assert_one_line_error(&other, "delete it or repeat the flags of its run");
     assert_one_line_error(
         &with(&["--checkpoint", file, "--tol-abs", "1e-3"]),
         "fixed-budget",
