@@ -13,7 +13,7 @@ use crate::stats::{Accumulator, StopReason};
 /// [`Multilevel::run_from`](super::Multilevel::run_from), and save it with the `serde` feature
 /// (the `mlmc` program's `--checkpoint FILE`). A checkpoint is refused by a run of other
 /// settings (a fingerprint of the seed, target, QMC settings, levels, and the model's samples
-/// at a fixed point, which tell another strike or payoff apart), and when its
+/// at fixed points, which tell another strike, payoff or volatility apart), and when its
 /// content was altered (a CRC-32 of every field).
 ///
 /// ```

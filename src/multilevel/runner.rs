@@ -22,6 +22,8 @@ const NEW_LEVEL_SAMPLES: u64 = 16;
 const INITIAL_QMC_POINTS: u64 = 8;
 /// Randomizations per level of multilevel QMC (Giles and Waterhouse 2009 used 32).
 const QMC_REPLICATES: u64 = 32;
+/// Points on the cube's diagonal at which a checkpoint's fingerprint samples the model.
+const DIAGONAL_PROBES: usize = 64;
 /// The default deepest level.
 const MAX_LEVEL: usize = 20;
 /// The default cost limit.
@@ -585,20 +587,30 @@ impl<L: Level> Multilevel<L> {
         Ok(hash_words(self.config.seed().unwrap_or(0), &words))
     }
 
-    /// The model's samples of levels 0 and 1 at a fixed point: what tells two models with
-    /// the same levels apart (another strike, payoff, volatility or maturity).
+    /// The model's samples of levels 0 and 1 at fixed points: what tells two models with
+    /// the same levels apart (another strike, payoff, volatility or maturity). One point is
+    /// not enough: a call can be out of the money there under both volatilities. So besides
+    /// a point spread over the cube, the probe walks the diagonal `u = (p, ..., p)` through
+    /// [`DIAGONAL_PROBES`] quantiles, from paths that fall to paths that rise, where a payoff's
+    /// kink or jump moves with each parameter.
     fn model_probe(&self) -> Vec<u64> {
         let mut scratch = Vec::new();
         let mut words = Vec::new();
         for level in 0..=1 {
-            let u: Vec<f64> = (0..self.model.dims(level))
+            let dims = self.model.dims(level);
+            let spread: Vec<f64> = (0..dims)
                 .map(|k| ((k as f64 + 0.5) * 0.618_033_988_749_894_9).fract())
                 .collect();
-            // A model that panics here panics in the run too, where the executor reports it.
-            let probe = || self.model.sample(level, &u, &mut scratch);
-            let (fine, coarse) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(probe))
-                .unwrap_or((f64::NAN, f64::NAN));
-            words.extend([fine.to_bits(), coarse.to_bits()]);
+            let diagonal =
+                (0..DIAGONAL_PROBES).map(|i| vec![(i as f64 + 0.5) / DIAGONAL_PROBES as f64; dims]);
+            for u in std::iter::once(spread).chain(diagonal) {
+                // A model that panics here panics in the run too, where the executor
+                // reports it.
+                let probe = || self.model.sample(level, &u, &mut scratch);
+                let (fine, coarse) = std::panic::catch_unwind(std::panic::AssertUnwindSafe(probe))
+                    .unwrap_or((f64::NAN, f64::NAN));
+                words.extend([fine.to_bits(), coarse.to_bits()]);
+            }
         }
         words
     }

@@ -610,6 +610,39 @@ fn checkpoints_resume_to_the_uninterrupted_run() {
     }
 }
 
+/// A checkpoint is refused by a model that differs only in a parameter (the volatility, 5%
+/// apart), for every payoff: the fingerprint's probe of the model once sampled one point at
+/// which a call was out of the money under both volatilities, and `mlmc --sigma 0.3`
+/// reported the finished run of `--sigma 0.2` as its own.
+#[test]
+fn checkpoints_of_another_volatility_are_refused() {
+    let payoffs = [
+        Payoff::european_call(STRIKE).unwrap(),
+        Payoff::asian_call(STRIKE).unwrap(),
+        Payoff::digital_call(STRIKE).unwrap(),
+        Payoff::down_and_out_call(STRIKE, 85.0).unwrap(),
+        Payoff::lookback(),
+    ];
+    for payoff in payoffs {
+        let runner = |sigma: f64| {
+            let levels = SdeLevels::new(
+                Sde::gbm(S0, RATE, sigma).unwrap(),
+                Scheme::Milstein,
+                payoff.clone(),
+                1.0,
+            )
+            .unwrap();
+            Multilevel::new(levels).rmse(0.02).seed(21)
+        };
+        let mut state = runner(SIGMA).checkpoint().unwrap();
+        let err = runner(SIGMA * 1.05)
+            .run_from(&mut state)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("fingerprint"), "{payoff:?}: {err}");
+    }
+}
+
 /// Prices scaled by 2^664 (about 1e200) or 2^-700 (about 1e-211): Giles' statistics are kept
 /// in units of a power of two near the samples, so the run is the ordinary one scaled (GBM,
 /// Milstein and the call are linear in S0 and K; the accumulators sum values that need units
