@@ -37,8 +37,8 @@ use crate::hash::hash_words;
 use crate::pdf::{Pdf, UniformBox};
 use crate::points::Points;
 use crate::stats::rounding::{UNIT_ROUNDOFF, contribution_allowance, gamma};
-use crate::stats::scale_for;
 use crate::stats::{Estimate, StopReason, VectorEstimate};
+use crate::stats::{UNSCALED_LIMIT, scale_for};
 
 /// Points per replicate of a run without [`Miser::samples`].
 const DEFAULT_SAMPLES: u64 = 1 << 14;
@@ -780,7 +780,15 @@ impl<F: ScalarIntegrand> Recursion<'_, F> {
                     partial.record(slot - stage.base_of(slot) + k + i as u64, y, unit);
                     return;
                 }
-                let y = units.express(y - *shift.get_or_insert(y), &mut halves);
+                let first = *shift.get_or_insert(y);
+                let deviation = y - first;
+                let y = if deviation.is_finite() {
+                    units.express(deviation, &mut halves)
+                } else {
+                    // Values near `f64::MAX` of both signs: the half of their difference is
+                    // finite, and its units are those of the difference (exactly twice it).
+                    2.0 * units.express(0.5 * y - 0.5 * first, &mut halves)
+                };
                 for ((half, &u), &m) in halves.iter_mut().zip(unit).zip(mid) {
                     let side = if u <= m { &mut half.0 } else { &mut half.1 };
                     side.count += 1;
@@ -803,7 +811,9 @@ impl<F: ScalarIntegrand> Recursion<'_, F> {
         work: &mut Workspace,
     ) -> Result<Partial> {
         let mut partial = Partial::default();
-        let mut sum = 0.0;
+        // The sum is kept in units of a power of two near the largest value, 1 unless values
+        // pass 2^480: two values near `f64::MAX` would overflow it.
+        let mut sum = LeafSum::default();
         let mut largest = 0.0f64;
         let mut k = 0u64;
         while k < n {
@@ -815,7 +825,7 @@ impl<F: ScalarIntegrand> Recursion<'_, F> {
             };
             self.f.each(len, work, place, |i, y, unit| {
                 if y.is_finite() {
-                    sum += y;
+                    sum.add(y);
                     largest = largest.max(y.abs());
                 } else {
                     partial.record(slot - stage.base_of(slot) + k + i as u64, y, unit);
@@ -826,13 +836,46 @@ impl<F: ScalarIntegrand> Recursion<'_, F> {
         // The finite values only (all of them, unless non-finite ones are skipped).
         let finite = n - partial.non_finite;
         if finite > 0 {
-            partial.integral = cell.volume() * (sum / finite as f64);
+            partial.integral = cell.volume() * (sum.total / finite as f64) * sum.unit;
             // The running sum of `finite` values, each evaluated to the allowance.
             partial.rounding = cell.volume() * (gamma(finite as f64) * largest)
                 + cell.volume() * contribution_allowance(largest)
                 + 2.0 * UNIT_ROUNDOFF * partial.integral.abs();
         }
         Ok(partial)
+    }
+}
+
+/// A leaf's sum of values, in units of a power of two: 1 for ordinary values (the sum then
+/// has the bits of a plain one), larger ones, as [`scale_for`] chooses them, once a value
+/// passes [`UNSCALED_LIMIT`].
+struct LeafSum {
+    total: f64,
+    unit: f64,
+    /// `UNSCALED_LIMIT` in the units: a value beyond it calls for larger units.
+    ceiling: f64,
+}
+
+impl Default for LeafSum {
+    fn default() -> Self {
+        LeafSum {
+            total: 0.0,
+            unit: 1.0,
+            ceiling: UNSCALED_LIMIT,
+        }
+    }
+}
+
+impl LeafSum {
+    fn add(&mut self, y: f64) {
+        if y.abs() > self.ceiling {
+            let wanted = scale_for(y.abs());
+            // Powers of two: the change of units is exact (short of the subnormals).
+            self.total *= self.unit / wanted;
+            self.unit = wanted;
+            self.ceiling = UNSCALED_LIMIT * wanted;
+        }
+        self.total += y / self.unit;
     }
 }
 

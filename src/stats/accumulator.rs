@@ -16,7 +16,7 @@ const LANES: usize = 8;
 /// deviations, summed over up to 2^60 values, stay finite. Larger values are accumulated in
 /// units of a power of two, [`Accumulator`]'s `scale`, so that values up to `f64::MAX` keep a
 /// finite mean and standard error.
-const UNSCALED_LIMIT: f64 = f64::from_bits((1023 + 480) << 52); // 2^480, exactly
+pub(crate) const UNSCALED_LIMIT: f64 = f64::from_bits((1023 + 480) << 52); // 2^480, exactly
 
 /// An accumulator whose values so far are all zero takes a first value below this magnitude
 /// (2^-480) in units of a power of two near it: the squares of the deviations of values below

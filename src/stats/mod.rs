@@ -17,7 +17,7 @@ mod warning;
 
 pub use crate::stop_reason::StopReason;
 pub use accumulator::Accumulator;
-pub(crate) use accumulator::scale_for;
+pub(crate) use accumulator::{UNSCALED_LIMIT, scale_for};
 pub use covariance::CovarianceAccumulator;
 pub use derived::Derived;
 pub(crate) use derived::unrepresentable_output;

@@ -323,6 +323,48 @@ fn every_runner_is_honest_about_integrands_near_1e300() {
     assert_right(Vegas::new(huge, unit()).stratified(false).run(), "vegas");
 }
 
+/// `f64::MAX (1/2 + x0 / 4)`: every value is finite and so is the integral, 0.625 f64::MAX,
+/// but any sum of two values overflows.
+fn near_max(x: &[f64]) -> f64 {
+    f64::MAX * (0.5 + 0.25 * x[0])
+}
+
+/// `f64::MAX (3/2) (x0 - 1/2)`: values of both signs near the largest double, whose
+/// differences overflow; the integral is 0.
+fn near_max_both_signs(x: &[f64]) -> f64 {
+    f64::MAX * (1.5 * (x[0] - 0.5))
+}
+
+/// Every runner integrates values near the largest double as the Integrator does. MISER's
+/// leaves summed the values unscaled: the sum overflowed and the run ended in "invalid
+/// replicate mean = inf".
+#[test]
+fn every_runner_integrates_values_near_the_largest_double() {
+    let unit = || UniformBox::unit(2).unwrap();
+    for (f, exact) in [
+        (near_max as fn(&[f64]) -> f64, 0.625 * f64::MAX),
+        (near_max_both_signs, 0.0),
+    ] {
+        let check = |result: mcint::Result<Estimate>, method: &str| {
+            let e = result.unwrap_or_else(|err| panic!("{method} ({exact:e}): {err}"));
+            let se = e.std_error.unwrap();
+            assert!(se.is_finite() && se > 0.0, "{method}: {e:?}");
+            assert!((e.mean - exact).abs() <= 5.0 * se, "{method}: {e:?}");
+        };
+        check(
+            Integrator::over_box(f, unit()).samples(10_000).run(),
+            "plain",
+        );
+        check(Miser::new(f, unit()).seed(1).run(), "miser");
+        check(TwoStage::new(f, unit(), 4).run(), "two-stage");
+        check(Vegas::new(f, unit()).seed(1).run(), "vegas+");
+        check(
+            Vegas::new(f, unit()).stratified(false).seed(1).run(),
+            "vegas",
+        );
+    }
+}
+
 /// A Gaussian peak of height `scale` over the unit square.
 fn peak(scale: f64) -> impl Fn(&[f64]) -> f64 + Sync + Copy {
     move |x: &[f64]| scale * (-50.0 * ((x[0] - 0.3).powi(2) + (x[1] - 0.6).powi(2))).exp()
@@ -398,6 +440,31 @@ fn miser_runs_far_from_1_are_the_ordinary_run_scaled() {
         }
     };
     check_scaled(runs, &[500, 900, -500, -900], 0);
+}
+
+/// Values of both signs up to 1.95 x 2^1023: the differences MISER's exploration takes
+/// overflow, yet its run is the ordinary run scaled, bit for bit (it took differences of
+/// `inf`, every bisection fell back to splitting the points by volume, and before that its
+/// leaves' sums overflowed).
+#[test]
+fn miser_runs_of_both_signs_near_the_largest_double_are_the_ordinary_run_scaled() {
+    let run = |scale: f64| {
+        let f = move |x: &[f64]| {
+            let bump = (-50.0 * ((x[0] - 0.3).powi(2) + (x[1] - 0.6).powi(2))).exp();
+            scale * (3.6 * (x[0] - 0.5) + 0.15 * bump)
+        };
+        Miser::new(f, UniformBox::unit(2).unwrap())
+            .seed(1)
+            .run()
+            .unwrap()
+    };
+    let (ordinary, scale) = (run(1.0), 2f64.powi(1023));
+    let scaled = run(scale);
+    assert_eq!(scaled.mean / scale, ordinary.mean);
+    assert_eq!(
+        scaled.std_error.unwrap() / scale,
+        ordinary.std_error.unwrap()
+    );
 }
 
 /// A box of side `2^k` with the peak stretched over it and scaled by `2^-2k`: the integral is
