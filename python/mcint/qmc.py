@@ -348,11 +348,46 @@ Lattice = _named(
 )
 PMJ02 = _named("PMJ02", "pmj02", "The progressive multi-jittered (0,2) sequence (2-D strata per pair).")
 Independent = _named("Independent", "independent", "Independent uniform points (PCG64).")
-LatinHypercube = _named(
-    "LatinHypercube",
-    "latin",
-    "Latin hypercube (N-rooks) sets: each ``random(n)`` a new set of ``n`` points.",
-)
+
+
+class LatinHypercube(Engine):
+    """Latin hypercube (N-rooks) sets, as scipy's: each ``random(n)`` a new set of ``n``
+    points, one in each ``1/n`` slab of every axis. ``scramble=False`` puts each point at the
+    centre of its slab (McKay, Beckman and Conover's midpoint sampling; scipy's centered
+    design). ``strength=2`` builds the set from an orthogonal array of strength 2 (Tang 1993,
+    Bose's construction, as scipy): ``n = p**2`` for a prime ``p`` and ``d <= p + 1``, and in
+    every pair of axes one point in each cell of the ``p x p`` grid as well."""
+
+    def __init__(self, d, *, scramble=True, strength=1, optimization=None, seed=None, rng=None):
+        if not _integer(strength) or strength not in (1, 2):
+            raise ValueError(
+                f"invalid strength = {strength!r}: expected 1 (a Latin hypercube) or 2 (one "
+                "built from an orthogonal array of strength 2), as scipy's LatinHypercube"
+            )
+        if not isinstance(scramble, (bool, np.bool_)):
+            raise ValueError(
+                f"invalid scramble = {scramble!r}: expected True (each point uniform in its "
+                "slab) or False (at the slab's centre); the slabs' order is always random"
+            )
+        # Strength 2 is the orthogonal array whose offsets make every axis a Latin hypercube.
+        sampler, oa_strength = ("latin", None) if strength == 1 else ("oa-bose", 2)
+        self._setup(sampler, d, True, seed, rng, oa_strength, optimization)
+        self._centered = not scramble
+        self._init_quad = {
+            "d": d,
+            "scramble": scramble,
+            "strength": strength,
+            "optimization": optimization,
+        }
+
+    def _random(self, n=1, *, workers=1):
+        sample = super()._random(n, workers=workers)
+        if self._centered and len(sample) > 0:
+            # Each axis holds one point per slab: a point's rank along an axis is its slab.
+            slabs = np.argsort(np.argsort(sample, axis=0, kind="stable"), axis=0, kind="stable")
+            sample = (slabs + 0.5) / len(sample)
+        return sample
+
 Hammersley = _named("Hammersley", "hammersley", "Hammersley sets of ``n`` points.")
 Jittered = _named("Jittered", "jittered", "Stratified (jittered) sets; ``n`` must be ``k**d``.")
 MultiJittered = _named("MultiJittered", "multijitter", "Multi-jittered sets of ``n = m * k`` points.")

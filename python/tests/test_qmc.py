@@ -149,8 +149,12 @@ def test_seeds_as_numpy_gives_them():
         # Refused before 2**m is formed (which would not finish).
         (lambda: mq.Halton(2).random_base2(10**30), ValueError, "0 to 62"),
         (lambda: mq.Jittered(2, seed=1).random(10), ValueError, "10"),
-        (lambda: mq.LatinHypercube(2, scramble="owen"), ValueError, "built in"),
-        (lambda: mq.LatinHypercube(2, scramble=False), ValueError, "built in"),
+        (lambda: mq.LatinHypercube(2, scramble="owen"), ValueError, "True .* or False"),
+        (lambda: mq.LatinHypercube(2, strength=3), ValueError, "expected 1 .* or 2"),
+        (lambda: mq.LatinHypercube(2, strength=True), ValueError, "expected 1 .* or 2"),
+        (lambda: mq.LatinHypercube(2, strength=2).random(10), ValueError, "p\\^2 for a prime"),
+        (lambda: mq.LatinHypercube(5, strength=2).random(9), ValueError, "p >= 5"),
+        (lambda: mq.Halton(2, scramble="owen ish"), ValueError, "expected True, False"),
     ],
 )
 def test_bad_input_is_a_clear_error(make, error, words):
@@ -233,3 +237,47 @@ def test_sobol_warns_as_scipy_when_the_points_stop_being_a_power_of_2():
         engine.random(8)
         engine.random(8)
         engine.random_base2(4)
+
+
+def _slabs(points):
+    """Each point's slab along each axis, as integers."""
+    return np.floor(points * len(points)).astype(int)
+
+
+@pytest.mark.parametrize("make", [mq.LatinHypercube, qmc.LatinHypercube])
+def test_centered_latin_hypercubes_put_one_point_at_each_slab_centre(make):
+    # scipy's LatinHypercube(scramble=False) and ours: every axis is a permutation of the
+    # centres (k + 1/2) / n, and each call a new permutation.
+    engine = make(4, scramble=False, seed=5) if make is mq.LatinHypercube else make(
+        4, scramble=False, rng=5
+    )
+    first, second = engine.random(50), engine.random(50)
+    centres = (np.arange(50) + 0.5) / 50
+    for sample in (first, second):
+        for column in sample.T:
+            assert np.array_equal(np.sort(column), centres)
+    assert not np.array_equal(first, second)
+
+
+@pytest.mark.parametrize("scramble", [True, False])
+@pytest.mark.parametrize("p, d", [(3, 2), (3, 4), (5, 6), (7, 3)])
+def test_strength_2_latin_hypercubes_are_orthogonal_arrays_as_scipys(p, d, scramble):
+    n = p * p
+    ours = mq.LatinHypercube(d, strength=2, scramble=scramble, seed=7).random(n)
+    theirs = qmc.LatinHypercube(d, strength=2, scramble=scramble, rng=7).random(n)
+    for sample in (ours, theirs):
+        # A Latin hypercube: one point per 1/n slab of each axis ...
+        for column in _slabs(sample).T:
+            assert np.array_equal(np.sort(column), np.arange(n))
+        # ... and one point per cell of the p x p grid of every pair of axes.
+        cells = np.floor(sample * p).astype(int)
+        for i in range(d):
+            for j in range(i + 1, d):
+                assert len(set(zip(cells[:, i], cells[:, j]))) == n
+        if not scramble:
+            assert np.allclose(sample * n % 1.0, 0.5)
+
+
+def test_strength_2_latin_hypercubes_are_the_rust_orthogonal_array_bits():
+    got = mq.LatinHypercube(5, strength=2, seed=11).random(49)
+    assert np.array_equal(got, rust_points("oa-bose", 5, 49, 11))
