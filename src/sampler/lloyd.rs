@@ -2,6 +2,7 @@
 //! tessellation of the unit cube, which spreads the points evenly (scipy's
 //! `LatinHypercube(optimization="lloyd")`, for any sampler's points).
 
+use super::nearest_point::NearestPoint;
 use super::{Independent, Sampler};
 use crate::error::{Error, Result};
 use crate::points::Points;
@@ -41,7 +42,7 @@ impl Default for Lloyd {
 /// point). A point whose cell holds no probe stays. The points lose any stratification they
 /// had (a Latin hypercube is no longer one) and gain an even spread: larger minimum
 /// distances, no clumps. Returns the energy before the first step and after each, never
-/// increasing. `O(P N d)` per step for `P = probes_per_point N` probes.
+/// increasing. Each step finds every probe's nearest point in a k-d tree of the points.
 ///
 /// ```
 /// use mcint::quality::{GeometricCriterion, geometric_discrepancy};
@@ -96,28 +97,18 @@ pub fn lloyd(points: &mut Points, settings: Lloyd) -> Result<Vec<f64>> {
 }
 
 /// Assigns each probe to its nearest point (the lowest index among ties) and returns the
-/// mean squared distance. Distances to all points are accumulated a coordinate column at a
-/// time (unit stride), into one buffer reused across probes.
+/// mean squared distance.
 fn assign(points: &Points, probes: &Points, nearest: &mut [usize]) -> f64 {
-    let mut distances = vec![0.0; points.len()];
+    let tree = NearestPoint::new(points);
+    let mut probe = vec![0.0; probes.dims()];
     let mut total = 0.0;
     for (p, slot) in nearest.iter_mut().enumerate() {
-        distances.fill(0.0);
-        for k in 0..points.dims() {
-            let coordinate = probes.column(k)[p];
-            for (distance, &x) in distances.iter_mut().zip(points.column(k)) {
-                let t = coordinate - x;
-                *distance += t * t;
-            }
+        for (k, x) in probe.iter_mut().enumerate() {
+            *x = probes.column(k)[p];
         }
-        let mut best = (f64::INFINITY, 0);
-        for (site, &distance) in distances.iter().enumerate() {
-            if distance < best.0 {
-                best = (distance, site);
-            }
-        }
-        *slot = best.1;
-        total += best.0;
+        let (site, distance) = tree.nearest(&probe).unwrap_or((0, f64::INFINITY));
+        *slot = site;
+        total += distance;
     }
     total / nearest.len().max(1) as f64
 }

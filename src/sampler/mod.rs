@@ -25,6 +25,7 @@ mod lloyd;
 mod multi_jittered;
 mod multi_stage_n_rooks;
 mod named;
+mod nearest_point;
 mod number_theory;
 mod orthogonal_array;
 pub(crate) mod owen;
