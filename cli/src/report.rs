@@ -37,6 +37,18 @@ struct WarningJson {
     /// The output it belongs to, in a run of several.
     #[serde(skip_serializing_if = "Option::is_none")]
     output: Option<usize>,
+    /// The ratio `[I, J]` it belongs to: a tolerance on `--ratio` not met.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    ratio: Option<[usize; 2]>,
+}
+
+/// What a warning belongs to.
+#[derive(Clone, Copy)]
+enum Owner {
+    Run,
+    Output(usize),
+    /// The ratio of outputs `I / J`, the target of a run to a tolerance with `--ratio`.
+    Ratio(usize, usize),
 }
 
 /// `--json` of a run of one output.
@@ -114,10 +126,11 @@ impl Report<'_> {
 
     /// The warnings on stderr, one line each, then the report on stdout.
     pub fn print(&self, json: bool) -> Result<(), String> {
-        for (output, warning) in self.warnings() {
-            match output {
-                Some(k) => note!("warning: output {k}: {warning}"),
-                None => note!("warning: {warning}"),
+        for (owner, warning) in self.warnings() {
+            match owner {
+                Owner::Output(k) => note!("warning: output {k}: {warning}"),
+                Owner::Ratio(i, j) => note!("warning: ratio {i}/{j}: {warning}"),
+                Owner::Run => note!("warning: {warning}"),
             }
         }
         match (json, self.vector()) {
@@ -129,22 +142,45 @@ impl Report<'_> {
         Ok(())
     }
 
-    /// Every output's warnings, with the output they belong to in a vector run.
-    fn warnings(&self) -> Vec<(Option<usize>, &Warning)> {
+    /// Every output's warnings, with the output they belong to in a vector run. With
+    /// `--ratio` the tolerance is the ratio's alone, so a tolerance not met is the ratio's,
+    /// said once, not each output's.
+    fn warnings(&self) -> Vec<(Owner, &Warning)> {
         let vector = self.vector();
-        let outputs = self.run.outputs.iter().enumerate();
-        outputs
-            .flat_map(|(k, e)| e.warnings.iter().map(move |w| (vector.then_some(k), w)))
-            .collect()
+        let mut warnings: Vec<(Owner, &Warning)> = Vec::new();
+        for (k, e) in self.run.outputs.iter().enumerate() {
+            for w in &e.warnings {
+                let owner = match (self.ratio, w) {
+                    (Some((i, j)), Warning::ToleranceNotMet { .. }) => Owner::Ratio(i, j),
+                    _ if vector => Owner::Output(k),
+                    _ => Owner::Run,
+                };
+                let repeated = matches!(owner, Owner::Ratio(..))
+                    && warnings
+                        .iter()
+                        .any(|(o, seen)| matches!(o, Owner::Ratio(..)) && seen == &w);
+                if !repeated {
+                    warnings.push((owner, w));
+                }
+            }
+        }
+        warnings
     }
 
     fn warnings_json(&self) -> Vec<WarningJson> {
         self.warnings()
             .into_iter()
-            .map(|(output, w)| WarningJson {
+            .map(|(owner, w)| WarningJson {
                 kind: w.kind(),
                 message: w.to_string(),
-                output,
+                output: match owner {
+                    Owner::Output(k) => Some(k),
+                    _ => None,
+                },
+                ratio: match owner {
+                    Owner::Ratio(i, j) => Some([i, j]),
+                    _ => None,
+                },
             })
             .collect()
     }

@@ -64,7 +64,9 @@
 //! Warnings about the estimate (points per replicate that break a net, a tolerance not met,
 //! few replicates, skipped non-finite values, an error bar at the floating-point floor) go
 //! to stderr, one `warning: ...` line each; `--json` also lists them in its `warnings` array
-//! as `{"kind", "message"}` objects, empty when there are none.
+//! as `{"kind", "message"}` objects, empty when there are none, with the `output` they belong
+//! to in a vector run (a tolerance not met with `--ratio I,J` is the ratio's: `"ratio": [I,
+//! J]`, once).
 
 use mcint::CancelToken;
 use mcint::Method;

@@ -188,3 +188,40 @@ fn bad_input_is_refused_with_what_is_allowed() {
         "--checkpoint applies to --method plain and rqmc",
     );
 }
+
+/// With `--ratio` the tolerance is the ratio's: a tolerance not met is said once, of the
+/// ratio (it was said of each output, which had no tolerance of its own).
+#[test]
+fn a_ratio_tolerance_not_met_is_the_ratios_warning() {
+    let args = [
+        "--genz",
+        "gaussian,product-peak",
+        "--dims",
+        "3",
+        "--ratio",
+        "0,1",
+        "--tol-rel",
+        "1e-7",
+        "--max-evals",
+        "100000",
+    ];
+    let text = run("integrate", &args);
+    let lines: Vec<&str> = std::str::from_utf8(&text.stderr)
+        .unwrap()
+        .lines()
+        .filter(|l| l.starts_with("warning:"))
+        .collect();
+    assert_eq!(lines.len(), 1, "{lines:?}");
+    assert!(
+        lines[0].starts_with("warning: ratio 0/1: the run stopped"),
+        "{lines:?}"
+    );
+    let mut with_json = args.to_vec();
+    with_json.push("--json");
+    let v = json(&with_json);
+    let warnings = v["warnings"].as_array().unwrap();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert_eq!(warnings[0]["kind"], "tolerance-not-met");
+    assert_eq!(warnings[0]["ratio"], serde_json::json!([0, 1]));
+    assert!(warnings[0].get("output").is_none(), "{warnings:?}");
+}
