@@ -36,8 +36,10 @@ def sobol_indices(
     returns ``(n,)``, or ``(n, m)`` for ``m`` outputs with indices for each. The factors
     are the inputs (the law's canonical coordinates; for a correlated Gaussian, those of its
     Cholesky ordering), or ``groups`` of them (lists of input indices). With ``rtol`` or
-    ``atol`` the run grows until every index's 95% interval is that narrow, or until
-    ``max_evals`` design points (default 2**30).
+    ``atol`` the run grows until every index's 95% half-width is below ``max(atol, rtol *
+    |index|)``, or until ``max_evals`` design points (default 2**30). An index whose value
+    is 0 (an input without effect) never meets ``rtol`` alone: give ``atol`` with it, or a
+    ``max_evals`` you can afford.
 
     Returns a :class:`SensitivityResult`.
 
