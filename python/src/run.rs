@@ -241,11 +241,19 @@ fn build_sampler(
 /// released and, between waits, takes it to look for a signal: a `KeyboardInterrupt` is the
 /// run's `failure` (it cancels the run, which stops within a chunk, and is raised by the
 /// caller once the worker has finished).
+///
+/// A run started by an integrand (on a worker of the library's pools) runs on that worker,
+/// with the lock released: its chunks then share the outer run's threads, as nested runs do
+/// in Rust. Handed to a thread of its own, it waited for pool threads that were all inside
+/// the outer run's integrand, waiting for it. The outer run's caller watches the signals.
 pub fn run_watching_signals<T: Send>(
     py: Python<'_>,
     failure: &Failure,
     job: impl FnOnce() -> PyResult<T> + Send,
 ) -> PyResult<T> {
+    if rayon::current_thread_index().is_some() {
+        return py.detach(job);
+    }
     std::thread::scope(|scope| {
         let (done, finished) = mpsc::channel();
         // Waited on with the lock released, which needs a shareable receiver.

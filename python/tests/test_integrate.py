@@ -260,3 +260,35 @@ def test_intervals_use_the_replicates_degrees_of_freedom():
     assert (high - low) / 2 == pytest.approx(t * r.std_error, rel=1e-12)
     with pytest.raises(ValueError, match="level"):
         r.ci(1.5)
+
+
+NESTED = """
+import mcint
+def inner_mean():
+    return mcint.integrate(lambda y: y[:, 0], [0], [1], n=1024, replicates=8, seed=1).mean
+def outer(x):
+    return x[:, 0] * inner_mean()
+r = mcint.integrate(outer, [0], [1], n=1024, replicates=8, seed=2, threads={threads})
+print(r.mean, r.std_error, inner_mean())
+"""
+
+
+@pytest.mark.parametrize("threads", [1, 2, 4])
+def test_an_integrand_that_integrates_runs_on_the_outer_runs_threads(threads):
+    # The inner run once waited for pool threads that were all inside the outer run's
+    # integrand, waiting for it: a deadlock (Ctrl-C did not end it). The timeout only keeps
+    # a regression from hanging the suite.
+    import subprocess
+    import sys
+
+    out = subprocess.run(
+        [sys.executable, "-c", NESTED.format(threads=threads)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert out.returncode == 0, out.stderr
+    mean, std_error, inner = map(float, out.stdout.split())
+    # The integral of x c over [0, 1] is c / 2, with c the inner run's mean (the same run
+    # every time: its seed is fixed).
+    assert abs(mean - inner / 2) <= 5 * std_error, out.stdout
