@@ -300,6 +300,18 @@ fn contract(args: &Args) -> Result<Contract, String> {
             contract.maturity
         ));
     }
+    // A negative rate discounts by e^(-rate T) > 1, which must stay finite (an infinite
+    // one times a payoff of 0 is NaN).
+    let exponent = -contract.rate * contract.maturity;
+    if !exponent.exp().is_finite() {
+        return Err(format!(
+            "invalid --rate = {} with --maturity = {}: expected a discount factor \
+             e^(-rate maturity) that f64 holds, -rate x maturity at most {:.2} (it is {exponent:e})",
+            contract.rate,
+            contract.maturity,
+            f64::MAX.ln()
+        ));
+    }
     // The model checks s0 and sigma.
     contract.paths(Construction::Standard).map_err(flag_error)?;
     Ok(contract)

@@ -187,6 +187,13 @@ fn asian_option_refuses_bad_input() {
     bad(&["--dates", "0"], "1 to 4096");
     // e^(rate T) overflows f64: refused by the model, not priced as inf.
     bad(&["--rate", "1000"], "709");
+    // e^(-rate T) overflows: refused, naming the flags (it was a NaN payoff, inf x 0, at
+    // every sample: an error that named no flag).
+    bad(
+        &["--rate", "-800"],
+        "invalid --rate = -800 with --maturity = 1",
+    );
+    bad(&["--rate", "-8", "--maturity", "100"], "at most 709.78");
     // Principal components of 2000 dates: beyond the factorization's dimension bound, also
     // before a table prints its first row.
     let limit = format!("at most {}", mcint::measure::FACTOR_MAX_DIMS);
