@@ -213,3 +213,22 @@ fn malformed_input_gives_one_line_errors() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The exact L2 discrepancies cost `N^2 d`: 2^18 + 1 points in one dimension (2^36 + 2^19 + 1
+/// terms) are refused, with the largest size allowed, rather than measured for minutes; 80,000
+/// points took 6 s, and the 64 MiB input limit allows sets that would take hours.
+#[test]
+fn l2_discrepancies_of_sets_too_large_to_measure_are_refused() {
+    let dir = temp_dir("l2-cost");
+    let many = write(&dir, "many.csv", &"0.5\n".repeat((1 << 18) + 1));
+    for measure in ["l2-star", "centered", "wrap-around", "mixture"] {
+        assert_one_line_error(
+            &run("quality", &["--input", &many, "--measure", measure]),
+            "at most 262144 points in 1 dimensions",
+        );
+    }
+    // The t-value is not an L2 measure: measured.
+    let t = run("quality", &["--input", &many, "--measure", "t-value"]);
+    assert!(!String::from_utf8_lossy(&t.stderr).contains("2^36"));
+    std::fs::remove_dir_all(&dir).ok();
+}
