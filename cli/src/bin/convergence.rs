@@ -122,8 +122,14 @@ fn run() -> Result<(), String> {
     let out: PathBuf = args.folder("out", "the folder to write the plots into")?;
     let publication = args.has("publication");
     let passes: u64 = args
-        .get("passes", "a whole number >= 2")?
+        .get("passes", "a whole number from 2 to 2^20")?
         .unwrap_or(if publication { 128 } else { 32 });
+    // The library's bound, checked before the folder is made.
+    if !(2..=1 << 20).contains(&passes) {
+        return Err(format!(
+            "invalid --passes = {passes}: expected 2 to 2^20 independent passes per point count"
+        ));
+    }
     let max_log2: u32 = args
         .get("max-log2", "a whole number from 6 to 24")?
         .unwrap_or(if publication { 16 } else { 12 });
@@ -216,7 +222,10 @@ fn study(
         .run(|n, s| -> mcint::Result<Box<dyn Sampler>> {
             kind.build_with(dims, n, kind.default_scramble(), None, s)
         })
-        .map_err(|e| format!("{} with {}: {e}", case.name, kind.name()))
+        .map_err(|e| {
+            let e = support::spec_error(SPEC, &[], e);
+            format!("{} with {}: {e}", case.name, kind.name())
+        })
 }
 
 fn draw(

@@ -103,10 +103,13 @@ fn run() -> Result<(), String> {
         }
     }
     let side = 2 * settings.frequency as u64 + 1;
-    let work = settings.n * settings.passes as u64 * side * side;
+    // A sampler that cannot make --n points draws a fallback size, up to 343.
+    let largest = FALLBACK_SIZES.into_iter().fold(settings.n, u64::max);
+    let work = largest * settings.passes as u64 * side * side;
     if work > MAX_SPECTRUM_WORK {
         return Err(format!(
-            "--n {} x --passes {} x (2 --frequency + 1)^2 = {work} operations per spectrum: \
+            "--n {} (or up to {largest} points, the fallback sizes of samplers that cannot make \
+             --n) x --passes {} x (2 --frequency + 1)^2 = {work} operations per spectrum: \
              expected at most 2^34 = {MAX_SPECTRUM_WORK} (fewer points, passes or frequencies)",
             settings.n, settings.passes
         ));

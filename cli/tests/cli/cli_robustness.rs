@@ -236,6 +236,22 @@ fn sizes_beyond_memory_are_refused_before_anything_is_allocated() {
         ],
     );
     assert_one_line_error(&out, "at most 2^34");
+    // Two points are too few for the stratified samplers, which draw 289 or 343 instead: the
+    // bound counts those (it let 4.5 times its work through).
+    let out = run(
+        "gallery",
+        &[
+            "--out",
+            "/tmp/mcint-never-written",
+            "--n",
+            "2",
+            "--passes",
+            "1024",
+            "--frequency",
+            "256",
+        ],
+    );
+    assert_one_line_error(&out, "up to 343 points");
 }
 
 /// Input files are read only when they are regular files, and at most 64 MiB of them:
@@ -341,4 +357,17 @@ fn a_full_disk_is_an_error_not_a_silent_success() {
         assert_one_line_error(&out, "No space left on device");
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `convergence` checks `--passes` before it makes the output folder, and the library's
+/// refusals name the flag (they said `passes`, and left an empty folder behind).
+#[test]
+fn convergence_checks_its_flags_before_making_the_folder() {
+    let dir = common::scratch_dir("convergence-flags");
+    let out = dir.join("plots");
+    let out = out.to_str().unwrap();
+    let refused = run("convergence", &["--out", out, "--passes", "1"]);
+    assert_one_line_error(&refused, "invalid --passes = 1: expected 2 to 2^20");
+    assert!(!std::path::Path::new(out).exists());
+    std::fs::remove_dir_all(&dir).ok();
 }
