@@ -162,6 +162,8 @@ def _run(f, lower, upper, probe, spec, method, rtol, atol, n, replicates, max_ev
     if ratio is not None:
         if outputs < 2:
             raise ValueError("ratio needs an integrand of at least 2 outputs, shape (n, m)")
+        if isinstance(ratio, (str, bytes)) or not isinstance(ratio, (tuple, list, np.ndarray)):
+            raise TypeError(f"invalid ratio = {ratio!r}: expected two output indices (i, j)")
         ratio = tuple(_whole("ratio", i, 0) for i in ratio)
         if len(ratio) != 2:
             raise ValueError(f"invalid ratio = {ratio!r}: expected two output indices (i, j)")
@@ -205,7 +207,7 @@ def _corner(name, values):
 
 def _outputs(f, point):
     """The number of outputs of ``f``, from one call at ``point``."""
-    y = np.asarray(f(np.asfortranarray(point.reshape(1, -1))), dtype=np.float64)
+    y = _real_values(f(np.asfortranarray(point.reshape(1, -1))))
     if y.shape in ((1,), (1, 1)):
         return 1
     if y.ndim == 2 and y.shape[0] == 1 and y.shape[1] >= 1:
@@ -214,6 +216,23 @@ def _outputs(f, point):
         f"the integrand returned shape {y.shape} for 1 point: expected (1,) for one output "
         "or (1, m) for m outputs (it must be vectorized over the rows of an (n, d) array)"
     )
+
+
+def _real_values(y):
+    """What ``f`` returned, as float64: complex values are refused (numpy would drop their
+    imaginary parts with a warning), and so is what is not numbers."""
+    if np.iscomplexobj(y):
+        raise TypeError(
+            "the integrand returned complex values: expected real numbers (integrate the real "
+            "and imaginary parts as two outputs, shape (n, 2))"
+        )
+    try:
+        return np.asarray(y, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(
+            f"the integrand returned {type(y).__name__} {y!r:.60}: expected an array of real "
+            "numbers, shape (n,) or (n, m)"
+        ) from None
 
 
 def _whole(name, value, least, most=2**64 - 1):

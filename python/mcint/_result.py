@@ -2,6 +2,8 @@
 
 from collections import namedtuple
 
+import numbers
+
 import numpy as np
 
 #: One warning of a run: its kind (``"tolerance-not-met"``, ...), its message, and the
@@ -131,6 +133,8 @@ class IntegrationResult:
 
 
 def _level(level):
+    if isinstance(level, (bool, np.bool_)) or not isinstance(level, numbers.Real):
+        raise TypeError(f"invalid level = {level!r}: expected a probability in (0, 1)")
     level = float(level)
     if not 0.0 < level < 1.0:
         raise ValueError(f"invalid level = {level}: expected a probability in (0, 1)")

@@ -6,7 +6,7 @@ use mcint::measure::Measure;
 use mcint::{CancelToken, Points};
 use numpy::npyffi::NPY_ORDER;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
 use crate::failure::Failure;
@@ -109,6 +109,13 @@ impl PyIntegrand {
                 // Another dtype, a list, a scalar: as numpy.asarray(y, dtype=float64).
                 Err(_) => {
                     let numpy = py.import("numpy")?;
+                    // numpy would drop the imaginary parts, with a warning only.
+                    if numpy.call_method1("iscomplexobj", (&y,))?.is_truthy()? {
+                        return Err(PyTypeError::new_err(
+                            "the integrand returned complex values: expected real numbers \
+                             (integrate the real and imaginary parts as two outputs)",
+                        ));
+                    }
                     numpy.call_method1("asarray", (&y, "float64"))?.extract()?
                 }
             };

@@ -221,6 +221,10 @@ def test_non_finite_values_are_a_floating_point_error():
         (dict(f=lambda x: x.ravel()), ValueError, "shape"),
         (dict(f=lambda x: x.sum()), ValueError, "shape"),
         (dict(f=3), TypeError, "callable"),
+        # numpy dropped the imaginary parts, with a ComplexWarning only.
+        (dict(f=lambda x: x[:, 0] + 1j), TypeError, "complex values"),
+        (dict(f=lambda x: (v for v in x[:, 0])), TypeError, "returned generator"),
+        (dict(f=lambda x: x, ratio=5), TypeError, r"ratio = 5: expected two output indices"),
     ],
 )
 def test_bad_input_is_a_clear_error(kwargs, error, words):
@@ -236,6 +240,12 @@ def test_a_wrong_shape_later_on_is_an_error_too():
 
     with pytest.raises(ValueError, match="shape"):
         mcint.integrate(sometimes, [0] * 3, [1] * 3, n=4096, seed=0)
+
+    def complex_later(x):
+        return gauss(x) if len(x) == 1 else gauss(x) + 0j
+
+    with pytest.raises(TypeError, match="complex values"):
+        mcint.integrate(complex_later, [0] * 3, [1] * 3, n=4096, seed=0)
 
 
 def test_no_memory_growth_over_ten_thousand_calls():
@@ -260,6 +270,10 @@ def test_intervals_use_the_replicates_degrees_of_freedom():
     assert (high - low) / 2 == pytest.approx(t * r.std_error, rel=1e-12)
     with pytest.raises(ValueError, match="level"):
         r.ci(1.5)
+    # Not a number: said so (it was "could not convert string to float").
+    for level in ("abc", np.array([0.9, 0.95]), True):
+        with pytest.raises(TypeError, match="expected a probability"):
+            r.ci(level)
 
 
 NESTED = """
