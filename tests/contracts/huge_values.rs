@@ -505,6 +505,34 @@ fn boxes_far_from_volume_1_give_the_unit_square_run() {
 /// run give the ordinary run's means and standard errors scaled, and their covariance too.
 /// (Far beyond, the squares of the standard errors on the covariance matrix's diagonal leave
 /// f64 themselves.)
+/// A vector run of one output near the largest double stands, as the scalar run does: its
+/// covariance matrix is its squared standard error alone, which overflows. VEGAS refused it
+/// ("the covariance of the outputs is inf ... a vector run"), and the Python package runs
+/// every VEGAS integrand as a vector run.
+#[test]
+fn one_output_vector_runs_near_the_largest_double_stand() {
+    let f = |x: &[f64], out: &mut [f64]| out[0] = near_max(x);
+    for stratified in [true, false] {
+        let vector = Vegas::new_vector(1, f, UniformBox::unit(2).unwrap())
+            .stratified(stratified)
+            .seed(1)
+            .run()
+            .unwrap();
+        let scalar = Vegas::new(near_max, UniformBox::unit(2).unwrap())
+            .stratified(stratified)
+            .seed(1)
+            .run()
+            .unwrap();
+        assert_eq!(vector.outputs[0].mean, scalar.mean);
+        assert_eq!(vector.outputs[0].std_error, scalar.std_error);
+    }
+    let f = |x: &[f64], out: &mut [f64]| out[0] = near_max(x);
+    let plain = Integrator::over_box_vector(1, f, UniformBox::unit(2).unwrap())
+        .samples(4096)
+        .run();
+    assert!(plain.is_ok(), "{plain:?}");
+}
+
 #[test]
 fn vector_vegas_outputs_far_apart_in_magnitude_each_keep_their_statistics() {
     let run = |small: f64, large: f64| {
