@@ -6,7 +6,7 @@ use std::sync::Arc;
 use mcint::measure::Measure;
 use mcint::sensitivity::{Indices, SobolDesign};
 use mcint::{CancelToken, Estimate};
-use pyo3::exceptions::{PyIndexError, PyValueError};
+use pyo3::exceptions::{PyFloatingPointError, PyIndexError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -166,10 +166,74 @@ pub fn sobol_indices(
     if let Some(seconds) = time_limit {
         run = run.time_limit(duration(seconds)?);
     }
-    let outcome = run_watching_signals(py, model.failure(), || run.run().map_err(to_py));
+    let outcome = run_watching_signals(py, model.failure(), || Ok(run.run()));
     if let Some(error) = model.failure().take() {
         return Err(error);
     }
-    let indices = design.indices(&outcome?).map_err(to_py)?;
+    let estimate = match outcome? {
+        Ok(estimate) => estimate,
+        Err(error) => return Err(name_non_finite_run(&design, &model, outputs, error)),
+    };
+    let indices = design.indices(&estimate).map_err(to_py)?;
     Ok(SensitivityRun { indices })
+}
+
+/// The error of a run, a non-finite value named as the model run behind it (its input, its
+/// output, which run of which design point), found by running the model again at the design
+/// point the library's error names: that error speaks of the design's integrals and of a
+/// point of twice the inputs' dimension.
+fn name_non_finite_run(
+    design: &SobolDesign<Shared>,
+    model: &PyIntegrand,
+    outputs: usize,
+    error: mcint::Error,
+) -> PyErr {
+    let mcint::Error::NonFiniteContribution {
+        count,
+        first_index,
+        first_replicate,
+        first_point,
+        ..
+    } = &error
+    else {
+        return to_py(error);
+    };
+    let Ok(inputs) = design.model_inputs(first_point) else {
+        return to_py(error);
+    };
+    let runs = inputs.len();
+    let mut values = vec![f64::NAN; outputs * runs];
+    model.batch(&inputs, &mut values);
+    if let Some(raised) = model.failure().take() {
+        return raised;
+    }
+    let factors = design.factors();
+    for run in 0..runs {
+        for output in 0..outputs {
+            let value = values[output * runs + run];
+            if value.is_finite() {
+                continue;
+            }
+            let name = match run {
+                0 => "A".to_string(),
+                1 => "B".to_string(),
+                r if r < 2 + factors => format!("AB_{}", r - 2),
+                r => format!("BA_{}", r - 2 - factors),
+            };
+            let x: Vec<f64> = (0..inputs.dims()).map(|c| inputs.column(c)[run]).collect();
+            let which = if outputs > 1 {
+                format!(" (output {output})")
+            } else {
+                String::new()
+            };
+            return PyFloatingPointError::new_err(format!(
+                "the model returned {value}{which} at x = {x:?}, run {name} of design point \
+                 {first_index} of replicate {first_replicate} ({count} non-finite value(s) of \
+                 the design's integrals in all): the model must be finite wherever the \
+                 inputs' law puts weight"
+            ));
+        }
+    }
+    // Every run finite: the design's products overflowed, as the library's error says.
+    to_py(error)
 }

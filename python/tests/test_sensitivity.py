@@ -117,3 +117,19 @@ def test_an_unreachable_tolerance_stops_at_max_evals():
     assert 1 << 10 <= r.points <= 1 << 14
     assert r.model_evaluations == 5 * r.points
     assert any(w.kind == "tolerance-not-met" for w in r.warnings)
+
+
+def test_a_non_finite_model_value_is_named_at_the_models_input():
+    # The library's error named a design integral ("output 1") and a point of twice the
+    # inputs' dimension; the message now gives the model's own input and run.
+    import re
+
+    def model(x):
+        return np.where(x[:, 0] > 0.999, np.nan, x[:, 0] + x[:, 1])
+
+    with pytest.raises(FloatingPointError, match=r"the model returned NaN at x = \[") as caught:
+        mcint.sobol_indices(model, Uniform([0, 0], [1, 1]), n=1024, seed=1)
+    text = str(caught.value)
+    assert re.search(r"run (A|B|AB_0|AB_1) of design point \d+ of replicate \d+", text), text
+    x = [float(v) for v in re.search(r"x = \[([^\]]*)\]", text).group(1).split(",")]
+    assert len(x) == 2 and np.isnan(model(np.array([x])))[0], text

@@ -312,6 +312,49 @@ impl<M: Measure + 'static> SobolDesign<M> {
         2 * self.inputs.canonical_dims()
     }
 
+    /// The model's inputs at every run of the design point `point` (in `[0, 1)`, of
+    /// [`point_dims`](Self::point_dims) coordinates, such as the canonical point of a
+    /// [`NonFiniteContribution`](crate::Error::NonFiniteContribution) error of the design's
+    /// run), one run per row: `A` (from the point's first half), `B` (its second half),
+    /// `AB_j` in row `2 + j` (`A` with factor `j`'s coordinates from `B`) and, with second
+    /// order, `BA_j` in row `2 + F + j`. What tells which model run was not finite.
+    ///
+    /// ```
+    /// use mcint::{measure::Uniform, sensitivity::SobolDesign};
+    /// let design = SobolDesign::new(Uniform::unit(2).unwrap()).unwrap();
+    /// let runs = design.model_inputs(&[0.1, 0.2, 0.7, 0.8]).unwrap();
+    /// assert_eq!(runs.len(), 4); // A, B, AB_0, AB_1
+    /// assert_eq!((runs.column(0)[2], runs.column(1)[2]), (0.7, 0.2)); // AB_0
+    /// assert!(design.model_inputs(&[0.5]).is_err());
+    /// ```
+    pub fn model_inputs(&self, point: &[f64]) -> Result<Points> {
+        if point.len() != self.point_dims() || !point.iter().all(|u| (0.0..1.0).contains(u)) {
+            return Err(Error::invalid(
+                "design point",
+                format!("{point:?}"),
+                format!("{} coordinates in [0, 1)", self.point_dims()),
+            ));
+        }
+        let layout = Layout::new(self.factors(), 1, self.second_order)?;
+        let runs = runs_per_point(layout);
+        let mut inputs = Points::new(self.inputs.dims(), runs)?;
+        let mut mixed = vec![0.0; self.inputs.canonical_dims()];
+        let mut x = vec![0.0; self.inputs.dims()];
+        each_run(
+            layout,
+            &self.factors,
+            point,
+            &mut mixed,
+            |canonical, slot| {
+                self.inputs.map(canonical, &mut x);
+                for (c, &v) in x.iter().enumerate() {
+                    inputs.column_mut(c)[slot] = v;
+                }
+            },
+        );
+        Ok(inputs)
+    }
+
     /// The run of a scalar model `f(x)`, ready to be configured further and run. Errors when
     /// the design's integrals do not fit in one vector run, or the points do not split into
     /// the replicates (see [`points`](Self::points), [`replicates`](Self::replicates)). A
