@@ -6,7 +6,8 @@
 //! non-zero (and vanish where `p_i(x) = 0`). [`MisWeighting`] is that general interface: the
 //! built-in [`MisHeuristic`](super::MisHeuristic)s implement it, and so does any closure
 //! `Fn(technique, x, densities) -> f64`. A user's weighting is checked at every sample: weights
-//! that do not sum to one within `1e-9` make the contribution NaN, so the
+//! that do not sum to one within `1e-9` over the techniques whose density is positive at the
+//! sample make the contribution NaN, so the
 //! [`Integrator`](crate::Integrator) fails with
 //! [`Error::NonFiniteContribution`](crate::Error::NonFiniteContribution), which gives the count of
 //! affected contributions and the first offending canonical point, instead of averaging a
@@ -21,7 +22,9 @@ pub(crate) const WEIGHT_SUM_TOLERANCE: f64 = 1e-9;
 /// values `densities[j] = n_j p_j(x)` of every technique (`c_j p_j(x)` in the one-sample model).
 ///
 /// Implementations must give weights that sum to one over the techniques at every point
-/// where the integrand is non-zero; the MIS estimators check this at every sample unless
+/// where the integrand is non-zero, and vanish for a technique whose density is zero there
+/// (its weight would be lost: the sum is checked over the techniques of positive density);
+/// the MIS estimators check this at every sample unless
 /// [`is_partition_of_unity`](Self::is_partition_of_unity) promises it. Closures implement the
 /// trait (annotate the argument types):
 ///
@@ -74,8 +77,9 @@ impl<F: Fn(usize, &[f64], &[f64]) -> f64 + Send + Sync> MisWeighting for F {
 ///
 /// NaN when the technique's own density is not finite and positive at its own sample (a pdf
 /// that is zero or NaN where the integrand is not), and when an unproven weighting's weights
-/// do not sum to one within [`WEIGHT_SUM_TOLERANCE`]: the integrator then reports the point
-/// instead of averaging a biased value.
+/// over the techniques of positive density at `x` do not sum to one within
+/// [`WEIGHT_SUM_TOLERANCE`]: the integrator then reports the point instead of averaging a
+/// biased value.
 pub(crate) fn weighted_term<W: MisWeighting + ?Sized>(
     weighting: &W,
     technique: usize,
@@ -88,7 +92,11 @@ pub(crate) fn weighted_term<W: MisWeighting + ?Sized>(
         return f64::NAN;
     }
     if !weighting.is_partition_of_unity() {
+        // Over the techniques that can produce x: a weight given to one whose density is 0
+        // there (a pdf without support at x, a technique never chosen) is mass no sample
+        // carries, and the estimate would lose it.
         let sum: f64 = (0..densities.len())
+            .filter(|&j| densities[j] > 0.0)
             .map(|j| weighting.weight(j, x, densities))
             .sum();
         // Written so that a NaN sum fails too.

@@ -311,6 +311,30 @@ fn user_weights_that_do_not_sum_to_one_are_reported() {
     let mis = OneSampleMis::new(f, vec![uniform(), uniform()], vec![0.5, 0.5], wrong).unwrap();
     expect_non_finite(mis, samples, 0.5);
 
+    // A fixed split is wrong where one technique cannot produce the point: its half of the
+    // weight was lost (0.249 for 0.5, 0.312 for 0.375, with error bars that hid it). The
+    // sum is taken over the techniques of positive density, so those points are reported.
+    let half = |_: usize, _: &[f64], _: &[f64]| 0.5;
+    let narrow = || -> Box<dyn Pdf> { Box::new(UniformInterval::new(0.0, 0.5).unwrap()) };
+    let never_chosen =
+        OneSampleMis::new(f, vec![uniform(), uniform()], vec![1.0, 0.0], half).unwrap();
+    expect_non_finite(never_chosen, samples, 1.0);
+    let mis = MultiSampleMis::new(f, vec![(uniform(), 1), (narrow(), 1)], half).unwrap();
+    // A group fails when the uniform technique's sample lands in [0.5, 1).
+    let point = expect_non_finite(mis, samples, 0.5);
+    assert!(point[0] >= 0.5, "{point:?}");
+    let mis = OneSampleMis::new(f, vec![uniform(), narrow()], vec![0.5, 0.5], half).unwrap();
+    // The uniform technique is chosen (u[0] < 0.5) and its sample lands in [0.5, 1).
+    expect_non_finite(mis, samples, 0.25);
+    // Where both cover the point, the same split is valid.
+    let mis = MultiSampleMis::new(f, vec![(uniform(), 1), (uniform(), 3)], half).unwrap();
+    let e = Integrator::new(mis)
+        .samples(samples)
+        .seed(14)
+        .run()
+        .unwrap();
+    assert!((e.mean - 1.5).abs() <= 4.5 * e.std_error.unwrap(), "{e:?}");
+
     // A slightly wrong sum is caught too (1e-6 is far above rounding).
     let almost = |i: usize, _: &[f64], _: &[f64]| if i == 0 { 0.5 } else { 0.5 + 1e-6 };
     let mis = MultiSampleMis::new(f, vec![(uniform(), 1), (uniform(), 1)], almost).unwrap();
