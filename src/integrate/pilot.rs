@@ -32,6 +32,22 @@ pub(super) fn run(
     if points == 0 {
         return Err(Error::invalid("pilot points", 0, "at least 1"));
     }
+    // The pilot is part of the run: held to its limits before it starts, as the main run is
+    // (a pilot of 2^40 points ran for hours; one of 2^22 spent 42 times a run's limit).
+    let evaluations = points.saturating_mul(estimator.evaluations_per_contribution());
+    config.check_budget("pilot points", evaluations)?;
+    if let Some(limit) = config.tolerance.map(|t| t.evaluation_limit())
+        && evaluations >= limit
+    {
+        return Err(Error::invalid(
+            "pilot points",
+            points,
+            format!(
+                "a pilot below the run's evaluation limit, {limit} (it would spend \
+                 {evaluations}): a smaller pilot or a larger max_evaluations"
+            ),
+        ));
+    }
     let seed = hash_words(config.seed().unwrap_or(0), &[TAG_PILOT]);
     let job = PilotChunks {
         pilot,
@@ -60,7 +76,7 @@ pub(super) fn run(
              (or NonFinitePolicy::Skip to fit on the finite ones)",
         ));
     }
-    Ok((summary, points * estimator.evaluations_per_contribution()))
+    Ok((summary, evaluations))
 }
 
 /// The pilot's chunks, as work for the executor.

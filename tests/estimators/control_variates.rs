@@ -448,6 +448,25 @@ fn fitting_rejects_bad_input_with_clear_errors() {
     let err = message(base().control(|x: &[f64]| x[0], 0.5).pilot(2).run());
     assert!(err.contains("at least 3"), "{err}");
     assert!(message(base().control(|x: &[f64]| x[0], 0.5).pilot(0).run()).contains("pilot"));
+    // The pilot is held to the run's limits before it starts: 2^60 points without a time
+    // limit ran for hours, and 2^22 spent 42 times a tolerance's evaluation limit.
+    let err = message(base().control(|x: &[f64]| x[0], 0.5).pilot(1 << 60).run());
+    assert!(
+        err.contains("invalid pilot points") && err.contains("2^52"),
+        "{err}"
+    );
+    let tolerance = mcint::Tolerance::absolute(1e-3)
+        .unwrap()
+        .max_evaluations(100_000)
+        .unwrap();
+    let err = message(
+        base()
+            .control(|x: &[f64]| x[0], 0.5)
+            .pilot(1 << 22)
+            .tolerance(tolerance)
+            .run(),
+    );
+    assert!(err.contains("evaluation limit, 100000"), "{err}");
     assert!(message(base().control(|x: &[f64]| x[0], 0.5).threads(0).run()).contains("threads"));
     // A sampler of the wrong dimension.
     let err = base()
