@@ -30,9 +30,10 @@ use crate::pdf::Pdf;
 /// [`FittedControlVariates`](super::FittedControlVariates) fits its coefficients); one estimated from the
 /// same samples does not.
 ///
-/// Where `f - beta g` is zero the contribution is `beta G` whatever the pdf (no `0/0`); where
-/// the pdf is zero but `f - beta g` is not, the contribution is infinite or NaN, which the
-/// integrator reports as an error.
+/// The contribution is computed as `f/pdf - beta (g/pdf - G)`, so that a control with a large
+/// constant part cancels against its own integral. Where `f` and `g` are both zero it is
+/// `beta G` whatever the pdf (no `0/0`); where the pdf is zero but `f` or `g` is not, it is
+/// infinite or NaN, which the integrator reports as an error.
 ///
 /// [`UniformBox`]: crate::pdf::UniformBox
 ///
@@ -100,13 +101,12 @@ where
     /// let mut x = [0.0];
     /// assert_eq!(cv.contribution(&[0.3], &mut x), 1.0); // f - 2 g = 0: zero variance
     /// assert!(cv.with_coefficient(f64::INFINITY).is_err());
-    /// // beta times the control's integral, added to every contribution, must be finite.
+    /// // beta times the control's integral, part of every contribution, must be finite.
     /// let huge = FixedControlVariate::new(|x: &[f64]| x[0], |x: &[f64]| x[0], f64::MAX, UniformBox::unit(1).unwrap());
     /// assert!(huge.unwrap().with_coefficient(2.0).is_err());
     /// ```
     pub fn with_coefficient(self, coefficient: f64) -> Result<Self> {
-        // The shift beta * integral is added to every contribution: if it overflowed, every
-        // contribution would be infinite.
+        // Every contribution takes beta (g/pdf - G): where beta G overflows, so would it.
         if !(coefficient.is_finite() && (coefficient * self.control_integral).is_finite()) {
             return Err(Error::invalid(
                 "coefficient",
@@ -175,12 +175,16 @@ where
     #[inline]
     fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
         self.pdf.sample(u, x);
-        let difference = (self.f)(x) - self.coefficient * (self.control)(x);
-        let shift = self.coefficient * self.control_integral;
-        if difference == 0.0 {
-            // A zero integrand contributes nothing even where the pdf is zero (no 0/0).
-            return shift;
-        }
-        difference / self.pdf.pdf(x) + shift
+        let (value, control) = ((self.f)(x), (self.control)(x));
+        // `f/p - beta (g/p - G)`: the control's deviation from its integral is formed first,
+        // so that a control with a large constant part cancels against its own integral, not
+        // against f. A zero value needs no density (no 0/0 where the pdf is zero).
+        let density = if value == 0.0 && control == 0.0 {
+            1.0
+        } else {
+            self.pdf.pdf(x)
+        };
+        let over = |v: f64| if v == 0.0 { 0.0 } else { v / density };
+        over(value) - self.coefficient * (over(control) - self.control_integral)
     }
 }
