@@ -74,6 +74,8 @@ impl Exponential {
                 ),
             ));
         }
+        // The density peaks at one end, at 1 / scale.
+        super::check_resolved("rate", rate, scale, if rate > 0.0 { a } else { b })?;
         Ok(Exponential {
             a,
             b,

@@ -74,6 +74,7 @@ impl Tent {
                 format!("a mode in [a, b] = [{a}, {b}]"),
             ));
         }
+        super::check_resolved("b", b, 0.5 * width, c)?;
         Ok(Tent {
             a,
             c,
@@ -120,6 +121,7 @@ impl Tent {
                 ),
             ));
         }
+        super::check_resolved("radius", radius, 0.5 * (b - a), center)?;
         Tent::new(a, center, b)
     }
 

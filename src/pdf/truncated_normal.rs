@@ -274,6 +274,13 @@ impl TruncatedNormal {
                 ),
             ));
         }
+        // One over the peak density is how far the mass spreads from the peak.
+        super::check_resolved(
+            "mean, sd and [a, b]",
+            format!("{mean}, {sd} and [{a}, {b}]"),
+            1.0 / peak,
+            mean.clamp(a, b),
+        )?;
         Ok(TruncatedNormal {
             mean,
             sd,

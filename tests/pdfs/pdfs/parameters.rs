@@ -86,6 +86,24 @@ fn constructors_reject_bad_parameters_by_name() {
     assert_eq!(exponential(5e-324, 0.0, INF), "rate");
     assert!(Exponential::new(1.0, 0.0, INF).is_ok());
 
+    // Densities narrower than 2^20 floats where their mass lies are refused: their samples,
+    // rounded to floats, would not follow their pdf (a truncated normal 4 floats wide gave
+    // f/p 2.7 times its integral; an exponential of rate -1e17 on [0, 1] put every sample on
+    // b's neighbour). The same shapes near 0 are fine.
+    let (m, sd) = (1e10, 1e-6);
+    let narrow = TruncatedNormal::new(m, sd, m - 3.0 * sd, m + 3.0 * sd).unwrap_err();
+    assert_eq!(named(narrow.clone()), "mean, sd and [a, b]");
+    assert!(narrow.to_string().contains("2^20 floats"), "{narrow}");
+    assert!(TruncatedNormal::new(0.0, sd, -3.0 * sd, 3.0 * sd).is_ok());
+    assert_eq!(exponential(-1e17, 0.0, 1.0), "rate");
+    assert_eq!(exponential(-1e300, 0.0, 1.0), "rate");
+    assert!(Exponential::new(1e17, 0.0, 1.0).is_ok());
+    assert_eq!(
+        named(mcint::pdf::Tent::new(1e15, 1e15 + 0.125, 1e15 + 1.0).unwrap_err()),
+        "b"
+    );
+    assert!(mcint::pdf::Tent::new(0.0, 0.125, 1.0).is_ok());
+
     let linear = |a, b, v0, v1| named(Linear::new(a, b, v0, v1).unwrap_err());
     assert_eq!(linear(1.0, 0.0, 1.0, 1.0), "b");
     assert_eq!(linear(0.0, INF, 1.0, 1.0), "b");
