@@ -211,10 +211,21 @@ impl<W: Warp3> Warp3 for Oriented<W> {
     }
 
     fn pdf_point(&self, x: DVec3) -> f64 {
-        self.warp.pdf_point(self.frame.to_local(x))
+        let local = self.frame.to_local(x);
+        let density = self.warp.pdf_point(local);
+        // A direction sampled on the equator comes back from the round trip through the frame
+        // a rounding below it (z = -5.6e-17): at the equator, as sampled.
+        if density == 0.0 && (-ROTATION_SLACK..0.0).contains(&local.z) {
+            return self.warp.pdf_point(DVec3::new(local.x, local.y, 0.0));
+        }
+        density
     }
 
     fn invert_point(&self, x: DVec3) -> DVec2 {
         self.warp.invert_point(self.frame.to_local(x))
     }
 }
+
+/// How far below the equator the rotations into and out of a frame may move a unit direction
+/// sampled on it: a few roundings of each of its coordinates.
+const ROTATION_SLACK: f64 = 8.0 * f64::EPSILON;
