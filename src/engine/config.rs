@@ -117,9 +117,15 @@ impl RunConfig {
         if evaluations <= MAX_UNTIMED_EVALUATIONS || timed {
             return Ok(());
         }
+        // Products of settings saturate: u64::MAX stands for any count past it.
+        let planned = if evaluations == u64::MAX {
+            "2^64 or more evaluations".to_string()
+        } else {
+            format!("{evaluations} evaluations")
+        };
         Err(Error::invalid(
             what,
-            format!("{evaluations} evaluations"),
+            planned,
             format!(
                 "at most 2^52 = {MAX_UNTIMED_EVALUATIONS} evaluations without a time limit (a \
                  run with one may go further on purpose)"

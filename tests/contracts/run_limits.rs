@@ -233,6 +233,14 @@ fn budgets_beyond_2_52_evaluations_need_a_time_limit() {
     for err in refused {
         assert!(err.to_string().contains("without a time limit"), "{err}");
     }
+    // A plan past 2^64 evaluations (2^62 samples x 16 replicates) says so: the saturated
+    // product read "18446744073709551615 evaluations", which no setting asked for.
+    let err = Miser::new(f, unit()).samples(1 << 62).run().unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("samples x replicates = 2^64 or more evaluations"),
+        "{err}"
+    );
     // With a time limit the run starts, and stops at it (with an estimate, unless a busy
     // machine gave its threads no time before the limit).
     let run = Integrator::over_box(f, unit())
