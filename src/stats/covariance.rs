@@ -370,7 +370,14 @@ impl CovarianceAccumulator {
     /// assert!((acc.correlation(0, 1) + 1.0).abs() < 1e-15);
     /// ```
     pub fn correlation(&self, i: usize, j: usize) -> f64 {
-        let scale = (self.comoment(i, i) * self.comoment(j, j)).sqrt();
+        let (mi, mj) = (self.comoment(i, i), self.comoment(j, j));
+        // Their product may overflow or underflow where each is fine.
+        let product = mi * mj;
+        let scale = if product.is_normal() {
+            product.sqrt()
+        } else {
+            mi.sqrt() * mj.sqrt()
+        };
         if self.count < 2 || scale == 0.0 {
             return f64::NAN;
         }

@@ -300,6 +300,23 @@ impl Derived {
 
     /// The estimate of this quantity from `run` (see [`VectorEstimate::derived`]).
     pub(crate) fn estimate(&self, run: &VectorEstimate) -> Result<Estimate> {
+        // A run edited or read back by hand may have lost its shape.
+        let m = run.outputs.len();
+        if m == 0
+            || run
+                .covariance_matrix
+                .as_ref()
+                .is_some_and(|c| c.len() != m * m)
+        {
+            return Err(Error::invalid(
+                "run",
+                format!(
+                    "{m} outputs and a covariance matrix of {} entries",
+                    run.covariance_matrix.as_ref().map_or(0, Vec::len)
+                ),
+                "at least one output and, if any, an outputs x outputs covariance matrix",
+            ));
+        }
         let (value, gradient) = match self.value_and_gradient(run) {
             Ok(found) => found,
             Err(err) => {
@@ -316,6 +333,18 @@ impl Derived {
         estimate
             .warnings
             .retain(|w| !matches!(w, Warning::AtRoundingFloor { .. } | Warning::AllZero { .. }));
+        // What the other outputs it uses went through (skipped values, a tolerance not met)
+        // holds for it too.
+        for &k in used.iter().skip(1) {
+            let other = &run.outputs[k];
+            for w in &other.warnings {
+                if !matches!(w, Warning::AtRoundingFloor { .. } | Warning::AllZero { .. }) {
+                    estimate.warn(w.clone());
+                }
+            }
+            estimate.non_finite = estimate.non_finite.max(other.non_finite);
+            estimate.n = estimate.n.min(other.n);
+        }
         estimate.mean = value;
         estimate.converged = run.converged;
         estimate.evaluations = run.evaluations;

@@ -108,7 +108,10 @@ impl VectorEstimate {
         if i >= m || j >= m {
             return None;
         }
-        self.covariance_matrix.as_ref().map(|c| c[i * m + j])
+        // A matrix of another shape (edited or read back by hand) has no such entry.
+        self.covariance_matrix
+            .as_ref()
+            .and_then(|c| (c.len() == m * m).then(|| c[i * m + j]))
     }
 
     /// The correlation of the mean estimates of outputs `i` and `j` (`None` without error
@@ -121,7 +124,14 @@ impl VectorEstimate {
     /// assert!((run.correlation(0, 1).unwrap() + 1.0).abs() < 1e-9);
     /// ```
     pub fn correlation(&self, i: usize, j: usize) -> Option<f64> {
-        let scale = (self.covariance(i, i)? * self.covariance(j, j)?).sqrt();
+        let (vi, vj) = (self.covariance(i, i)?, self.covariance(j, j)?);
+        // Their product may overflow or underflow where each is fine.
+        let product = vi * vj;
+        let scale = if product.is_normal() {
+            product.sqrt()
+        } else {
+            vi.sqrt() * vj.sqrt()
+        };
         (scale > 0.0).then(|| self.covariance(i, j).map(|c| c / scale))?
     }
 
@@ -146,6 +156,9 @@ impl VectorEstimate {
         covariance: Option<&CovarianceAccumulator>,
         replicates: u64,
     ) -> VectorEstimate {
+        // Each output's mean is over its own finite values (all, unless non-finite ones were
+        // skipped).
+        let counts: Vec<f64> = outputs.iter().map(|acc| acc.count() as f64).collect();
         let outputs: Vec<Estimate> = outputs
             .iter()
             .map(|acc| {
@@ -161,7 +174,13 @@ impl VectorEstimate {
                 let n = cov.count() as f64;
                 for i in 0..m {
                     for j in 0..i {
-                        let c = cov.covariance(i, j) / n;
+                        // The means of n_i and n_j values sharing the n rows where both are
+                        // finite: Cov = C n / (n_i n_j), C / n when none was skipped.
+                        let c = if counts[i] == n && counts[j] == n {
+                            cov.covariance(i, j) / n
+                        } else {
+                            cov.covariance(i, j) * (n / counts[i]) / counts[j]
+                        };
                         matrix[i * m + j] = c;
                         matrix[j * m + i] = c;
                     }

@@ -406,3 +406,83 @@ fn tolerance_runs_meet_every_target() {
     assert_eq!(run.converged, Some(true));
     assert!(r.half_width(0.95).unwrap().unwrap() <= 1e-5 * r.mean.abs());
 }
+
+/// With skipped non-finite values each output's mean is over its own values, so the
+/// covariance of two means is `C n_ij / (n_i n_j)`, not `C / n_ij`: `x` and `x` where `x >=
+/// 1/2` (NaN below) have a difference whose standard error is `sqrt(V_0 / n + V_1 / n_1 - 2
+/// V_1 / n)` with `V_0 = 1/12`, `V_1 = 1/48` (the covariance on the shared rows is `V_1`). It
+/// was 32% too small. A quantity of both outputs carries what each went through.
+#[test]
+fn skipped_values_scale_the_covariance_of_the_means() {
+    let f = |x: &[f64], out: &mut [f64]| {
+        out[0] = x[0];
+        out[1] = if x[0] < 0.5 { f64::NAN } else { x[0] };
+    };
+    let run = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap())
+        .samples(100_000)
+        .seed(3)
+        .non_finite(NonFinitePolicy::Skip)
+        .run()
+        .unwrap();
+    let n = run.outputs[0].n as f64;
+    let n1 = n - run.outputs[1].non_finite as f64;
+    let expected = (1.0 / 12.0 / n + 1.0 / 48.0 / n1 - 2.0 / 48.0 / n).sqrt();
+    let difference = run
+        .derived(&Derived::smooth(|m: &[f64]| m[0] - m[1]))
+        .unwrap();
+    // The sample variances are within a few tenths of a percent of V_0 and V_1 here.
+    let se = difference.std_error.unwrap();
+    assert!((se / expected - 1.0).abs() < 0.03, "{se} vs {expected}");
+    let ratio = run.derived(&Derived::ratio(0, 1)).unwrap();
+    assert!(
+        ratio
+            .warnings
+            .iter()
+            .any(|w| w.kind() == run.outputs[1].warnings[0].kind()),
+        "{:?}",
+        ratio.warnings
+    );
+    assert_eq!(ratio.non_finite, run.outputs[1].non_finite);
+}
+
+/// Correlations of outputs near 1e80 or 1e-80: the product of their variances overflows or
+/// underflows, yet they are perfectly correlated (it gave 0 and None).
+#[test]
+fn correlations_of_outputs_far_from_1_are_right() {
+    for s in [1e80, 1e-80] {
+        let f = move |x: &[f64], out: &mut [f64]| {
+            out[0] = s * x[0];
+            out[1] = s * (2.0 * x[0] + 1.0);
+        };
+        let run = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap())
+            .samples(1000)
+            .run()
+            .unwrap();
+        let r = run.correlation(0, 1).unwrap();
+        assert!((r - 1.0).abs() < 1e-9, "{s:e}: {r}");
+    }
+    let mut c = mcint::stats::CovarianceAccumulator::new(2).unwrap();
+    for x in [1.0, 2.0, 3.0] {
+        c.push(&[x * 1e100, x * 1e100]).unwrap();
+    }
+    assert!((c.correlation(0, 1) - 1.0).abs() < 1e-12);
+}
+
+/// A run whose covariance matrix lost its shape (edited, or read back by hand) gives errors
+/// and `None`, not panics.
+#[test]
+fn a_run_of_the_wrong_shape_is_refused_not_a_panic() {
+    let f = |x: &[f64], out: &mut [f64]| {
+        out[0] = x[0];
+        out[1] = 1.0 + x[0];
+    };
+    let mut run = Integrator::over_box_vector(2, f, UniformBox::unit(1).unwrap())
+        .samples(100)
+        .run()
+        .unwrap();
+    run.covariance_matrix = Some(vec![1.0]);
+    assert!(run.derived(&Derived::ratio(0, 1)).is_err());
+    assert_eq!(run.covariance(1, 1), None);
+    run.outputs.clear();
+    assert!(run.derived(&Derived::smooth(|m: &[f64]| m[0])).is_err());
+}
