@@ -25,13 +25,17 @@ pub struct GoodnessOfFit {
     pub cells: usize,
 }
 
+/// How far apart, relatively, the observed and expected totals may be (scipy's `sqrt(eps)`).
+const SUM_AGREEMENT: f64 = 1.5e-8;
+
 /// Pearson's chi-square test of `observed` counts against `expected` counts (same length,
 /// expected counts finite and `>= 0` with a positive total). Cells expecting fewer than
 /// `min_expected` samples are pooled, smallest first, until each pooled cell reaches it; a
 /// sample in a cell that expects none makes the p-value 0.
 ///
-/// The expected counts should sum to the number of observations; a test with at least two
-/// pooled cells is returned, otherwise an error says there were too few samples.
+/// The expected counts must sum to the number of observations (within a relative 1.5e-8, as
+/// scipy requires); a test with at least two pooled cells is returned, otherwise an error says
+/// there were too few samples.
 ///
 /// ```
 /// use mcint::stats::chi_square_goodness_of_fit;
@@ -39,6 +43,8 @@ pub struct GoodnessOfFit {
 /// assert!(fair.p_value > 0.5);
 /// let loaded = chi_square_goodness_of_fit(&[150, 75, 75], &[100.0; 3], 5.0).unwrap();
 /// assert!(loaded.p_value < 1e-6);
+/// // Probabilities in place of counts: an error, not a p-value of 0.
+/// assert!(chi_square_goodness_of_fit(&[98, 105, 97], &[1.0 / 3.0; 3], 0.0).is_err());
 /// ```
 pub fn chi_square_goodness_of_fit(
     observed: &[u64],
@@ -64,6 +70,21 @@ pub fn chi_square_goodness_of_fit(
             "min_expected",
             min_expected,
             "a finite count >= 0 (5 is the usual rule)",
+        ));
+    }
+    // Expected counts that do not sum to the observations (probabilities, say) make every
+    // cell look far off: refused, as scipy refuses sums apart by more than its sqrt(eps).
+    let total_observed: f64 = observed.iter().map(|&o| o as f64).sum();
+    let total_expected: f64 = expected.iter().sum();
+    if (total_observed - total_expected).abs() > SUM_AGREEMENT * total_observed.max(total_expected)
+    {
+        return Err(Error::invalid(
+            "expected",
+            format!("counts summing to {total_expected}"),
+            format!(
+                "expected counts summing to the {total_observed} observations (within a \
+                 relative 1.5e-8; scale probabilities by the number of observations)"
+            ),
         ));
     }
     if observed

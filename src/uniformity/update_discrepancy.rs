@@ -28,6 +28,9 @@ use crate::points::Points;
 /// let fresh = Discrepancy::Centered.squared(&Points::from_rows(&rows)?)?;
 /// assert!((updated - fresh).abs() < 1e-14);
 /// assert!(update_discrepancy(&[1.5, 0.0], &first, cd2).is_err()); // outside [0, 1]
+/// // In 8,000 dimensions the unscaled products overflow: an error, not Ok(inf).
+/// let wide = Points::from_rows(&[vec![0.99; 8000], vec![0.01; 8000]])?;
+/// assert!(update_discrepancy(&vec![0.5; 8000], &wide, 1.0).is_err());
 /// # Ok::<(), mcint::Error>(())
 /// ```
 ///
@@ -82,6 +85,18 @@ pub fn update_discrepancy(x_new: &[f64], points: &Points, initial: f64) -> Resul
     let sum_pair: f64 = pair.iter().sum();
     let pairs = n * n * (initial - constant) + 2.0 * n * sum_single;
     let m = n + 1.0;
-    Ok(constant - 2.0 * (sum_single + single_new) / m
-        + (pairs + 2.0 * sum_pair + pair_new) / (m * m))
+    let updated = constant - 2.0 * (sum_single + single_new) / m
+        + (pairs + 2.0 * sum_pair + pair_new) / (m * m);
+    // Unscaled products of d factors up to 1.5 overflow from about 1,750 dimensions (a
+    // result of inf, or NaN, was returned as Ok).
+    if !updated.is_finite() {
+        return Err(Error::invalid(
+            "points",
+            format!("{d} dimensions"),
+            "a dimension whose products of d factors (up to 1.5^d) and (13/12)^d stay finite \
+             (about 1,750 dimensions or fewer): Discrepancy::Centered.squared computes CD^2 \
+             in any dimension",
+        ));
+    }
+    Ok(updated)
 }
