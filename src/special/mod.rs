@@ -17,4 +17,4 @@ mod student_t;
 
 pub(crate) use chi_square::chi_square_sf;
 pub(crate) use normal::{normal_cdf, normal_quantile, normal_sf};
-pub(crate) use student_t::student_t_quantile;
+pub(crate) use student_t::{student_t_quantile, student_t_upper_quantile};

@@ -102,17 +102,29 @@ pub(crate) fn student_t_quantile(p: f64, dof: f64) -> f64 {
     }
     // By symmetry solve for the smaller tail `q`; `1 - p` is exact for p ≥ 1/2.
     let (q, sign) = if p < 0.5 { (p, -1.0) } else { (1.0 - p, 1.0) };
+    sign * student_t_upper_quantile(q, dof)
+}
+
+/// The `s >= 0` with `P(T > s) = q` for `q` in `(0, 1/2]` and finite `dof > 0` (or
+/// infinite: the normal's): what a two-sided interval at level `c` needs with `q = (1 - c)
+/// / 2`, which keeps the tail that `(1 + c) / 2` would round away for `c` near 1.
+pub(crate) fn student_t_upper_quantile(q: f64, dof: f64) -> f64 {
+    if q.is_nan() || !(q > 0.0 && q <= 0.5) || dof.is_nan() || dof <= 0.0 {
+        return f64::NAN;
+    }
     if q == 0.5 {
         return 0.0;
     }
-    let s = if dof == 1.0 {
+    if dof == f64::INFINITY {
+        return -normal_quantile(q);
+    }
+    if dof == 1.0 {
         cauchy_upper_quantile(q)
     } else if dof == 2.0 {
         dof2_upper_quantile(q)
     } else {
         solve_upper_quantile(q, dof.max(MIN_DOF))
-    };
-    sign * s
+    }
 }
 
 /// `P(T > s)` and `P(0 < T ≤ s)` for some `s ≥ 0`; they add up to `1/2`.

@@ -132,3 +132,31 @@ fn estimate_uses_n_minus_one_degrees_of_freedom() {
     assert!((e.std_error.unwrap() - (var / 3.0).sqrt()).abs() < 1e-15);
     assert_eq!(sequential(&[1.0]).estimate().std_error, None);
 }
+
+/// Intervals at levels near 1 keep their tail: `0.5 + level / 2` rounded it away (a level of
+/// `1 - 1e-15` with one degree of freedom gave a half-width 12.5% too wide, `1 - 2^-53` with
+/// two an infinite one). The Cauchy quantile is `1 / tan(pi q)`, the two-dof one
+/// `(1 - 2q) / sqrt(2 q (1 - q))`, for the tail `q = (1 - level) / 2`. Degrees of freedom that
+/// are not positive (an estimate edited by hand) are an error, not a NaN interval.
+#[test]
+fn intervals_near_level_1_keep_their_tail() {
+    let unit = |dof: f64| {
+        let mut e = mcint::stats::Estimate::from_replicates(&[-1.0, 1.0], 1).unwrap();
+        e.dof = Some(dof);
+        e
+    };
+    let se = unit(1.0).std_error.unwrap();
+    let level = 1.0 - 1e-15;
+    let q = (1.0 - level) / 2.0;
+    let cauchy = 1.0 / (std::f64::consts::PI * q).tan();
+    let half = unit(1.0).half_width(level).unwrap().unwrap() / se;
+    assert!((half / cauchy - 1.0).abs() < 1e-9, "{half} vs {cauchy}");
+    let level = 1.0 - f64::EPSILON / 2.0;
+    let q = (1.0 - level) / 2.0;
+    let two = (1.0 - 2.0 * q) / (2.0 * q * (1.0 - q)).sqrt();
+    let half = unit(2.0).half_width(level).unwrap().unwrap() / se;
+    assert!((half / two - 1.0).abs() < 1e-9, "{half} vs {two}");
+    for dof in [0.0, -3.0, f64::NAN] {
+        assert!(unit(dof).confidence_interval(0.95).is_err(), "{dof}");
+    }
+}
