@@ -557,8 +557,42 @@ fn pass_error(
     Ok((sum + compensation) / n as f64 - f.exact())
 }
 
+/// Errors within `[2^-64, 2^64]` of 1 are summarized as they are (their fourth powers, over up
+/// to 2^20 passes, stay normal); others in units of a power of two.
+const ORDINARY_ERRORS: f64 = 1.0 / 18_446_744_073_709_551_616.0;
+
+/// `2^e` exactly, for `e` from -1074 (the least subnormal) to 1023.
+fn power_of_two(e: i32) -> f64 {
+    if e >= -1022 {
+        f64::from_bits(((e + 1023) as u64) << 52)
+    } else {
+        f64::from_bits(1u64 << (e + 1074))
+    }
+}
+
 /// RMSE, mean error and their standard errors from the signed errors of the passes.
 fn summarize(n: u64, errors: &[f64]) -> ConvergencePoint {
+    // The spread of the squared errors takes fourth powers, which overflow beyond about 1e77
+    // (an RMSE of inf and a slope of NaN were returned) and vanish below about 1e-77 (a
+    // "same squared errors" refusal): errors far from 1 are taken in units of a power of two
+    // near the largest, exactly, and the results scaled back.
+    let largest = errors.iter().fold(0.0f64, |m, e| m.max(e.abs()));
+    let unit = if largest == 0.0 || (ORDINARY_ERRORS..=1.0 / ORDINARY_ERRORS).contains(&largest) {
+        1.0
+    } else {
+        power_of_two(largest.log2().floor() as i32)
+    };
+    if unit != 1.0 {
+        let scaled: Vec<f64> = errors.iter().map(|e| e / unit).collect();
+        let point = summarize(n, &scaled);
+        return ConvergencePoint {
+            n,
+            rmse: point.rmse * unit,
+            rmse_std_error: point.rmse_std_error * unit,
+            mean_error: point.mean_error * unit,
+            mean_error_std_error: point.mean_error_std_error * unit,
+        };
+    }
     let r = errors.len() as f64;
     let mean_error = errors.iter().sum::<f64>() / r;
     let error_var = errors.iter().map(|e| (e - mean_error).powi(2)).sum::<f64>() / (r - 1.0);

@@ -578,3 +578,49 @@ fn passes_beyond_memory_or_too_few_to_measure_a_spread_are_refused() {
         "{text}"
     );
 }
+
+/// `s x` over the unit square, whose errors scale with `s`.
+struct Scaled(f64);
+
+impl TestFunction for Scaled {
+    fn dims(&self) -> usize {
+        2
+    }
+    fn eval(&self, x: &[f64]) -> f64 {
+        self.0 * x[0]
+    }
+    fn exact(&self) -> f64 {
+        self.0 / 2.0
+    }
+    fn name(&self) -> String {
+        "scaled".into()
+    }
+}
+
+/// A study of `2^k x` is the study of `x` with RMSEs times `2^k`, bit for bit, and the same
+/// slope to rounding: the
+/// spread of the squared errors took fourth powers, which overflowed at 1e160 (slope NaN, RMSE
+/// inf, returned as Ok) and vanished at 1e-160 (refused as "every estimate was exact").
+#[test]
+fn studies_far_from_1_are_the_ordinary_study_scaled() {
+    let study = |scale: f64| {
+        Convergence::new(&Scaled(scale), &[64, 256, 1024, 4096])
+            .passes(32)
+            .seed(5)
+            .run(|_, seed| Independent::new(2, seed))
+            .unwrap()
+    };
+    let ordinary = study(1.0);
+    for k in [500, 540, -500, -540] {
+        let scale = 2f64.powi(k);
+        let scaled = study(scale);
+        // ln RMSE shifts by k ln 2, rounded: the fit agrees to rounding.
+        assert!((scaled.slope - ordinary.slope).abs() < 1e-12, "2^{k}");
+        let relative = scaled.slope_std_error / ordinary.slope_std_error - 1.0;
+        assert!(relative.abs() < 1e-9, "2^{k}");
+        for (a, b) in scaled.points.iter().zip(&ordinary.points) {
+            assert_eq!(a.rmse / scale, b.rmse, "2^{k}");
+            assert_eq!(a.rmse_std_error / scale, b.rmse_std_error, "2^{k}");
+        }
+    }
+}
