@@ -63,7 +63,8 @@ def integrate(
         The same integer seed gives the same bits on any number of ``threads``.
     threads : int, optional
         Threads generating points and combining sums (default: every core). ``f`` itself
-        is called under the interpreter's lock, one block at a time.
+        is called under the interpreter's lock, one block at a time. A run started inside
+        ``f`` (an integrand that integrates) shares the outer run's threads.
     sampler, scramble : str, optional
         The point set by name (see ``mcint.qmc.sampler_names()``) and its randomization.
     ratio : (int, int), optional

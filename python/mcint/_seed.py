@@ -5,16 +5,15 @@ import numbers
 import numpy as np
 
 _SEED_HELP = (
-    "expected None, an integer in [0, 2**64), a numpy.random.Generator, "
-    "or a numpy.random.SeedSequence"
+    "expected None, an integer >= 0, a numpy.random.Generator, or a numpy.random.SeedSequence"
 )
 
 
 def to_int(seed):
     """The library seed for ``seed``.
 
-    An integer is used as it is, so ``seed=7`` gives the same points as the Rust
-    crate's ``seed(7)``; a ``Generator`` gives one draw from it (so the spawned generators
+    An integer below 2**64 is used as it is, so ``seed=7`` gives the same points as the Rust
+    crate's ``seed(7)`` (a larger one goes through a ``SeedSequence``, as numpy's); a ``Generator`` gives one draw from it (so the spawned generators
     ``scipy.integrate.qmc_quad`` passes give independent randomizations); ``None`` draws
     fresh entropy from the operating system.
     """
@@ -24,8 +23,11 @@ def to_int(seed):
         raise TypeError(f"invalid seed = {seed!r}: {_SEED_HELP}")
     if isinstance(seed, numbers.Integral):
         value = int(seed)
-        if not 0 <= value < 2**64:
+        if value < 0:
             raise ValueError(f"invalid seed = {value}: {_SEED_HELP}")
+        if value >= 2**64:
+            # As numpy takes one (scipy's engines accept it): through a SeedSequence.
+            return int(np.random.SeedSequence(value).generate_state(1, np.uint64)[0])
         return value
     if isinstance(seed, np.random.Generator):
         return int(seed.integers(0, 2**64, dtype=np.uint64))
