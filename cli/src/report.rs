@@ -155,11 +155,10 @@ impl Report<'_> {
                     _ if vector => Owner::Output(k),
                     _ => Owner::Run,
                 };
-                let repeated = matches!(owner, Owner::Ratio(..))
-                    && warnings
-                        .iter()
-                        .any(|(o, seen)| matches!(o, Owner::Ratio(..)) && seen == &w);
-                if !repeated {
+                // Every output carries the ratio's one warning: said once.
+                let said = matches!(owner, Owner::Ratio(..))
+                    && warnings.iter().any(|(o, _)| matches!(o, Owner::Ratio(..)));
+                if !said {
                     warnings.push((owner, w));
                 }
             }

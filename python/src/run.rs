@@ -244,8 +244,8 @@ fn build_sampler(
 ///
 /// A run started by an integrand (on a worker of the library's pools) runs on that worker,
 /// with the lock released: its chunks then share the outer run's threads, as nested runs do
-/// in Rust. Handed to a thread of its own, it waited for pool threads that were all inside
-/// the outer run's integrand, waiting for it. The outer run's caller watches the signals.
+/// in Rust (on a thread of its own it would wait for pool threads that are all inside the
+/// outer run's integrand, waiting for it). The outer run's caller watches the signals.
 pub fn run_watching_signals<T: Send>(
     py: Python<'_>,
     failure: &Failure,

@@ -298,9 +298,7 @@ where
     fn contribution(&self, u: &[f64], x: &mut [f64]) -> f64 {
         let factor = self.cv.domain.place(u, x);
         // Each control's deviation from its integral is formed first: a control with a large
-        // constant part then cancels against its own integral, exactly, not against f
-        // (`f - beta g` at g near 1e15 kept f to a quarter, and the estimate was off by 277
-        // standard errors).
+        // constant part then cancels against its own integral, exactly, not against f.
         let corrections: f64 = self
             .coefficients
             .iter()

@@ -32,8 +32,7 @@ pub(super) fn run(
     if points == 0 {
         return Err(Error::invalid("pilot points", 0, "at least 1"));
     }
-    // The pilot is part of the run: held to its limits before it starts, as the main run is
-    // (a pilot of 2^40 points ran for hours; one of 2^22 spent 42 times a run's limit).
+    // The pilot is part of the run: held to its limits before it starts, as the main run is.
     let evaluations = points.saturating_mul(estimator.evaluations_per_contribution());
     config.check_budget("pilot points", evaluations)?;
     if let Some(limit) = config.tolerance.map(|t| t.evaluation_limit())

@@ -281,8 +281,7 @@ impl<T: Pdf1d> Pdf for T {
 
 /// The fewest floats the spread of a 1-D density must hold. Its samples are rounded to
 /// floats, which moves the law they follow from its pdf by about one float spacing over the
-/// spread: at this count, a relative error of about 2^-20, below what runs resolve. A
-/// truncated normal 3 floats wide was accepted, and `f/p` averaged 2.7 times its integral.
+/// spread: at this count, a relative error of about 2^-20, below what runs resolve.
 const MIN_FLOATS_PER_SPREAD: f64 = (1u64 << 20) as f64;
 
 /// Refuses a 1-D density whose mass lies within `spread` of `at` when the floats there are

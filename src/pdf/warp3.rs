@@ -213,8 +213,8 @@ impl<W: Warp3> Warp3 for Oriented<W> {
     fn pdf_point(&self, x: DVec3) -> f64 {
         let local = self.frame.to_local(x);
         let density = self.warp.pdf_point(local);
-        // A direction sampled on the equator comes back from the round trip through the frame
-        // a rounding below it (z = -5.6e-17): at the equator, as sampled.
+        // A direction sampled on the equator may come back from the round trip through the
+        // frame a rounding below it: read it at the equator, as sampled.
         if density == 0.0 && (-ROTATION_SLACK..0.0).contains(&local.z) {
             return self.warp.pdf_point(DVec3::new(local.x, local.y, 0.0));
         }

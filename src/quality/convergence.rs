@@ -573,8 +573,7 @@ fn power_of_two(e: i32) -> f64 {
 /// RMSE, mean error and their standard errors from the signed errors of the passes.
 fn summarize(n: u64, errors: &[f64]) -> ConvergencePoint {
     // The spread of the squared errors takes fourth powers, which overflow beyond about 1e77
-    // (an RMSE of inf and a slope of NaN were returned) and vanish below about 1e-77 (a
-    // "same squared errors" refusal): errors far from 1 are taken in units of a power of two
+    // and vanish below about 1e-77: errors far from 1 are taken in units of a power of two
     // near the largest, exactly, and the results scaled back.
     let largest = errors.iter().fold(0.0f64, |m, e| m.max(e.abs()));
     let unit = if largest == 0.0 || (ORDINARY_ERRORS..=1.0 / ORDINARY_ERRORS).contains(&largest) {

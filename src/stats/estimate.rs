@@ -330,8 +330,8 @@ impl Estimate {
                     "degrees of freedom > 0 (an estimate edited or read back by hand?)",
                 ));
             }
-            // The tail (1 - level) / 2 directly: 0.5 + level / 2 rounds it away near 1 (a
-            // level of 1 - 1e-15 gave an interval 12.5% too wide, 1 - 2^-53 an infinite one).
+            // The tail (1 - level) / 2 directly (exact here): 0.5 + level / 2 rounds it away
+            // near 1.
             (Some(se), Some(dof)) if level >= 0.5 => {
                 Some(student_t_upper_quantile((1.0 - level) / 2.0, dof) * se)
             }

@@ -87,8 +87,7 @@ pub fn update_discrepancy(x_new: &[f64], points: &Points, initial: f64) -> Resul
     let m = n + 1.0;
     let updated = constant - 2.0 * (sum_single + single_new) / m
         + (pairs + 2.0 * sum_pair + pair_new) / (m * m);
-    // Unscaled products of d factors up to 1.5 overflow from about 1,750 dimensions (a
-    // result of inf, or NaN, was returned as Ok).
+    // Unscaled products of d factors up to 1.5 overflow from about 1,750 dimensions.
     if !updated.is_finite() {
         return Err(Error::invalid(
             "points",

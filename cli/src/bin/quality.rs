@@ -99,7 +99,7 @@ fn run() -> Result<String, String> {
 }
 
 /// The most pair-coordinate terms, `N^2 d`, an L2 discrepancy may take: 2^36, about a
-/// minute on one thread (4096 points in 10 dimensions, 2^27.3 terms, take about 0.1 s).
+/// minute on one thread.
 const MAX_L2_TERMS: f64 = (1u64 << 36) as f64;
 
 /// Refuses a set whose L2 discrepancy would take hours: the exact form costs `N^2 d`.
