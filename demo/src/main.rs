@@ -14,6 +14,25 @@ use mcint::testfns::{Genz, GenzFamily, TestFunction};
 use mcint::{Estimate, Estimator, Integrator, Result};
 use std::time::Instant;
 
+/// Writes a line to stdout; a closed pipe (`| head`) ends the program quietly, another write
+/// error with one line and status 2, as the CLI programs do (`println!` panicked).
+macro_rules! say {
+    ($($arg:tt)*) => {
+        write_line(format_args!($($arg)*))
+    };
+}
+
+fn write_line(args: std::fmt::Arguments) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = out.write_fmt(args).and_then(|()| out.write_all(b"\n")) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        fail(format!("cannot write the table: {e}"));
+    }
+}
+
 /// Points per replicate and replicates: about a million samples per method.
 const POINTS: u64 = 1 << 16;
 const REPLICATES: u64 = 16;
@@ -21,7 +40,7 @@ const REPLICATES: u64 = 16;
 fn main() {
     if let Some(flag) = std::env::args().nth(1) {
         if flag == "--help" || flag == "-h" {
-            println!(
+            say!(
                 "Integrates a few functions several ways (independent, stratified and \
                  quasi-random points, importance sampling) and prints each estimate with its \
                  standard error and true error.\n\nUsage: quickstart (it takes no flags)"
@@ -44,9 +63,16 @@ fn fail(message: impl std::fmt::Display) -> ! {
 }
 
 fn run() -> Result<()> {
-    println!(
+    say!(
         "{:<26} {:<36} {:>15} {:>15} {:>9} {:>9} {:>8} {:>7}",
-        "integrand", "method", "estimate", "exact", "|error|", "std err", "samples", "time"
+        "integrand",
+        "method",
+        "estimate",
+        "exact",
+        "|error|",
+        "std err",
+        "samples",
+        "time"
     );
 
     // 1. The integral of x^2 e^-x over [0, 10]: exact 2 - 122 e^-10.
@@ -196,11 +222,11 @@ fn run() -> Result<()> {
         Lattice::new(8, Scramble::Shift, 3)?,
     )?;
 
-    println!(
+    say!(
         "\nstd err: from the per-sample variance for independent points, and from the spread of \
          {REPLICATES} independently randomized replicates otherwise (their samples are not independent)."
     );
-    println!(
+    say!(
         "A.x: equations of W. Jarosz, \"Efficient Monte Carlo Methods for Light Transport in \
          Scattering Media\", PhD dissertation, UC San Diego, 2008, Appendix A."
     );
@@ -226,7 +252,7 @@ fn row<E: Estimator>(
     let std_error = estimate
         .std_error
         .map_or("none".to_string(), |s| format!("{s:.2e}"));
-    println!(
+    say!(
         "{integrand:<26} {method:<36} {:>15.10} {exact:>15.10} {:>9.2e} {std_error:>9} {:>8} {:>6.3}s",
         estimate.mean,
         (estimate.mean - exact).abs(),
